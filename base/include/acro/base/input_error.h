@@ -1,0 +1,32 @@
+#pragma once
+
+#include <stdexcept>
+#include <string>
+
+namespace acro {
+
+/// Thrown when a file or argument is malformed. what() is a single line
+/// "<file>: <where>: <problem>" naming the file, the byte offset or field, and the value at fault.
+/// Library layers throw it; only app/ and ui/ catch it.
+class InputError : public std::runtime_error {
+ public:
+  InputError(const std::string& file, const std::string& where, const std::string& problem)
+      : std::runtime_error(Compose(file, where, problem)) {}
+
+ private:
+  static std::string Compose(const std::string& file, const std::string& where,
+                             const std::string& problem) {
+    std::string line = file;
+    if (!where.empty()) line += (line.empty() ? "" : ": ") + where;
+    line += (line.empty() ? "" : ": ") + problem;
+    // One line: any newline in a value at fault is shown escaped.
+    std::string out;
+    for (char c : line) out += (c == '\n') ? std::string("\\n") : std::string(1, c);
+    return out;
+  }
+};
+
+/// "byte 1234" for error locations.
+inline std::string AtByte(long long offset) { return "byte " + std::to_string(offset); }
+
+}  // namespace acro

@@ -1,0 +1,51 @@
+# Every third-party package Acrolab uses is found here, once. All come from Debian 12's packages
+# (scripts/install-deps.sh installs them); nothing is downloaded at configure or build time.
+
+find_package(Eigen3 3.4 REQUIRED NO_MODULE)
+find_package(Threads REQUIRED)
+find_package(PkgConfig REQUIRED)
+
+# FFmpeg (capture/src only).
+pkg_check_modules(FFMPEG REQUIRED IMPORTED_TARGET libavformat libavcodec libswscale libavutil)
+
+# Ceres, OpenCV, OpenMesh (analysis/src only).
+find_package(Ceres 2.1 REQUIRED)
+find_package(OpenCV 4 REQUIRED COMPONENTS core imgproc calib3d)
+find_package(OpenMesh QUIET CONFIG)
+if(NOT TARGET OpenMeshCore)
+  # Debian's libopenmesh-dev ships headers and libraries without a usable CMake config in some versions.
+  find_path(OPENMESH_INCLUDE_DIR OpenMesh/Core/Mesh/PolyMeshT.hh REQUIRED)
+  find_library(OPENMESH_CORE_LIBRARY NAMES OpenMeshCore REQUIRED)
+  add_library(OpenMeshCore UNKNOWN IMPORTED)
+  set_target_properties(OpenMeshCore PROPERTIES IMPORTED_LOCATION "${OPENMESH_CORE_LIBRARY}"
+                                                INTERFACE_INCLUDE_DIRECTORIES "${OPENMESH_INCLUDE_DIR}")
+endif()
+
+# VTK and Qt (ui/ only). Debian's VTK 9.1 config refers to MPI::MPI_C and JsonCpp::JsonCpp without
+# creating them; without both targets CMake reports an error and does not regenerate correctly
+# (../shared/SETUP-NOTES.md). Provide them before find_package(VTK).
+if(ACRO_BUILD_UI)
+  find_package(MPI COMPONENTS C)
+  if(NOT TARGET JsonCpp::JsonCpp)
+    pkg_check_modules(JSONCPP QUIET IMPORTED_TARGET jsoncpp)
+    add_library(JsonCpp::JsonCpp INTERFACE IMPORTED)
+    if(TARGET PkgConfig::JSONCPP)
+      target_link_libraries(JsonCpp::JsonCpp INTERFACE PkgConfig::JSONCPP)
+    endif()
+  endif()
+  find_package(Qt5 REQUIRED COMPONENTS Widgets)
+  find_package(VTK 9 REQUIRED COMPONENTS
+    CommonCore CommonDataModel RenderingCore RenderingOpenGL2 RenderingFreeType
+    InteractionStyle IOImage GUISupportQt)
+endif()
+
+# Tests and benchmarks.
+if(ACRO_BUILD_TESTS)
+  find_package(GTest REQUIRED)
+  # Simbody is a test oracle only (tests/dynamics); it is optional so that a build without it still
+  # runs every other test, and the oracle test reports itself as skipped.
+  find_package(Simbody QUIET)
+endif()
+if(ACRO_BUILD_BENCHMARKS)
+  find_package(benchmark REQUIRED)
+endif()
