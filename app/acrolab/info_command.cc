@@ -13,9 +13,10 @@ int RunInfo(const std::vector<std::string>& args) {
     if (arg == "--json") {
       json = true;
     } else if (arg == "--help" || arg == "-h") {
-      std::puts("usage: acrolab info FILE [--json]\n\n"
-                "Prints format, processor, frames, rates, markers with their gaps, analog channels,\n"
-                "force plates, events and import warnings. --json prints one JSON object (docs/cli.md).");
+      std::puts(
+          "usage: acrolab info FILE [--json]\n\n"
+          "Prints format, processor, frames, rates, markers with their gaps, analog channels,\n"
+          "force plates, events and import warnings. --json prints one JSON object (docs/cli.md).");
       return 0;
     } else if (!arg.empty() && arg[0] == '-') {
       throw UsageError{"unknown option '" + arg + "'"};
@@ -27,7 +28,8 @@ int RunInfo(const std::vector<std::string>& args) {
   }
   if (file.empty()) throw UsageError{"missing FILE"};
   const capture::Trial trial = capture::ReadTrial(file);
-  const std::string report = json ? capture::FormatTrialInfoJson(trial) : capture::FormatTrialInfoText(trial);
+  const std::string report =
+      json ? capture::FormatTrialInfoJson(trial) : capture::FormatTrialInfoText(trial);
   std::fputs(report.c_str(), stdout);
   return 0;
 }

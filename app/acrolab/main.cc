@@ -14,7 +14,8 @@ constexpr const char* kUsage =
     "usage: acrolab <command> [options]\n"
     "\n"
     "commands:\n"
-    "  info FILE [--json]     what a C3D/TRC/CSV file holds: rates, markers, gaps, analog, plates, events\n"
+    "  info FILE [--json]     what a C3D/TRC/CSV file holds: rates, markers, gaps, analog, plates, "
+    "events\n"
     "  convert IN OUT         convert between C3D, TRC and CSV (by file extension)\n"
     "\n"
     "  acrolab <command> --help for a command's options; docs/cli.md for everything.\n";
@@ -38,7 +39,10 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "acrolab: unknown command '%s'\n%s", command.c_str(), kUsage);
     return 2;
   } catch (const acro::app::UsageError& e) {
-    std::fprintf(stderr, "acrolab %s: %s (acrolab %s --help)\n", command.c_str(), e.message.c_str(),
+    std::fprintf(stderr,
+                 "acrolab %s: %s (acrolab %s --help)\n",
+                 command.c_str(),
+                 e.message.c_str(),
                  command.c_str());
     return 2;
   } catch (const acro::InputError& e) {

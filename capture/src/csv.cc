@@ -90,8 +90,8 @@ void WriteMarkerCsv(const Trial& trial, const std::filesystem::path& path) {
 
 Trial ReadMarkerCsv(const std::filesystem::path& path) {
   const auto bytes = ReadFileBytes(path);
-  return ReadMarkerCsvFromString(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()),
-                                 path.string());
+  return ReadMarkerCsvFromString(
+      std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), path.string());
 }
 
 Trial ReadMarkerCsvFromString(std::string_view text, const std::string& name) {
@@ -104,14 +104,18 @@ Trial ReadMarkerCsvFromString(std::string_view text, const std::string& name) {
   std::string_view line;
   if (!lines.Next(&line)) throw InputError(name, "", "empty file: not an Acrolab marker CSV");
   const std::vector<std::string> header = SplitCsv(line);
-  if (header.size() < 2 || header[0] != "frame" || header[1] != "time_s" || (header.size() - 2) % 3 != 0) {
-    throw InputError(name, "line 1", "expected 'frame,time_s' followed by x, y, z columns per marker");
+  if (header.size() < 2 || header[0] != "frame" || header[1] != "time_s" ||
+      (header.size() - 2) % 3 != 0) {
+    throw InputError(
+        name, "line 1", "expected 'frame,time_s' followed by x, y, z columns per marker");
   }
   const int num_markers = static_cast<int>((header.size() - 2) / 3);
   for (int m = 0; m < num_markers; ++m) {
     const std::string& x = header[2 + 3 * m];
     if (x.size() < 4 || x.compare(x.size() - 4, 4, "_x_m") != 0) {
-      throw InputError(name, "line 1, column " + std::to_string(3 + 3 * m), "expected '<label>_x_m', found '" + x + "'");
+      throw InputError(name,
+                       "line 1, column " + std::to_string(3 + 3 * m),
+                       "expected '<label>_x_m', found '" + x + "'");
     }
     PointInfo info;
     info.label = x.substr(0, x.size() - 4);
@@ -124,26 +128,36 @@ Trial ReadMarkerCsvFromString(std::string_view text, const std::string& name) {
     if (internal::Trim(line).empty()) continue;
     const std::vector<std::string> fields = SplitCsv(line);
     if (fields.size() != header.size()) {
-      throw InputError(name, "line " + std::to_string(lines.line_number()),
-                       std::to_string(fields.size()) + " fields where the header has " + std::to_string(header.size()));
+      throw InputError(name,
+                       "line " + std::to_string(lines.line_number()),
+                       std::to_string(fields.size()) + " fields where the header has " +
+                           std::to_string(header.size()));
     }
     for (std::size_t c = 0; c < fields.size(); ++c) {
       double value;
       if (!internal::ParseCell(fields[c], &value) || (c < 2 && std::isnan(value))) {
-        throw InputError(name, "line " + std::to_string(lines.line_number()) + ", column " + std::to_string(c + 1),
-                         "'" + fields[c].substr(0, 40) + "' is not a number");
+        throw InputError(
+            name,
+            "line " + std::to_string(lines.line_number()) + ", column " + std::to_string(c + 1),
+            "'" + fields[c].substr(0, 40) + "' is not a number");
       }
-      if (c == 0 && times.empty()) trial.first_frame = static_cast<std::int64_t>(std::llround(value));
-      if (c == 1) times.push_back(value); else if (c >= 2) values.push_back(value);
+      if (c == 0 && times.empty())
+        trial.first_frame = static_cast<std::int64_t>(std::llround(value));
+      if (c == 1)
+        times.push_back(value);
+      else if (c >= 2)
+        values.push_back(value);
     }
   }
   trial.num_frames = static_cast<int>(times.size());
   if (trial.num_frames >= 2 && times.back() > times.front()) {
     trial.point_rate_hz = (trial.num_frames - 1) / (times.back() - times.front());
   } else {
-    throw InputError(name, "time_s", "at least two frames with increasing times are needed to know the rate");
+    throw InputError(
+        name, "time_s", "at least two frames with increasing times are needed to know the rate");
   }
-  trial.positions = Eigen::Map<Eigen::Matrix3Xd>(values.data(), 3, std::int64_t(trial.num_frames) * num_markers);
+  trial.positions =
+      Eigen::Map<Eigen::Matrix3Xd>(values.data(), 3, std::int64_t(trial.num_frames) * num_markers);
   trial.residuals.setZero(num_markers, trial.num_frames);
   trial.camera_masks.setZero(num_markers, trial.num_frames);
   for (int f = 0; f < trial.num_frames; ++f) {

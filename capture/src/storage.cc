@@ -16,11 +16,14 @@ int Storage::FindColumn(std::string_view label) const {
 }
 
 std::string WriteStorageToString(const Storage& table, StorageFlavor flavor) {
-  if (table.data.rows() != table.time_s.size() || table.data.cols() != std::int64_t(table.labels.size())) {
-    throw InputError(table.name, "table", "data are " + std::to_string(table.data.rows()) + "×" +
-                                              std::to_string(table.data.cols()) + " for " +
-                                              std::to_string(table.time_s.size()) + " times and " +
-                                              std::to_string(table.labels.size()) + " labels");
+  if (table.data.rows() != table.time_s.size() ||
+      table.data.cols() != std::int64_t(table.labels.size())) {
+    throw InputError(table.name,
+                     "table",
+                     "data are " + std::to_string(table.data.rows()) + "×" +
+                         std::to_string(table.data.cols()) + " for " +
+                         std::to_string(table.time_s.size()) + " times and " +
+                         std::to_string(table.labels.size()) + " labels");
   }
   std::string out;
   out += (table.name.empty() ? "Acrolab" : table.name) + "\n";
@@ -33,11 +36,15 @@ std::string WriteStorageToString(const Storage& table, StorageFlavor flavor) {
   }
   out += std::string("inDegrees=") + (table.in_degrees ? "yes" : "no") + "\n";
   for (const auto& [key, value] : table.metadata) {
-    if (key == "version" || key == "nRows" || key == "nColumns" || key == "inDegrees" || key == "OpenSimVersion") continue;
+    if (key == "version" || key == "nRows" || key == "nColumns" || key == "inDegrees" ||
+        key == "OpenSimVersion")
+      continue;
     out += key + "=" + value + "\n";
   }
   if (flavor == StorageFlavor::kSto &&
-      std::none_of(table.metadata.begin(), table.metadata.end(), [](const auto& kv) { return kv.first == "DataType"; })) {
+      std::none_of(table.metadata.begin(), table.metadata.end(), [](const auto& kv) {
+        return kv.first == "DataType";
+      })) {
     out += "DataType=double\n";
   }
   out += "endheader\ntime";
@@ -64,8 +71,8 @@ void WriteStorage(const Storage& table, const std::filesystem::path& path, Stora
 
 Storage ReadStorage(const std::filesystem::path& path) {
   const auto bytes = ReadFileBytes(path);
-  return ReadStorageFromString(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()),
-                               path.string());
+  return ReadStorageFromString(
+      std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), path.string());
 }
 
 Storage ReadStorageFromString(std::string_view text, const std::string& name) {
@@ -86,40 +93,59 @@ Storage ReadStorageFromString(std::string_view text, const std::string& name) {
     if (eq != std::string_view::npos) {
       const std::string key(Trim(trimmed.substr(0, eq)));
       const std::string value(Trim(trimmed.substr(eq + 1)));
-      if (key == "inDegrees") table.in_degrees = (value == "yes" || value == "Yes" || value == "true");
+      if (key == "inDegrees")
+        table.in_degrees = (value == "yes" || value == "Yes" || value == "true");
       table.metadata.emplace_back(key, value);
     } else if (first) {
       table.name = std::string(trimmed);
     }
     first = false;
   }
-  if (!ended) throw InputError(name, "line " + std::to_string(lines.line_number()), "no 'endheader' line: not an OpenSim storage file");
+  if (!ended)
+    throw InputError(name,
+                     "line " + std::to_string(lines.line_number()),
+                     "no 'endheader' line: not an OpenSim storage file");
   // Column labels, then numbers.
   std::vector<std::string_view> fields;
   do {
-    if (!lines.Next(&line)) throw InputError(name, "line " + std::to_string(lines.line_number() + 1), "no column-label line after 'endheader'");
+    if (!lines.Next(&line))
+      throw InputError(name,
+                       "line " + std::to_string(lines.line_number() + 1),
+                       "no column-label line after 'endheader'");
   } while (Trim(line).empty());
   const bool tabs = line.find('\t') != std::string_view::npos;
-  if (tabs) internal::Split(Trim(line), '\t', &fields); else internal::SplitWhitespace(line, &fields);
+  if (tabs)
+    internal::Split(Trim(line), '\t', &fields);
+  else
+    internal::SplitWhitespace(line, &fields);
   if (fields.empty() || Trim(fields[0]) != "time") {
-    throw InputError(name, "line " + std::to_string(lines.line_number()), "first column must be 'time', found '" +
-                                                                             std::string(fields.empty() ? "" : Trim(fields[0])) + "'");
+    throw InputError(name,
+                     "line " + std::to_string(lines.line_number()),
+                     "first column must be 'time', found '" +
+                         std::string(fields.empty() ? "" : Trim(fields[0])) + "'");
   }
   for (std::size_t i = 1; i < fields.size(); ++i) table.labels.emplace_back(Trim(fields[i]));
   const std::size_t columns = fields.size();
   std::vector<double> values;
   while (lines.Next(&line)) {
     if (Trim(line).empty()) continue;
-    if (tabs) internal::Split(Trim(line), '\t', &fields); else internal::SplitWhitespace(line, &fields);
+    if (tabs)
+      internal::Split(Trim(line), '\t', &fields);
+    else
+      internal::SplitWhitespace(line, &fields);
     if (fields.size() != columns) {
-      throw InputError(name, "line " + std::to_string(lines.line_number()),
-                       std::to_string(fields.size()) + " columns where the labels name " + std::to_string(columns));
+      throw InputError(name,
+                       "line " + std::to_string(lines.line_number()),
+                       std::to_string(fields.size()) + " columns where the labels name " +
+                           std::to_string(columns));
     }
     for (std::size_t c = 0; c < columns; ++c) {
       double value;
       if (!internal::ParseCell(fields[c], &value)) {
-        throw InputError(name, "line " + std::to_string(lines.line_number()) + ", column " + std::to_string(c + 1),
-                         "'" + std::string(Trim(fields[c]).substr(0, 40)) + "' is not a number");
+        throw InputError(
+            name,
+            "line " + std::to_string(lines.line_number()) + ", column " + std::to_string(c + 1),
+            "'" + std::string(Trim(fields[c]).substr(0, 40)) + "' is not a number");
       }
       values.push_back(value);
     }

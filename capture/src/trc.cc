@@ -72,7 +72,8 @@ Trial ReadTrcFromString(std::string_view text, const std::string& name) {
   // Line 1: "PathFileType 4 (X/Y/Z) <file name>".
   lines.Next(&line);
   if (Trim(line).substr(0, 12) != "PathFileType") {
-    throw InputError(name, Where(1),
+    throw InputError(name,
+                     Where(1),
                      "not a TRC file: expected 'PathFileType', found '" +
                          std::string(Trim(line).substr(0, 40)) + "'");
   }
@@ -80,7 +81,8 @@ Trial ReadTrcFromString(std::string_view text, const std::string& name) {
   // Lines 2 and 3: header keys and their values.
   std::string_view keys_line, values_line;
   if (!lines.Next(&keys_line) || !lines.Next(&values_line)) {
-    throw InputError(name, Where(lines.line_number() + 1),
+    throw InputError(name,
+                     Where(lines.line_number() + 1),
                      "unexpected end of file: the header ends before its values line");
   }
   const bool tabs = keys_line.find('\t') != std::string_view::npos;
@@ -109,21 +111,25 @@ Trial ReadTrcFromString(std::string_view text, const std::string& name) {
   }
   SplitTrc(names_line, tabs, &fields);
   if (fields.empty() || Trim(fields[0]).substr(0, 5) != "Frame") {
-    throw InputError(name, Where(4), "expected 'Frame#' at the start of the marker-name line, found '" +
-                                         std::string(fields.empty() ? "" : Trim(fields[0])) + "'");
+    throw InputError(name,
+                     Where(4),
+                     "expected 'Frame#' at the start of the marker-name line, found '" +
+                         std::string(fields.empty() ? "" : Trim(fields[0])) + "'");
   }
   std::vector<std::string> names;
   if (tabs) {
     // Trailing empty cells do not make markers.
     std::size_t last = fields.size();
     while (last > 2 && Trim(fields[last - 1]).empty()) --last;
-    for (std::size_t column = 2; column < last; column += 3) names.emplace_back(Trim(fields[column]));
+    for (std::size_t column = 2; column < last; column += 3)
+      names.emplace_back(Trim(fields[column]));
   } else {
-    for (std::size_t column = 2; column < fields.size(); ++column) names.emplace_back(Trim(fields[column]));
+    for (std::size_t column = 2; column < fields.size(); ++column)
+      names.emplace_back(Trim(fields[column]));
   }
 
   // Data rows, after the optional X1 Y1 Z1 line and blank lines: parsed once into a flat buffer.
-  std::vector<double> cells;        // row-major, `row_width` doubles per row after the frame number
+  std::vector<double> cells;  // row-major, `row_width` doubles per row after the frame number
   std::vector<std::size_t> row_offsets;
   std::vector<int> row_lines;
   std::size_t max_columns = 0;  // coordinate columns holding a value, over all rows
@@ -135,15 +141,18 @@ Trial ReadTrcFromString(std::string_view text, const std::string& name) {
     if (!LooksNumeric(fields[0])) {
       // The coordinate-name line ("X1 Y1 Z1 ...", starting with blank cells) may precede the data.
       if (row_offsets.empty() && (Trim(fields[0]).empty() || Trim(fields[0])[0] == 'X')) continue;
-      throw InputError(name, Where(lines.line_number(), 1),
-                       "expected a frame number, found '" + std::string(Trim(fields[0]).substr(0, 40)) + "'");
+      throw InputError(
+          name,
+          Where(lines.line_number(), 1),
+          "expected a frame number, found '" + std::string(Trim(fields[0]).substr(0, 40)) + "'");
     }
     double frame_number = 0, time = 0;
     ParseCell(fields[0], &frame_number);
     if (fields.size() < 2 || !ParseCell(fields[1], &time)) {
       throw InputError(name, Where(lines.line_number(), 2), "missing or non-numeric time");
     }
-    if (row_offsets.empty()) first_frame_number = static_cast<std::int64_t>(std::llround(frame_number));
+    if (row_offsets.empty())
+      first_frame_number = static_cast<std::int64_t>(std::llround(frame_number));
     row_offsets.push_back(cells.size());
     row_lines.push_back(lines.line_number());
     times.push_back(time);
@@ -151,8 +160,10 @@ Trial ReadTrcFromString(std::string_view text, const std::string& name) {
     for (std::size_t column = 2; column < fields.size(); ++column) {
       double value;
       if (!ParseCell(fields[column], &value)) {
-        throw InputError(name, Where(lines.line_number(), static_cast<int>(column) + 1),
-                         "'" + std::string(Trim(fields[column]).substr(0, 40)) + "' is not a number");
+        throw InputError(
+            name,
+            Where(lines.line_number(), static_cast<int>(column) + 1),
+            "'" + std::string(Trim(fields[column]).substr(0, 40)) + "' is not a number");
       }
       cells.push_back(value);
       if (!Trim(fields[column]).empty()) last_value = column - 1;
@@ -166,9 +177,11 @@ Trial ReadTrcFromString(std::string_view text, const std::string& name) {
   const double header_frames = header_number("NumFrames");
   const double header_markers = header_number("NumMarkers");
   if (num_rows == 0 && !std::isnan(header_frames) && header_frames > 0) {
-    throw InputError(name, Where(lines.line_number() + 1),
+    throw InputError(name,
+                     Where(lines.line_number() + 1),
                      "unexpected end of file: the header announces " +
-                         std::to_string(static_cast<long long>(header_frames)) + " frames and there are none");
+                         std::to_string(static_cast<long long>(header_frames)) +
+                         " frames and there are none");
   }
   if (names.empty()) {
     const std::size_t count = (max_columns + 2) / 3;
@@ -185,14 +198,14 @@ Trial ReadTrcFromString(std::string_view text, const std::string& name) {
   }
   const int num_markers = static_cast<int>(names.size());
   if (!std::isnan(header_frames) && static_cast<long long>(header_frames) != num_rows) {
-    trial.warnings.push_back(name + ": header NumFrames = " +
-                             std::to_string(static_cast<long long>(header_frames)) + " but the file has " +
-                             std::to_string(num_rows) + " data rows; the rows were read");
+    trial.warnings.push_back(
+        name + ": header NumFrames = " + std::to_string(static_cast<long long>(header_frames)) +
+        " but the file has " + std::to_string(num_rows) + " data rows; the rows were read");
   }
   if (!std::isnan(header_markers) && static_cast<long long>(header_markers) != num_markers) {
-    trial.warnings.push_back(name + ": header NumMarkers = " +
-                             std::to_string(static_cast<long long>(header_markers)) + " but " +
-                             std::to_string(num_markers) + " markers were found; the data were read");
+    trial.warnings.push_back(
+        name + ": header NumMarkers = " + std::to_string(static_cast<long long>(header_markers)) +
+        " but " + std::to_string(num_markers) + " markers were found; the data were read");
   }
 
   // Units and rate.
@@ -209,10 +222,12 @@ Trial ReadTrcFromString(std::string_view text, const std::string& name) {
   if (std::isnan(rate) || rate <= 0) {
     if (num_rows >= 2 && times[1] > times[0]) {
       rate = (num_rows - 1) / (times.back() - times.front());
-      trial.warnings.push_back(name + ": header DataRate missing or not positive; " + std::to_string(rate) +
-                               " Hz taken from the time column");
+      trial.warnings.push_back(name + ": header DataRate missing or not positive; " +
+                               std::to_string(rate) + " Hz taken from the time column");
     } else {
-      throw InputError(name, Where(3) + " (DataRate)", "missing or not positive, and no time column to derive it from");
+      throw InputError(name,
+                       Where(3) + " (DataRate)",
+                       "missing or not positive, and no time column to derive it from");
     }
   }
   trial.point_rate_hz = rate;
@@ -226,7 +241,8 @@ Trial ReadTrcFromString(std::string_view text, const std::string& name) {
     trial.points[m].type = PointType::kMarker;
     trial.points[m].unit = "m";
   }
-  trial.positions.setConstant(3, std::int64_t(num_rows) * num_markers, std::numeric_limits<double>::quiet_NaN());
+  trial.positions.setConstant(
+      3, std::int64_t(num_rows) * num_markers, std::numeric_limits<double>::quiet_NaN());
   trial.residuals.setConstant(num_markers, num_rows, -1.0f);
   trial.camera_masks.setZero(num_markers, num_rows);
   for (int f = 0; f < num_rows; ++f) {
@@ -243,9 +259,12 @@ Trial ReadTrcFromString(std::string_view text, const std::string& name) {
   return trial;
 }
 
-std::string WriteTrcToString(const Trial& trial, const std::string& file_name, const TrcWriteOptions& options) {
+std::string WriteTrcToString(const Trial& trial,
+                             const std::string& file_name,
+                             const TrcWriteOptions& options) {
   const double from_m = LengthUnitToMetres(options.units);
-  if (from_m == 0.0) throw InputError(file_name, "units", "unknown length unit '" + options.units + "'");
+  if (from_m == 0.0)
+    throw InputError(file_name, "units", "unknown length unit '" + options.units + "'");
   std::vector<int> markers;
   for (int p = 0; p < trial.num_points(); ++p) {
     if (trial.points[p].type == PointType::kMarker) markers.push_back(p);
@@ -254,10 +273,12 @@ std::string WriteTrcToString(const Trial& trial, const std::string& file_name, c
   out.reserve(64 + std::size_t(trial.num_frames) * (16 + markers.size() * 3 * 14));
   const std::string rate = std::to_string(trial.point_rate_hz);
   out += "PathFileType\t4\t(X/Y/Z)\t" + file_name + "\n";
-  out += "DataRate\tCameraRate\tNumFrames\tNumMarkers\tUnits\tOrigDataRate\tOrigDataStartFrame\tOrigNumFrames\n";
-  out += rate + "\t" + rate + "\t" + std::to_string(trial.num_frames) + "\t" + std::to_string(markers.size()) +
-         "\t" + options.units + "\t" + rate + "\t" + std::to_string(trial.first_frame) + "\t" +
-         std::to_string(trial.num_frames) + "\n";
+  out +=
+      "DataRate\tCameraRate\tNumFrames\tNumMarkers\tUnits\tOrigDataRate\tOrigDataStartFrame\tOrigNu"
+      "mFrames\n";
+  out += rate + "\t" + rate + "\t" + std::to_string(trial.num_frames) + "\t" +
+         std::to_string(markers.size()) + "\t" + options.units + "\t" + rate + "\t" +
+         std::to_string(trial.first_frame) + "\t" + std::to_string(trial.num_frames) + "\n";
   out += "Frame#\tTime";
   for (int p : markers) out += "\t" + trial.points[p].label + "\t\t";
   out += "\n\t";
@@ -286,7 +307,9 @@ std::string WriteTrcToString(const Trial& trial, const std::string& file_name, c
   return out;
 }
 
-void WriteTrc(const Trial& trial, const std::filesystem::path& path, const TrcWriteOptions& options) {
+void WriteTrc(const Trial& trial,
+              const std::filesystem::path& path,
+              const TrcWriteOptions& options) {
   WriteFileAtomically(path, WriteTrcToString(trial, path.filename().string(), options));
 }
 

@@ -12,13 +12,20 @@ namespace {
 
 const char* PointTypeName(PointType type) {
   switch (type) {
-    case PointType::kMarker: return "marker";
-    case PointType::kAngle: return "angle";
-    case PointType::kForce: return "force";
-    case PointType::kMoment: return "moment";
-    case PointType::kPower: return "power";
-    case PointType::kScalar: return "scalar";
-    case PointType::kReaction: return "reaction";
+    case PointType::kMarker:
+      return "marker";
+    case PointType::kAngle:
+      return "angle";
+    case PointType::kForce:
+      return "force";
+    case PointType::kMoment:
+      return "moment";
+    case PointType::kPower:
+      return "power";
+    case PointType::kScalar:
+      return "scalar";
+    case PointType::kReaction:
+      return "reaction";
   }
   return "unknown";
 }
@@ -75,8 +82,10 @@ std::string FormatTrialInfoText(const Trial& trial) {
   if (!trial.source.point_storage.empty()) out << ", " << trial.source.point_storage << " storage";
   out << "\n";
   out << "Frames      " << trial.num_frames << " (first frame " << trial.first_frame << ") at "
-      << Printf("%g", trial.point_rate_hz) << " Hz = " << Printf("%.3f", trial.duration_s()) << " s\n";
-  out << "Units       " << (trial.source.point_units.empty() ? "(none in file)" : trial.source.point_units)
+      << Printf("%g", trial.point_rate_hz) << " Hz = " << Printf("%.3f", trial.duration_s())
+      << " s\n";
+  out << "Units       "
+      << (trial.source.point_units.empty() ? "(none in file)" : trial.source.point_units)
       << " -> m (x" << Printf("%g", trial.source.point_units_to_m) << ")\n";
   if (!trial.subject_name.empty()) out << "Subject     " << trial.subject_name << "\n";
   out << "Markers     " << gaps.size() << "; marker-frames missing: " << missing_total << " of "
@@ -94,14 +103,15 @@ std::string FormatTrialInfoText(const Trial& trial) {
   if (others > 0) {
     out << "Other points " << others << " (model outputs):";
     for (const auto& p : trial.points) {
-      if (p.type != PointType::kMarker) out << " " << p.label << "[" << PointTypeName(p.type) << "]";
+      if (p.type != PointType::kMarker)
+        out << " " << p.label << "[" << PointTypeName(p.type) << "]";
     }
     out << "\n";
   }
   out << "Analog      " << trial.num_analog_channels() << " channels";
   if (trial.num_analog_channels() > 0) {
-    out << " at " << Printf("%g", trial.analog_rate_hz) << " Hz (" << trial.analog_samples_per_frame()
-        << " per frame)";
+    out << " at " << Printf("%g", trial.analog_rate_hz) << " Hz ("
+        << trial.analog_samples_per_frame() << " per frame)";
   }
   out << "\n";
   for (const auto& c : trial.analog_channels) {
@@ -113,9 +123,9 @@ std::string FormatTrialInfoText(const Trial& trial) {
   for (std::size_t i = 0; i < trial.force_plates.size(); ++i) {
     const ForcePlate& plate = trial.force_plates[i];
     const Eigen::Vector3d centre = plate.corners_W_m.rowwise().mean();
-    out << "  #" << i + 1 << " type " << plate.type << ", centre (" << Printf("%.3f", centre.x()) << ", "
-        << Printf("%.3f", centre.y()) << ", " << Printf("%.3f", centre.z()) << ") m, peak |Fz| "
-        << Printf("%.1f", PeakVerticalForce(plate)) << " N\n";
+    out << "  #" << i + 1 << " type " << plate.type << ", centre (" << Printf("%.3f", centre.x())
+        << ", " << Printf("%.3f", centre.y()) << ", " << Printf("%.3f", centre.z())
+        << ") m, peak |Fz| " << Printf("%.1f", PeakVerticalForce(plate)) << " N\n";
   }
   out << "Events      " << trial.events.size() << "\n";
   for (const auto& e : trial.events) {
@@ -184,7 +194,8 @@ std::string FormatTrialInfoJson(const Trial& trial) {
     w.Key("corners_W_m");
     w.BeginArray();
     for (int c = 0; c < 4; ++c) {
-      w.Array(std::vector<double>{plate.corners_W_m(0, c), plate.corners_W_m(1, c), plate.corners_W_m(2, c)});
+      w.Array(std::vector<double>{
+          plate.corners_W_m(0, c), plate.corners_W_m(1, c), plate.corners_W_m(2, c)});
     }
     w.EndArray();
     w.Key("origin_F_m");

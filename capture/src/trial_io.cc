@@ -13,8 +13,10 @@ Trial ReadTrial(const std::filesystem::path& path) {
   if (ext == "c3d") return ReadC3d(path);
   if (ext == "trc") return ReadTrc(path);
   if (ext == "csv") return ReadMarkerCsv(path);
-  throw InputError(path.string(), "extension", "'" + path.extension().string() +
-                                                   "' is not a motion-capture format Acrolab reads (.c3d, .trc, .csv)");
+  throw InputError(path.string(),
+                   "extension",
+                   "'" + path.extension().string() +
+                       "' is not a motion-capture format Acrolab reads (.c3d, .trc, .csv)");
 }
 
 void WriteTrial(const Trial& trial, const std::filesystem::path& path) {
@@ -22,8 +24,10 @@ void WriteTrial(const Trial& trial, const std::filesystem::path& path) {
   if (ext == "c3d") return WriteC3d(trial, path);
   if (ext == "trc") return WriteTrc(trial, path);
   if (ext == "csv") return WriteMarkerCsv(trial, path);
-  throw InputError(path.string(), "extension", "'" + path.extension().string() +
-                                                   "' is not a format Acrolab writes trials to (.c3d, .trc, .csv)");
+  throw InputError(path.string(),
+                   "extension",
+                   "'" + path.extension().string() +
+                       "' is not a format Acrolab writes trials to (.c3d, .trc, .csv)");
 }
 
 }  // namespace acro::capture

@@ -41,12 +41,12 @@ inline std::filesystem::path SourceDir() {
 }  // namespace acro::testing
 
 /// Skips the test when a reference file is absent, or fails it when ACRO_REQUIRE_REFDATA=1.
-#define ACRO_REQUIRE_REFDATA_FILE(path)                                                      \
-  do {                                                                                       \
-    if (!std::filesystem::exists(path)) {                                                    \
-      if (::acro::testing::RefdataRequired()) {                                              \
-        FAIL() << "reference data missing: " << (path) << " (ACRO_REQUIRE_REFDATA=1)";       \
-      }                                                                                      \
-      GTEST_SKIP() << "reference data absent: " << (path) << " (set ACRO_REFDATA)";          \
-    }                                                                                        \
+#define ACRO_REQUIRE_REFDATA_FILE(path)                                                \
+  do {                                                                                 \
+    if (!std::filesystem::exists(path)) {                                              \
+      if (::acro::testing::RefdataRequired()) {                                        \
+        FAIL() << "reference data missing: " << (path) << " (ACRO_REQUIRE_REFDATA=1)"; \
+      }                                                                                \
+      GTEST_SKIP() << "reference data absent: " << (path) << " (set ACRO_REFDATA)";    \
+    }                                                                                  \
   } while (0)

@@ -7,8 +7,8 @@
 /// Always-armed invariant check: throws std::logic_error naming the condition and the place.
 /// For programming errors (a broken invariant), never for bad input, which gets a descriptive
 /// exception from the code that read it.
-#define ACRO_DEMAND(cond)                                                               \
-  do {                                                                                  \
+#define ACRO_DEMAND(cond)                                                                   \
+  do {                                                                                      \
     if (!(cond)) ::acro::internal::ThrowDemandFailure(#cond, __FILE__, __LINE__, __func__); \
   } while (0)
 

@@ -14,7 +14,8 @@ class InputError : public std::runtime_error {
       : std::runtime_error(Compose(file, where, problem)) {}
 
  private:
-  static std::string Compose(const std::string& file, const std::string& where,
+  static std::string Compose(const std::string& file,
+                             const std::string& where,
                              const std::string& problem) {
     std::string line = file;
     if (!where.empty()) line += (line.empty() ? "" : ": ") + where;
@@ -27,6 +28,8 @@ class InputError : public std::runtime_error {
 };
 
 /// "byte 1234" for error locations.
-inline std::string AtByte(long long offset) { return "byte " + std::to_string(offset); }
+inline std::string AtByte(long long offset) {
+  return "byte " + std::to_string(offset);
+}
 
 }  // namespace acro

@@ -8,9 +8,10 @@
 
 namespace acro::capture {
 
-/// Acrolab's marker CSV: one row per frame, columns `frame,time_s,<label>_x_m,<label>_y_m,<label>_z_m,…`
-/// (metres, lab frame W; a gap is an empty cell). Labels holding a comma or quote are quoted as in
-/// RFC 4180. Spreadsheet- and pandas-friendly; docs/formats/csv.md.
+/// Acrolab's marker CSV: one row per frame, columns
+/// `frame,time_s,<label>_x_m,<label>_y_m,<label>_z_m,…` (metres, lab frame W; a gap is an empty
+/// cell). Labels holding a comma or quote are quoted as in RFC 4180. Spreadsheet- and
+/// pandas-friendly; docs/formats/csv.md.
 void WriteMarkerCsv(const Trial& trial, const std::filesystem::path& path);
 std::string WriteMarkerCsvToString(const Trial& trial);
 

@@ -13,10 +13,10 @@ namespace acro::capture {
 /// A time table as OpenSim stores it (.mot motion files and .sto storage files): a time column
 /// and named data columns. Angles in degrees only when `in_degrees` says so.
 struct Storage {
-  std::string name;                    ///< first header line (the table's name)
-  std::vector<std::string> labels;     ///< data column labels, without "time"
+  std::string name;                 ///< first header line (the table's name)
+  std::vector<std::string> labels;  ///< data column labels, without "time"
   Eigen::VectorXd time_s;
-  Eigen::MatrixXd data;                ///< rows = time samples, columns = labels
+  Eigen::MatrixXd data;  ///< rows = time samples, columns = labels
   bool in_degrees = false;
   /// Further header lines "key=value" kept in order of appearance (DataType, OpenSimVersion, ...).
   std::vector<std::pair<std::string, std::string>> metadata;
@@ -26,7 +26,8 @@ struct Storage {
 
 enum class StorageFlavor {
   kMot,  ///< "name / version=1 / nRows / nColumns / inDegrees / endheader" (OpenSim .mot)
-  kSto,  ///< "name / version=1 / OpenSimVersion / inDegrees / DataType=double / endheader" (OpenSim 4 .sto)
+  kSto,  ///< "name / version=1 / OpenSimVersion / inDegrees / DataType=double / endheader" (OpenSim
+         ///< 4 .sto)
 };
 
 /// Writes a .mot or .sto file (tab separated, "time" first), atomically.

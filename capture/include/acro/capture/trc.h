@@ -26,8 +26,11 @@ struct TrcWriteOptions {
 
 /// Writes the trial's markers (PointType::kMarker only) as an OpenSim-compatible TRC, gaps as
 /// "NaN" cells (as OpenSim 4 writes them), atomically (temporary file, then rename).
-void WriteTrc(const Trial& trial, const std::filesystem::path& path, const TrcWriteOptions& options = {});
-std::string WriteTrcToString(const Trial& trial, const std::string& file_name,
+void WriteTrc(const Trial& trial,
+              const std::filesystem::path& path,
+              const TrcWriteOptions& options = {});
+std::string WriteTrcToString(const Trial& trial,
+                             const std::string& file_name,
                              const TrcWriteOptions& options = {});
 
 /// Metres per unit for a length unit name ("mm", "cm", "m", "in"); 0 when unknown.
