@@ -1,0 +1,13 @@
+#!/usr/bin/env bash
+# The whole test suite: installs the dependencies, builds, and runs every test with ctest.
+# Reference data are read from ../shared/refdata (or $ACRO_REFDATA); with ACRO_REQUIRE_REFDATA=1
+# a missing reference file fails its test instead of skipping it.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+scripts/install-deps.sh
+scripts/build.sh
+cd build
+# Rendering tests need a display: run under a virtual X server when one is not already there.
+runner=()
+if [ -z "${DISPLAY:-}" ] && command -v xvfb-run >/dev/null 2>&1; then runner=(xvfb-run -a); fi
+"${runner[@]}" ctest --output-on-failure -j "$(nproc)" --timeout 900
