@@ -1,0 +1,132 @@
+// The acrolab command line as a user meets it: real processes, real files, exit codes and output.
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include <gtest/gtest.h>
+
+#include "acro/capture/trial_io.h"
+#include "refdata.h"
+
+namespace {
+
+struct Run {
+  int status = -1;
+  std::string out;  // stdout
+  std::string err;  // stderr
+};
+
+// Runs a shell command line, capturing stdout and stderr separately.
+Run Execute(const std::string& command_line) {
+  const auto err_path = acro::testing::TempDir() / "stderr.txt";
+  const std::string full = command_line + " 2>" + err_path.string();
+  Run run;
+  FILE* pipe = popen(full.c_str(), "r");
+  if (!pipe) return run;
+  std::array<char, 4096> buffer;
+  std::size_t n;
+  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) run.out.append(buffer.data(), n);
+  const int raw = pclose(pipe);
+  run.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  std::ifstream err(err_path);
+  run.err.assign(std::istreambuf_iterator<char>(err), {});
+  return run;
+}
+
+std::string Quote(const std::filesystem::path& p) { return "'" + p.string() + "'"; }
+
+const std::filesystem::path& SampleC3d() {
+  static const std::filesystem::path path = [] {
+    auto p = acro::testing::TempDir() / "sample_jump.c3d";
+    Execute(std::string(MAKE_SAMPLE_EXE) + " " + Quote(p));
+    return p;
+  }();
+  return path;
+}
+
+TEST(Cli, InfoJsonHasTheDocumentedKeys) {
+  const Run run = Execute(std::string(ACROLAB_EXE) + " info --json " + Quote(SampleC3d()));
+  ASSERT_EQ(run.status, 0) << run.err;
+  for (const char* key : {"\"format\": \"C3D\"", "\"processor\": \"Intel\"", "\"frames\": ", "\"point_rate_hz\": 200",
+                          "\"markers\": 16", "\"marker_labels\": [", "\"missing_marker_frames_total\": 12",
+                          "\"gaps\": [", "\"longest_gap_frames\": 12", "\"analog_channels\": [", "\"analog_rate_hz\": 2000",
+                          "\"force_plates\": []", "\"events\": [", "\"label\": \"Take-off\"", "\"warnings\": []"}) {
+    EXPECT_NE(run.out.find(key), std::string::npos) << key << "\n" << run.out;
+  }
+}
+
+TEST(Cli, InfoTextNamesGapsEventsAndChannels) {
+  const Run run = Execute(std::string(ACROLAB_EXE) + " info " + Quote(SampleC3d()));
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_NE(run.out.find("RWRI  missing 12 frames in 1 gaps, longest 12"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("BedFz [N]"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("Take-off"), std::string::npos) << run.out;
+}
+
+TEST(Cli, BrokenFileGivesOneLineNamingTheFileAndExitStatus1) {
+  const auto bad = acro::testing::TempDir() / "not a capture.c3d";
+  std::ofstream(bad) << "this is not a C3D file at all";
+  const Run run = Execute(std::string(ACROLAB_EXE) + " info " + Quote(bad));
+  EXPECT_EQ(run.status, 1);
+  EXPECT_TRUE(run.out.empty());
+  EXPECT_NE(run.err.find(bad.string()), std::string::npos) << run.err;
+  EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
+}
+
+TEST(Cli, EveryBrokenReferenceFileFailsCleanlyOrLoads) {
+  const auto empty = acro::testing::RefdataFile("BTKData/Input/C3DSamples/others/Empty.c3d");
+  ACRO_REQUIRE_REFDATA_FILE(empty);
+  for (const char* rel : {"BTKData/Input/C3DSamples/others/Empty.c3d", "BTKData/Input/TRCSamples/Truncated.trc",
+                          "BTKData/Input/TRCSamples/Empty.trc",
+                          "c3dio-c3d_org_samples/sample_18/bad_parameter_section.c3d"}) {
+    const auto path = acro::testing::RefdataFile(rel);
+    const Run run = Execute(std::string(ACROLAB_EXE) + " info " + Quote(path));
+    EXPECT_TRUE(run.status == 0 || run.status == 1) << rel << ": status " << run.status << " " << run.err;
+    if (run.status == 1) {
+      EXPECT_NE(run.err.find(path.filename().string()), std::string::npos) << run.err;
+      EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
+    }
+  }
+}
+
+TEST(Cli, ConvertC3dToTrcAndCsvKeepsTheMarkers) {
+  const auto dir = acro::testing::TempDir();
+  const auto trc = dir / "converted.trc";
+  const auto csv = dir / "converted.csv";
+  ASSERT_EQ(Execute(std::string(ACROLAB_EXE) + " convert " + Quote(SampleC3d()) + " " + Quote(trc)).status, 0);
+  ASSERT_EQ(Execute(std::string(ACROLAB_EXE) + " convert " + Quote(trc) + " " + Quote(csv)).status, 0);
+  const auto a = acro::capture::ReadTrial(SampleC3d());
+  const auto b = acro::capture::ReadTrial(csv);
+  ASSERT_EQ(a.num_frames, b.num_frames);
+  ASSERT_EQ(a.num_points(), b.num_points());
+  EXPECT_NEAR(a.point_rate_hz, b.point_rate_hz, 1e-9);
+  for (int f = 0; f < a.num_frames; ++f) {
+    for (int p = 0; p < a.num_points(); ++p) {
+      ASSERT_EQ(a.valid(f, p), b.valid(f, p));
+      // TRC keeps 6 decimals of millimetres.
+      if (a.valid(f, p)) ASSERT_LT((a.position(f, p) - b.position(f, p)).cwiseAbs().maxCoeff(), 1e-9);
+    }
+  }
+}
+
+TEST(Cli, FailedConvertLeavesNoOutputBehind) {
+  const auto dir = acro::testing::TempDir() / "failed_convert";
+  std::filesystem::create_directories(dir);
+  const auto out = dir / "out.c3d";
+  const Run run = Execute(std::string(ACROLAB_EXE) + " convert " + Quote(dir / "missing.trc") + " " + Quote(out));
+  EXPECT_EQ(run.status, 1);
+  EXPECT_TRUE(std::filesystem::is_empty(dir));
+}
+
+TEST(Cli, BadCommandLinesExitWith2) {
+  EXPECT_EQ(Execute(std::string(ACROLAB_EXE)).status, 2);
+  EXPECT_EQ(Execute(std::string(ACROLAB_EXE) + " frobnicate").status, 2);
+  EXPECT_EQ(Execute(std::string(ACROLAB_EXE) + " info").status, 2);
+  EXPECT_EQ(Execute(std::string(ACROLAB_EXE) + " info a.c3d --bogus").status, 2);
+  EXPECT_EQ(Execute(std::string(ACROLAB_EXE) + " convert onlyone.c3d").status, 2);
+  EXPECT_EQ(Execute(std::string(ACROLAB_EXE) + " --help").status, 0);
+}
+
+}  // namespace
