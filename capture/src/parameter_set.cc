@@ -59,7 +59,8 @@ std::vector<std::uint32_t> Parameter::AsUnsigned() const {
       break;
     case ParameterType::kFloat:
       out.reserve(floats.size());
-      for (float v : floats) out.push_back(v > 0 && v < 4.3e9f ? static_cast<std::uint32_t>(v) : 0u);
+      for (float v : floats)
+        out.push_back(v > 0 && v < 4.3e9f ? static_cast<std::uint32_t>(v) : 0u);
       break;
     case ParameterType::kChar:
       break;
@@ -79,7 +80,8 @@ std::vector<std::string> Parameter::AsStrings() const {
   const std::size_t count = width == 0 ? 0 : chars.size() / width;
   out.reserve(count);
   for (std::size_t i = 0; i < count; ++i) {
-    out.push_back(TrimRight(std::string(chars.begin() + i * width, chars.begin() + (i + 1) * width)));
+    out.push_back(
+        TrimRight(std::string(chars.begin() + i * width, chars.begin() + (i + 1) * width)));
   }
   return out;
 }
@@ -216,7 +218,8 @@ Parameter MakeStringsParameter(std::string name,
   p.dimensions = {static_cast<std::uint8_t>(width), static_cast<std::uint8_t>(strings.size())};
   p.chars.assign(width * strings.size(), ' ');
   for (std::size_t i = 0; i < strings.size(); ++i) {
-    std::copy_n(strings[i].begin(), std::min(width, strings[i].size()), p.chars.begin() + i * width);
+    std::copy_n(
+        strings[i].begin(), std::min(width, strings[i].size()), p.chars.begin() + i * width);
   }
   return p;
 }

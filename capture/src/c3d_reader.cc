@@ -1,0 +1,828 @@
+// C3D reader (C3D manual, Motion Lab Systems, "The C3D File Format User Guide": chapters "The
+// header section", "The parameter section", "The 3D point and analog data section").
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <memory>
+#include <sstream>
+
+#include "acro/base/input_error.h"
+#include "acro/capture/c3d.h"
+#include "acro/capture/force_plate.h"
+#include "c3d_internal.h"
+
+namespace acro::capture {
+namespace {
+
+using internal::LoadF32;
+using internal::LoadI16;
+using internal::LoadU16;
+using internal::Processor;
+using internal::Warner;
+
+constexpr std::size_t kBlock = 512;
+
+std::string Hex(unsigned v) {
+  char buf[8];
+  std::snprintf(buf, sizeof buf, "0x%02X", v);
+  return buf;
+}
+
+std::string Num(double v) {
+  std::ostringstream s;
+  s.precision(9);
+  s << v;
+  return s.str();
+}
+
+// Values of the header (C3D manual, "The header section"), 16-bit words numbered from 1.
+struct Header {
+  int parameter_block = 0;             // word 1, low byte
+  std::uint16_t num_points = 0;        // word 2
+  std::uint16_t analog_words = 0;      // word 3: analog samples per frame × channels
+  std::uint16_t first_frame = 0;       // word 4
+  std::uint16_t last_frame = 0;        // word 5
+  float scale = 0;                     // words 7–8
+  std::uint16_t data_start = 0;        // word 9 (block number)
+  std::uint16_t analog_per_frame = 0;  // word 10
+  float frame_rate = 0;                // words 11–12
+  // Event block: word 150 key 12345, word 151 count, words 153–188 times, 189–197 display flags,
+  // 199–234 four-character labels.
+  std::uint16_t event_key = 0;
+  std::uint16_t num_events = 0;
+};
+
+class C3dReader {
+ public:
+  C3dReader(std::span<const std::uint8_t> bytes,
+            const std::string& name,
+            const C3dReadOptions& options)
+      : bytes_(bytes), name_(name), options_(options), warn_(name, &trial_.warnings) {}
+
+  Trial Read();
+
+ private:
+  [[noreturn]] void Fail(const std::string& where, const std::string& problem) const {
+    throw InputError(name_, where, problem);
+  }
+
+  void DetectProcessor();
+  void ReadHeader();
+  void ReadParameters();
+  void ReadData();
+  template <Processor P, bool kFloat>
+  void Decode(const std::uint8_t* data,
+              const internal::AnalogConversion& conversion,
+              const std::vector<double>& point_factor,
+              double scale);
+  void ReadEvents();
+
+  std::span<const std::uint8_t> bytes_;
+  std::string name_;
+  C3dReadOptions options_;
+  Trial trial_;
+  Warner warn_;
+  Processor processor_ = Processor::kIntel;
+  Header header_;
+  std::size_t parameter_start_ = 0;
+  std::size_t data_start_byte_ = 0;
+  // Layout chosen for the data section.
+  int num_points_ = 0;
+  int num_channels_ = 0;
+  int analog_per_frame_ = 0;
+  std::int64_t num_frames_ = 0;
+  std::int64_t invalid_samples_ = 0;
+};
+
+// The processor type byte of the parameter section decides how every number is stored. An invalid
+// byte is reported, and the type is guessed from which decoding gives a plausible frame rate.
+void C3dReader::DetectProcessor() {
+  const std::uint8_t type = bytes_[parameter_start_ + 3];
+  if (type == 84 || type == 85 || type == 86) {
+    processor_ = static_cast<Processor>(type);
+    return;
+  }
+  const std::uint8_t* rate = bytes_.data() + 20;
+  processor_ = Processor::kIntel;
+  for (Processor p : {Processor::kIntel, Processor::kDec, Processor::kMips}) {
+    const float r = LoadF32(rate, p);
+    if (std::isfinite(r) && r > 0.01f && r < 1e6f) {
+      processor_ = p;
+      break;
+    }
+  }
+  warn_(AtByte(static_cast<long long>(parameter_start_ + 3)),
+        "processor type byte is " + std::to_string(type) + " (expected 84, 85 or 86); " +
+            internal::ProcessorName(processor_) + " assumed from the header frame rate");
+}
+
+void C3dReader::ReadHeader() {
+  const std::uint8_t* h = bytes_.data();
+  Header& hd = header_;
+  hd.parameter_block = h[0];
+  hd.num_points = LoadU16(h + 2, processor_);
+  hd.analog_words = LoadU16(h + 4, processor_);
+  hd.first_frame = LoadU16(h + 6, processor_);
+  hd.last_frame = LoadU16(h + 8, processor_);
+  hd.scale = LoadF32(h + 12, processor_);
+  hd.data_start = LoadU16(h + 16, processor_);
+  hd.analog_per_frame = LoadU16(h + 18, processor_);
+  hd.frame_rate = LoadF32(h + 20, processor_);
+  hd.event_key = LoadU16(h + 298, processor_);
+  hd.num_events = LoadU16(h + 300, processor_);
+}
+
+// The parameter section (C3D manual, "The parameter section"): a 4-byte block header (byte 3 =
+// processor type), then records. Each record: name length (int8, negative = locked), group id
+// (int8, negative for a group, the group's id for a parameter), the name, a 16-bit offset from the
+// offset word to the next record (0 = last record), then for a group its description, for a
+// parameter its type (−1 char, 1 byte, 2 int16, 4 float), dimension count, dimensions, data and
+// description. A name length of 0 ends the section.
+void C3dReader::ReadParameters() {
+  struct Pending {
+    int group_id;
+    Parameter parameter;
+  };
+  std::vector<ParameterGroup> groups;
+  std::vector<Pending> pending;
+
+  // Records must end before the data section when it follows the parameters, else at the file end.
+  const std::size_t declared_end =
+      parameter_start_ + kBlock * static_cast<std::size_t>(bytes_[parameter_start_ + 2]);
+  std::size_t limit = bytes_.size();
+  if (data_start_byte_ > parameter_start_ && data_start_byte_ <= bytes_.size()) {
+    limit = data_start_byte_;
+  }
+  bool warned_beyond_declared = false;
+  std::size_t pos = parameter_start_ + 4;
+  const auto u8 = [&](std::size_t at) { return bytes_[at]; };
+  while (true) {
+    if (pos + 2 > limit) {
+      warn_(AtByte(static_cast<long long>(pos)),
+            "parameter section ends without a terminating record");
+      break;
+    }
+    const int name_length_signed = static_cast<std::int8_t>(u8(pos));
+    const int group_id = static_cast<std::int8_t>(u8(pos + 1));
+    if (name_length_signed == 0 || group_id == 0) break;  // end of the parameter section
+    const std::size_t name_length = static_cast<std::size_t>(std::abs(name_length_signed));
+    const std::size_t offset_at = pos + 2 + name_length;
+    if (offset_at + 2 > limit) {
+      Fail(AtByte(static_cast<long long>(pos)),
+           "parameter record runs past the end of the parameter section (byte " +
+               std::to_string(limit) + ")");
+    }
+    const std::string name(reinterpret_cast<const char*>(bytes_.data() + pos + 2), name_length);
+    const std::uint16_t offset = LoadU16(bytes_.data() + offset_at, processor_);
+    const bool last = offset == 0;
+    std::size_t next = offset_at + offset;
+    bool offset_past_limit = !last && next > limit;
+    // Some writers store single offsets in the wrong byte order (c3d.org sample 2, SGI files):
+    // the record's own content then says where it ends (checked once it is decoded, below).
+    std::size_t record_end = last ? limit : std::min(next, limit);
+    if (!warned_beyond_declared && record_end > declared_end && !last) {
+      warned_beyond_declared = true;
+      warn_("record '" + name + "' at " + AtByte(static_cast<long long>(pos)),
+            "lies beyond the declared parameter section (" +
+                std::to_string(bytes_[parameter_start_ + 2]) + " blocks ending at byte " +
+                std::to_string(declared_end) + "); read anyway");
+    }
+    // Description: a length byte then the text, both inside the record.
+    const auto read_description = [&](std::size_t at, const std::string& who) {
+      if (at >= record_end) {
+        if (!last)
+          warn_(who,
+                "record has no description length byte (record ends at " +
+                    AtByte(static_cast<long long>(record_end)) + ")");
+        return std::string();
+      }
+      std::size_t length = u8(at);
+      if (at + 1 + length > record_end) {
+        warn_(who,
+              "description of " + std::to_string(length) + " bytes runs past the record end at " +
+                  AtByte(static_cast<long long>(record_end)) + "; cut");
+        length = record_end - at - 1;
+      }
+      return std::string(reinterpret_cast<const char*>(bytes_.data() + at + 1), length);
+    };
+    std::size_t natural_end = 0;
+    if (group_id < 0) {
+      ParameterGroup group;
+      group.id = -group_id;
+      group.name = name;
+      group.locked = name_length_signed < 0;
+      group.description = read_description(offset_at + 2, name);
+      natural_end = offset_at + 3 + group.description.size();
+      groups.push_back(std::move(group));
+    } else {
+      Parameter p;
+      p.name = name;
+      p.locked = name_length_signed < 0;
+      // Name the parameter GROUP:NAME when its group record has been seen already.
+      std::string who = "parameter " + name + " (group id " + std::to_string(group_id) + ")";
+      for (const ParameterGroup& g : groups) {
+        if (g.id == group_id) who = g.name + ":" + name;
+      }
+      if (offset_at + 4 > limit)
+        Fail(AtByte(static_cast<long long>(offset_at)), who + " is cut short");
+      const int type = static_cast<std::int8_t>(u8(offset_at + 2));
+      const std::size_t num_dims = u8(offset_at + 3);
+      if (type != -1 && type != 1 && type != 2 && type != 4) {
+        Fail(AtByte(static_cast<long long>(offset_at + 2)),
+             who + " has type " + std::to_string(type) + " (expected -1, 1, 2 or 4)");
+      }
+      p.type = static_cast<ParameterType>(type);
+      if (offset_at + 4 + num_dims > limit) {
+        Fail(AtByte(static_cast<long long>(offset_at + 3)),
+             who + " dimensions run past the parameter section");
+      }
+      p.dimensions.assign(bytes_.begin() + offset_at + 4,
+                          bytes_.begin() + offset_at + 4 + num_dims);
+      const std::size_t element_size = static_cast<std::size_t>(std::abs(type));
+      const std::size_t count = p.ElementCount();
+      const std::size_t data_at = offset_at + 4 + num_dims;
+      // The count is at most 255^7, so check it against the bytes left before multiplying.
+      if (count > (limit - data_at) / element_size) {
+        Fail(AtByte(static_cast<long long>(data_at)),
+             who + " declares " + std::to_string(count) + " values of " +
+                 std::to_string(element_size) + " bytes, more than the " +
+                 std::to_string(limit - data_at) + " bytes left in the parameter section" +
+                 (limit == data_start_byte_ ? " before the data section at byte " +
+                                                  std::to_string(limit) + " (bad data first block)"
+                                            : ""));
+      }
+      const std::size_t data_end = data_at + count * element_size;
+      if (!last && data_end > record_end) {
+        warn_(who,
+              "data (" + std::to_string(count * element_size) +
+                  " bytes) overrun the next record at " +
+                  AtByte(static_cast<long long>(record_end)) +
+                  " given by the record offset; read as declared");
+      }
+      const std::uint8_t* d = bytes_.data() + data_at;
+      switch (p.type) {
+        case ParameterType::kChar:
+          p.chars.assign(reinterpret_cast<const char*>(d),
+                         reinterpret_cast<const char*>(d) + count);
+          break;
+        case ParameterType::kByte:
+          p.bytes.assign(d, d + count);
+          break;
+        case ParameterType::kInt16:
+          p.int16s.resize(count);
+          for (std::size_t i = 0; i < count; ++i) p.int16s[i] = LoadI16(d + 2 * i, processor_);
+          break;
+        case ParameterType::kFloat:
+          p.floats.resize(count);
+          for (std::size_t i = 0; i < count; ++i) p.floats[i] = LoadF32(d + 4 * i, processor_);
+          break;
+      }
+      p.description =
+          data_end < record_end || last ? read_description(data_end, who) : std::string();
+      if (!last && data_end >= record_end && data_end == record_end) {
+        warn_(who,
+              "record has no description length byte (record ends at " +
+                  AtByte(static_cast<long long>(record_end)) + ")");
+      }
+      natural_end = data_end + 1 + p.description.size();
+      pending.push_back({group_id, std::move(p)});
+    }
+    if (last) break;
+    if (offset_past_limit) {
+      if (natural_end > limit) {
+        Fail(
+            AtByte(static_cast<long long>(pos)),
+            "record '" + name + "' extends to byte " + std::to_string(next) +
+                ", past the end of the parameter section at byte " + std::to_string(limit) +
+                (limit == data_start_byte_ ? " where the data section starts (bad data first block)"
+                                           : ""));
+      }
+      warn_(AtByte(static_cast<long long>(offset_at)),
+            "record '" + name + "' has offset " + std::to_string(offset) +
+                " pointing past the parameter section (byte " + std::to_string(limit) +
+                "); continuing after its content at byte " + std::to_string(natural_end));
+      next = natural_end;
+    }
+    if (next <= pos) {
+      // A backward offset would loop: continue after the record's own content instead.
+      warn_(AtByte(static_cast<long long>(offset_at)),
+            "record '" + name + "' has offset " + std::to_string(offset) +
+                " pointing backwards; continuing after its content at byte " +
+                std::to_string(natural_end));
+      next = natural_end;
+      if (next <= pos) break;
+    }
+    pos = next;
+  }
+
+  // Attach parameters to their groups (records may come in any order).
+  for (Pending& item : pending) {
+    auto it = std::find_if(groups.begin(), groups.end(), [&](const ParameterGroup& g) {
+      return g.id == item.group_id;
+    });
+    if (it == groups.end()) {
+      ParameterGroup orphan;
+      orphan.id = item.group_id;
+      orphan.name = "UNNAMED" + std::to_string(item.group_id);
+      warn_("parameter " + item.parameter.name,
+            "refers to group id " + std::to_string(item.group_id) +
+                ", which has no group record; kept in group " + orphan.name);
+      groups.push_back(std::move(orphan));
+      it = groups.end() - 1;
+    }
+    it->parameters.push_back(std::move(item.parameter));
+  }
+  trial_.parameters.mutable_groups() = std::move(groups);
+}
+
+Trial C3dReader::Read() {
+  trial_.source.path = name_;
+  trial_.source.format = "C3D";
+  if (bytes_.empty()) Fail("", "file is empty (0 bytes)");
+  if (bytes_.size() < kBlock) {
+    Fail("",
+         "file holds " + std::to_string(bytes_.size()) +
+             " bytes, less than the 512-byte C3D header");
+  }
+  if (bytes_[1] != 0x50) {
+    Fail(AtByte(1), "not a C3D file: header key byte is " + Hex(bytes_[1]) + " (expected 0x50)");
+  }
+  if (bytes_[0] == 0) Fail(AtByte(0), "parameter section block number is 0");
+  parameter_start_ = (std::size_t(bytes_[0]) - 1) * kBlock;
+  if (parameter_start_ + 4 > bytes_.size()) {
+    Fail(AtByte(0),
+         "parameter section block " + std::to_string(bytes_[0]) +
+             " lies beyond the end of the file (" + std::to_string(bytes_.size()) + " bytes)");
+  }
+  DetectProcessor();
+  ReadHeader();
+  data_start_byte_ = header_.data_start > 0 ? (std::size_t(header_.data_start) - 1) * kBlock : 0;
+  ReadParameters();
+  ReadData();
+  ReadEvents();
+
+  // Subject (SUBJECTS:NAMES, first entry).
+  const std::vector<std::string> subjects =
+      internal::ConcatStrings(trial_.parameters, "SUBJECTS", "NAMES");
+  if (!subjects.empty()) trial_.subject_name = subjects.front();
+
+  // Force platforms: geometry, then the ground reaction per analog sample.
+  trial_.force_plates = internal::DecodeForcePlates(
+      trial_.parameters, trial_.source.point_units_to_m, trial_.num_analog_channels(), warn_);
+  if (options_.compute_force_plates) {
+    for (ForcePlate& plate : trial_.force_plates)
+      CalcForcePlateOutputs(trial_, &plate, &trial_.warnings);
+  }
+  return std::move(trial_);
+}
+
+void C3dReader::ReadData() {
+  const ParameterSet& params = trial_.parameters;
+  // Point count: POINT:USED (read unsigned), else the header.
+  std::vector<int> point_candidates;
+  if (const Parameter* used = params.Find("POINT", "USED"); used && !used->AsUnsigned().empty()) {
+    point_candidates.push_back(static_cast<int>(used->AsUnsigned().front()));
+  }
+  if (point_candidates.empty() || point_candidates.front() != header_.num_points) {
+    if (!point_candidates.empty()) {
+      warn_("POINT:USED",
+            "is " + std::to_string(point_candidates.front()) + " but the header says " +
+                std::to_string(header_.num_points) + " points");
+    } else if (header_.num_points > 0) {
+      warn_("POINT:USED",
+            "missing; header point count " + std::to_string(header_.num_points) + " used");
+    }
+    point_candidates.push_back(header_.num_points);
+  }
+
+  // Storage: POINT:SCALE negative = float (C3D manual, "POINT:SCALE"); the header holds a copy.
+  double scale = header_.scale;
+  if (const std::optional<double> s = params.FindDouble("POINT", "SCALE")) {
+    if ((*s < 0) != (header_.scale < 0)) {
+      warn_("POINT:SCALE",
+            "is " + Num(*s) + " but the header scale is " + Num(header_.scale) +
+                "; the parameter decides the storage");
+    }
+    scale = *s;
+  }
+  if (!std::isfinite(scale)) {
+    warn_("POINT:SCALE", "is not finite; 1 assumed");
+    scale = 1.0;
+  }
+  const bool is_float = scale < 0;
+  const std::size_t word = is_float ? 4 : 2;
+
+  // Analog layout: samples per frame from the header (word 10), channels from ANALOG:USED.
+  analog_per_frame_ = header_.analog_per_frame;
+  std::vector<int> channel_candidates;
+  if (const Parameter* used = params.Find("ANALOG", "USED"); used && !used->AsUnsigned().empty()) {
+    channel_candidates.push_back(static_cast<int>(used->AsUnsigned().front()));
+  }
+  const int header_channels = analog_per_frame_ > 0 ? header_.analog_words / analog_per_frame_ : 0;
+  if (channel_candidates.empty() || channel_candidates.front() != header_channels) {
+    if (!channel_candidates.empty()) {
+      warn_("ANALOG:USED",
+            "is " + std::to_string(channel_candidates.front()) + " but the header gives " +
+                std::to_string(header_.analog_words) + " analog words per frame at " +
+                std::to_string(analog_per_frame_) + " samples per frame (" +
+                std::to_string(header_channels) + " channels)");
+    }
+    channel_candidates.push_back(header_channels);
+  }
+
+  // Frames: header first/last (unsigned 16-bit); beyond 65535 frames TRIAL:ACTUAL_START_FIELD and
+  // ACTUAL_END_FIELD (two 16-bit halves each) or POINT:FRAMES (float or unsigned).
+  std::int64_t first = header_.first_frame;
+  std::int64_t frames = header_.last_frame >= header_.first_frame
+                            ? std::int64_t(header_.last_frame) - header_.first_frame + 1
+                            : 0;
+  std::optional<std::int64_t> point_frames;
+  if (const Parameter* pf = params.Find("POINT", "FRAMES")) {
+    if (pf->type == ParameterType::kFloat && !pf->floats.empty()) {
+      if (pf->floats[0] >= 0 && pf->floats[0] < 2e9f)
+        point_frames = static_cast<std::int64_t>(pf->floats[0]);
+    } else if (!pf->AsUnsigned().empty()) {
+      point_frames = pf->AsUnsigned().front();
+    }
+  }
+  const Parameter* start_field = params.Find("TRIAL", "ACTUAL_START_FIELD");
+  const Parameter* end_field = params.Find("TRIAL", "ACTUAL_END_FIELD");
+  bool from_trial = false;
+  if (start_field && end_field && start_field->AsUnsigned().size() >= 2 &&
+      end_field->AsUnsigned().size() >= 2) {
+    const std::vector<std::uint32_t> s = start_field->AsUnsigned();
+    const std::vector<std::uint32_t> e = end_field->AsUnsigned();
+    const std::int64_t trial_first =
+        std::int64_t(s[0] & 0xFFFF) | (std::int64_t(s[1] & 0xFFFF) << 16);
+    const std::int64_t trial_last =
+        std::int64_t(e[0] & 0xFFFF) | (std::int64_t(e[1] & 0xFFFF) << 16);
+    if (trial_last >= trial_first && trial_last - trial_first + 1 > frames &&
+        header_.last_frame == 0xFFFF) {
+      first = trial_first;
+      frames = trial_last - trial_first + 1;
+      from_trial = true;
+    }
+  }
+  if (!from_trial && point_frames && *point_frames != frames) {
+    if (header_.last_frame == 0xFFFF && *point_frames > frames) {
+      frames = *point_frames;
+    } else {
+      warn_("POINT:FRAMES",
+            "is " + std::to_string(*point_frames) + " but the header frames " +
+                std::to_string(header_.first_frame) + ".." + std::to_string(header_.last_frame) +
+                " give " + std::to_string(frames) + "; the header is used");
+    }
+  }
+
+  // Data start: header word 9, else POINT:DATA_START (read unsigned).
+  std::size_t data_start = data_start_byte_;
+  if (header_.data_start < 2 || data_start >= bytes_.size()) {
+    const Parameter* ds = params.Find("POINT", "DATA_START");
+    const std::vector<std::uint32_t> v = ds ? ds->AsUnsigned() : std::vector<std::uint32_t>{};
+    if (!v.empty() && v[0] >= 2) {
+      warn_(AtByte(16),
+            "header data start block " + std::to_string(header_.data_start) +
+                " is invalid; POINT:DATA_START = " + std::to_string(v[0]) + " used");
+      data_start = (std::size_t(v[0]) - 1) * kBlock;
+    } else if (frames > 0) {
+      Fail(AtByte(16),
+           "data start block " + std::to_string(header_.data_start) +
+               " is invalid and POINT:DATA_START gives no alternative");
+    }
+  }
+  const std::size_t available = data_start < bytes_.size() ? bytes_.size() - data_start : 0;
+
+  // Choose the point and channel counts that the data section can hold, preferring parameters.
+  num_points_ = point_candidates.front();
+  num_channels_ = channel_candidates.front();
+  const auto frame_bytes = [&](int points, int channels) {
+    return (std::size_t(points) * 4 + std::size_t(channels) * analog_per_frame_) * word;
+  };
+  bool fits = false;
+  for (int points : point_candidates) {
+    for (int channels : channel_candidates) {
+      const std::size_t fb = frame_bytes(points, channels);
+      if (fb == 0 || std::size_t(frames) <= available / fb) {
+        if (points != num_points_ || channels != num_channels_) {
+          warn_("data section",
+                "holds " + std::to_string(points) + " points and " + std::to_string(channels) +
+                    " analog channels per frame (the counts that fit the file); used");
+        }
+        num_points_ = points;
+        num_channels_ = channels;
+        fits = true;
+        break;
+      }
+    }
+    if (fits) break;
+  }
+  const std::size_t frame_size = frame_bytes(num_points_, num_channels_);
+  if (!fits) {
+    const std::int64_t whole = static_cast<std::int64_t>(available / frame_size);
+    if (whole == 0) {
+      Fail(AtByte(static_cast<long long>(data_start)),
+           "data section holds " + std::to_string(available) + " bytes, less than one frame of " +
+               std::to_string(frame_size) + " bytes (" + std::to_string(frames) +
+               " frames expected)");
+    }
+    warn_(AtByte(static_cast<long long>(data_start)),
+          "data section holds " + std::to_string(whole) + " complete frames of the " +
+              std::to_string(frames) + " declared (file truncated); " + std::to_string(whole) +
+              " read");
+    frames = whole;
+  }
+  if (frame_size == 0) frames = frames > 0 ? frames : 0;
+  if (frames > std::numeric_limits<int>::max() / std::max(1, num_points_ + 1)) {
+    Fail("POINT:FRAMES", std::to_string(frames) + " frames are more than this reader supports");
+  }
+  num_frames_ = frames;
+  trial_.num_frames = static_cast<int>(frames);
+  trial_.first_frame = first;
+
+  // Rates: POINT:RATE, else the header frame rate.
+  double rate = header_.frame_rate;
+  if (const std::optional<double> r = params.FindDouble("POINT", "RATE"); r && *r > 0) {
+    if (std::abs(*r - rate) > 1e-3 * std::abs(*r)) {
+      warn_("POINT:RATE",
+            "is " + Num(*r) + " Hz but the header says " + Num(rate) + " Hz; POINT:RATE used");
+    }
+    rate = *r;
+  } else if (!params.Find("POINT", "RATE")) {
+    if (params.FindGroup("POINT"))
+      warn_("POINT:RATE", "missing; header rate " + Num(rate) + " Hz used");
+  }
+  if (!std::isfinite(rate) || rate < 0) {
+    warn_("POINT:RATE", "rate " + Num(rate) + " Hz is invalid; 0 used");
+    rate = 0;
+  }
+  trial_.point_rate_hz = rate;
+  if (num_channels_ > 0 && analog_per_frame_ > 0) {
+    double analog_rate = rate * analog_per_frame_;
+    if (const std::optional<double> r = params.FindDouble("ANALOG", "RATE");
+        r && *r > 0 && std::isfinite(*r)) {
+      if (std::abs(*r - analog_rate) > 1e-3 * *r) {
+        warn_("ANALOG:RATE",
+              "is " + Num(*r) + " Hz but the data hold " + std::to_string(analog_per_frame_) +
+                  " samples per frame at " + Num(rate) + " Hz; ANALOG:RATE kept");
+      }
+      analog_rate = *r;
+    } else {
+      warn_(
+          "ANALOG:RATE",
+          "missing or invalid; " + Num(analog_rate) + " Hz used (point rate × samples per frame)");
+    }
+    trial_.analog_rate_hz = analog_rate;
+  }
+
+  // Point descriptions and units. POINT:UNITS converts markers to metres (C3D manual,
+  // "POINT:UNITS"); other point types keep the file's units.
+  trial_.points = internal::DecodePoints(params, num_points_, warn_);
+  SourceInfo& src = trial_.source;
+  src.processor = internal::ProcessorName(processor_);
+  src.point_storage = is_float ? "float" : "integer";
+  src.point_scale = scale;
+  const std::optional<std::string> units = params.FindString("POINT", "UNITS");
+  double to_m = 0;
+  if (units) {
+    src.point_units = *units;
+    to_m = internal::LengthUnitToMetres(*units);
+    if (to_m == 0) {
+      warn_("POINT:UNITS", "unknown unit '" + *units + "'; millimetres assumed");
+      to_m = 1e-3;
+    }
+  }
+  {
+    const std::string x = params.FindString("POINT", "X_SCREEN").value_or("");
+    const std::string y = params.FindString("POINT", "Y_SCREEN").value_or("");
+    if (!x.empty() || !y.empty()) src.axis_convention = x + " " + y;
+  }
+  std::vector<double> point_factor(num_points_, 1.0);
+  for (int p = 0; p < num_points_; ++p) {
+    if (trial_.points[p].type == PointType::kMarker) point_factor[p] = units ? to_m : 1.0;
+  }
+
+  // Analog channels.
+  internal::AnalogConversion conversion;
+  trial_.analog_channels =
+      internal::DecodeAnalogChannels(params, num_channels_, &conversion, warn_);
+
+  // Allocate once (sizes are bounded by the file size checked above), then decode in one pass.
+  const std::int64_t samples = frames * num_points_;
+  trial_.positions.resize(3, samples);
+  trial_.residuals.resize(num_points_, frames);
+  trial_.camera_masks.resize(num_points_, frames);
+  trial_.analog.resize(num_channels_, frames * analog_per_frame_);
+  const std::uint8_t* data = bytes_.data() + data_start;
+  if (frames > 0) {
+    switch (processor_) {
+      case Processor::kIntel:
+        is_float ? Decode<Processor::kIntel, true>(data, conversion, point_factor, scale)
+                 : Decode<Processor::kIntel, false>(data, conversion, point_factor, scale);
+        break;
+      case Processor::kDec:
+        is_float ? Decode<Processor::kDec, true>(data, conversion, point_factor, scale)
+                 : Decode<Processor::kDec, false>(data, conversion, point_factor, scale);
+        break;
+      case Processor::kMips:
+        is_float ? Decode<Processor::kMips, true>(data, conversion, point_factor, scale)
+                 : Decode<Processor::kMips, false>(data, conversion, point_factor, scale);
+        break;
+    }
+  }
+
+  // Residual word negative = invalid sample → a gap (NaN). If every sample is invalid but the
+  // coordinates are not all zero (SIMI files, c3d.org sample 16), keep them and say so.
+  if (samples > 0 && invalid_samples_ > 0) {
+    bool keep = false;
+    if (invalid_samples_ == samples) {
+      for (std::int64_t i = 0; i < samples && !keep; ++i) {
+        keep = trial_.positions(0, i) != 0 || trial_.positions(1, i) != 0 ||
+               trial_.positions(2, i) != 0;
+      }
+      if (keep) {
+        warn_("POINT residuals",
+              "every sample has residual -1 (invalid) but the coordinates are not zero; "
+              "coordinates kept as valid samples (residuals stay -1)");
+      }
+    }
+    if (!keep) {
+      const double nan = std::numeric_limits<double>::quiet_NaN();
+      for (std::int64_t f = 0; f < frames; ++f) {
+        for (int p = 0; p < num_points_; ++p) {
+          if (trial_.residuals(p, f) < 0)
+            trial_.positions.col(f * num_points_ + p).setConstant(nan);
+        }
+      }
+    }
+  }
+
+  // Missing POINT:UNITS: millimetres unless the marker coordinates are small enough to be metres.
+  if (!units) {
+    std::vector<double> magnitudes;
+    for (std::int64_t i = 0; i < samples; i += std::max<std::int64_t>(1, samples / 20000)) {
+      const int p = static_cast<int>(i % std::max(1, num_points_));
+      if (trial_.points[p].type != PointType::kMarker) continue;
+      const double m = trial_.positions.col(i).cwiseAbs().maxCoeff();
+      if (std::isfinite(m) && m > 0) magnitudes.push_back(m);
+    }
+    double median = 0;
+    if (!magnitudes.empty()) {
+      std::nth_element(
+          magnitudes.begin(), magnitudes.begin() + magnitudes.size() / 2, magnitudes.end());
+      median = magnitudes[magnitudes.size() / 2];
+    }
+    to_m = (median > 0 && median < 20.0) ? 1.0 : 1e-3;
+    if (num_points_ > 0) {
+      warn_("POINT:UNITS",
+            std::string("missing; ") + (to_m == 1.0 ? "metres" : "millimetres") +
+                " assumed (median marker coordinate magnitude " + Num(median) + ")");
+    }
+    if (to_m != 1.0) {
+      for (std::int64_t f = 0; f < frames; ++f) {
+        for (int p = 0; p < num_points_; ++p) {
+          if (trial_.points[p].type == PointType::kMarker)
+            trial_.positions.col(f * num_points_ + p) *= to_m;
+        }
+      }
+    }
+  }
+  src.point_units_to_m = to_m;
+}
+
+// Decodes every frame: per point x, y, z and the residual word, then the analog samples (C3D
+// manual, "The 3D point and analog data section"). Integer storage multiplies x, y, z by
+// POINT:SCALE; the residual word holds the camera mask in its high byte and the residual (in units
+// of |POINT:SCALE|) in its low byte; float storage keeps the same word as a float.
+template <Processor P, bool kFloat>
+void C3dReader::Decode(const std::uint8_t* data,
+                       const internal::AnalogConversion& conversion,
+                       const std::vector<double>& point_factor,
+                       double scale) {
+  constexpr std::size_t kWord = kFloat ? 4 : 2;
+  const int num_points = num_points_;
+  const int channels = num_channels_;
+  const int per_frame = analog_per_frame_;
+  const std::size_t frame_size =
+      (std::size_t(num_points) * 4 + std::size_t(channels) * per_frame) * kWord;
+  const double abs_scale = std::abs(scale);
+  const float residual_unit = static_cast<float>(abs_scale);
+  const bool unsigned_analog = conversion.unsigned_format;
+  double* pos = trial_.positions.data();
+  float* residuals = trial_.residuals.data();
+  std::uint8_t* masks = trial_.camera_masks.data();
+  double* analog = trial_.analog.data();
+  std::int64_t invalid = 0;
+  const auto value = [&](const std::uint8_t* at) -> double {
+    if constexpr (kFloat) {
+      return LoadF32(at, P);
+    } else {
+      return LoadI16(at, P);
+    }
+  };
+  for (std::int64_t f = 0; f < num_frames_; ++f) {
+    const std::uint8_t* frame = data + f * frame_size;
+    for (int p = 0; p < num_points; ++p) {
+      const std::uint8_t* at = frame + std::size_t(p) * 4 * kWord;
+      const double factor = kFloat ? point_factor[p] : point_factor[p] * scale;
+      pos[0] = value(at) * factor;
+      pos[1] = value(at + kWord) * factor;
+      pos[2] = value(at + 2 * kWord) * factor;
+      pos += 3;
+      int word;
+      if constexpr (kFloat) {
+        const float w = LoadF32(at + 3 * kWord, P);
+        // NaN and negative words are invalid; large values are clamped to the 16-bit word.
+        word = !(w >= 0.0f) ? -1 : static_cast<int>(std::min(w, 32767.0f));
+      } else {
+        word = LoadI16(at + 3 * kWord, P);
+      }
+      if (word < 0) {
+        *residuals++ = -1.0f;
+        *masks++ = 0;
+        ++invalid;
+      } else {
+        *residuals++ = static_cast<float>(word & 0xFF) * residual_unit;
+        *masks++ = static_cast<std::uint8_t>(word >> 8);
+      }
+    }
+    const std::uint8_t* at = frame + std::size_t(num_points) * 4 * kWord;
+    for (int s = 0; s < per_frame; ++s) {
+      for (int c = 0; c < channels; ++c) {
+        double raw;
+        if constexpr (kFloat) {
+          raw = LoadF32(at, P);
+        } else {
+          raw = unsigned_analog ? double(LoadU16(at, P)) : double(LoadI16(at, P));
+        }
+        *analog++ = (raw - conversion.offset[c]) * conversion.coefficient[c];
+        at += kWord;
+      }
+    }
+  }
+  invalid_samples_ = invalid;
+}
+
+// Events: the EVENT group when it has events (labels, contexts, descriptions), else the header
+// event block (up to 18 events with 4-character labels, C3D manual "The header section").
+void C3dReader::ReadEvents() {
+  trial_.events = internal::DecodeEventGroup(trial_.parameters, warn_);
+  if (!trial_.events.empty()) return;
+  int count = header_.num_events;
+  if (count == 0) return;
+  if (count > 18) {
+    warn_(AtByte(300),
+          "header says " + std::to_string(count) + " events; the header holds at most 18");
+    count = 18;
+  }
+  const std::uint8_t* h = bytes_.data();
+  for (int i = 0; i < count; ++i) {
+    Event e;
+    e.time_s = LoadF32(h + 304 + 4 * i, processor_);
+    e.displayed = h[376 + i] != 0;
+    std::string label(reinterpret_cast<const char*>(h + 396 + 4 * i), 4);
+    while (!label.empty() && (label.back() == ' ' || label.back() == '\0')) label.pop_back();
+    e.label = label;
+    trial_.events.push_back(std::move(e));
+  }
+}
+
+}  // namespace
+
+Trial ReadC3dFromMemory(std::span<const std::uint8_t> bytes,
+                        const std::string& name,
+                        const C3dReadOptions& options) {
+  if (static_cast<std::int64_t>(bytes.size()) > options.max_file_bytes) {
+    throw InputError(name,
+                     "",
+                     "file of " + std::to_string(bytes.size()) + " bytes exceeds the limit of " +
+                         std::to_string(options.max_file_bytes) + " bytes");
+  }
+  return C3dReader(bytes, name, options).Read();
+}
+
+Trial ReadC3d(const std::filesystem::path& path, const C3dReadOptions& options) {
+  const std::string name = path.string();
+  std::error_code ec;
+  const std::uintmax_t size = std::filesystem::file_size(path, ec);
+  if (ec) throw InputError(name, "", "cannot open: " + ec.message());
+  if (static_cast<std::int64_t>(size) > options.max_file_bytes) {
+    throw InputError(name,
+                     "",
+                     "file of " + std::to_string(size) + " bytes exceeds the limit of " +
+                         std::to_string(options.max_file_bytes) + " bytes");
+  }
+  // One read into one buffer; the decoder works from memory.
+  std::unique_ptr<std::uint8_t[]> buffer(new std::uint8_t[size > 0 ? size : 1]);
+  std::FILE* file = std::fopen(name.c_str(), "rb");
+  if (file == nullptr) throw InputError(name, "", "cannot open for reading");
+  const std::size_t got = size > 0 ? std::fread(buffer.get(), 1, size, file) : 0;
+  std::fclose(file);
+  if (got != size)
+    throw InputError(
+        name, "", "read " + std::to_string(got) + " of " + std::to_string(size) + " bytes");
+  return ReadC3dFromMemory(std::span<const std::uint8_t>(buffer.get(), size), name, options);
+}
+
+}  // namespace acro::capture

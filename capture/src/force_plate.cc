@@ -1,0 +1,167 @@
+#include "acro/capture/force_plate.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <limits>
+
+#include <Eigen/Geometry>
+
+namespace acro::capture {
+namespace {
+
+// N·m per unit of a moment channel ("Nmm", "N.mm", "Nm", "N.m"); 0 if the unit says nothing.
+double MomentUnitToNm(std::string unit) {
+  std::string u;
+  for (char c : unit) {
+    if (c != ' ' && c != '.' && c != '*' && c != '\0')
+      u += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  }
+  if (u.empty()) return 0.0;
+  if (u.size() >= 3 && u.compare(u.size() - 2, 2, "mm") == 0) return 1e-3;
+  if (u == "nm") return 1.0;
+  if (u == "ncm") return 1e-2;
+  return 0.0;
+}
+
+}  // namespace
+
+void CalcForcePlateOutputs(const Trial& trial,
+                           ForcePlate* plate,
+                           std::vector<std::string>* warnings) {
+  const auto warn = [&](const std::string& problem) {
+    if (warnings != nullptr) {
+      warnings->push_back(trial.source.path + ": FORCE_PLATFORM TYPE " +
+                          std::to_string(plate->type) + " plate: " + problem);
+    }
+  };
+  plate->force_W_N.resize(3, 0);
+  plate->cop_W_m.resize(3, 0);
+  plate->free_moment_W_Nm.resize(3, 0);
+  plate->moment_at_origin_W_Nm.resize(3, 0);
+  const int type = plate->type;
+  if (type < 1 || type > 4) {
+    warn("type not supported (only 1-4); no ground reaction computed");
+    return;
+  }
+  const int needed = type == 3 ? 8 : 6;
+  if (static_cast<int>(plate->channels.size()) < needed) return;  // reported by the reader
+  for (int k = 0; k < needed; ++k) {
+    if (plate->channels[k] < 0 || plate->channels[k] >= trial.num_analog_channels()) return;
+  }
+  const std::int64_t samples = trial.num_analog_samples();
+  const int per_frame = trial.analog_samples_per_frame();
+
+  // Baseline per channel over the ZERO frame range (1-based frames of the data), if valid.
+  Eigen::Matrix<double, 8, 1> baseline = Eigen::Matrix<double, 8, 1>::Zero();
+  if (plate->zero.size() >= 2 && plate->zero[0] >= 1 && plate->zero[1] >= plate->zero[0] &&
+      per_frame > 0 && plate->zero[0] <= trial.num_frames) {
+    const std::int64_t s0 = std::int64_t(plate->zero[0] - 1) * per_frame;
+    const std::int64_t s1 =
+        std::min<std::int64_t>(std::int64_t(plate->zero[1]) * per_frame, samples);
+    for (int k = 0; k < needed; ++k) {
+      baseline(k) = trial.analog.row(plate->channels[k]).segment(s0, s1 - s0).mean();
+    }
+  }
+
+  // Units: forces in N; moments converted from the moment channels' unit; lengths (TYPE 1 COP)
+  // in the point unit.
+  double moment_to_Nm = 0;
+  if (type == 2 || type == 4 || type == 1) {
+    moment_to_Nm = MomentUnitToNm(trial.analog_channels[plate->channels[type == 1 ? 5 : 3]].unit);
+  }
+  if (moment_to_Nm == 0) moment_to_Nm = trial.source.point_units_to_m;
+  double length_to_m = trial.source.point_units_to_m;
+  if (type == 1) {
+    const double u = MomentUnitToNm("N" + trial.analog_channels[plate->channels[3]].unit);
+    if (u != 0) length_to_m = u;
+  }
+
+  // Plate frame F in W from the corners (C3D manual, "FORCE_PLATFORM:CORNERS").
+  const Eigen::Matrix<double, 3, 4>& c = plate->corners_W_m;
+  Eigen::Vector3d x = c.col(0) - c.col(1);
+  Eigen::Vector3d y = c.col(0) - c.col(3);
+  Eigen::Vector3d z = x.cross(y);
+  if (x.norm() == 0 || z.norm() == 0) {
+    warn("CORNERS do not span a plane; no ground reaction computed");
+    return;
+  }
+  x.normalize();
+  z.normalize();
+  y = z.cross(x);
+  Eigen::Matrix3d R_WF;
+  R_WF << x, y, z;
+  const Eigen::Vector3d centre_W = c.rowwise().mean();
+
+  // r = surface centre relative to the transducer origin, in F (ORIGIN, z ≤ 0).
+  Eigen::Vector3d r = plate->origin_F_m;
+  if (type == 1) r.head<2>().setZero();
+  if (r.z() > 0) {
+    warn("ORIGIN z = " + std::to_string(r.z()) +
+         " m is positive (the manual has it negative); negated");
+    if (type == 3) {
+      r.z() = -r.z();
+    } else {
+      r = -r;
+    }
+  }
+
+  Eigen::Matrix<double, 6, 6> cal = Eigen::Matrix<double, 6, 6>::Identity();
+  if (type == 4) {
+    if (plate->cal_matrix.rows() == 6 && plate->cal_matrix.cols() == 6) {
+      cal = plate->cal_matrix;
+    } else {
+      warn("CAL_MATRIX missing or not 6×6; identity used");
+    }
+  }
+
+  plate->force_W_N.resize(3, samples);
+  plate->cop_W_m.resize(3, samples);
+  plate->free_moment_W_Nm.resize(3, samples);
+  plate->moment_at_origin_W_Nm.resize(3, samples);
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  Eigen::Matrix<double, 8, 1> v;
+  for (std::int64_t s = 0; s < samples; ++s) {
+    for (int k = 0; k < needed; ++k) v(k) = trial.analog(plate->channels[k], s) - baseline(k);
+    // Force f and moment m_O about the transducer origin, exerted by the plate on the body, in F.
+    Eigen::Vector3d f;
+    Eigen::Vector3d m_O;
+    Eigen::Vector3d m_C;  // about the surface centre
+    if (type == 1) {
+      // Fx, Fy, Fz, COPx, COPy, Tz: the moment about the centre follows from the COP.
+      f = v.head<3>();
+      const Eigen::Vector3d cop(v(3) * length_to_m, v(4) * length_to_m, 0.0);
+      m_C = cop.cross(f) + Eigen::Vector3d(0, 0, v(5) * moment_to_Nm);
+      m_O = m_C - f.cross(r);
+    } else if (type == 3) {
+      // Kistler: fx12, fx34, fy14, fy23, fz1..fz4; sensors at (±a, ±b) (Kistler manual formulas,
+      // as in the C3D manual "TYPE-3").
+      const double a = std::abs(r.x());
+      const double b = std::abs(r.y());
+      f << v(0) + v(1), v(2) + v(3), v(4) + v(5) + v(6) + v(7);
+      m_O << b * (v(4) + v(5) - v(6) - v(7)), a * (-v(4) + v(5) + v(6) - v(7)),
+          b * (-v(0) + v(1)) + a * (v(2) - v(3));
+      m_C = m_O + f.cross(Eigen::Vector3d(0, 0, r.z()));
+    } else {
+      Eigen::Matrix<double, 6, 1> w = cal * v.head<6>();
+      f = w.head<3>();
+      m_O = w.tail<3>() * moment_to_Nm;
+      // Transfer to the surface centre: M_C = M_O + (O − C) × f = M_O + f × r.
+      m_C = m_O + f.cross(r);
+    }
+    plate->force_W_N.col(s) = R_WF * f;
+    plate->moment_at_origin_W_Nm.col(s) = R_WF * m_O;
+    // Centre of pressure on the surface (z = 0 in F about the centre): M_C,x = y·Fz, M_C,y = −x·Fz.
+    if (std::abs(f.z()) >= kMinCopForce_N) {
+      const Eigen::Vector3d cop(-m_C.y() / f.z(), m_C.x() / f.z(), 0.0);
+      const double free_z = m_C.z() - (cop.x() * f.y() - cop.y() * f.x());
+      plate->cop_W_m.col(s) = R_WF * cop + centre_W;
+      plate->free_moment_W_Nm.col(s) = R_WF * Eigen::Vector3d(0, 0, free_z);
+    } else {
+      plate->cop_W_m.col(s).setConstant(nan);
+      plate->free_moment_W_Nm.col(s).setConstant(nan);
+    }
+  }
+}
+
+}  // namespace acro::capture

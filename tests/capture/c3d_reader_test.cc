@@ -1,0 +1,275 @@
+// C3D reader against the values other readers assert for the c3d.org and BTK suites
+// (../shared/refdata/{c3dio-c3d_org_samples,BTKData}/expected.md). Coordinates in those tables are
+// in the files' millimetres; the Trial holds metres, so they are compared after × 1000.
+
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "acro/base/input_error.h"
+#include "acro/capture/c3d.h"
+#include "refdata.h"
+
+namespace acro::capture {
+namespace {
+
+using acro::testing::RefdataFile;
+
+constexpr char kOrg[] = "c3dio-c3d_org_samples/";
+
+double Mm(const Trial& t, int frame, int point, int axis) {
+  return t.position(frame, point)(axis) * 1000.0;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Sample 01: the same trial in Intel/DEC/MIPS × integer/float (BTK asserts the same values for
+// all).
+class Sample01 : public ::testing::TestWithParam<std::string> {};
+
+TEST_P(Sample01, BtkValues) {
+  const auto path = RefdataFile(std::string(kOrg) + "sample_01/" + GetParam());
+  ACRO_REQUIRE_REFDATA_FILE(path);
+  const Trial t = ReadC3d(path);
+  EXPECT_EQ(t.point_rate_hz, 50);
+  EXPECT_EQ(t.num_points(), 26);
+  EXPECT_EQ(t.analog_rate_hz, 200);
+  EXPECT_EQ(t.num_analog_channels(), 16);
+  EXPECT_EQ(t.num_frames, 450);
+  EXPECT_EQ(t.first_frame, 1);
+  EXPECT_EQ(t.analog_samples_per_frame(), 4);
+  EXPECT_EQ(t.points[0].label, "RFT1");
+  EXPECT_NEAR(Mm(t, 8, 0, 0), 250.4166, 1e-4);
+  EXPECT_NEAR(Mm(t, 16, 17, 0), 285.0, 1e-4);
+  EXPECT_NEAR(Mm(t, 16, 17, 1), 222.4166, 1e-4);
+  EXPECT_NEAR(Mm(t, 16, 17, 2), 564.4166, 1e-4);
+  EXPECT_NEAR(t.residuals(0, 0), 1.3333, 1e-4);
+  EXPECT_NEAR(t.residuals(14, 20), 1.91667, 1e-4);
+  EXPECT_NEAR(t.analog(0, 0), -26.6599, 1e-3);
+  EXPECT_NEAR(t.analog(0, 1), -25.8, 1e-4);
+  ASSERT_EQ(t.events.size(), 3u);
+  EXPECT_EQ(t.events[0].label, "RIC");
+  EXPECT_NEAR(t.events[0].time_s, 2.72, 1e-4);
+  EXPECT_EQ(t.events[1].label, "RHS");
+  EXPECT_NEAR(t.events[1].time_s, 5.40, 1e-4);
+  EXPECT_EQ(t.events[2].label, "RTO");
+  EXPECT_NEAR(t.events[2].time_s, 7.32, 1e-4);
+  EXPECT_EQ(t.source.point_units, "mm");
+  EXPECT_EQ(t.source.point_units_to_m, 1e-3);
+  EXPECT_TRUE(t.warnings.empty()) << t.warnings.front();
+}
+
+INSTANTIATE_TEST_SUITE_P(AllSix,
+                         Sample01,
+                         ::testing::Values("Eb015pi.c3d",
+                                           "Eb015pr.c3d",
+                                           "Eb015si.c3d",
+                                           "Eb015sr.c3d",
+                                           "Eb015vi.c3d",
+                                           "Eb015vr.c3d"));
+
+TEST(C3dReader, Sample01ProcessorsAndStorage) {
+  const std::vector<std::tuple<std::string, std::string, std::string>> cases = {
+      {"Eb015pi.c3d", "Intel", "integer"},
+      {"Eb015pr.c3d", "Intel", "float"},
+      {"Eb015si.c3d", "MIPS", "integer"},
+      {"Eb015sr.c3d", "MIPS", "float"},
+      {"Eb015vi.c3d", "DEC", "integer"},
+      {"Eb015vr.c3d", "DEC", "float"}};
+  for (const auto& [file, processor, storage] : cases) {
+    const auto path = RefdataFile(std::string(kOrg) + "sample_01/" + file);
+    ACRO_REQUIRE_REFDATA_FILE(path);
+    const Trial t = ReadC3d(path);
+    EXPECT_EQ(t.source.processor, processor) << file;
+    EXPECT_EQ(t.source.point_storage, storage) << file;
+    EXPECT_EQ(t.source.format, "C3D");
+  }
+}
+
+TEST(C3dReader, Eb015piDescriptionsAndScale) {
+  const auto path = RefdataFile(std::string(kOrg) + "sample_01/Eb015pi.c3d");
+  ACRO_REQUIRE_REFDATA_FILE(path);
+  const Trial t = ReadC3d(path);
+  EXPECT_EQ(t.points[9].description, "DISTAL FOOT");
+  EXPECT_EQ(t.analog_channels[15].label, "CH16");
+  EXPECT_EQ(t.analog_channels[2].description, "FORCE Z-COMP 1");
+  EXPECT_NEAR(t.source.point_scale, 0.08333, 1e-4);
+}
+
+// The six variants give the same trajectories within one scale step (py-c3d's criterion: valid
+// masks identical, |Δ| ≤ 1.01·|POINT:SCALE|), and the same analog samples.
+TEST(C3dReader, Sample01VariantsAgree) {
+  const std::vector<std::string> files = {
+      "Eb015pi.c3d", "Eb015pr.c3d", "Eb015si.c3d", "Eb015sr.c3d", "Eb015vi.c3d", "Eb015vr.c3d"};
+  const auto ref_path = RefdataFile(std::string(kOrg) + "sample_01/Eb015pr.c3d");
+  ACRO_REQUIRE_REFDATA_FILE(ref_path);
+  const Trial ref = ReadC3d(ref_path);
+  const double step_m = 1.01 * std::abs(ref.source.point_scale) * 1e-3;
+  for (const std::string& file : files) {
+    const Trial t = ReadC3d(RefdataFile(std::string(kOrg) + "sample_01/" + file));
+    ASSERT_EQ(t.positions.cols(), ref.positions.cols()) << file;
+    double worst = 0;
+    for (Eigen::Index i = 0; i < t.positions.cols(); ++i) {
+      ASSERT_EQ(std::isnan(t.positions(0, i)), std::isnan(ref.positions(0, i)))
+          << file << " sample " << i;
+      if (!std::isnan(t.positions(0, i)))
+        worst = std::max(worst, (t.positions.col(i) - ref.positions.col(i)).cwiseAbs().maxCoeff());
+    }
+    EXPECT_LE(worst, step_m) << file;
+    ASSERT_EQ(t.analog.cols(), ref.analog.cols());
+    // Analog samples: numpy isclose defaults (rtol 1e-5, atol 1e-8), as py-c3d.
+    for (Eigen::Index i = 0; i < t.analog.size(); ++i) {
+      ASSERT_LE(std::abs(t.analog.data()[i] - ref.analog.data()[i]),
+                1e-8 + 1e-5 * std::abs(ref.analog.data()[i]))
+          << file << " analog value " << i;
+    }
+    EXPECT_TRUE((t.residuals == ref.residuals).all()) << file;
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Sample 02 (Vicon 370): BTK's values; the Intel/SGI integer files differ by one scale step in y.
+TEST(C3dReader, Sample02BtkValues) {
+  struct Case {
+    const char* file;
+    double y;
+  };
+  const Case cases[] = {{"dec_int.c3d", 523.8418},
+                        {"dec_real.c3d", 523.8417},
+                        {"pc_real.c3d", 523.8417},
+                        {"sgi_real.c3d", 523.8417},
+                        {"pc_int.c3d", 523.5606},
+                        {"sgi_int.c3d", 523.5606}};
+  for (const Case& c : cases) {
+    const auto path = RefdataFile(std::string(kOrg) + "sample_02/" + c.file);
+    ACRO_REQUIRE_REFDATA_FILE(path);
+    const Trial t = ReadC3d(path);
+    EXPECT_EQ(t.point_rate_hz, 50) << c.file;
+    EXPECT_EQ(t.num_points(), 36) << c.file;
+    EXPECT_EQ(t.num_frames, 89) << c.file;
+    EXPECT_EQ(t.analog_rate_hz, 200) << c.file;
+    EXPECT_EQ(t.num_analog_channels(), 16) << c.file;
+    EXPECT_EQ(t.num_analog_samples(), 356) << c.file;
+    EXPECT_EQ(t.points[3].label, "RSK1") << c.file;
+    EXPECT_NEAR(Mm(t, 16, 3, 0), 384.0944, 1e-4) << c.file;
+    EXPECT_NEAR(Mm(t, 16, 3, 1), c.y, 1e-4) << c.file;
+    EXPECT_NEAR(Mm(t, 16, 3, 2), 311.2683, 1e-4) << c.file;
+    EXPECT_EQ(t.analog_channels[2].label, "FZ1") << c.file;
+    EXPECT_NEAR(t.analog(2, 15), 8.9280, 1e-4) << c.file;
+    EXPECT_NEAR(t.analog(2, 39), 5.952, 1e-4) << c.file;
+  }
+}
+
+TEST(C3dReader, Sample02VariantsAgreeWithinOneScaleStep) {
+  const auto ref_path = RefdataFile(std::string(kOrg) + "sample_02/pc_real.c3d");
+  ACRO_REQUIRE_REFDATA_FILE(ref_path);
+  const Trial ref = ReadC3d(ref_path);
+  const double step_m = 1.01 * std::abs(ref.source.point_scale) * 1e-3;
+  for (const char* file :
+       {"dec_int.c3d", "dec_real.c3d", "pc_int.c3d", "sgi_int.c3d", "sgi_real.c3d"}) {
+    const Trial t = ReadC3d(RefdataFile(std::string(kOrg) + "sample_02/" + file));
+    ASSERT_EQ(t.positions.cols(), ref.positions.cols()) << file;
+    double worst = 0;
+    for (Eigen::Index i = 0; i < t.positions.cols(); ++i) {
+      ASSERT_EQ(std::isnan(t.positions(0, i)), std::isnan(ref.positions(0, i)))
+          << file << " sample " << i;
+      if (!std::isnan(t.positions(0, i)))
+        worst = std::max(worst, (t.positions.col(i) - ref.positions.col(i)).cwiseAbs().maxCoeff());
+    }
+    EXPECT_LE(worst, step_m) << file;
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// Files that load with warnings, and files that must fail.
+TEST(C3dReader, EmptyFileFailsNamingTheFile) {
+  const auto path = RefdataFile("BTKData/Input/C3DSamples/others/Empty.c3d");
+  ACRO_REQUIRE_REFDATA_FILE(path);
+  try {
+    ReadC3d(path);
+    FAIL() << "Empty.c3d loaded";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("Empty.c3d"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("empty"), std::string::npos) << e.what();
+  }
+}
+
+// Decision: sample_18 fails (as in BTK and c3dio): its parameter section runs into the data section
+// (EVENT:LABELS crosses the data start block), so the parameters cannot be trusted.
+TEST(C3dReader, Sample18BadParameterSectionFails) {
+  const auto path = RefdataFile(std::string(kOrg) + "sample_18/bad_parameter_section.c3d");
+  ACRO_REQUIRE_REFDATA_FILE(path);
+  try {
+    ReadC3d(path);
+    FAIL() << "bad_parameter_section.c3d loaded";
+  } catch (const InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("bad_parameter_section.c3d"), std::string::npos) << what;
+    EXPECT_NE(what.find("EVENT:LABELS"), std::string::npos) << what;
+    EXPECT_NE(what.find("bad data first block"), std::string::npos) << what;
+  }
+}
+
+TEST(C3dReader, BadParameterOffsetLoads) {
+  const auto path = RefdataFile("BTKData/Input/C3DSamples/others/badParameterOffset.c3d");
+  ACRO_REQUIRE_REFDATA_FILE(path);
+  const Trial t = ReadC3d(path);
+  EXPECT_EQ(t.events.size(), 0u);
+  EXPECT_EQ(t.num_points(), 41);
+  EXPECT_EQ(t.num_analog_channels(), 0);
+  EXPECT_EQ(t.first_frame, 1);
+  EXPECT_EQ(t.first_frame + t.num_frames - 1, 111);
+  EXPECT_EQ(t.point_rate_hz, 250.0);
+  EXPECT_EQ(t.points[0].label, "Point    1");
+  EXPECT_EQ(t.points[40].label, "Point   41");
+  EXPECT_NEAR(Mm(t, 0, 0, 0), 168.093002, 1e-5);
+  EXPECT_NEAR(Mm(t, 10, 29, 1), 731.903015, 1e-5);
+  // BTK's 0.0 is the file's (0, 0, 0) of a sample whose residual word is -1: here a gap (NaN).
+  EXPECT_TRUE(std::isnan(Mm(t, 110, 40, 2)));
+  EXPECT_EQ(t.residuals(40, 110), -1.0f);
+  EXPECT_FALSE(t.warnings.empty());  // ANALOG:UNITS overruns its record
+}
+
+TEST(C3dReader, Utf8Path) {
+  const auto path =
+      RefdataFile("BTKData/Input/C3DSamples/others/Я могу есть стекло/оно мне не вредит.c3d");
+  ACRO_REQUIRE_REFDATA_FILE(path);
+  const Trial t = ReadC3d(path);
+  EXPECT_EQ(t.events.size(), 0u);
+  EXPECT_EQ(t.num_points(), 27);
+  EXPECT_EQ(t.num_analog_channels(), 6);
+  EXPECT_EQ(t.first_frame, 91);
+  EXPECT_EQ(t.first_frame + t.num_frames - 1, 327);
+  EXPECT_EQ(t.point_rate_hz, 250.0);
+  EXPECT_EQ(t.analog_rate_hz, 1000.0);
+  EXPECT_EQ(t.points[0].label, "AbcdeFghijk:RASI");
+  EXPECT_EQ(t.points[26].label, "AbcdeFghijk:LFIN");
+  EXPECT_EQ(t.FindPoint("RASI"), 0);
+  EXPECT_EQ(t.FindPoint("AbcdeFghijk:LFIN"), 26);
+  EXPECT_EQ(t.FindPoint("NOPE"), -1);
+}
+
+TEST(C3dReader, ParameterOverflowKeepsParameterBeyondSection) {
+  const auto path = RefdataFile("BTKData/Input/C3DSamples/others/parameterOverflow.c3d");
+  ACRO_REQUIRE_REFDATA_FILE(path);
+  const Trial t = ReadC3d(path);
+  ASSERT_NE(t.parameters.FindGroup("ANALYSIS"), nullptr);
+  EXPECT_NE(t.parameters.Find("ANALYSIS", "VALUES"), nullptr);
+  EXPECT_FALSE(t.warnings.empty());
+}
+
+TEST(C3dReader, Mocap36LoadsDespiteMissingDescriptionLength) {
+  const auto path = RefdataFile("BTKData/Input/C3DSamples/others/mocap36.c3d");
+  ACRO_REQUIRE_REFDATA_FILE(path);
+  const Trial t = ReadC3d(path);
+  EXPECT_EQ(t.num_points(), 36);
+  EXPECT_EQ(t.num_frames, 1380);
+  EXPECT_EQ(t.point_rate_hz, 100);
+  ASSERT_EQ(t.warnings.size(), 1u);
+  EXPECT_NE(t.warnings[0].find("POINT:LABELS"), std::string::npos) << t.warnings[0];
+  EXPECT_NE(t.warnings[0].find("no description length byte"), std::string::npos) << t.warnings[0];
+}
+
+}  // namespace
+}  // namespace acro::capture
