@@ -613,7 +613,7 @@ void C3dReader::ReadData() {
   trial_.positions.resize(3, samples);
   trial_.residuals.resize(num_points_, frames);
   trial_.camera_masks.resize(num_points_, frames);
-  trial_.analog.resize(num_channels_, frames * analog_per_frame_);
+  trial_.analog.resize(num_channels_, num_channels_ > 0 ? frames * analog_per_frame_ : 0);
   const std::uint8_t* data = bytes_.data() + data_start;
   if (frames > 0) {
     switch (processor_) {

@@ -1,0 +1,219 @@
+// C3D writer: read → write → read over every loadable file of the c3d.org and BTK suites.
+// What must hold (c3dio's round-trip criterion, made stricter):
+//  - every parameter, label, description, unit, rate, event, force-plate definition and the
+//    subject are identical after the round trip; the only parameters that may change are those
+//    describing the layout (POINT:USED, SCALE, FRAMES, DATA_START, ANALOG:USED), which must still
+//    describe the same trial;
+//  - analog samples are identical (integer sources: the raw integers are exact in float32);
+//  - points and residuals are identical for float sources; an integer source is converted to float
+//    on the first write, so its coordinates equal the original within float32 rounding
+//    (relative 2⁻²⁴), and from then on a second write → read is bit-identical (the written bytes
+//    are a fixed point: write(read(write(read(file)))) == write(read(file))).
+
+#include <cmath>
+#include <filesystem>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "acro/base/input_error.h"
+#include "acro/capture/c3d.h"
+#include "refdata.h"
+
+namespace acro::capture {
+namespace {
+
+namespace fs = std::filesystem;
+
+// Every .c3d file of both suites, sorted (the UTF-8 path included).
+std::vector<fs::path> SuiteFiles() {
+  std::vector<fs::path> files;
+  for (const char* suite : {"c3dio-c3d_org_samples", "BTKData"}) {
+    const fs::path dir = acro::testing::RefdataDir() / suite;
+    if (!fs::exists(dir)) continue;
+    for (const auto& entry : fs::recursive_directory_iterator(dir)) {
+      std::string ext = entry.path().extension().string();
+      for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+      if (entry.is_regular_file() && ext == ".c3d") files.push_back(entry.path());
+    }
+  }
+  std::sort(files.begin(), files.end());
+  return files;
+}
+
+// Files that must not load (tested with their messages in c3d_reader_test and c3d_bad_input_test).
+bool ExpectedToFail(const fs::path& p) {
+  const std::string name = p.filename().string();
+  return name == "Empty.c3d" || name == "bad_parameter_section.c3d";
+}
+
+bool SameParameter(const Parameter& a, const Parameter& b) {
+  return a.name == b.name && a.description == b.description && a.locked == b.locked &&
+         a.type == b.type && a.dimensions == b.dimensions && a.chars == b.chars &&
+         a.bytes == b.bytes && a.int16s == b.int16s && a.floats.size() == b.floats.size() &&
+         std::equal(a.floats.begin(), a.floats.end(), b.floats.begin(), [](float x, float y) {
+           return std::memcmp(&x, &y, 4) == 0;  // bit-identical, NaN included
+         });
+}
+
+bool IsLayoutParameter(const std::string& group, const std::string& name) {
+  static const std::set<std::string> kLayout = {
+      "POINT:USED", "POINT:SCALE", "POINT:FRAMES", "POINT:DATA_START", "ANALOG:USED"};
+  return kLayout.count(group + ":" + name) > 0;
+}
+
+void ExpectSameMetadata(const Trial& a, const Trial& b, const std::string& file) {
+  EXPECT_EQ(a.num_frames, b.num_frames) << file;
+  EXPECT_EQ(a.first_frame, b.first_frame) << file;
+  EXPECT_EQ(a.point_rate_hz, b.point_rate_hz) << file;
+  EXPECT_EQ(a.analog_rate_hz, b.analog_rate_hz) << file;
+  EXPECT_EQ(a.subject_name, b.subject_name) << file;
+  EXPECT_EQ(a.source.point_units, b.source.point_units) << file;
+  EXPECT_EQ(a.source.point_units_to_m, b.source.point_units_to_m) << file;
+  EXPECT_EQ(std::abs(a.source.point_scale), std::abs(b.source.point_scale)) << file;
+  ASSERT_EQ(a.num_points(), b.num_points()) << file;
+  for (int i = 0; i < a.num_points(); ++i) {
+    EXPECT_EQ(a.points[i].label, b.points[i].label) << file;
+    EXPECT_EQ(a.points[i].description, b.points[i].description) << file;
+    EXPECT_EQ(a.points[i].type, b.points[i].type) << file;
+    EXPECT_EQ(a.points[i].unit, b.points[i].unit) << file;
+  }
+  ASSERT_EQ(a.num_analog_channels(), b.num_analog_channels()) << file;
+  for (int i = 0; i < a.num_analog_channels(); ++i) {
+    EXPECT_EQ(a.analog_channels[i].label, b.analog_channels[i].label) << file;
+    EXPECT_EQ(a.analog_channels[i].description, b.analog_channels[i].description) << file;
+    EXPECT_EQ(a.analog_channels[i].unit, b.analog_channels[i].unit) << file;
+    EXPECT_EQ(a.analog_channels[i].scale, b.analog_channels[i].scale) << file;
+    EXPECT_EQ(a.analog_channels[i].offset, b.analog_channels[i].offset) << file;
+    EXPECT_EQ(a.analog_channels[i].gain_code, b.analog_channels[i].gain_code) << file;
+  }
+  ASSERT_EQ(a.events.size(), b.events.size()) << file;
+  for (std::size_t i = 0; i < a.events.size(); ++i) {
+    EXPECT_EQ(a.events[i].label, b.events[i].label) << file;
+    EXPECT_EQ(a.events[i].context, b.events[i].context) << file;
+    EXPECT_EQ(a.events[i].description, b.events[i].description) << file;
+    EXPECT_EQ(a.events[i].subject, b.events[i].subject) << file;
+    EXPECT_EQ(a.events[i].time_s, b.events[i].time_s) << file;
+    EXPECT_EQ(a.events[i].displayed, b.events[i].displayed) << file;
+  }
+  ASSERT_EQ(a.force_plates.size(), b.force_plates.size()) << file;
+  for (std::size_t i = 0; i < a.force_plates.size(); ++i) {
+    const ForcePlate& x = a.force_plates[i];
+    const ForcePlate& y = b.force_plates[i];
+    EXPECT_EQ(x.type, y.type) << file;
+    EXPECT_EQ(x.corners_W_m, y.corners_W_m) << file;
+    EXPECT_EQ(x.origin_F_m, y.origin_F_m) << file;
+    EXPECT_EQ(x.channels, y.channels) << file;
+    EXPECT_EQ(x.zero, y.zero) << file;
+    EXPECT_TRUE(x.cal_matrix.size() == y.cal_matrix.size() && x.cal_matrix == y.cal_matrix) << file;
+    // Outputs are recomputed from identical analog samples: identical (NaN where NaN).
+    EXPECT_TRUE(x.force_W_N.isApprox(y.force_W_N, 0) || x.force_W_N == y.force_W_N) << file;
+  }
+  // Parameters: every group and parameter of `a` in `b`, in the same order (files may hold two
+  // groups of one name, c3d.org sample 33), identical except the layout ones; the writer may only
+  // append.
+  const auto& ga = a.parameters.groups();
+  const auto& gb = b.parameters.groups();
+  ASSERT_GE(gb.size(), ga.size()) << file;
+  for (std::size_t i = 0; i < ga.size(); ++i) {
+    EXPECT_EQ(ga[i].name, gb[i].name) << file;
+    EXPECT_EQ(ga[i].id, gb[i].id) << file << " group " << ga[i].name;
+    EXPECT_EQ(ga[i].description, gb[i].description) << file << " group " << ga[i].name;
+    EXPECT_EQ(ga[i].locked, gb[i].locked) << file << " group " << ga[i].name;
+    ASSERT_GE(gb[i].parameters.size(), ga[i].parameters.size()) << file << " group " << ga[i].name;
+    for (std::size_t j = 0; j < ga[i].parameters.size(); ++j) {
+      const Parameter& p = ga[i].parameters[j];
+      const Parameter& q = gb[i].parameters[j];
+      ASSERT_EQ(p.name, q.name) << file << " group " << ga[i].name;
+      if (IsLayoutParameter(ga[i].name, p.name)) continue;
+      EXPECT_TRUE(SameParameter(p, q)) << file << " " << ga[i].name << ":" << p.name;
+    }
+  }
+}
+
+TEST(C3dWriter, RoundTripEverySuiteFile) {
+  const std::vector<fs::path> files = SuiteFiles();
+  if (files.empty()) ACRO_REQUIRE_REFDATA_FILE(acro::testing::RefdataFile("c3dio-c3d_org_samples"));
+  int checked = 0;
+  for (const fs::path& path : files) {
+    const std::string file = path.string();
+    if (ExpectedToFail(path)) continue;
+    SCOPED_TRACE(file);
+    const Trial t1 = ReadC3d(path);
+    const std::vector<std::uint8_t> bytes1 = WriteC3dToMemory(t1);
+    const Trial t2 = ReadC3dFromMemory(bytes1, file + " (written)");
+    ExpectSameMetadata(t1, t2, file);
+
+    // Analog: identical.
+    ASSERT_EQ(t1.analog.rows(), t2.analog.rows());
+    ASSERT_EQ(t1.analog.cols(), t2.analog.cols());
+    EXPECT_TRUE(t1.analog == t2.analog) << file;
+
+    // Points: identical for float sources; float32 rounding of the original for integer sources.
+    ASSERT_EQ(t1.positions.cols(), t2.positions.cols());
+    const bool float_source = t1.source.point_storage == "float";
+    double worst_relative = 0;
+    for (Eigen::Index i = 0; i < t1.positions.cols(); ++i) {
+      for (int k = 0; k < 3; ++k) {
+        const double x1 = t1.positions(k, i);
+        const double x2 = t2.positions(k, i);
+        ASSERT_EQ(std::isnan(x1), std::isnan(x2)) << file << " sample " << i;
+        if (std::isnan(x1)) continue;
+        if (float_source) {
+          ASSERT_EQ(x1, x2) << file << " sample " << i;
+        } else if (x1 != 0) {
+          worst_relative = std::max(worst_relative, std::abs(x2 - x1) / std::abs(x1));
+        } else {
+          ASSERT_EQ(x2, 0.0) << file << " sample " << i;
+        }
+      }
+    }
+    EXPECT_LE(worst_relative, std::ldexp(1.0, -24) + 1e-15) << file;
+    EXPECT_TRUE((t1.residuals == t2.residuals).all()) << file;
+    EXPECT_TRUE((t1.camera_masks == t2.camera_masks).all()) << file;
+
+    // Second generation: bit-identical bytes and values.
+    const std::vector<std::uint8_t> bytes2 = WriteC3dToMemory(t2);
+    EXPECT_TRUE(bytes1 == bytes2) << file << ": second write differs (" << bytes1.size() << " vs "
+                                  << bytes2.size() << " bytes)";
+    const Trial t3 = ReadC3dFromMemory(bytes2, file + " (written twice)");
+    EXPECT_TRUE(t3.positions.cwiseEqual(t2.positions).count() +
+                    t2.positions.array().isNaN().count() ==
+                t2.positions.size())
+        << file;
+    ++checked;
+  }
+  EXPECT_GE(checked, 70) << "round trip ran on too few files";
+}
+
+TEST(C3dWriter, WriteC3dRenamesIntoPlace) {
+  const auto path = acro::testing::RefdataFile("c3dio-c3d_org_samples/sample_01/Eb015pr.c3d");
+  ACRO_REQUIRE_REFDATA_FILE(path);
+  const Trial t = ReadC3d(path);
+  const fs::path out = acro::testing::TempDir() / "writer_eb015.c3d";
+  WriteC3d(t, out);
+  EXPECT_TRUE(fs::exists(out));
+  EXPECT_FALSE(fs::exists(fs::path(out.string() + ".partial")));
+  const Trial back = ReadC3d(out);
+  EXPECT_EQ(back.num_frames, 450);
+  EXPECT_TRUE(back.positions.cwiseEqual(t.positions).count() +
+                  t.positions.array().isNaN().count() ==
+              t.positions.size());
+}
+
+TEST(C3dWriter, UnwritableTargetThrowsNamingIt) {
+  Trial t;
+  t.point_rate_hz = 100;
+  const fs::path out = acro::testing::TempDir() / "no_such_dir" / "x.c3d";
+  try {
+    WriteC3d(t, out);
+    FAIL() << "wrote into a missing directory";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("x.c3d"), std::string::npos) << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace acro::capture
