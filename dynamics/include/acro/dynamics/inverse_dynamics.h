@@ -1,0 +1,296 @@
+#pragma once
+
+// Recursive Newton–Euler inverse dynamics (Featherstone 2008, RBDA Table 5.1), the
+// composite-rigid-body mass matrix (RBDA Table 6.2), bias forces, the root residual at the
+// whole-body centre of mass, and the root acceleration of a body in flight. Conventions:
+// docs/notation.md. None of these allocates.
+
+#include <Eigen/Cholesky>
+#include <string>
+#include <vector>
+
+#include "acro/dynamics/kinematics.h"
+
+namespace acro::dynamics {
+
+/// τ = ID(q, v, a): the generalised forces (nv) that produce accelerations a at state (q, v)
+/// under gravity and the optional applied wrenches F_ext_Bo_W (one per segment, about Bo,
+/// expressed in W; nullptr for none). τ[0:3] is the root force in W, τ[3:6] the root moment about
+/// the root origin in the root frame (the generalised forces of v_WBo_W and w_WB_B), τ[6:] one
+/// torque per joint axis. Writes ws.tau (returned), the poses, velocities, accelerations and the
+/// joint wrenches ws.F_Bo_B.
+template <typename T>
+const VectorX<T>& CalcInverseDynamics(const Model<T>& model,
+                                      Workspace<T>& ws,
+                                      const VectorXcRef<T>& q,
+                                      const VectorXcRef<T>& v,
+                                      const VectorXcRef<T>& a,
+                                      const std::vector<SpatialForce<T>>* F_ext_Bo_W = nullptr);
+
+/// h(q, v) = ID(q, v, 0): Coriolis, centrifugal and gravity forces (nv). Writes ws.h (returned).
+template <typename T>
+const VectorX<T>& CalcBiasForces(const Model<T>& model,
+                                 Workspace<T>& ws,
+                                 const VectorXcRef<T>& q,
+                                 const VectorXcRef<T>& v);
+
+/// M(q) (nv × nv, symmetric) so that ID(q, v, a) = M(q)·a + h(q, v). Writes ws.M (returned) and
+/// the composite inertias ws.Ic_Bo_B.
+template <typename T>
+const MatrixX<T>& CalcMassMatrix(const Model<T>& model, Workspace<T>& ws, const VectorXcRef<T>& q);
+
+/// The root residual of the last CalcInverseDynamics as a wrench at the whole-body centre of mass
+/// in W (DESIGN.md: F1..F6), and normalised: force / (m·|g|), moment / (m·|g|·height).
+template <typename T>
+struct RootResidual {
+  SpatialForce<T> F_Scm_W;              ///< moment about the centre of mass (N·m), force (N), in W
+  Vector3<T> force_per_weight;          ///< force / (m |g|), dimensionless
+  Vector3<T> moment_per_weight_height;  ///< moment / (m |g| height), dimensionless
+};
+
+/// Reads the root wrench and poses that CalcInverseDynamics left in ws. height_m > 0 is the
+/// athlete's stature; |g| comes from the model (and must not be zero).
+template <typename T>
+RootResidual<T> CalcRootResidual(const Model<T>& model, const Workspace<T>& ws, const T& height_m);
+
+/// Normalises a wrench at the centre of mass: force / (m g), moment / (m g height).
+template <typename T>
+void NormalizeByBodyWeight(const SpatialForce<T>& F_Scm_W,
+                           const T& mass_kg,
+                           const T& gravity_mps2,
+                           const T& height_m,
+                           Vector3<T>& force_per_weight,
+                           Vector3<T>& moment_per_weight_height);
+
+/// Root accelerations of a body in flight: given the joint accelerations a[6:] (the root part of
+/// a is overwritten), the root accelerations a[0:6] for which the root residual vanishes, so that
+/// gravity and F_ext_Bo_W are the only external wrenches. One inverse dynamics pass plus the
+/// whole-body composite inertia Ic about the root: Ic·ΔA = −F_root (RBDA §9.2's floating base).
+template <typename T>
+void CalcFlightRootAcceleration(const Model<T>& model,
+                                Workspace<T>& ws,
+                                const VectorXcRef<T>& q,
+                                const VectorXcRef<T>& v,
+                                VectorXRef<T> a,
+                                const std::vector<SpatialForce<T>>* F_ext_Bo_W = nullptr);
+
+// ---------------------------------------------------------------------------------------------
+// Implementation.
+
+namespace internal {
+
+/// RNEA (RBDA Table 5.1) with a = nullptr meaning zero accelerations; writes ws.tau.
+template <typename T>
+void Rnea(const Model<T>& model,
+          Workspace<T>& ws,
+          const VectorXcRef<T>& q,
+          const VectorXcRef<T>& v,
+          const T* a,
+          const std::vector<SpatialForce<T>>* F_ext_Bo_W,
+          VectorX<T>& tau) {
+  ACRO_DEMAND(q.size() == model.nq() && v.size() == model.nv() && tau.size() == model.nv());
+  const int n = model.num_segments();
+  // Forward pass: poses, velocities (RBDA eq. 5.7).
+  CalcForwardKinematics(model, ws, q, v);
+  // Accelerations with the base accelerating at −g (RBDA §5.3).
+  CalcAccelerations(model, ws, v, a, model.gravity_W());
+  // Net forces f_B = I A + V ×* I V − f_ext (RBDA eq. 5.9).
+  for (int i = 0; i < n; ++i) {
+    const size_t ui = static_cast<size_t>(i);
+    const SpatialInertia<T>& I = model.segment(i).M_Bo_B;
+    const SpatialMotion<T>& V = ws.V_WB_B[ui];
+    ws.F_Bo_B[ui] = I * ws.A_WB_B[ui] + V.CrossForce(I * V);
+    if (F_ext_Bo_W != nullptr) {
+      const SpatialForce<T>& Fe = (*F_ext_Bo_W)[ui];
+      const Matrix3<T>& R = ws.X_WB[ui].rotation();
+      ws.F_Bo_B[ui] -=
+          SpatialForce<T>(R.transpose() * Fe.rotational(), R.transpose() * Fe.translational());
+    }
+  }
+  // Backward pass: τ_k = S_kᵀ f_B and f_P += X_PB* f_B (RBDA eqs. 5.10–5.11).
+  for (int i = n - 1; i > 0; --i) {
+    const Segment<T>& seg = model.segment(i);
+    const size_t ui = static_cast<size_t>(i);
+    const SpatialForce<T>& F = ws.F_Bo_B[ui];
+    for (int k = 0; k < seg.num_axes; ++k)
+      tau[seg.v_start + k] = ws.S_B[ui][static_cast<size_t>(k)].dot(F.rotational());
+    ws.F_Bo_B[static_cast<size_t>(seg.parent)] += ws.X_PB[ui].Apply(F);
+  }
+  // Root: the generalised forces of v_WBo_W (force in W) and w_WB_B (moment about Bo in B).
+  tau.template head<3>() = ws.X_WB[0].rotation() * ws.F_Bo_B[0].translational();
+  tau.template segment<3>(3) = ws.F_Bo_B[0].rotational();
+}
+
+/// Column k of the root's motion subspace in B: v_WBo_W e_k ↦ [0; R_WBᵀ e_k], w_WB_B e_k ↦ [e_k;
+/// 0].
+template <typename T>
+SpatialMotion<T> RootMotionColumn(const Matrix3<T>& R_WB, int k) {
+  if (k < 3) return SpatialMotion<T>(Vector3<T>::Zero(), R_WB.row(k).transpose());
+  return SpatialMotion<T>(Vector3<T>::Unit(k - 3), Vector3<T>::Zero());
+}
+
+}  // namespace internal
+
+template <typename T>
+const VectorX<T>& CalcInverseDynamics(const Model<T>& model,
+                                      Workspace<T>& ws,
+                                      const VectorXcRef<T>& q,
+                                      const VectorXcRef<T>& v,
+                                      const VectorXcRef<T>& a,
+                                      const std::vector<SpatialForce<T>>* F_ext_Bo_W) {
+  ACRO_DEMAND(a.size() == model.nv());
+  ACRO_DEMAND(F_ext_Bo_W == nullptr ||
+              F_ext_Bo_W->size() == static_cast<size_t>(model.num_segments()));
+  internal::Rnea(model, ws, q, v, a.data(), F_ext_Bo_W, ws.tau);
+  return ws.tau;
+}
+
+template <typename T>
+const VectorX<T>& CalcBiasForces(const Model<T>& model,
+                                 Workspace<T>& ws,
+                                 const VectorXcRef<T>& q,
+                                 const VectorXcRef<T>& v) {
+  internal::Rnea<T>(model, ws, q, v, nullptr, nullptr, ws.h);
+  return ws.h;
+}
+
+template <typename T>
+const MatrixX<T>& CalcMassMatrix(const Model<T>& model, Workspace<T>& ws, const VectorXcRef<T>& q) {
+  const int n = model.num_segments();
+  CalcForwardKinematics(model, ws, q);
+  // Composite inertias: Ic_P += X_PB* Ic_B X_BP (RBDA Table 6.2).
+  for (int i = 0; i < n; ++i) ws.Ic_Bo_B[static_cast<size_t>(i)] = model.segment(i).M_Bo_B;
+  for (int i = n - 1; i > 0; --i) {
+    const size_t ui = static_cast<size_t>(i);
+    ws.Ic_Bo_B[static_cast<size_t>(model.segment(i).parent)] += ws.X_PB[ui].Apply(ws.Ic_Bo_B[ui]);
+  }
+  MatrixX<T>& M = ws.M;
+  const Matrix3<T>& R0 = ws.X_WB[0].rotation();
+  // Projects the spatial force F (in the frame of segment j) on joint j's motion subspace and
+  // writes the entries M(v_j + l, col) and their symmetric twins.
+  auto project = [&](int j, const SpatialForce<T>& F, int col) {
+    const Segment<T>& seg = model.segment(j);
+    if (seg.joint_type == JointType::kFree) {
+      const Vector3<T> f_W = R0 * F.translational();
+      for (int l = 0; l < 3; ++l) {
+        M(l, col) = f_W[l];
+        M(col, l) = f_W[l];
+        M(3 + l, col) = F.rotational()[l];
+        M(col, 3 + l) = F.rotational()[l];
+      }
+      return;
+    }
+    for (int l = 0; l < seg.num_axes; ++l) {
+      const T m = ws.S_B[static_cast<size_t>(j)][static_cast<size_t>(l)].dot(F.rotational());
+      M(seg.v_start + l, col) = m;
+      M(col, seg.v_start + l) = m;
+    }
+  };
+  // Each motion-subspace column s of segment i: F = Ic_i s, then F is carried inboard and
+  // projected on every ancestor joint (RBDA Table 6.2, inner loop).
+  for (int i = n - 1; i >= 0; --i) {
+    const Segment<T>& seg = model.segment(i);
+    const size_t ui = static_cast<size_t>(i);
+    const int ncols = seg.joint_type == JointType::kFree ? 6 : seg.num_axes;
+    for (int k = 0; k < ncols; ++k) {
+      const SpatialMotion<T> s =
+          seg.joint_type == JointType::kFree
+              ? internal::RootMotionColumn(R0, k)
+              : SpatialMotion<T>(ws.S_B[ui][static_cast<size_t>(k)], Vector3<T>::Zero());
+      SpatialForce<T> F = ws.Ic_Bo_B[ui] * s;
+      const int col = seg.v_start + k;
+      project(i, F, col);
+      for (int j = i; model.segment(j).parent >= 0; j = model.segment(j).parent) {
+        F = ws.X_PB[static_cast<size_t>(j)].Apply(F);
+        project(model.segment(j).parent, F, col);
+      }
+    }
+  }
+  return M;
+}
+
+template <typename T>
+void NormalizeByBodyWeight(const SpatialForce<T>& F_Scm_W,
+                           const T& mass_kg,
+                           const T& gravity_mps2,
+                           const T& height_m,
+                           Vector3<T>& force_per_weight,
+                           Vector3<T>& moment_per_weight_height) {
+  ACRO_DEMAND(mass_kg > T(0) && gravity_mps2 > T(0) && height_m > T(0));
+  const T weight = mass_kg * gravity_mps2;
+  force_per_weight = F_Scm_W.translational() / weight;
+  moment_per_weight_height = F_Scm_W.rotational() / (weight * height_m);
+}
+
+template <typename T>
+RootResidual<T> CalcRootResidual(const Model<T>& model, const Workspace<T>& ws, const T& height_m) {
+  // The root wrench about Bo in B, re-expressed in W and shifted to the centre of mass:
+  // f_W = R f_B, n_Scm = R n_Bo − (p_WoScm − p_WoBo) × f_W.
+  const RigidTransform<T>& X_WB = ws.X_WB[0];
+  const SpatialForce<T>& F_B = ws.F_Bo_B[0];
+  const Vector3<T> f_W = X_WB.rotation() * F_B.translational();
+  const Vector3<T> n_Bo_W = X_WB.rotation() * F_B.rotational();
+  const Vector3<T> p_BoScm_W = CalcCenterOfMassPosition(model, ws) - X_WB.translation();
+  RootResidual<T> out;
+  out.F_Scm_W = SpatialForce<T>(n_Bo_W, f_W).Shift(p_BoScm_W);
+  NormalizeByBodyWeight(out.F_Scm_W,
+                        model.total_mass(),
+                        T(model.gravity_W().norm()),
+                        height_m,
+                        out.force_per_weight,
+                        out.moment_per_weight_height);
+  return out;
+}
+
+template <typename T>
+void CalcFlightRootAcceleration(const Model<T>& model,
+                                Workspace<T>& ws,
+                                const VectorXcRef<T>& q,
+                                const VectorXcRef<T>& v,
+                                VectorXRef<T> a,
+                                const std::vector<SpatialForce<T>>* F_ext_Bo_W) {
+  ACRO_DEMAND(a.size() == model.nv());
+  // Root residual F0 with zero root acceleration.
+  a.template head<6>().setZero();
+  internal::Rnea(model, ws, q, v, a.data(), F_ext_Bo_W, ws.tau);
+  // Whole-body composite inertia about Bo in B.
+  const int n = model.num_segments();
+  for (int i = 0; i < n; ++i) ws.Ic_Bo_B[static_cast<size_t>(i)] = model.segment(i).M_Bo_B;
+  for (int i = n - 1; i > 0; --i) {
+    const size_t ui = static_cast<size_t>(i);
+    ws.Ic_Bo_B[static_cast<size_t>(model.segment(i).parent)] += ws.X_PB[ui].Apply(ws.Ic_Bo_B[ui]);
+  }
+  // A change ΔA of the root's spatial acceleration changes the root wrench by Ic·ΔA; choose it
+  // to cancel F0. Then ẇ_WB_B = ΔA_ω and a_WBo_W = R_WB ΔA_v.
+  const Matrix6<T> Ic = ws.Ic_Bo_B[0].ToMatrix();
+  const Vector6<T> dA = Ic.ldlt().solve(-ws.F_Bo_B[0].get_coeffs());
+  a.template head<3>() = ws.X_WB[0].rotation() * dA.template tail<3>();
+  a.template segment<3>(3) = dA.template head<3>();
+}
+
+// Explicit instantiations for double live in src/inverse_dynamics.cc.
+extern template const VectorX<double>& CalcInverseDynamics<double>(
+    const Model<double>&,
+    Workspace<double>&,
+    const Eigen::Ref<const VectorX<double>>&,
+    const Eigen::Ref<const VectorX<double>>&,
+    const Eigen::Ref<const VectorX<double>>&,
+    const std::vector<SpatialForce<double>>*);
+extern template const VectorX<double>& CalcBiasForces<double>(
+    const Model<double>&,
+    Workspace<double>&,
+    const Eigen::Ref<const VectorX<double>>&,
+    const Eigen::Ref<const VectorX<double>>&);
+extern template const MatrixX<double>& CalcMassMatrix<double>(
+    const Model<double>&, Workspace<double>&, const Eigen::Ref<const VectorX<double>>&);
+extern template RootResidual<double> CalcRootResidual<double>(const Model<double>&,
+                                                              const Workspace<double>&,
+                                                              const double&);
+extern template void CalcFlightRootAcceleration<double>(const Model<double>&,
+                                                        Workspace<double>&,
+                                                        const Eigen::Ref<const VectorX<double>>&,
+                                                        const Eigen::Ref<const VectorX<double>>&,
+                                                        Eigen::Ref<VectorX<double>>,
+                                                        const std::vector<SpatialForce<double>>*);
+
+}  // namespace acro::dynamics

@@ -1,0 +1,63 @@
+#pragma once
+
+// Preallocated per-model scratch and results (Pinocchio's "Data", MuJoCo's mjData). Made once
+// for a model; every algorithm writes into it and none allocates afterwards. One workspace per
+// thread.
+
+#include <array>
+#include <vector>
+
+#include "acro/dynamics/model.h"
+
+namespace acro::dynamics {
+
+template <typename T>
+struct Workspace {
+  explicit Workspace(const Model<T>& model)
+      : X_PB(Size(model)),
+        X_WB(Size(model)),
+        S_B(Size(model)),
+        V_WB_B(Size(model)),
+        A_WB_B(Size(model)),
+        F_Bo_B(Size(model)),
+        Ic_Bo_B(Size(model)),
+        tau(model.nv()),
+        M(model.nv(), model.nv()),
+        h(model.nv()),
+        scratch_forces(6, 6) {
+    tau.setZero();
+    M.setZero();
+    h.setZero();
+  }
+
+  // Position kinematics (CalcForwardKinematics with q).
+  std::vector<RigidTransform<T>> X_PB;  ///< segment B in its parent P (the root: in W)
+  std::vector<RigidTransform<T>> X_WB;  ///< segment B in the world W
+  /// Joint axes as angular-velocity directions in B: column k of the motion subspace of B's
+  /// inboard Euler joint is [S_B[B][k]; 0] (RBDA §4.4).
+  std::vector<std::array<Vector3<T>, 3>> S_B;
+
+  // Velocity and acceleration kinematics, about Bo, expressed in B.
+  std::vector<SpatialMotion<T>> V_WB_B;
+  /// Spatial accelerations; after inverse dynamics they include the fictitious −g of the base
+  /// (RBDA §5.3), after CalcCenterOfMassAcceleration they are the true accelerations.
+  std::vector<SpatialMotion<T>> A_WB_B;
+
+  /// After inverse dynamics: the spatial force that B's inboard joint transmits to B, about Bo in
+  /// B (RBDA eq. 5.9). For the root this is the net external wrench the motion needs besides
+  /// gravity and the applied wrenches: the root residual.
+  std::vector<SpatialForce<T>> F_Bo_B;
+  /// Composite inertia of the subtree rooted at B, about Bo in B (RBDA §6.2).
+  std::vector<SpatialInertia<T>> Ic_Bo_B;
+
+  VectorX<T> tau;  ///< generalised forces from inverse dynamics (nv)
+  MatrixX<T> M;    ///< joint-space mass matrix from CalcMassMatrix (nv × nv)
+  VectorX<T> h;    ///< bias forces from CalcBiasForces (nv)
+
+  Matrix6X<T> scratch_forces;  ///< up to 6 spatial-force columns for the mass matrix
+
+ private:
+  static size_t Size(const Model<T>& model) { return static_cast<size_t>(model.num_segments()); }
+};
+
+}  // namespace acro::dynamics
