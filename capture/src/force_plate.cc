@@ -24,6 +24,28 @@ double MomentUnitToNm(std::string unit) {
   return 0.0;
 }
 
+// Fraction of the samples loaded above 20 % of the peak force whose COP lies on the plate (its
+// rectangle in F, 10 % margin); 1 when the plate is never loaded.
+double FractionCopOnPlate(const ForcePlate& plate,
+                          const Eigen::Matrix3d& R_WF,
+                          const Eigen::Vector3d& centre_W) {
+  const Eigen::Index n = plate.force_W_N.cols();
+  if (n == 0) return 1.0;
+  const double peak = plate.force_W_N.colwise().norm().maxCoeff();
+  Eigen::Vector3d half = Eigen::Vector3d::Zero();
+  for (int c = 0; c < 4; ++c)
+    half = half.cwiseMax((R_WF.transpose() * (plate.corners_W_m.col(c) - centre_W)).cwiseAbs());
+  int loaded = 0;
+  int on = 0;
+  for (Eigen::Index s = 0; s < n; ++s) {
+    if (plate.force_W_N.col(s).norm() < 0.2 * peak || std::isnan(plate.cop_W_m(0, s))) continue;
+    ++loaded;
+    const Eigen::Vector3d d = (R_WF.transpose() * (plate.cop_W_m.col(s) - centre_W)).cwiseAbs();
+    if (d.x() <= 1.1 * half.x() && d.y() <= 1.1 * half.y()) ++on;
+  }
+  return loaded == 0 ? 1.0 : double(on) / loaded;
+}
+
 }  // namespace
 
 void CalcForcePlateOutputs(const Trial& trial,
@@ -66,11 +88,12 @@ void CalcForcePlateOutputs(const Trial& trial,
 
   // Units: forces in N; moments converted from the moment channels' unit; lengths (TYPE 1 COP)
   // in the point unit.
-  double moment_to_Nm = 0;
+  double labelled_moment_to_Nm = 0;
   if (type == 2 || type == 4 || type == 1) {
-    moment_to_Nm = MomentUnitToNm(trial.analog_channels[plate->channels[type == 1 ? 5 : 3]].unit);
+    labelled_moment_to_Nm =
+        MomentUnitToNm(trial.analog_channels[plate->channels[type == 1 ? 5 : 3]].unit);
   }
-  if (moment_to_Nm == 0) moment_to_Nm = trial.source.point_units_to_m;
+  if (labelled_moment_to_Nm == 0) labelled_moment_to_Nm = trial.source.point_units_to_m;
   double length_to_m = trial.source.point_units_to_m;
   if (type == 1) {
     const double u = MomentUnitToNm("N" + trial.analog_channels[plate->channels[3]].unit);
@@ -115,51 +138,77 @@ void CalcForcePlateOutputs(const Trial& trial,
     }
   }
 
-  plate->force_W_N.resize(3, samples);
-  plate->cop_W_m.resize(3, samples);
-  plate->free_moment_W_Nm.resize(3, samples);
-  plate->moment_at_origin_W_Nm.resize(3, samples);
-  const double nan = std::numeric_limits<double>::quiet_NaN();
-  Eigen::Matrix<double, 8, 1> v;
-  for (std::int64_t s = 0; s < samples; ++s) {
-    for (int k = 0; k < needed; ++k) v(k) = trial.analog(plate->channels[k], s) - baseline(k);
-    // Force f and moment m_O about the transducer origin, exerted by the plate on the body, in F.
-    Eigen::Vector3d f;
-    Eigen::Vector3d m_O;
-    Eigen::Vector3d m_C;  // about the surface centre
-    if (type == 1) {
-      // Fx, Fy, Fz, COPx, COPy, Tz: the moment about the centre follows from the COP.
-      f = v.head<3>();
-      const Eigen::Vector3d cop(v(3) * length_to_m, v(4) * length_to_m, 0.0);
-      m_C = cop.cross(f) + Eigen::Vector3d(0, 0, v(5) * moment_to_Nm);
-      m_O = m_C - f.cross(r);
-    } else if (type == 3) {
-      // Kistler: fx12, fx34, fy14, fy23, fz1..fz4; sensors at (±a, ±b) (Kistler manual formulas,
-      // as in the C3D manual "TYPE-3").
-      const double a = std::abs(r.x());
-      const double b = std::abs(r.y());
-      f << v(0) + v(1), v(2) + v(3), v(4) + v(5) + v(6) + v(7);
-      m_O << b * (v(4) + v(5) - v(6) - v(7)), a * (-v(4) + v(5) + v(6) - v(7)),
-          b * (-v(0) + v(1)) + a * (v(2) - v(3));
-      m_C = m_O + f.cross(Eigen::Vector3d(0, 0, r.z()));
-    } else {
-      Eigen::Matrix<double, 6, 1> w = cal * v.head<6>();
-      f = w.head<3>();
-      m_O = w.tail<3>() * moment_to_Nm;
-      // Transfer to the surface centre: M_C = M_O + (O − C) × f = M_O + f × r.
-      m_C = m_O + f.cross(r);
+  // Outputs for one moment unit factor.
+  const auto compute = [&](double moment_to_Nm) {
+    plate->force_W_N.resize(3, samples);
+    plate->cop_W_m.resize(3, samples);
+    plate->free_moment_W_Nm.resize(3, samples);
+    plate->moment_at_origin_W_Nm.resize(3, samples);
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    Eigen::Matrix<double, 8, 1> v;
+    for (std::int64_t s = 0; s < samples; ++s) {
+      for (int k = 0; k < needed; ++k) v(k) = trial.analog(plate->channels[k], s) - baseline(k);
+      // Force f and moment m_O about the transducer origin, exerted by the plate on the body, in F.
+      Eigen::Vector3d f;
+      Eigen::Vector3d m_O;
+      Eigen::Vector3d m_C;  // about the surface centre
+      if (type == 1) {
+        // Fx, Fy, Fz, COPx, COPy, Tz: the moment about the centre follows from the COP.
+        f = v.head<3>();
+        const Eigen::Vector3d cop(v(3) * length_to_m, v(4) * length_to_m, 0.0);
+        m_C = cop.cross(f) + Eigen::Vector3d(0, 0, v(5) * moment_to_Nm);
+        m_O = m_C - f.cross(r);
+      } else if (type == 3) {
+        // Kistler: fx12, fx34, fy14, fy23, fz1..fz4; sensors at (±a, ±b) (Kistler manual formulas,
+        // as in the C3D manual "TYPE-3").
+        const double a = std::abs(r.x());
+        const double b = std::abs(r.y());
+        f << v(0) + v(1), v(2) + v(3), v(4) + v(5) + v(6) + v(7);
+        m_O << b * (v(4) + v(5) - v(6) - v(7)), a * (-v(4) + v(5) + v(6) - v(7)),
+            b * (-v(0) + v(1)) + a * (v(2) - v(3));
+        m_C = m_O + f.cross(Eigen::Vector3d(0, 0, r.z()));
+      } else {
+        Eigen::Matrix<double, 6, 1> w = cal * v.head<6>();
+        f = w.head<3>();
+        m_O = w.tail<3>() * moment_to_Nm;
+        // Transfer to the surface centre: M_C = M_O + (O − C) × f = M_O + f × r.
+        m_C = m_O + f.cross(r);
+      }
+      plate->force_W_N.col(s) = R_WF * f;
+      plate->moment_at_origin_W_Nm.col(s) = R_WF * m_O;
+      // Centre of pressure on the surface (z = 0 in F about the centre): M_C,x = y·Fz, M_C,y =
+      // −x·Fz.
+      if (std::abs(f.z()) >= kMinCopForce_N) {
+        const Eigen::Vector3d cop(-m_C.y() / f.z(), m_C.x() / f.z(), 0.0);
+        const double free_z = m_C.z() - (cop.x() * f.y() - cop.y() * f.x());
+        plate->cop_W_m.col(s) = R_WF * cop + centre_W;
+        plate->free_moment_W_Nm.col(s) = R_WF * Eigen::Vector3d(0, 0, free_z);
+      } else {
+        plate->cop_W_m.col(s).setConstant(nan);
+        plate->free_moment_W_Nm.col(s).setConstant(nan);
+      }
     }
-    plate->force_W_N.col(s) = R_WF * f;
-    plate->moment_at_origin_W_Nm.col(s) = R_WF * m_O;
-    // Centre of pressure on the surface (z = 0 in F about the centre): M_C,x = y·Fz, M_C,y = −x·Fz.
-    if (std::abs(f.z()) >= kMinCopForce_N) {
-      const Eigen::Vector3d cop(-m_C.y() / f.z(), m_C.x() / f.z(), 0.0);
-      const double free_z = m_C.z() - (cop.x() * f.y() - cop.y() * f.x());
-      plate->cop_W_m.col(s) = R_WF * cop + centre_W;
-      plate->free_moment_W_Nm.col(s) = R_WF * Eigen::Vector3d(0, 0, free_z);
-    } else {
-      plate->cop_W_m.col(s).setConstant(nan);
-      plate->free_moment_W_Nm.col(s).setConstant(nan);
+  };
+  compute(labelled_moment_to_Nm);
+
+  // Unit check by physics: under load the COP lies on the plate. Vicon 370 files (c3d.org sample
+  // 3) label moment channels "Nm" while holding N·mm, which puts the COP hundreds of metres away;
+  // when the other factor brings it onto the plate, that factor is used, with a warning.
+  if (type == 2 || type == 4) {
+    const double inside = FractionCopOnPlate(*plate, R_WF, centre_W);
+    if (inside < 0.5) {
+      const double other =
+          labelled_moment_to_Nm == 1.0 ? 1e-3 : (labelled_moment_to_Nm == 1e-3 ? 1.0 : 0.0);
+      if (other != 0) {
+        compute(other);
+        if (FractionCopOnPlate(*plate, R_WF, centre_W) >= 0.9) {
+          warn("moment channels in '" + trial.analog_channels[plate->channels[3]].unit +
+               "' put the COP off the plate under load; their values are taken as " +
+               (other == 1e-3 ? "N·mm" : "N·m"));
+        } else {
+          compute(labelled_moment_to_Nm);
+        }
+      }
     }
   }
 }
