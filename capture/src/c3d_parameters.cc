@@ -226,25 +226,31 @@ std::vector<AnalogChannel> DecodeAnalogChannels(const ParameterSet& parameters,
 
 std::vector<Event> DecodeEventGroup(const ParameterSet& parameters, const Warner& warn) {
   std::vector<Event> events;
-  const std::optional<double> used = parameters.FindDouble("EVENT", "USED");
+  // The group is EVENT (C3D manual); BKIN Technologies writes EVENTS (c3d.org sample 22).
+  std::string group = "EVENT";
+  std::optional<double> used = parameters.FindDouble(group, "USED");
+  if (!used || *used <= 0) {
+    group = "EVENTS";
+    used = parameters.FindDouble(group, "USED");
+  }
   if (!used || *used <= 0) return events;
-  const Parameter* times_parameter = parameters.Find("EVENT", "TIMES");
+  const Parameter* times_parameter = parameters.Find(group, "TIMES");
   const std::vector<double> times =
       times_parameter ? times_parameter->AsDoubles() : std::vector<double>{};
   std::size_t n = static_cast<std::size_t>(*used);
   // TIMES is [2, n]: minutes then seconds of each event.
   if (times.size() / 2 < n) {
-    warn("EVENT:TIMES",
+    warn(group + ":TIMES",
          std::to_string(times.size() / 2) + " times for EVENT:USED = " + std::to_string(n) +
              "; only those events are read");
     n = times.size() / 2;
   }
-  const std::vector<std::string> labels = ConcatStrings(parameters, "EVENT", "LABELS");
-  const std::vector<std::string> contexts = ConcatStrings(parameters, "EVENT", "CONTEXTS");
-  const std::vector<std::string> descriptions = ConcatStrings(parameters, "EVENT", "DESCRIPTIONS");
-  const std::vector<std::string> subjects = ConcatStrings(parameters, "EVENT", "SUBJECTS");
-  const std::vector<double> icons = ConcatDoubles(parameters, "EVENT", "ICON_IDS");
-  const std::vector<double> flags = ConcatDoubles(parameters, "EVENT", "GENERIC_FLAGS");
+  const std::vector<std::string> labels = ConcatStrings(parameters, group, "LABELS");
+  const std::vector<std::string> contexts = ConcatStrings(parameters, group, "CONTEXTS");
+  const std::vector<std::string> descriptions = ConcatStrings(parameters, group, "DESCRIPTIONS");
+  const std::vector<std::string> subjects = ConcatStrings(parameters, group, "SUBJECTS");
+  const std::vector<double> icons = ConcatDoubles(parameters, group, "ICON_IDS");
+  const std::vector<double> flags = ConcatDoubles(parameters, group, "GENERIC_FLAGS");
   events.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     Event& e = events[i];

@@ -558,7 +558,13 @@ void C3dReader::ReadData() {
     rate = 0;
   }
   trial_.point_rate_hz = rate;
-  if (num_channels_ > 0 && analog_per_frame_ > 0) {
+  if (num_channels_ == 0) {
+    // No analog data: the analog rate is still reported (as BTK does), from ANALOG:RATE or the
+    // point rate times the header's samples per frame (at least 1).
+    const std::optional<double> r = params.FindDouble("ANALOG", "RATE");
+    trial_.analog_rate_hz =
+        r && *r > 0 && std::isfinite(*r) ? *r : rate * std::max(1, analog_per_frame_);
+  } else if (analog_per_frame_ > 0) {
     double analog_rate = rate * analog_per_frame_;
     if (const std::optional<double> r = params.FindDouble("ANALOG", "RATE");
         r && *r > 0 && std::isfinite(*r)) {

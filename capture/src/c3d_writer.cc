@@ -517,8 +517,11 @@ std::vector<std::uint8_t> WriteC3dToMemory(const Trial& trial) {
 
   Layout layout;
   ParameterSet params = SyncParameters(trial, &layout);
-  if (layout.channels > 0 && F == 0 && trial.point_rate_hz > 0) {
-    layout.per_frame = static_cast<int>(std::lround(trial.analog_rate_hz / trial.point_rate_hz));
+  // Samples per frame without analog frames (no channels, or no frames): from the rates, so that
+  // the analog rate survives the round trip.
+  if ((layout.channels == 0 || F == 0) && trial.point_rate_hz > 0) {
+    layout.per_frame =
+        std::max(0, static_cast<int>(std::lround(trial.analog_rate_hz / trial.point_rate_hz)));
   }
   // The parameter section's size does not depend on DATA_START's value: serialise once to size it.
   std::size_t param_bytes = SerializeParameters(params).size();
