@@ -11,7 +11,6 @@
 
 #include <Eigen/Core>
 #include <Eigen/Geometry>
-#include <type_traits>
 
 namespace acro::dynamics {
 
@@ -32,19 +31,28 @@ using Matrix3X = Eigen::Matrix<T, 3, Eigen::Dynamic>;
 template <typename T>
 using Matrix6X = Eigen::Matrix<T, 6, Eigen::Dynamic>;
 
-// References to vectors and matrices in algorithm signatures. std::type_identity_t keeps them out
-// of template argument deduction, so the scalar type is deduced from the model alone and plain
+namespace internal {
+/// C++20's std::type_identity, spelled out so that these headers also compile as C++17 (the
+/// Simbody oracle test needs that: Simbody 3.7's headers are ambiguous under C++20).
+template <typename U>
+struct TypeIdentity {
+  using type = U;
+};
+}  // namespace internal
+
+// References to vectors and matrices in algorithm signatures. The type-identity wrapper keeps them
+// out of template argument deduction, so the scalar type is deduced from the model alone and plain
 // Eigen vectors, blocks and maps can be passed.
 template <typename T>
-using VectorXcRef = std::type_identity_t<Eigen::Ref<const VectorX<T>>>;
+using VectorXcRef = typename internal::TypeIdentity<Eigen::Ref<const VectorX<T>>>::type;
 template <typename T>
-using VectorXRef = std::type_identity_t<Eigen::Ref<VectorX<T>>>;
+using VectorXRef = typename internal::TypeIdentity<Eigen::Ref<VectorX<T>>>::type;
 template <typename T>
-using MatrixXRef = std::type_identity_t<Eigen::Ref<MatrixX<T>>>;
+using MatrixXRef = typename internal::TypeIdentity<Eigen::Ref<MatrixX<T>>>::type;
 template <typename T>
-using Matrix3XRef = std::type_identity_t<Eigen::Ref<Matrix3X<T>>>;
+using Matrix3XRef = typename internal::TypeIdentity<Eigen::Ref<Matrix3X<T>>>::type;
 template <typename T>
-using Matrix6XRef = std::type_identity_t<Eigen::Ref<Matrix6X<T>>>;
+using Matrix6XRef = typename internal::TypeIdentity<Eigen::Ref<Matrix6X<T>>>::type;
 
 /// Skew-symmetric matrix [a]× with [a]× b = a × b.
 template <typename T>

@@ -1,0 +1,211 @@
+#include "acro/dynamics/inverse_dynamics.h"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Eigenvalues>
+#include <limits>
+#include <random>
+
+#include "acro/dynamics/reference_human.h"
+#include "test_models.h"
+
+namespace acro::dynamics {
+namespace {
+
+using testing::Integrate;
+using testing::MakeRandomTree;
+using testing::RandomConfiguration;
+using testing::RandomVector;
+using testing::RandomVelocity;
+using testing::RelativeError;
+
+constexpr double kEps = std::numeric_limits<double>::epsilon();
+
+// Inverse dynamics equals M(q)·a + h(q, v) for random trees of up to 20 segments with every joint
+// type and axis sequence (the acceptance: 1e-9 relative).
+TEST(InverseDynamicsTest, EqualsMassMatrixTimesAccelerationPlusBias) {
+  std::mt19937 rng(42);
+  double worst = 0.0;
+  for (int tree = 0; tree < 24; ++tree) {
+    const int num_segments = 1 + tree % 20;
+    const Model<double> model = MakeRandomTree(rng, tree < 20 ? num_segments : 20, tree);
+    Workspace<double> ws(model);
+    for (int state = 0; state < 5; ++state) {
+      const Eigen::VectorXd q = RandomConfiguration(model, rng);
+      const Eigen::VectorXd v = RandomVelocity(model, rng, 3.0);
+      const Eigen::VectorXd a = RandomVelocity(model, rng, 10.0);
+      const Eigen::VectorXd tau = CalcInverseDynamics(model, ws, q, v, a);
+      const Eigen::MatrixXd M = CalcMassMatrix(model, ws, q);
+      const Eigen::VectorXd h = CalcBiasForces(model, ws, q, v);
+      const double err = (tau - (M * a + h)).norm() / tau.norm();
+      worst = std::max(worst, err);
+      EXPECT_LE(err, 1e-9) << "tree " << tree << " state " << state;
+      // M is symmetric positive definite.
+      EXPECT_LE((M - M.transpose()).cwiseAbs().maxCoeff(), 0.0);
+      EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(M).eigenvalues().minCoeff(), 0.0);
+    }
+  }
+  RecordProperty("worst_relative_error", std::to_string(worst));
+  std::printf("ID vs M a + h: worst relative error %.3g\n", worst);
+}
+
+// M from the composite-rigid-body algorithm equals Σ_B m_B Jv_Bcmᵀ Jv_Bcm + Jω_Bᵀ I_Bcm Jω_B, the
+// kinetic-energy form built from the segment and point Jacobians (a third, independent path).
+TEST(InverseDynamicsTest, MassMatrixEqualsJacobianEnergyForm) {
+  std::mt19937 rng(7);
+  for (int tree = 0; tree < 4; ++tree) {
+    const Model<double> model = tree < 3 ? MakeRandomTree(rng, 20, 7 * tree) : MakeReferenceHuman();
+    Workspace<double> ws(model);
+    const Eigen::VectorXd q = RandomConfiguration(model, rng);
+    const Eigen::MatrixXd M = CalcMassMatrix(model, ws, q);
+    Eigen::MatrixXd M_energy = Eigen::MatrixXd::Zero(model.nv(), model.nv());
+    Matrix6X<double> Jb(6, model.nv());
+    Matrix3X<double> Jc(3, model.nv());
+    for (int b = 0; b < model.num_segments(); ++b) {
+      const Segment<double>& s = model.segment(b);
+      CalcSegmentJacobian(model, ws, b, Jb);
+      CalcPointJacobian(model, ws, b, s.p_BoBcm_B, Jc);
+      const Eigen::Matrix3d& R = ws.X_WB[static_cast<size_t>(b)].rotation();
+      const Eigen::Matrix3d I_W = R * s.I_BBcm_B * R.transpose();
+      M_energy +=
+          s.mass * Jc.transpose() * Jc + Jb.topRows<3>().transpose() * I_W * Jb.topRows<3>();
+    }
+    // Entries reach m·|p|² ≈ 10²; a few hundred roundings of them.
+    EXPECT_LE(RelativeError(M, M_energy), 1e-12);
+  }
+}
+
+// A free rigid body on its analytic ballistic trajectory needs no root wrench: the centre of mass
+// on the parabola p(t) = p0 + v0 t + ½ g t², the body spinning at constant rate about a principal
+// axis (Euler's equations hold with ω̇ = 0). Also for the human with all joints frozen.
+TEST(InverseDynamicsTest, BallisticRigidBodyHasZeroRootResidual) {
+  std::mt19937 rng(5);
+  ModelBuilder b("body", testing::RandomMass(rng));
+  b.SetGravity(Eigen::Vector3d(0.0, 0.0, -9.81));
+  std::vector<Model<double>> models = {b.Build(), MakeReferenceHuman()};
+  for (const Model<double>& model : models) {
+    Workspace<double> ws(model);
+    Eigen::VectorXd q = RandomConfiguration(model, rng);
+    Eigen::VectorXd v = Eigen::VectorXd::Zero(model.nv());
+    Eigen::VectorXd a = Eigen::VectorXd::Zero(model.nv());
+    // Whole-body inertia about the centre of mass in the root frame, from the composite inertia.
+    CalcMassMatrix(model, ws, q);
+    const SpatialInertia<double>& Ic = ws.Ic_Bo_B[0];
+    const Eigen::Vector3d c = Ic.com();
+    const Eigen::Matrix3d I_com = Ic.rotational_inertia() + Ic.mass() * Skew(c) * Skew(c);
+    const Eigen::Vector3d axis =
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d>(I_com).eigenvectors().col(0);
+    const Eigen::Vector3d w_B = 7.0 * axis;  // rad/s about a principal axis, constant
+    const Eigen::Vector3d v_com0(1.0, -0.5, 6.0);
+    const Eigen::Vector3d g = model.gravity_W();
+    for (double t : {0.0, 0.3, 0.77}) {
+      // Root pose at t: R(t) = R0 exp(ω t); p_WoBo = p_com(t) − R(t) c.
+      Eigen::VectorXd qt = Integrate(
+          model,
+          q,
+          [&] {
+            Eigen::VectorXd dv = Eigen::VectorXd::Zero(model.nv());
+            dv.segment<3>(3) = w_B;
+            return dv;
+          }(),
+          t);
+      const Eigen::Matrix3d R = GetRootQuaternion(qt).toRotationMatrix();
+      const Eigen::Vector3d p_com = Eigen::Vector3d(0.1, 0.2, 1.0) + v_com0 * t + 0.5 * g * t * t;
+      qt.head<3>() = p_com - R * c;
+      // ṗ = v_com − R (ω × c), p̈ = g − R (ω × (ω × c)).
+      v.head<3>() = v_com0 + g * t - R * w_B.cross(c);
+      v.segment<3>(3) = w_B;
+      a.head<3>() = g - R * w_B.cross(w_B.cross(c));
+      a.segment<3>(3).setZero();
+      const Eigen::VectorXd tau = CalcInverseDynamics(model, ws, qt, v, a);
+      // Residual relative to the body weight and weight × 1 m; rounding of O(10²) terms.
+      const double weight = model.total_mass() * 9.81;
+      EXPECT_LE(tau.head<6>().cwiseAbs().maxCoeff() / weight, 1e-12) << "t = " << t;
+      const RootResidual<double> r = CalcRootResidual(model, ws, 1.75);
+      EXPECT_LE(r.force_per_weight.cwiseAbs().maxCoeff(), 1e-12);
+      EXPECT_LE(r.moment_per_weight_height.cwiseAbs().maxCoeff(), 1e-12);
+    }
+  }
+}
+
+// The root residual at the centre of mass is the rate of change of the whole-body momentum minus
+// gravity: F = m (a_Scm − g), M_Scm = dH_Scm/dt (Newton–Euler for the system, Winter 2009 §7).
+TEST(InverseDynamicsTest, RootResidualIsMomentumRateAtCenterOfMass) {
+  std::mt19937 rng(9);
+  const Model<double> model = MakeReferenceHuman();
+  Workspace<double> ws(model);
+  for (int trial = 0; trial < 5; ++trial) {
+    const Eigen::VectorXd q = RandomConfiguration(model, rng);
+    const Eigen::VectorXd v = RandomVelocity(model, rng, 2.0);
+    const Eigen::VectorXd a = RandomVelocity(model, rng, 5.0);
+    CalcInverseDynamics(model, ws, q, v, a);
+    const RootResidual<double> r = CalcRootResidual(model, ws, 1.75);
+    const Eigen::Vector3d a_com = CalcCenterOfMassAcceleration(model, ws, q, v, a);
+    const Eigen::Vector3d F_expected = model.total_mass() * (a_com - model.gravity_W());
+    EXPECT_LE((r.F_Scm_W.translational() - F_expected).cwiseAbs().maxCoeff(),
+              1e-10 * F_expected.norm());
+    // dH/dt by central differences along q(t) = q ⊕ (t v + ½ t² a), v(t) = v + t a.
+    const double dt = 1e-5;
+    auto H_at = [&](double t) {
+      CalcForwardKinematics(
+          model, ws, Integrate(model, q, v * t + 0.5 * t * t * a, 1.0), v + t * a);
+      return CalcCentroidalMomentum(model, ws).rotational();
+    };
+    const Eigen::Vector3d dH = (H_at(dt) - H_at(-dt)) / (2 * dt);
+    // Central difference with step 1e-5 on momenta of O(10–100): truncation ~1e-8, rounding ~1e-9.
+    EXPECT_LE((r.F_Scm_W.rotational() - dH).cwiseAbs().maxCoeff(), 1e-6 * std::max(1.0, dH.norm()));
+    // Normalisation by weight and weight × height.
+    const double weight = model.total_mass() * 9.81;
+    EXPECT_LE((r.force_per_weight - r.F_Scm_W.translational() / weight).cwiseAbs().maxCoeff(),
+              4 * kEps);
+    EXPECT_LE((r.moment_per_weight_height - r.F_Scm_W.rotational() / (weight * 1.75))
+                  .cwiseAbs()
+                  .maxCoeff(),
+              4 * kEps);
+  }
+}
+
+// An applied wrench F_Bo_W on segment B enters as −J_WBᵀ F (virtual power): ID with the wrench
+// equals ID without it minus the Jacobian-transpose map of the wrench.
+TEST(InverseDynamicsTest, ExternalWrenchesEnterThroughJacobianTranspose) {
+  std::mt19937 rng(13);
+  for (int tree = 0; tree < 3; ++tree) {
+    const Model<double> model =
+        tree < 2 ? MakeRandomTree(rng, 15, 11 * tree) : MakeReferenceHuman();
+    Workspace<double> ws(model);
+    const Eigen::VectorXd q = RandomConfiguration(model, rng);
+    const Eigen::VectorXd v = RandomVelocity(model, rng, 2.0);
+    const Eigen::VectorXd a = RandomVelocity(model, rng, 5.0);
+    std::vector<SpatialForce<double>> F(static_cast<size_t>(model.num_segments()));
+    for (auto& f : F) f = SpatialForce<double>(RandomVector(rng, 50.0), RandomVector(rng, 500.0));
+    const Eigen::VectorXd tau_free = CalcInverseDynamics(model, ws, q, v, a);
+    const Eigen::VectorXd tau_ext = CalcInverseDynamics(model, ws, q, v, a, &F);
+    Eigen::VectorXd expected = tau_free;
+    Matrix6X<double> J(6, model.nv());
+    for (int b = 0; b < model.num_segments(); ++b) {
+      CalcSegmentJacobian(model, ws, b, J);
+      expected -= J.transpose() * F[static_cast<size_t>(b)].get_coeffs();
+    }
+    EXPECT_LE(RelativeError(tau_ext, expected), 1e-12);
+  }
+}
+
+// The flight root acceleration leaves no root residual, and the centre of mass then falls at g.
+TEST(InverseDynamicsTest, FlightRootAccelerationCancelsResidual) {
+  std::mt19937 rng(17);
+  const Model<double> model = MakeReferenceHuman();
+  Workspace<double> ws(model);
+  for (int trial = 0; trial < 5; ++trial) {
+    const Eigen::VectorXd q = RandomConfiguration(model, rng);
+    const Eigen::VectorXd v = RandomVelocity(model, rng, 3.0);
+    Eigen::VectorXd a = RandomVelocity(model, rng, 10.0);
+    CalcFlightRootAcceleration(model, ws, q, v, a);
+    const Eigen::VectorXd tau = CalcInverseDynamics(model, ws, q, v, a);
+    EXPECT_LE(tau.head<6>().cwiseAbs().maxCoeff() / (model.total_mass() * 9.81), 1e-12);
+    const Eigen::Vector3d a_com = CalcCenterOfMassAcceleration(model, ws, q, v, a);
+    EXPECT_LE((a_com - model.gravity_W()).cwiseAbs().maxCoeff(), 1e-11);
+  }
+}
+
+}  // namespace
+}  // namespace acro::dynamics
