@@ -286,6 +286,7 @@ YeadonHuman YeadonHuman::Make(const YeadonMeasurements& measurements_in,
                               const YeadonOptions& options,
                               const YeadonConfiguration& cfg) {
   YeadonHuman human;
+  human.options_ = options;
   const std::string& source = measurements_in.source;
 
   // Left and right limbs averaged (the yeadon package's `symmetric` option): measurement names

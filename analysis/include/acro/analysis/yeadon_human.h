@@ -159,8 +159,10 @@ class YeadonHuman {
   const std::vector<std::string>& warnings() const { return warnings_; }
   /// The density multiplier applied to match the measured mass (1 when none was given).
   double density_scale() const { return density_scale_; }
+  const YeadonOptions& options() const { return options_; }
 
  private:
+  YeadonOptions options_;
   std::vector<YeadonSolid> solids_;
   std::vector<YeadonSegment> segments_;
   InertialProperties total_;

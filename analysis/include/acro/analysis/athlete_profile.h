@@ -1,0 +1,44 @@
+#pragma once
+
+// An athlete profile file (YAML, docs/formats/athlete.md): name, sex, height, mass, optionally
+// Yeadon measurements (inline or a path to a yeadon measurement file) and measured segment lengths.
+
+#include <filesystem>
+#include <optional>
+#include <string>
+
+#include "acro/analysis/athlete_body.h"
+#include "acro/analysis/de_leva.h"
+#include "acro/analysis/yaml.h"
+#include "acro/analysis/yeadon_human.h"
+#include "acro/analysis/yeadon_measurements.h"
+
+namespace acro::analysis {
+
+struct AthleteProfile {
+  std::string name;
+  Sex sex = Sex::kFemale;
+  double height_m = 0.0;
+  double mass_kg = 0.0;
+  /// Yeadon's 95 measurements when given; the body then follows Yeadon's model with its densities
+  /// scaled to `mass_kg`.
+  std::optional<YeadonMeasurements> yeadon_measurements;
+  YeadonOptions yeadon_options;
+  /// Measured segment lengths for the de Leva route (see de_leva.h for the names).
+  SegmentLengths segment_lengths_m;
+  /// The profile's file name.
+  std::string source;
+};
+
+/// Reads a profile. A relative `yeadon.measurements` path is taken from the profile's folder.
+/// Throws acro::InputError naming the file, the line and the key at fault.
+AthleteProfile ReadAthleteProfile(const std::filesystem::path& path);
+
+/// The same from a parsed YAML document; `base_dir` resolves a relative measurement path.
+AthleteProfile AthleteProfileFromYaml(const YamlNode& root, const std::filesystem::path& base_dir);
+
+/// The athlete's body in the reference pose: Yeadon's model when measurements are given (its mass
+/// scaled to the profile's), otherwise de Leva's regression.
+AthleteBody MakeAthleteBody(const AthleteProfile& profile);
+
+}  // namespace acro::analysis
