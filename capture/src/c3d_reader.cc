@@ -241,7 +241,10 @@ void C3dReader::ReadParameters() {
       p.dimensions.assign(bytes_.begin() + offset_at + 4,
                           bytes_.begin() + offset_at + 4 + num_dims);
       const std::size_t element_size = static_cast<std::size_t>(std::abs(type));
-      const std::size_t count = p.ElementCount();
+      // Element count, saturating (up to 255 dimensions of up to 255 each).
+      std::size_t count = 1;
+      for (std::uint8_t d : p.dimensions)
+        count = count > (std::size_t(1) << 40) ? count : count * d;
       const std::size_t data_at = offset_at + 4 + num_dims;
       // The count is at most 255^7, so check it against the bytes left before multiplying.
       if (count > (limit - data_at) / element_size) {
@@ -537,6 +540,13 @@ void C3dReader::ReadData() {
   if (frames > std::numeric_limits<int>::max() / std::max(1, num_points_ + 1)) {
     Fail("POINT:FRAMES", std::to_string(frames) + " frames are more than this reader supports");
   }
+  // Without frames, nothing in the file backs the counts: bound them by the file size.
+  if (frames == 0 && (std::size_t(num_points_) + std::size_t(num_channels_)) * 4 > bytes_.size()) {
+    Fail("POINT:USED",
+         std::to_string(num_points_) + " points and " + std::to_string(num_channels_) +
+             " analog channels with no frames are more than a " + std::to_string(bytes_.size()) +
+             "-byte file can describe");
+  }
   num_frames_ = frames;
   trial_.num_frames = static_cast<int>(frames);
   trial_.first_frame = first;
@@ -621,7 +631,7 @@ void C3dReader::ReadData() {
   trial_.camera_masks.resize(num_points_, frames);
   trial_.analog.resize(num_channels_, num_channels_ > 0 ? frames * analog_per_frame_ : 0);
   const std::uint8_t* data = bytes_.data() + data_start;
-  if (frames > 0) {
+  if (frames > 0 && frame_size > 0) {
     switch (processor_) {
       case Processor::kIntel:
         is_float ? Decode<Processor::kIntel, true>(data, conversion, point_factor, scale)
@@ -685,7 +695,7 @@ void C3dReader::ReadData() {
             std::string("missing; ") + (to_m == 1.0 ? "metres" : "millimetres") +
                 " assumed (median marker coordinate magnitude " + Num(median) + ")");
     }
-    if (to_m != 1.0) {
+    if (to_m != 1.0 && num_points_ > 0) {
       for (std::int64_t f = 0; f < frames; ++f) {
         for (int p = 0; p < num_points_; ++p) {
           if (trial_.points[p].type == PointType::kMarker)
