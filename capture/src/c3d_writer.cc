@@ -520,8 +520,10 @@ std::vector<std::uint8_t> WriteC3dToMemory(const Trial& trial) {
   // Samples per frame without analog frames (no channels, or no frames): from the rates, so that
   // the analog rate survives the round trip.
   if ((layout.channels == 0 || F == 0) && trial.point_rate_hz > 0) {
+    // The reader reports point rate × max(1, samples per frame) without channels: at least 1.
+    const double ratio = std::round(trial.analog_rate_hz / trial.point_rate_hz);
     layout.per_frame =
-        std::max(0, static_cast<int>(std::lround(trial.analog_rate_hz / trial.point_rate_hz)));
+        static_cast<int>(std::clamp(ratio, layout.channels == 0 ? 1.0 : 0.0, 65535.0));
   }
   // The parameter section's size does not depend on DATA_START's value: serialise once to size it.
   std::size_t param_bytes = SerializeParameters(params).size();

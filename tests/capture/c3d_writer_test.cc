@@ -188,6 +188,139 @@ TEST(C3dWriter, RoundTripEverySuiteFile) {
   EXPECT_GE(checked, 70) << "round trip ran on too few files";
 }
 
+// A trial made by code (as the TRC importer or a generator makes one): no parameters. The writer
+// creates them; the file reads back to the same trial within float32 rounding, and a second write
+// is bit-identical.
+Trial MakeTrial(int frames, std::int64_t first_frame) {
+  Trial t;
+  t.source.format = "generated";
+  t.point_rate_hz = 100;
+  t.first_frame = first_frame;
+  t.num_frames = frames;
+  t.subject_name = "Athlete";
+  for (const char* label : {"LASI", "RASI", "HEAD"})
+    t.points.push_back({label, std::string(label) + " marker", PointType::kMarker, "m"});
+  PointInfo angle{"LKneeAngles", "knee", PointType::kAngle, "deg"};
+  t.points.push_back(angle);
+  t.positions.resize(3, std::int64_t(frames) * 4);
+  for (int f = 0; f < frames; ++f) {
+    for (int p = 0; p < 4; ++p) {
+      t.position(f, p) << 0.1 * p + 0.001 * f, 1.0 + 0.5 * std::sin(0.01 * f), 0.9 + 0.01 * p;
+    }
+  }
+  t.position(frames / 2, 1).setConstant(std::nan(""));  // a gap
+  t.position(3, 3) << 12.5, -40.25, 3.0;                // degrees, not scaled
+  t.analog_rate_hz = 1000;
+  const char* units[6] = {"N", "N", "N", "Nmm", "Nmm", "Nmm"};
+  for (int c = 0; c < 6; ++c)
+    t.analog_channels.push_back({"F" + std::to_string(c), "", units[c], 0.5, 0.0, 0.0});
+  t.analog.resize(6, std::int64_t(frames) * 10);
+  for (Eigen::Index s = 0; s < t.analog.cols(); ++s) {
+    for (int c = 0; c < 6; ++c)
+      t.analog(c, s) = (c == 2 ? -600.0 : 10.0 * c) + 0.25 * std::cos(0.003 * s);
+  }
+  ForcePlate plate;
+  plate.type = 2;
+  plate.corners_W_m << 0.6, 0, 0, 0.6, 0, 0, 0.4, 0.4, 0, 0, 0, 0;
+  plate.origin_F_m << 0.001, -0.002, -0.04;
+  plate.channels = {0, 1, 2, 3, 4, 5};
+  plate.zero = {0, 0};
+  t.force_plates.push_back(plate);
+  t.events.push_back({"Foot Strike", "Left", "heel contact", "Athlete", 0.125, true, 1, 0});
+  t.events.push_back({"Foot Off", "Right", "", "Athlete", 75.5, true, 2, 0});
+  return t;
+}
+
+TEST(C3dWriter, GeneratedTrialRoundTrip) {
+  const Trial t = MakeTrial(200, 10);
+  const std::vector<std::uint8_t> bytes = WriteC3dToMemory(t);
+  const Trial back = ReadC3dFromMemory(bytes, "generated.c3d");
+  EXPECT_TRUE(back.warnings.empty()) << back.warnings.front();
+  EXPECT_EQ(back.num_frames, 200);
+  EXPECT_EQ(back.first_frame, 10);
+  EXPECT_EQ(back.point_rate_hz, 100);
+  EXPECT_EQ(back.analog_rate_hz, 1000);
+  EXPECT_EQ(back.subject_name, "Athlete");
+  EXPECT_EQ(back.source.point_units, "mm");
+  ASSERT_EQ(back.num_points(), 4);
+  for (int p = 0; p < 4; ++p) {
+    EXPECT_EQ(back.points[p].label, t.points[p].label);
+    EXPECT_EQ(back.points[p].description, t.points[p].description);
+    EXPECT_EQ(back.points[p].type, t.points[p].type);
+  }
+  EXPECT_EQ(back.points[3].unit, "deg");
+  // Within float32 rounding of the millimetre (markers) or degree (angle) values.
+  for (Eigen::Index i = 0; i < t.positions.cols(); ++i) {
+    for (int k = 0; k < 3; ++k) {
+      const double a = t.positions(k, i), b = back.positions(k, i);
+      ASSERT_EQ(std::isnan(a), std::isnan(b)) << i;
+      if (!std::isnan(a)) {
+        ASSERT_LE(std::abs(a - b), std::abs(a) * std::ldexp(1.0, -24) + 1e-15) << i;
+      }
+    }
+  }
+  EXPECT_EQ(back.position(3, 3)(1), -40.25);
+  ASSERT_EQ(back.num_analog_channels(), 6);
+  for (int c = 0; c < 6; ++c) {
+    EXPECT_EQ(back.analog_channels[c].label, t.analog_channels[c].label);
+    EXPECT_EQ(back.analog_channels[c].unit, t.analog_channels[c].unit);
+    EXPECT_EQ(back.analog_channels[c].scale, 0.5);
+  }
+  ASSERT_EQ(back.analog.cols(), t.analog.cols());
+  EXPECT_LE((back.analog - t.analog).cwiseAbs().maxCoeff(), 600 * std::ldexp(1.0, -24));
+  ASSERT_EQ(back.force_plates.size(), 1u);
+  EXPECT_EQ(back.force_plates[0].type, 2);
+  EXPECT_EQ(back.force_plates[0].channels, t.force_plates[0].channels);
+  EXPECT_LE(
+      (back.force_plates[0].corners_W_m - t.force_plates[0].corners_W_m).cwiseAbs().maxCoeff(),
+      1e-9);
+  EXPECT_LE((back.force_plates[0].origin_F_m - t.force_plates[0].origin_F_m).cwiseAbs().maxCoeff(),
+            1e-9);
+  ASSERT_EQ(back.force_plates[0].force_W_N.cols(), t.analog.cols());
+  EXPECT_GT(back.force_plates[0].force_W_N(2, 0), 590);  // FZ −600 N in F (z down): 600 N up in W
+  ASSERT_EQ(back.events.size(), 2u);
+  for (int i = 0; i < 2; ++i) {
+    EXPECT_EQ(back.events[i].label, t.events[i].label);
+    EXPECT_EQ(back.events[i].context, t.events[i].context);
+    EXPECT_EQ(back.events[i].description, t.events[i].description);
+    EXPECT_EQ(back.events[i].subject, t.events[i].subject);
+    EXPECT_EQ(back.events[i].icon_id, t.events[i].icon_id);
+    EXPECT_NEAR(back.events[i].time_s, t.events[i].time_s, 1e-5);  // minutes + float seconds
+  }
+  // Second generation: bit-identical.
+  EXPECT_TRUE(WriteC3dToMemory(back) == bytes);
+}
+
+// More than 65535 frames (C3D manual: header frame numbers are 16-bit): TRIAL:ACTUAL_START_FIELD /
+// ACTUAL_END_FIELD and a float POINT:FRAMES carry the count.
+TEST(C3dWriter, MoreThan65535Frames) {
+  for (const std::int64_t first : {std::int64_t(1), std::int64_t(65000)}) {
+    Trial t;
+    t.source.format = "generated";
+    t.point_rate_hz = 1000;
+    t.first_frame = first;
+    t.num_frames = 70000;
+    t.points.push_back({"M", "", PointType::kMarker, "m"});
+    t.positions.resize(3, t.num_frames);
+    for (int f = 0; f < t.num_frames; ++f) t.position(f, 0) << f * 1e-6, 0.5, 1.0;
+    const std::vector<std::uint8_t> bytes = WriteC3dToMemory(t);
+    const Trial back = ReadC3dFromMemory(bytes, "long.c3d");
+    EXPECT_EQ(back.num_frames, 70000);
+    EXPECT_EQ(back.first_frame, first);
+    EXPECT_EQ(back.position(69999, 0)(0),
+              t.position(69999, 0)(0) == 0 ? 0 : back.position(69999, 0)(0));
+    EXPECT_NEAR(back.position(69999, 0)(0), 0.069999, 1e-9);
+    const Parameter* frames = back.parameters.Find("POINT", "FRAMES");
+    ASSERT_NE(frames, nullptr);
+    EXPECT_EQ(frames->type, ParameterType::kFloat);
+    EXPECT_EQ(frames->floats[0], 70000.0f);
+    const Parameter* end = back.parameters.Find("TRIAL", "ACTUAL_END_FIELD");
+    ASSERT_NE(end, nullptr);
+    EXPECT_EQ(end->AsUnsigned()[0] | (end->AsUnsigned()[1] << 16), std::uint32_t(first + 69999));
+    EXPECT_TRUE(WriteC3dToMemory(back) == bytes);
+  }
+}
+
 TEST(C3dWriter, WriteC3dRenamesIntoPlace) {
   const auto path = acro::testing::RefdataFile("c3dio-c3d_org_samples/sample_01/Eb015pr.c3d");
   ACRO_REQUIRE_REFDATA_FILE(path);
