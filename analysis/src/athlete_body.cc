@@ -15,25 +15,37 @@ int AthleteBody::Find(std::string_view name) const {
   return -1;
 }
 
+namespace {
+
+// Solids of each standard segment, in kStandardSegmentNames order.
+const std::array<std::vector<std::string_view>, 15> kSolids = {{
+    {"s0", "s1"},
+    {"s2", "s3", "s4"},
+    {"s5", "s6", "s7"},
+    {"b0", "b1"},
+    {"b2", "b3"},
+    {"b4", "b5", "b6"},
+    {"a0", "a1"},
+    {"a2", "a3"},
+    {"a4", "a5", "a6"},
+    {"k0", "k1", "k2"},
+    {"k3", "k4"},
+    {"k5", "k6", "k7", "k8"},
+    {"j0", "j1", "j2"},
+    {"j3", "j4"},
+    {"j5", "j6", "j7", "j8"},
+}};
+
+}  // namespace
+
+int StandardSegmentOfYeadonSolid(std::string_view solid_label) {
+  for (size_t i = 0; i < kSolids.size(); ++i)
+    for (std::string_view label : kSolids[i])
+      if (label == solid_label) return static_cast<int>(i);
+  return -1;
+}
+
 AthleteBody MakeAthleteBodyFromYeadon(const YeadonHuman& human) {
-  // Solids of each standard segment, in kStandardSegmentNames order.
-  static const std::array<std::vector<std::string_view>, 15> kSolids = {{
-      {"s0", "s1"},
-      {"s2", "s3", "s4"},
-      {"s5", "s6", "s7"},
-      {"b0", "b1"},
-      {"b2", "b3"},
-      {"b4", "b5", "b6"},
-      {"a0", "a1"},
-      {"a2", "a3"},
-      {"a4", "a5", "a6"},
-      {"k0", "k1", "k2"},
-      {"k3", "k4"},
-      {"k5", "k6", "k7", "k8"},
-      {"j0", "j1", "j2"},
-      {"j3", "j4"},
-      {"j5", "j6", "j7", "j8"},
-  }};
   auto solid = [&](std::string_view label) -> const YeadonSolid& {
     const int i = human.FindSolid(label);
     ACRO_DEMAND(i >= 0);
@@ -184,6 +196,7 @@ AthleteBody PoseAthleteBody(const AthleteBody& body, const BodyPose& pose) {
       joint = out.segments[p].p_HoJ_H + R[p] * (rest.p_HoJ_H - body.segments[p].p_HoJ_H);
     }
     seg.p_HoJ_H = joint;
+    seg.R_pose = R[i] * rest.R_pose;
     seg.p_HoE_H = joint + R[i] * (rest.p_HoE_H - rest.p_HoJ_H);
     seg.in_H.p_HoCm_H = joint + R[i] * (rest.in_H.p_HoCm_H - rest.p_HoJ_H);
     seg.in_H.I_Cm_H = R[i] * rest.in_H.I_Cm_H * R[i].transpose();

@@ -197,15 +197,18 @@ double F5(double a, double b) {
 //   I_y⁰ = D h (4 r0 t0³ F4(a,b)/3 + π r0² t0² F5(a,b) + 8 r0³ t0 F4(b,a)/3 + π r0⁴ F4(a,a)/4)
 //          + D h³ (4 r0 t0 F3(a,b) + π r0² F3(a,a))        (about the base; Yeadon's printed
 //          formula lacks the h³ factor of the second term, as the yeadon package notes)
-//   I_x⁰ = D h (4 r0 t0³ F4(a,b)/3 + π r0⁴ F4(a,a)/4) + D h³ (4 r0 t0 F3(a,b) + π r0² F3(a,a))
+//   I_x⁰ = D h (4 t0 r0³ F4(b,a)/3 + π r0⁴ F4(a,a)/4) + D h³ (4 r0 t0 F3(a,b) + π r0² F3(a,a))
+//          (Yeadon prints 4 r0 t0³ F4(a,b)/3 for the first term; see below)
 // and I_x, I_y about the centroid by the parallel-axis theorem. The formulas need t0 ≠ 0 when
 // t1 ≠ 0 (b = (t1 − t0)/t0): a solid whose base is a circle but whose top is not is computed
 // upside down (swapping the stadia) and its centroid height mirrored back.
 //
-// `package_compatible` reproduces the yeadon package instead: it swaps the stadia whenever the base
-// is a circle, including truncated cones (both circles), but mirrors the centroid back only when
-// the top is not a circle, so a truncated cone's centroid is measured from the wrong end. Masses
-// and the inertia about the long axis are unaffected; centroids and transverse inertias are.
+// `package_compatible` reproduces the yeadon package instead, with two differences: (1) it swaps
+// the stadia whenever the base is a circle, including truncated cones (both circles), but mirrors
+// the centroid back only when the top is not a circle, so a truncated cone's centroid is measured
+// from the wrong end; (2) its I_x⁰ (about the stadia's long axis) uses Yeadon's printed 4 r t³/3
+// for the straight part's second moment where the geometry gives 4 t r³/3 (the two agree only for t
+// = 0 or t = r). Masses and the inertia about the solid's axis are the same in both modes.
 struct SolidLocal {
   double mass = 0.0;
   double z_com = 0.0;
@@ -233,10 +236,13 @@ SolidLocal StadiumSolidLocal(
           (4.0 * r0 * t0 * t0 * t0 * F4(a, b) / 3.0 + kPi * r0 * r0 * t0 * t0 * F5(a, b) +
            8.0 * r0 * r0 * r0 * t0 * F4(b, a) / 3.0 + kPi * r0 * r0 * r0 * r0 * F4(a, a) * 0.25) +
       D * h * h * h * (4.0 * r0 * t0 * F3(a, b) + kPi * r0 * r0 * F3(a, a));
-  const double Ix0 =
-      D * h *
-          (4.0 * r0 * t0 * t0 * t0 * F4(a, b) / 3.0 + kPi * r0 * r0 * r0 * r0 * F4(a, a) * 0.25) +
-      D * h * h * h * (4.0 * r0 * t0 * F3(a, b) + kPi * r0 * r0 * F3(a, a));
+  // The planar second moment about the stadium's long axis is ∫y² dA = 4 t r³/3 + π r⁴/4 (the
+  // perpendicular-axis theorem then gives I_z); Yeadon's printed I_x⁰, which the yeadon package
+  // uses, has 4 r t³/3 instead — kept in package-compatible mode only.
+  const double rect_x = package_compatible ? 4.0 * r0 * t0 * t0 * t0 * F4(a, b) / 3.0
+                                           : 4.0 * t0 * r0 * r0 * r0 * F4(b, a) / 3.0;
+  const double Ix0 = D * h * (rect_x + kPi * r0 * r0 * r0 * r0 * F4(a, a) * 0.25) +
+                     D * h * h * h * (4.0 * r0 * t0 * F3(a, b) + kPi * r0 * r0 * F3(a, a));
   // Parallel axis from the base of the (possibly flipped) solid to its centroid.
   const double Ix = Ix0 - out.mass * z * z;
   const double Iy = Iy0 - out.mass * z * z;

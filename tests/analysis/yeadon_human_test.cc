@@ -99,7 +99,7 @@ YeadonMeasurements Male1() {
   return ReadYeadonMeasurements(acro::testing::RefdataFile("yeadon/male1.txt"));
 }
 
-TEST(YeadonHuman, GeometricAndPackageModesDifferOnlyInTruncatedConeCentroids) {
+TEST(YeadonHuman, PackageModeDiffersInConeCentroidsAndLongAxisInertiaOnly) {
   ACRO_REQUIRE_REFDATA_FILE(acro::testing::RefdataFile("yeadon/male1.txt"));
   YeadonOptions package;
   package.package_compatible = true;
@@ -115,8 +115,10 @@ TEST(YeadonHuman, GeometricAndPackageModesDifferOnlyInTruncatedConeCentroids) {
     const bool cone = !sa.semi_ellipsoid && sa.t0_m == 0.0 && sa.t1_m == 0.0 && sa.r0_m != sa.r1_m;
     const double z_a = sa.in_S.p_HoCm_H.z(), z_b = sb.in_S.p_HoCm_H.z();
     if (cone) {
-      // The package's centroid is the geometric one mirrored about the solid's mid-height.
+      // The package's centroid is the geometric one mirrored about the solid's mid-height; the
+      // inertia about the centroid is the same.
       EXPECT_NEAR(z_a, sa.height_m - z_b, 16 * kEps * sa.height_m) << sa.label;
+      EXPECT_LT((sa.in_S.I_Cm_H - sb.in_S.I_Cm_H).norm(), 64 * kEps * sa.in_S.I_Cm_H.norm());
     } else {
       EXPECT_NEAR(z_a, z_b, 8 * kEps * sa.height_m) << sa.label;
     }

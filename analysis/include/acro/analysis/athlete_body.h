@@ -48,6 +48,8 @@ struct BodySegment {
   Eigen::Vector3d p_HoJ_H = Eigen::Vector3d::Zero();
   /// Distal end in H: the child's joint centre, or the tip (head vertex, hand or foot end).
   Eigen::Vector3d p_HoE_H = Eigen::Vector3d::Zero();
+  /// Orientation relative to the reference pose (identity there; set by PoseAthleteBody).
+  Eigen::Matrix3d R_pose = Eigen::Matrix3d::Identity();
   InertialProperties in_H;
 };
 
@@ -63,6 +65,9 @@ struct AthleteBody {
   /// Index of a segment by name, or −1.
   int Find(std::string_view name) const;
 };
+
+/// The standard segment (index into kStandardSegmentNames) a Yeadon solid ("j5") belongs to, or −1.
+int StandardSegmentOfYeadonSolid(std::string_view solid_label);
 
 /// Groups a Yeadon human's 40 solids into the 15 standard segments (pelvis = s0–s1, thorax =
 /// s2–s4 up to the acromion, head = s5–s7, hand = a4–a6, foot = j5–j8, …). The human should be in

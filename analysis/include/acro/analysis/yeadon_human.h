@@ -128,10 +128,11 @@ struct YeadonOptions {
   /// Average left and right limb measurements first (the yeadon package's default).
   bool symmetric = true;
   /// Reproduce the yeadon package's numbers exactly (its tests' values,
-  /// refdata/yeadon/expected.md): the package measures the centroid of a truncated cone (a solid
-  /// between two circular stadia, e.g. the thigh and upper-arm solids) from the wrong end. Off by
-  /// default: geometric centroids, which the body mesh's exact integration confirms
-  /// (docs/athlete-model.md).
+  /// refdata/yeadon/expected.md). The package (1) measures the centroid of a truncated cone (a
+  /// solid between two circular stadia: thigh, upper-arm, forearm, shank solids) from the wrong
+  /// end, and (2) uses Yeadon's printed formula for the inertia about a stadium's long axis, whose
+  /// straight-part term has t and r exchanged. Off by default: the geometric values, which the body
+  /// mesh's exact integration confirms (docs/athlete-model.md).
   bool package_compatible = false;
 };
 
