@@ -90,13 +90,15 @@ std::string FormatTrialInfoText(const Trial& trial) {
   if (!trial.subject_name.empty()) out << "Subject     " << trial.subject_name << "\n";
   out << "Markers     " << gaps.size() << "; marker-frames missing: " << missing_total << " of "
       << static_cast<long long>(gaps.size()) * trial.num_frames << "\n";
+  std::size_t width = 0;
+  for (const auto& g : gaps) width = std::max(width, g.label.size());
   for (const auto& g : gaps) {
-    out << "  " << g.label;
+    out << "  " << g.label << std::string(width - g.label.size(), ' ');
     if (g.missing_frames == 0) {
       out << "  complete\n";
     } else {
-      out << "  missing " << g.missing_frames << " frames in " << g.gap_count << " gaps, longest "
-          << g.longest_gap_frames << "\n";
+      out << "  missing " << g.missing_frames << " frames in " << g.gap_count
+          << (g.gap_count == 1 ? " gap" : " gaps") << ", longest " << g.longest_gap_frames << "\n";
     }
   }
   const int others = trial.num_points() - static_cast<int>(gaps.size());
@@ -108,7 +110,8 @@ std::string FormatTrialInfoText(const Trial& trial) {
     }
     out << "\n";
   }
-  out << "Analog      " << trial.num_analog_channels() << " channels";
+  out << "Analog      " << trial.num_analog_channels()
+      << (trial.num_analog_channels() == 1 ? " channel" : " channels");
   if (trial.num_analog_channels() > 0) {
     out << " at " << Printf("%g", trial.analog_rate_hz) << " Hz ("
         << trial.analog_samples_per_frame() << " per frame)";

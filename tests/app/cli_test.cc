@@ -12,17 +12,17 @@
 
 namespace {
 
-struct Run {
+struct ProcessResult {
   int status = -1;
   std::string out;  // stdout
   std::string err;  // stderr
 };
 
 // Runs a shell command line, capturing stdout and stderr separately.
-Run Execute(const std::string& command_line) {
+ProcessResult Execute(const std::string& command_line) {
   const auto err_path = acro::testing::TempDir() / "stderr.txt";
   const std::string full = command_line + " 2>" + err_path.string();
-  Run run;
+  ProcessResult run;
   FILE* pipe = popen(full.c_str(), "r");
   if (!pipe) return run;
   std::array<char, 4096> buffer;
@@ -35,7 +35,9 @@ Run Execute(const std::string& command_line) {
   return run;
 }
 
-std::string Quote(const std::filesystem::path& p) { return "'" + p.string() + "'"; }
+std::string Quote(const std::filesystem::path& p) {
+  return "'" + p.string() + "'";
+}
 
 const std::filesystem::path& SampleC3d() {
   static const std::filesystem::path path = [] {
@@ -47,20 +49,33 @@ const std::filesystem::path& SampleC3d() {
 }
 
 TEST(Cli, InfoJsonHasTheDocumentedKeys) {
-  const Run run = Execute(std::string(ACROLAB_EXE) + " info --json " + Quote(SampleC3d()));
+  const ProcessResult run =
+      Execute(std::string(ACROLAB_EXE) + " info --json " + Quote(SampleC3d()));
   ASSERT_EQ(run.status, 0) << run.err;
-  for (const char* key : {"\"format\": \"C3D\"", "\"processor\": \"Intel\"", "\"frames\": ", "\"point_rate_hz\": 200",
-                          "\"markers\": 16", "\"marker_labels\": [", "\"missing_marker_frames_total\": 12",
-                          "\"gaps\": [", "\"longest_gap_frames\": 12", "\"analog_channels\": [", "\"analog_rate_hz\": 2000",
-                          "\"force_plates\": []", "\"events\": [", "\"label\": \"Take-off\"", "\"warnings\": []"}) {
+  for (const char* key : {"\"format\": \"C3D\"",
+                          "\"processor\": \"Intel\"",
+                          "\"frames\": ",
+                          "\"point_rate_hz\": 200",
+                          "\"markers\": 16",
+                          "\"marker_labels\": [",
+                          "\"missing_marker_frames_total\": 12",
+                          "\"gaps\": [",
+                          "\"longest_gap_frames\": 12",
+                          "\"analog_channels\": [",
+                          "\"analog_rate_hz\": 2000",
+                          "\"force_plates\": []",
+                          "\"events\": [",
+                          "\"label\": \"Take-off\"",
+                          "\"warnings\": []"}) {
     EXPECT_NE(run.out.find(key), std::string::npos) << key << "\n" << run.out;
   }
 }
 
 TEST(Cli, InfoTextNamesGapsEventsAndChannels) {
-  const Run run = Execute(std::string(ACROLAB_EXE) + " info " + Quote(SampleC3d()));
+  const ProcessResult run = Execute(std::string(ACROLAB_EXE) + " info " + Quote(SampleC3d()));
   ASSERT_EQ(run.status, 0) << run.err;
-  EXPECT_NE(run.out.find("RWRI  missing 12 frames in 1 gaps, longest 12"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("RWRI  missing 12 frames in 1 gap, longest 12"), std::string::npos)
+      << run.out;
   EXPECT_NE(run.out.find("BedFz [N]"), std::string::npos) << run.out;
   EXPECT_NE(run.out.find("Take-off"), std::string::npos) << run.out;
 }
@@ -68,7 +83,7 @@ TEST(Cli, InfoTextNamesGapsEventsAndChannels) {
 TEST(Cli, BrokenFileGivesOneLineNamingTheFileAndExitStatus1) {
   const auto bad = acro::testing::TempDir() / "not a capture.c3d";
   std::ofstream(bad) << "this is not a C3D file at all";
-  const Run run = Execute(std::string(ACROLAB_EXE) + " info " + Quote(bad));
+  const ProcessResult run = Execute(std::string(ACROLAB_EXE) + " info " + Quote(bad));
   EXPECT_EQ(run.status, 1);
   EXPECT_TRUE(run.out.empty());
   EXPECT_NE(run.err.find(bad.string()), std::string::npos) << run.err;
@@ -78,12 +93,14 @@ TEST(Cli, BrokenFileGivesOneLineNamingTheFileAndExitStatus1) {
 TEST(Cli, EveryBrokenReferenceFileFailsCleanlyOrLoads) {
   const auto empty = acro::testing::RefdataFile("BTKData/Input/C3DSamples/others/Empty.c3d");
   ACRO_REQUIRE_REFDATA_FILE(empty);
-  for (const char* rel : {"BTKData/Input/C3DSamples/others/Empty.c3d", "BTKData/Input/TRCSamples/Truncated.trc",
+  for (const char* rel : {"BTKData/Input/C3DSamples/others/Empty.c3d",
+                          "BTKData/Input/TRCSamples/Truncated.trc",
                           "BTKData/Input/TRCSamples/Empty.trc",
                           "c3dio-c3d_org_samples/sample_18/bad_parameter_section.c3d"}) {
     const auto path = acro::testing::RefdataFile(rel);
-    const Run run = Execute(std::string(ACROLAB_EXE) + " info " + Quote(path));
-    EXPECT_TRUE(run.status == 0 || run.status == 1) << rel << ": status " << run.status << " " << run.err;
+    const ProcessResult run = Execute(std::string(ACROLAB_EXE) + " info " + Quote(path));
+    EXPECT_TRUE(run.status == 0 || run.status == 1)
+        << rel << ": status " << run.status << " " << run.err;
     if (run.status == 1) {
       EXPECT_NE(run.err.find(path.filename().string()), std::string::npos) << run.err;
       EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
@@ -95,8 +112,11 @@ TEST(Cli, ConvertC3dToTrcAndCsvKeepsTheMarkers) {
   const auto dir = acro::testing::TempDir();
   const auto trc = dir / "converted.trc";
   const auto csv = dir / "converted.csv";
-  ASSERT_EQ(Execute(std::string(ACROLAB_EXE) + " convert " + Quote(SampleC3d()) + " " + Quote(trc)).status, 0);
-  ASSERT_EQ(Execute(std::string(ACROLAB_EXE) + " convert " + Quote(trc) + " " + Quote(csv)).status, 0);
+  ASSERT_EQ(Execute(std::string(ACROLAB_EXE) + " convert " + Quote(SampleC3d()) + " " + Quote(trc))
+                .status,
+            0);
+  ASSERT_EQ(Execute(std::string(ACROLAB_EXE) + " convert " + Quote(trc) + " " + Quote(csv)).status,
+            0);
   const auto a = acro::capture::ReadTrial(SampleC3d());
   const auto b = acro::capture::ReadTrial(csv);
   ASSERT_EQ(a.num_frames, b.num_frames);
@@ -106,7 +126,9 @@ TEST(Cli, ConvertC3dToTrcAndCsvKeepsTheMarkers) {
     for (int p = 0; p < a.num_points(); ++p) {
       ASSERT_EQ(a.valid(f, p), b.valid(f, p));
       // TRC keeps 6 decimals of millimetres.
-      if (a.valid(f, p)) ASSERT_LT((a.position(f, p) - b.position(f, p)).cwiseAbs().maxCoeff(), 1e-9);
+      if (a.valid(f, p)) {
+        ASSERT_LT((a.position(f, p) - b.position(f, p)).cwiseAbs().maxCoeff(), 1e-9);
+      }
     }
   }
 }
@@ -115,7 +137,8 @@ TEST(Cli, FailedConvertLeavesNoOutputBehind) {
   const auto dir = acro::testing::TempDir() / "failed_convert";
   std::filesystem::create_directories(dir);
   const auto out = dir / "out.c3d";
-  const Run run = Execute(std::string(ACROLAB_EXE) + " convert " + Quote(dir / "missing.trc") + " " + Quote(out));
+  const ProcessResult run = Execute(std::string(ACROLAB_EXE) + " convert " +
+                                    Quote(dir / "missing.trc") + " " + Quote(out));
   EXPECT_EQ(run.status, 1);
   EXPECT_TRUE(std::filesystem::is_empty(dir));
 }
