@@ -19,7 +19,7 @@ template const MatrixX<double>& CalcMassMatrix<double>(const Model<double>&,
                                                        Workspace<double>&,
                                                        const Eigen::Ref<const VectorX<double>>&);
 template RootResidual<double> CalcRootResidual<double>(const Model<double>&,
-                                                       const Workspace<double>&,
+                                                       Workspace<double>&,
                                                        const double&);
 template void CalcFlightRootAcceleration<double>(const Model<double>&,
                                                  Workspace<double>&,

@@ -48,10 +48,11 @@ struct RootResidual {
   Vector3<T> moment_per_weight_height;  ///< moment / (m |g| height), dimensionless
 };
 
-/// Reads the root wrench and poses that CalcInverseDynamics left in ws. height_m > 0 is the
-/// athlete's stature; |g| comes from the model (and must not be zero).
+/// Reads the root wrench and poses that CalcInverseDynamics left in ws (and completes the world
+/// poses there if needed). height_m > 0 is the athlete's stature; |g| comes from the model (and
+/// must not be zero).
 template <typename T>
-RootResidual<T> CalcRootResidual(const Model<T>& model, const Workspace<T>& ws, const T& height_m);
+RootResidual<T> CalcRootResidual(const Model<T>& model, Workspace<T>& ws, const T& height_m);
 
 /// Normalises a wrench at the centre of mass: force / (m g), moment / (m g height).
 template <typename T>
@@ -79,7 +80,9 @@ void CalcFlightRootAcceleration(const Model<T>& model,
 
 namespace internal {
 
-/// RNEA (RBDA Table 5.1) with a = nullptr meaning zero accelerations; writes ws.tau.
+/// RNEA (RBDA Table 5.1) with a = nullptr meaning zero accelerations; writes ws.tau. One fused
+/// forward pass (pose, velocity, acceleration and net force of each segment) and one backward
+/// pass.
 template <typename T>
 void Rnea(const Model<T>& model,
           Workspace<T>& ws,
@@ -90,12 +93,8 @@ void Rnea(const Model<T>& model,
           VectorX<T>& tau) {
   ACRO_DEMAND(q.size() == model.nq() && v.size() == model.nv() && tau.size() == model.nv());
   const int n = model.num_segments();
-  // Forward pass: poses, velocities (RBDA eq. 5.7).
-  CalcForwardKinematics(model, ws, q, v);
-  // Accelerations with the base accelerating at −g (RBDA §5.3).
-  CalcAccelerations(model, ws, v, a, model.gravity_W());
-  // Net forces f_B = I A + V ×* I V − f_ext (RBDA eq. 5.9).
-  for (int i = 0; i < n; ++i) {
+  // Net force on segment i, f_B = I A + V ×* I V − f_ext (RBDA eq. 5.9).
+  auto net_force = [&](int i) {
     const size_t ui = static_cast<size_t>(i);
     const SpatialInertia<T>& I = model.segment(i).M_Bo_B;
     const SpatialMotion<T>& V = ws.V_WB_B[ui];
@@ -106,6 +105,34 @@ void Rnea(const Model<T>& model,
       ws.F_Bo_B[ui] -=
           SpatialForce<T>(R.transpose() * Fe.rotational(), R.transpose() * Fe.translational());
     }
+  };
+  // Root: pose, velocity, and acceleration with the base accelerating at −g (RBDA §5.3).
+  {
+    CalcJointSinCos(model, ws, q);
+    CalcJointPose(model.segment(0), q, ws, ws.X_PB[0], ws.S_B[0]);
+    ws.X_WB[0] = ws.X_PB[0];
+    ws.V_WB_B[0] = RootVelocity(ws.X_WB[0], v);
+    ws.A_WB_B[0] = RootAcceleration(ws.X_WB[0], ws.V_WB_B[0], a, model.gravity_W());
+    net_force(0);
+  }
+  // Forward pass (RBDA eq. 5.7).
+  for (int i = 1; i < n; ++i) {
+    const Segment<T>& seg = model.segment(i);
+    const size_t ui = static_cast<size_t>(i);
+    const size_t up = static_cast<size_t>(seg.parent);
+    CalcJointPose(seg, q, ws, ws.X_PB[ui], ws.S_B[ui]);
+    // World poses only where applied wrenches need them (CalcRootResidual composes them later).
+    if (F_ext_Bo_W != nullptr) ws.X_WB[ui] = ws.X_WB[up] * ws.X_PB[ui];
+    PropagateMotion(seg,
+                    ws.X_PB[ui],
+                    ws.S_B[ui],
+                    ws.V_WB_B[up],
+                    ws.A_WB_B[up],
+                    v,
+                    a,
+                    ws.V_WB_B[ui],
+                    ws.A_WB_B[ui]);
+    net_force(i);
   }
   // Backward pass: τ_k = S_kᵀ f_B and f_P += X_PB* f_B (RBDA eqs. 5.10–5.11).
   for (int i = n - 1; i > 0; --i) {
@@ -119,6 +146,7 @@ void Rnea(const Model<T>& model,
   // Root: the generalised forces of v_WBo_W (force in W) and w_WB_B (moment about Bo in B).
   tau.template head<3>() = ws.X_WB[0].rotation() * ws.F_Bo_B[0].translational();
   tau.template segment<3>(3) = ws.F_Bo_B[0].rotational();
+  ws.world_poses_current = F_ext_Bo_W != nullptr;
 }
 
 /// Column k of the root's motion subspace in B: v_WBo_W e_k ↦ [0; R_WBᵀ e_k], w_WB_B e_k ↦ [e_k;
@@ -223,7 +251,8 @@ void NormalizeByBodyWeight(const SpatialForce<T>& F_Scm_W,
 }
 
 template <typename T>
-RootResidual<T> CalcRootResidual(const Model<T>& model, const Workspace<T>& ws, const T& height_m) {
+RootResidual<T> CalcRootResidual(const Model<T>& model, Workspace<T>& ws, const T& height_m) {
+  if (!ws.world_poses_current) internal::ComposeWorldPoses(model, ws);
   // The root wrench about Bo in B, re-expressed in W and shifted to the centre of mass:
   // f_W = R f_B, n_Scm = R n_Bo − (p_WoScm − p_WoBo) × f_W.
   const RigidTransform<T>& X_WB = ws.X_WB[0];
@@ -284,7 +313,7 @@ extern template const VectorX<double>& CalcBiasForces<double>(
 extern template const MatrixX<double>& CalcMassMatrix<double>(
     const Model<double>&, Workspace<double>&, const Eigen::Ref<const VectorX<double>>&);
 extern template RootResidual<double> CalcRootResidual<double>(const Model<double>&,
-                                                              const Workspace<double>&,
+                                                              Workspace<double>&,
                                                               const double&);
 extern template void CalcFlightRootAcceleration<double>(const Model<double>&,
                                                         Workspace<double>&,

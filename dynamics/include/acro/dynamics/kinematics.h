@@ -8,6 +8,7 @@
 #include <cmath>
 
 #include "acro/dynamics/configuration.h"
+#include "acro/dynamics/fast_math.h"
 #include "acro/dynamics/model.h"
 #include "acro/dynamics/workspace.h"
 
@@ -99,30 +100,53 @@ inline void LeftMultiplyAxisRotation(int axis, const T& c, const T& s, Matrix3<T
 ///   Euler joint: R_PB = R_PJ·R_a1(θ1)·R_a2(θ2)·R_a3(θ3), p_PoBo_P = p_PoJo_P. The angular velocity
 ///   of B in P, in B, is Σ_k S_k θ̇_k with S_k = (R_a(k+1)⋯R_an)ᵀ e_ak (RBDA §4.4, a chain of
 ///   revolute joints whose intermediate frames carry no mass).
+/// sin and cos of every joint angle into ws.sin_q, ws.cos_q, in one loop of independent
+/// iterations (so that they overlap in the processor's pipeline).
+template <typename T>
+inline void CalcJointSinCos(const Model<T>& model, Workspace<T>& ws, const VectorXcRef<T>& q) {
+  SinCosArray(q.data() + 7, model.nq() - 7, ws.sin_q.data() + 7, ws.cos_q.data() + 7);
+}
+
+/// Pose of segment i in its parent and its joint axes in B, from q (and the joint angles' sines
+/// and cosines from CalcJointSinCos).
 template <typename T>
 inline void CalcJointPose(const Segment<T>& seg,
                           const VectorXcRef<T>& q,
+                          const Workspace<T>& ws,
                           RigidTransform<T>& X_PB,
                           std::array<Vector3<T>, 3>& S) {
-  using std::cos;
-  using std::sin;
   if (seg.joint_type == JointType::kFree) {
     X_PB.mutable_rotation() = QuaternionToRotation<T>(q[3], q[4], q[5], q[6]);
     X_PB.mutable_translation() = q.template head<3>();
     return;
   }
-  Matrix3<T> G = Matrix3<T>::Identity();
-  for (int k = seg.num_axes - 1; k >= 0; --k) {
+  Matrix3<T>& G = X_PB.mutable_rotation();
+  if (seg.num_axes == 0) {
+    G = seg.X_PJ.rotation();
+    X_PB.mutable_translation() = seg.X_PJ.translation();
+    return;
+  }
+  // Last axis first: G = R_an(θn), S_n = e_an; then G ← R_ak G with S_k = row a_k of G.
+  const int last = seg.num_axes - 1;
+  {
+    const T& s = ws.sin_q[seg.q_start + last];
+    const T& c = ws.cos_q[seg.q_start + last];
+    const int axis = seg.axes[static_cast<size_t>(last)];
+    const int i = (axis + 1) % 3;
+    const int j = (axis + 2) % 3;
+    G.setIdentity();
+    G(i, i) = c;
+    G(i, j) = -s;
+    G(j, i) = s;
+    G(j, j) = c;
+    S[static_cast<size_t>(last)] = Vector3<T>::Unit(axis);
+  }
+  for (int k = last - 1; k >= 0; --k) {
     const int axis = seg.axes[static_cast<size_t>(k)];
     S[static_cast<size_t>(k)] = G.row(axis).transpose();
-    const T angle = q[seg.q_start + k];
-    LeftMultiplyAxisRotation(axis, T(cos(angle)), T(sin(angle)), G);
+    LeftMultiplyAxisRotation(axis, ws.cos_q[seg.q_start + k], ws.sin_q[seg.q_start + k], G);
   }
-  if (seg.joint_rotation_is_identity) {
-    X_PB.mutable_rotation() = G;
-  } else {
-    X_PB.mutable_rotation() = seg.X_PJ.rotation() * G;
-  }
+  if (!seg.joint_rotation_is_identity) G = seg.X_PJ.rotation() * G.eval();
   X_PB.mutable_translation() = seg.X_PJ.translation();
 }
 
@@ -143,48 +167,83 @@ inline SpatialMotion<T> RootVelocity(const RigidTransform<T>& X_WB, const Vector
                           X_WB.rotation().transpose() * v.template head<3>());
 }
 
-/// Spatial accelerations of all segments, about Bo in B, given poses and velocities in ws and
-/// generalised accelerations a (nullptr: zero); the base accelerates by −g_extra (RBDA §5.3's
-/// fictitious base acceleration when g_extra = gravity, true accelerations when zero).
-///   root: A = [ẇ_WB_B; R_WBᵀ(a_WBo_W − g_extra) − w × R_WBᵀ v_WBo_W]
-///   joint: A_B = X_BP A_P + [S θ̈ + c_J; 0] + V_B × [ω_J; 0] (RBDA eq. 5.7 with c_J = S̊ θ̇,
-///          c_J = Σ_k (Σ_{j<k} S_j θ̇_j) × S_k θ̇_k for the chain of revolute axes).
+/// X_WB of every segment from X_PB (after a pose pass).
 template <typename T>
-inline void CalcAccelerations(const Model<T>& model,
-                              Workspace<T>& ws,
-                              const VectorXcRef<T>& v,
-                              const T* a,
-                              const Vector3<T>& g_extra) {
-  const Matrix3<T>& R0 = ws.X_WB[0].rotation();
-  const SpatialMotion<T>& V0 = ws.V_WB_B[0];
+inline void ComposeWorldPoses(const Model<T>& model, Workspace<T>& ws) {
+  ws.X_WB[0] = ws.X_PB[0];
+  for (int i = 1; i < model.num_segments(); ++i) {
+    const size_t ui = static_cast<size_t>(i);
+    ws.X_WB[ui] = ws.X_WB[static_cast<size_t>(model.segment(i).parent)] * ws.X_PB[ui];
+  }
+  ws.world_poses_current = true;
+}
+
+/// Root spatial acceleration about Bo in B with the base accelerating at −g_extra (RBDA §5.3's
+/// fictitious base acceleration when g_extra = gravity; the true acceleration when zero):
+///   A = [ẇ_WB_B; R_WBᵀ(a_WBo_W − g_extra) − w × R_WBᵀ v_WBo_W]
+/// (the linear part of a spatial acceleration is the classical one minus ω × v, RBDA §2.11).
+template <typename T>
+inline SpatialMotion<T> RootAcceleration(const RigidTransform<T>& X_WB,
+                                         const SpatialMotion<T>& V,
+                                         const T* a,
+                                         const Vector3<T>& g_extra) {
   Vector3<T> a_lin = -g_extra;
   Vector3<T> w_dot = Vector3<T>::Zero();
   if (a != nullptr) {
     a_lin += Vector3<T>(a[0], a[1], a[2]);
     w_dot = Vector3<T>(a[3], a[4], a[5]);
   }
-  ws.A_WB_B[0] =
-      SpatialMotion<T>(w_dot, R0.transpose() * a_lin - V0.rotational().cross(V0.translational()));
+  return SpatialMotion<T>(
+      w_dot, X_WB.rotation().transpose() * a_lin - V.rotational().cross(V.translational()));
+}
+
+/// Velocity and acceleration of a non-root segment from its parent's (a = nullptr: zero):
+///   V_B = X_BP V_P + [ω_J; 0]
+///   A_B = X_BP A_P + [S θ̈ + c_J; 0] + V_B × [ω_J; 0]
+/// (RBDA eq. 5.7; c_J = S̊ θ̇ = Σ_k (Σ_{j<k} S_j θ̇_j) × S_k θ̇_k for the chain of revolute axes).
+template <typename T>
+inline void PropagateMotion(const Segment<T>& seg,
+                            const RigidTransform<T>& X_PB,
+                            const std::array<Vector3<T>, 3>& S,
+                            const SpatialMotion<T>& V_P,
+                            const SpatialMotion<T>& A_P,
+                            const VectorXcRef<T>& v,
+                            const T* a,
+                            SpatialMotion<T>& V_B,
+                            SpatialMotion<T>& A_B) {
+  V_B = X_PB.ApplyInverse(V_P);
+  A_B = X_PB.ApplyInverse(A_P);
+  if (seg.num_axes == 0) return;
+  Vector3<T> w_J = S[0] * v[seg.v_start];
+  Vector3<T> alpha = Vector3<T>::Zero();
+  if (a != nullptr) alpha = S[0] * a[seg.v_start];
+  for (int k = 1; k < seg.num_axes; ++k) {
+    const Vector3<T> wk = S[static_cast<size_t>(k)] * v[seg.v_start + k];
+    alpha += w_J.cross(wk);
+    if (a != nullptr) alpha += S[static_cast<size_t>(k)] * a[seg.v_start + k];
+    w_J += wk;
+  }
+  V_B.mutable_rotational() += w_J;
+  A_B.mutable_rotational() += alpha + V_B.rotational().cross(w_J);
+  A_B.mutable_translational() += V_B.translational().cross(w_J);
+}
+
+/// Spatial accelerations of all segments, about Bo in B, given poses and velocities in ws and
+/// generalised accelerations a (nullptr: zero), the base accelerating at −g_extra.
+template <typename T>
+inline void CalcAccelerations(const Model<T>& model,
+                              Workspace<T>& ws,
+                              const VectorXcRef<T>& v,
+                              const T* a,
+                              const Vector3<T>& g_extra) {
+  ws.A_WB_B[0] = RootAcceleration(ws.X_WB[0], ws.V_WB_B[0], a, g_extra);
+  SpatialMotion<T> V;
   for (int i = 1; i < model.num_segments(); ++i) {
     const Segment<T>& seg = model.segment(i);
     const size_t ui = static_cast<size_t>(i);
-    SpatialMotion<T> A = ws.X_PB[ui].ApplyInverse(ws.A_WB_B[static_cast<size_t>(seg.parent)]);
-    if (seg.num_axes > 0) {
-      const auto& S = ws.S_B[ui];
-      Vector3<T> w_partial = S[0] * v[seg.v_start];
-      Vector3<T> alpha = Vector3<T>::Zero();
-      if (a != nullptr) alpha = S[0] * a[seg.v_start];
-      for (int k = 1; k < seg.num_axes; ++k) {
-        const Vector3<T> wk = S[static_cast<size_t>(k)] * v[seg.v_start + k];
-        alpha += w_partial.cross(wk);
-        if (a != nullptr) alpha += S[static_cast<size_t>(k)] * a[seg.v_start + k];
-        w_partial += wk;
-      }
-      const SpatialMotion<T>& V = ws.V_WB_B[ui];
-      A.mutable_rotational() += alpha + V.rotational().cross(w_partial);
-      A.mutable_translational() += V.translational().cross(w_partial);
-    }
-    ws.A_WB_B[ui] = A;
+    const size_t up = static_cast<size_t>(seg.parent);
+    PropagateMotion(
+        seg, ws.X_PB[ui], ws.S_B[ui], ws.V_WB_B[up], ws.A_WB_B[up], v, a, V, ws.A_WB_B[ui]);
   }
 }
 
@@ -193,13 +252,15 @@ inline void CalcAccelerations(const Model<T>& model,
 template <typename T>
 void CalcForwardKinematics(const Model<T>& model, Workspace<T>& ws, const VectorXcRef<T>& q) {
   ACRO_DEMAND(q.size() == model.nq());
-  internal::CalcJointPose(model.segment(0), q, ws.X_PB[0], ws.S_B[0]);
+  internal::CalcJointSinCos(model, ws, q);
+  internal::CalcJointPose(model.segment(0), q, ws, ws.X_PB[0], ws.S_B[0]);
   ws.X_WB[0] = ws.X_PB[0];
   for (int i = 1; i < model.num_segments(); ++i) {
     const size_t ui = static_cast<size_t>(i);
-    internal::CalcJointPose(model.segment(i), q, ws.X_PB[ui], ws.S_B[ui]);
+    internal::CalcJointPose(model.segment(i), q, ws, ws.X_PB[ui], ws.S_B[ui]);
     ws.X_WB[ui] = ws.X_WB[static_cast<size_t>(model.segment(i).parent)] * ws.X_PB[ui];
   }
+  ws.world_poses_current = true;
 }
 
 template <typename T>
@@ -223,12 +284,14 @@ void CalcForwardKinematics(const Model<T>& model,
 
 template <typename T>
 Vector3<T> CalcPointPosition(const Model<T>& model, const Workspace<T>& ws, int point) {
+  ACRO_DEMAND(ws.world_poses_current);
   const Point<T>& p = model.point(point);
   return ws.X_WB[static_cast<size_t>(p.segment)] * p.p_BoP_B;
 }
 
 template <typename T>
 Vector3<T> CalcPointVelocity(const Model<T>& model, const Workspace<T>& ws, int point) {
+  ACRO_DEMAND(ws.world_poses_current);
   const Point<T>& p = model.point(point);
   const size_t s = static_cast<size_t>(p.segment);
   const SpatialMotion<T>& V = ws.V_WB_B[s];
@@ -238,6 +301,7 @@ Vector3<T> CalcPointVelocity(const Model<T>& model, const Workspace<T>& ws, int 
 
 template <typename T>
 SpatialMotion<T> CalcSegmentSpatialVelocity(const Workspace<T>& ws, int segment) {
+  ACRO_DEMAND(ws.world_poses_current);
   const size_t s = static_cast<size_t>(segment);
   const Matrix3<T>& R = ws.X_WB[s].rotation();
   return SpatialMotion<T>(R * ws.V_WB_B[s].rotational(), R * ws.V_WB_B[s].translational());
@@ -256,6 +320,7 @@ void AccumulateJacobian(const Model<T>& model,
                         const Vector3<T>& p_WoQ_W,
                         AngularRows* J_w,
                         LinearRows& J_v) {
+  ACRO_DEMAND(ws.world_poses_current);
   for (int j = segment; j >= 0; j = model.segment(j).parent) {
     const Segment<T>& seg = model.segment(j);
     const size_t uj = static_cast<size_t>(j);
@@ -314,6 +379,7 @@ void CalcSegmentJacobian(const Model<T>& model,
 
 template <typename T>
 Vector3<T> CalcCenterOfMassPosition(const Model<T>& model, const Workspace<T>& ws) {
+  ACRO_DEMAND(ws.world_poses_current);
   // p_WoScm = Σ m_B p_WoBcm / Σ m_B.
   Vector3<T> sum = Vector3<T>::Zero();
   for (int i = 0; i < model.num_segments(); ++i) {
@@ -325,6 +391,7 @@ Vector3<T> CalcCenterOfMassPosition(const Model<T>& model, const Workspace<T>& w
 
 template <typename T>
 Vector3<T> CalcCenterOfMassVelocity(const Model<T>& model, const Workspace<T>& ws) {
+  ACRO_DEMAND(ws.world_poses_current);
   // v_WScm = Σ m_B R_WB (v_WBo_B + w_WB_B × p_BoBcm_B) / Σ m_B.
   Vector3<T> sum = Vector3<T>::Zero();
   for (int i = 0; i < model.num_segments(); ++i) {
@@ -365,6 +432,7 @@ Vector3<T> CalcCenterOfMassAcceleration(const Model<T>& model,
 
 template <typename T>
 SpatialMomentum<T> CalcCentroidalMomentum(const Model<T>& model, const Workspace<T>& ws) {
+  ACRO_DEMAND(ws.world_poses_current);
   // Σ X_WB (I_B V_B) about Wo in W, then shifted to the centre of mass (RBDA §2.10).
   SpatialMomentum<T> L_Wo_W = SpatialMomentum<T>::Zero();
   for (int i = 0; i < model.num_segments(); ++i) {

@@ -24,15 +24,22 @@ struct Workspace {
         tau(model.nv()),
         M(model.nv(), model.nv()),
         h(model.nv()),
+        sin_q(model.nq()),
+        cos_q(model.nq()),
         scratch_forces(6, 6) {
     tau.setZero();
     M.setZero();
     h.setZero();
+    sin_q.setZero();
+    cos_q.setZero();
   }
 
   // Position kinematics (CalcForwardKinematics with q).
   std::vector<RigidTransform<T>> X_PB;  ///< segment B in its parent P (the root: in W)
   std::vector<RigidTransform<T>> X_WB;  ///< segment B in the world W
+  /// False after an inverse dynamics without applied wrenches, which computes only X_WB[0]
+  /// (the rest is not needed there); CalcForwardKinematics makes all current again.
+  bool world_poses_current = false;
   /// Joint axes as angular-velocity directions in B: column k of the motion subspace of B's
   /// inboard Euler joint is [S_B[B][k]; 0] (RBDA §4.4).
   std::vector<std::array<Vector3<T>, 3>> S_B;
@@ -54,6 +61,8 @@ struct Workspace {
   MatrixX<T> M;    ///< joint-space mass matrix from CalcMassMatrix (nv × nv)
   VectorX<T> h;    ///< bias forces from CalcBiasForces (nv)
 
+  VectorX<T> sin_q;  ///< sin of the joint angles (entries 7… of q), from the last pose pass
+  VectorX<T> cos_q;  ///< cos of the joint angles
   Matrix6X<T> scratch_forces;  ///< up to 6 spatial-force columns for the mass matrix
 
  private:
