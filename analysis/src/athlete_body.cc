@@ -94,7 +94,9 @@ AthleteBody MakeAthleteBodyFromYeadon(const YeadonHuman& human) {
   // The pelvis joint is H's origin exactly.
   body.segments[0].p_HoJ_H.setZero();
   body.total = CombineInertia(all);
-  body.height_m = top("s7").z() - std::min(base("j8").z(), base("k8").z());
+  // Stature: Yeadon's feet are pointed, so the sole is not measured; the vertex-to-ankle distance
+  // is taken as (1 − 0.039) of the stature (ankle height 0.039 H, Drillis & Contini 1966).
+  body.height_m = (top("s7").z() - base("j4").z()) / (1.0 - 0.039);
   return body;
 }
 

@@ -280,7 +280,8 @@ BodyMesh MakeEllipsoidBodyMesh(const AthleteBody& body, const BodyMeshOptions& o
       semi[k] = std::sqrt(std::max(sq, 1e-8));
     }
     const double density = in.mass_kg / (4.0 / 3.0 * kPi * semi.prod());
-    // A latitude–longitude sphere (2·bands bands, 2n meridians) mapped onto the ellipsoid.
+    // A latitude–longitude sphere (2·bands bands pole to pole, 2n meridians) mapped onto the
+    // ellipsoid.
     std::vector<Eigen::Vector3d> v;
     std::vector<Eigen::Vector3i> tris;
     std::vector<std::vector<int>> rings;

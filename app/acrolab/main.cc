@@ -17,6 +17,7 @@ constexpr const char* kUsage =
     "  info FILE [--json]     what a C3D/TRC/CSV file holds: rates, markers, gaps, analog, plates, "
     "events\n"
     "  convert IN OUT         convert between C3D, TRC and CSV (by file extension)\n"
+    "  body ...               athlete segments, mass, centre of mass, inertia; tuck/pike ratios\n"
     "\n"
     "  acrolab <command> --help for a command's options; docs/cli.md for everything.\n";
 
@@ -32,6 +33,7 @@ int main(int argc, char** argv) {
   try {
     if (command == "info") return acro::app::RunInfo(args);
     if (command == "convert") return acro::app::RunConvert(args);
+    if (command == "body") return acro::app::RunBody(args);
     if (command == "--version") {
       std::puts("acrolab 0.1.0");
       return 0;

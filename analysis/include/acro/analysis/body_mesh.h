@@ -22,7 +22,8 @@ namespace acro::analysis {
 struct BodyMeshOptions {
   /// Vertices per half circle of a stadium's round ends (a circle gets twice as many).
   int points_per_semicircle = 48;
-  /// Latitude bands of the head's semi-ellipsoid and of an equivalent ellipsoid.
+  /// Latitude bands of the head's semi-ellipsoid (base to apex) and of each half of an equivalent
+  /// ellipsoid.
   int ellipsoid_bands = 32;
   /// Vertices within this distance of a segment's proximal joint blend with the parent segment.
   double skin_blend_m = 0.04;
