@@ -67,6 +67,7 @@ void NormalizeByBodyWeight(const SpatialForce<T>& F_Scm_W,
 /// a is overwritten), the root accelerations a[0:6] for which the root residual vanishes, so that
 /// gravity and F_ext_Bo_W are the only external wrenches. One inverse dynamics pass plus the
 /// whole-body composite inertia Ic about the root: Ic·ΔA = −F_root (RBDA §9.2's floating base).
+/// ws is left with that pass (zero root acceleration) and with the composite inertias.
 template <typename T>
 void CalcFlightRootAcceleration(const Model<T>& model,
                                 Workspace<T>& ws,
