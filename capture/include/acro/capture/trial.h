@@ -59,8 +59,10 @@ struct AnalogChannel {
 
 /// A force platform (C3D FORCE_PLATFORM group, types 1–4) and what it measured.
 /// Geometry in W (metres). The plate frame F has its axes along the corners as defined in the C3D
-/// manual ("Force platforms"); `origin_F_m` is ORIGIN: the vector from the plate's geometric centre
-/// on the top surface to the transducer origin, expressed in F.
+/// manual ("Force platforms"; see force_plate.h). `origin_F_m` is ORIGIN as stored: per the manual
+/// the position of the geometric centre of the top surface relative to the transducer origin,
+/// expressed in F (z ≤ 0, F's z pointing into the plate); files that store the opposite vector
+/// (z > 0) are handled when the outputs are computed.
 struct ForcePlate {
   int type = 0;
   Eigen::Matrix<double, 3, 4> corners_W_m = Eigen::Matrix<double, 3, 4>::Zero();
