@@ -42,6 +42,19 @@ TEST(AthleteProfile, TheSampleProfileGivesADeLevaBody) {
       (thigh.p_HoE_H - thigh.p_HoJ_H).norm(), profile.segment_lengths_m.at("thigh"), 8 * kEps);
 }
 
+TEST(AthleteProfile, TheInlineYeadonSampleGivesAYeadonBody) {
+  const auto path = acro::testing::SourceDir() / "samples/athletes/sample_athlete_yeadon.yaml";
+  const AthleteProfile profile = ReadAthleteProfile(path);
+  ASSERT_TRUE(profile.yeadon_measurements.has_value());
+  const YeadonHuman human = YeadonHuman::Make(*profile.yeadon_measurements, profile.yeadon_options);
+  EXPECT_TRUE(human.warnings().empty());  // every stadium's perimeter/width ratio is in (2, π)
+  const AthleteBody body = MakeAthleteBody(profile);
+  EXPECT_NE(body.model.find("Yeadon"), std::string::npos);
+  EXPECT_NEAR(body.total.mass_kg, profile.mass_kg, 64 * kEps * profile.mass_kg);
+  EXPECT_NEAR(
+      body.height_m, profile.height_m, 0.02);  // the made-up measurements fit the stated height
+}
+
 TEST(AthleteProfile, YeadonMeasurementsByPathAreScaledToTheProfilesMass) {
   const auto meas = acro::testing::RefdataFile("yeadon/male1.txt");
   ACRO_REQUIRE_REFDATA_FILE(meas);
