@@ -3,6 +3,7 @@
 // in the files' millimetres; the Trial holds metres, so they are compared after × 1000.
 
 #include <cmath>
+#include <cstring>
 #include <string>
 #include <vector>
 
@@ -178,6 +179,272 @@ TEST(C3dReader, Sample02VariantsAgreeWithinOneScaleStep) {
         worst = std::max(worst, (t.positions.col(i) - ref.positions.col(i)).cwiseAbs().maxCoeff());
     }
     EXPECT_LE(worst, step_m) << file;
+  }
+}
+
+// ---------------------------------------------------------------------------------------------
+// A small file built byte by byte from the C3D manual, in each processor format, integer storage,
+// unsigned analog: decoding must not depend on the reference files.
+class C3dBytes {
+ public:
+  explicit C3dBytes(std::uint8_t processor) : processor_(processor) {}
+  std::vector<std::uint8_t>& bytes() { return out_; }
+  void U8(std::uint8_t v) { out_.push_back(v); }
+  void U16(std::uint16_t v) {
+    if (processor_ == 86) {
+      out_.push_back(static_cast<std::uint8_t>(v >> 8));
+      out_.push_back(static_cast<std::uint8_t>(v & 0xFF));
+    } else {
+      out_.push_back(static_cast<std::uint8_t>(v & 0xFF));
+      out_.push_back(static_cast<std::uint8_t>(v >> 8));
+    }
+  }
+  void I16(std::int16_t v) { U16(static_cast<std::uint16_t>(v)); }
+  void F32(float f) {
+    std::uint32_t bits;
+    if (processor_ == 85) {
+      // VAX F-float: value × 4 in IEEE bits, 16-bit halves swapped (C3D manual, "DEC floating
+      // point").
+      const float quad = f * 4.0f;
+      std::memcpy(&bits, &quad, 4);
+      if (f == 0.0f) bits = 0;
+      out_.push_back(static_cast<std::uint8_t>((bits >> 16) & 0xFF));
+      out_.push_back(static_cast<std::uint8_t>(bits >> 24));
+      out_.push_back(static_cast<std::uint8_t>(bits & 0xFF));
+      out_.push_back(static_cast<std::uint8_t>((bits >> 8) & 0xFF));
+      return;
+    }
+    std::memcpy(&bits, &f, 4);
+    for (int k = 0; k < 4; ++k) {
+      const int shift = processor_ == 86 ? 24 - 8 * k : 8 * k;
+      out_.push_back(static_cast<std::uint8_t>((bits >> shift) & 0xFF));
+    }
+  }
+  void PutU16At(std::size_t at, std::uint16_t v) {
+    if (processor_ == 86) {
+      out_[at] = static_cast<std::uint8_t>(v >> 8);
+      out_[at + 1] = static_cast<std::uint8_t>(v & 0xFF);
+    } else {
+      out_[at] = static_cast<std::uint8_t>(v & 0xFF);
+      out_[at + 1] = static_cast<std::uint8_t>(v >> 8);
+    }
+  }
+  // A record: name length (negative = locked), group id (negative for a group), name, offset to the
+  // next record; `body` writes the rest.
+  template <class Body>
+  void Record(const std::string& name, int group_id, bool locked, Body body) {
+    U8(static_cast<std::uint8_t>(
+        static_cast<std::int8_t>(locked ? -int(name.size()) : int(name.size()))));
+    U8(static_cast<std::uint8_t>(static_cast<std::int8_t>(group_id)));
+    out_.insert(out_.end(), name.begin(), name.end());
+    const std::size_t offset_at = out_.size();
+    U16(0);
+    body();
+    PutU16At(offset_at, static_cast<std::uint16_t>(out_.size() - offset_at));
+  }
+  void Description(const std::string& d) {
+    U8(static_cast<std::uint8_t>(d.size()));
+    out_.insert(out_.end(), d.begin(), d.end());
+  }
+  void Chars(const std::string& text, std::vector<std::uint8_t> dims) {
+    U8(0xFF);  // type −1
+    U8(static_cast<std::uint8_t>(dims.size()));
+    out_.insert(out_.end(), dims.begin(), dims.end());
+    out_.insert(out_.end(), text.begin(), text.end());
+  }
+
+ private:
+  std::uint8_t processor_;
+  std::vector<std::uint8_t> out_;
+};
+
+std::vector<std::uint8_t> SyntheticFile(std::uint8_t processor) {
+  C3dBytes b(processor);
+  // Header (block 1): parameters at block 2, 2 points, 2 channels × 2 samples, frames 5..7.
+  b.U8(2);
+  b.U8(0x50);
+  b.U16(2);       // points
+  b.U16(4);       // analog words per frame
+  b.U16(5);       // first frame
+  b.U16(7);       // last frame
+  b.U16(10);      // max gap
+  b.F32(0.5f);    // scale (integer storage)
+  b.U16(4);       // data start block
+  b.U16(2);       // analog samples per frame
+  b.F32(100.0f);  // frame rate
+  b.bytes().resize(298, 0);
+  b.U16(12345);
+  b.U16(2);  // events
+  b.bytes().resize(304, 0);
+  b.F32(0.25f);
+  b.F32(1.5f);
+  b.bytes().resize(376, 0);
+  b.U8(1);
+  b.U8(0);
+  b.bytes().resize(396, 0);
+  for (char c : std::string("HS  TO  ")) b.U8(static_cast<std::uint8_t>(c));
+  b.bytes().resize(512, 0);
+  // Parameter section (blocks 2–3).
+  b.U8(1);
+  b.U8(0x50);
+  b.U8(2);
+  b.U8(processor);
+  // A parameter before its group, locked.
+  b.Record("USED", 1, true, [&] {
+    b.U8(2);
+    b.U8(0);
+    b.I16(2);
+    b.Description("number of points");
+  });
+  b.Record("POINT", -1, false, [&] { b.Description("3D points"); });
+  b.Record("ANALOG", -2, true, [&] { b.Description(""); });
+  b.Record("SCALE", 1, false, [&] {
+    b.U8(4);
+    b.U8(0);
+    b.F32(0.5f);
+    b.Description("");
+  });
+  b.Record("RATE", 1, false, [&] {
+    b.U8(4);
+    b.U8(0);
+    b.F32(100.0f);
+    b.Description("");
+  });
+  b.Record("LABELS", 1, false, [&] {
+    b.Chars("TOE HEEL", {4, 2});
+    b.Description("");
+  });
+  b.Record("UNITS", 1, false, [&] {
+    b.Chars("mm", {2});
+    b.Description("");
+  });
+  b.Record("USED", 2, false, [&] {
+    b.U8(2);
+    b.U8(0);
+    b.I16(2);
+    b.Description("");
+  });
+  b.Record("LABELS", 2, false, [&] {
+    b.Chars("EMG1EMG2", {4, 2});
+    b.Description("");
+  });
+  b.Record("FORMAT", 2, false, [&] {
+    b.Chars("UNSIGNED", {8});
+    b.Description("");
+  });
+  b.Record("BITS", 2, false, [&] {
+    b.U8(2);
+    b.U8(0);
+    b.I16(16);
+    b.Description("");
+  });
+  b.Record("SCALE", 2, false, [&] {
+    b.U8(4);
+    b.U8(1);
+    b.U8(2);
+    b.F32(0.01f);
+    b.F32(-0.5f);
+    b.Description("");
+  });
+  b.Record("OFFSET", 2, false, [&] {
+    b.U8(2);
+    b.U8(1);
+    b.U8(2);
+    b.I16(-32768);  // 32768 read unsigned
+    b.I16(2048);
+    b.Description("");
+  });
+  b.Record("GEN_SCALE", 2, false, [&] {
+    b.U8(4);
+    b.U8(0);
+    b.F32(2.0f);
+    b.Description("");
+  });
+  b.Record("RATE", 2, false, [&] {
+    b.U8(4);
+    b.U8(0);
+    b.F32(200.0f);
+    b.Description("");
+  });
+  b.U8(0);  // end of the parameter section
+  b.bytes().resize(3 * 512, 0);
+  // Data (block 4): per frame 2 points × (x, y, z, residual word), then 2 samples × 2 channels.
+  for (int f = 0; f < 3; ++f) {
+    b.I16(static_cast<std::int16_t>(100 + f));
+    b.I16(-200);
+    b.I16(300);
+    b.I16(static_cast<std::int16_t>((3 << 8) | 10));  // camera mask 3, residual 10 × 0.5
+    b.I16(static_cast<std::int16_t>(-400 - f));
+    b.I16(500);
+    b.I16(600);
+    b.I16(f == 1 ? -1 : 0);  // invalid at the second frame
+    for (int s = 0; s < 2; ++s) {
+      b.U16(static_cast<std::uint16_t>(40000 + 10 * f + s));
+      b.U16(static_cast<std::uint16_t>(1000));
+    }
+  }
+  return b.bytes();
+}
+
+TEST(C3dReader, SyntheticFileInEveryProcessorFormat) {
+  for (const std::uint8_t processor : {84, 85, 86}) {
+    const std::vector<std::uint8_t> bytes = SyntheticFile(processor);
+    const Trial t = ReadC3dFromMemory(bytes, "synthetic.c3d");
+    SCOPED_TRACE(t.source.processor);
+    EXPECT_TRUE(t.warnings.empty()) << t.warnings.front();
+    EXPECT_EQ(t.source.processor, processor == 84 ? "Intel" : processor == 85 ? "DEC" : "MIPS");
+    EXPECT_EQ(t.source.point_storage, "integer");
+    EXPECT_EQ(t.num_frames, 3);
+    EXPECT_EQ(t.first_frame, 5);
+    EXPECT_EQ(t.point_rate_hz, 100);
+    EXPECT_EQ(t.analog_rate_hz, 200);
+    ASSERT_EQ(t.num_points(), 2);
+    EXPECT_EQ(t.points[0].label, "TOE");
+    EXPECT_EQ(t.points[1].label, "HEEL");
+    // x = raw × POINT:SCALE, in mm → m.
+    EXPECT_DOUBLE_EQ(t.position(2, 0)(0), 102 * 0.5 * 1e-3);
+    EXPECT_DOUBLE_EQ(t.position(0, 0)(1), -200 * 0.5 * 1e-3);
+    EXPECT_DOUBLE_EQ(t.position(2, 1)(0), -402 * 0.5 * 1e-3);
+    EXPECT_EQ(t.residuals(0, 0), 5.0f);
+    EXPECT_EQ(t.camera_masks(0, 0), 3);
+    EXPECT_TRUE(std::isnan(t.position(1, 1)(0)));
+    EXPECT_EQ(t.residuals(1, 1), -1.0f);
+    EXPECT_EQ(t.residuals(1, 2), 0.0f);
+    // Unsigned analog: (raw − OFFSET) × SCALE × GEN_SCALE with raw and OFFSET unsigned (SCALE is a
+    // float parameter: 0.01f).
+    ASSERT_EQ(t.num_analog_channels(), 2);
+    EXPECT_EQ(t.analog_channels[0].offset, 32768);
+    EXPECT_EQ(t.analog_samples_per_frame(), 2);
+    EXPECT_NEAR(t.analog(0, 0), (40000 - 32768) * double(0.01f) * 2, 1e-9);
+    EXPECT_NEAR(t.analog(0, 5), (40021 - 32768) * double(0.01f) * 2, 1e-9);
+    EXPECT_NEAR(t.analog(1, 3), (1000 - 2048) * -0.5 * 2, 1e-9);
+    // Header events with their display flags.
+    ASSERT_EQ(t.events.size(), 2u);
+    EXPECT_EQ(t.events[0].label, "HS");
+    EXPECT_EQ(t.events[0].time_s, 0.25);
+    EXPECT_TRUE(t.events[0].displayed);
+    EXPECT_EQ(t.events[1].label, "TO");
+    EXPECT_FALSE(t.events[1].displayed);
+    // Parameters: the group record after its parameter, locked flags, descriptions, group ids.
+    const ParameterGroup* point = t.parameters.FindGroup("POINT");
+    ASSERT_NE(point, nullptr);
+    EXPECT_EQ(point->id, 1);
+    EXPECT_EQ(point->description, "3D points");
+    EXPECT_FALSE(point->locked);
+    EXPECT_TRUE(t.parameters.FindGroup("ANALOG")->locked);
+    EXPECT_TRUE(t.parameters.Find("POINT", "USED")->locked);
+    EXPECT_EQ(t.parameters.Find("POINT", "USED")->description, "number of points");
+    EXPECT_EQ(t.parameters.FindString("ANALOG", "FORMAT").value(), "UNSIGNED");
+    // Written as Intel float and read again: analog exact, the locked flags and the group order kept.
+    const Trial back = ReadC3dFromMemory(WriteC3dToMemory(t), "synthetic-written.c3d");
+    EXPECT_TRUE(back.analog == t.analog);
+    EXPECT_EQ(back.source.processor, "Intel");
+    EXPECT_EQ(back.source.point_storage, "float");
+    EXPECT_TRUE(back.parameters.FindGroup("ANALOG")->locked);
+    EXPECT_TRUE(back.parameters.Find("POINT", "USED")->locked);
+    EXPECT_EQ(back.parameters.groups()[0].name, "POINT");
+    EXPECT_EQ(back.events.size(), 2u);
+    EXPECT_FALSE(back.events[1].displayed);
   }
 }
 
