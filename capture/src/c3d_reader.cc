@@ -467,15 +467,18 @@ void C3dReader::ReadData() {
         std::int64_t(s[0] & 0xFFFF) | (std::int64_t(s[1] & 0xFFFF) << 16);
     const std::int64_t trial_last =
         std::int64_t(e[0] & 0xFFFF) | (std::int64_t(e[1] & 0xFFFF) << 16);
-    if (trial_last >= trial_first && trial_last - trial_first + 1 > frames &&
-        header_.last_frame == 0xFFFF) {
+    // The 16-bit header cannot count beyond 65535 frames: a longer TRIAL range wins when the header
+    // is saturated or the range itself exceeds 16 bits (a header that wrapped around).
+    const std::int64_t count = trial_last - trial_first + 1;
+    if (trial_last >= trial_first && count > frames &&
+        (header_.last_frame == 0xFFFF || count > 0xFFFF || trial_last > 0xFFFF)) {
       first = trial_first;
-      frames = trial_last - trial_first + 1;
+      frames = count;
       from_trial = true;
     }
   }
   if (!from_trial && point_frames && *point_frames != frames) {
-    if (header_.last_frame == 0xFFFF && *point_frames > frames) {
+    if (*point_frames > frames && (header_.last_frame == 0xFFFF || *point_frames > 0xFFFF)) {
       frames = *point_frames;
     } else {
       warn_("POINT:FRAMES",

@@ -318,6 +318,15 @@ TEST(C3dWriter, MoreThan65535Frames) {
     ASSERT_NE(end, nullptr);
     EXPECT_EQ(end->AsUnsigned()[0] | (end->AsUnsigned()[1] << 16), std::uint32_t(first + 69999));
     EXPECT_TRUE(WriteC3dToMemory(back) == bytes);
+    // A writer that lets the 16-bit header last frame wrap around (70000 + first − 1 mod 65536):
+    // the TRIAL range still gives the count.
+    std::vector<std::uint8_t> wrapped = bytes;
+    const std::uint16_t last16 = static_cast<std::uint16_t>((first + 69999) & 0xFFFF);
+    wrapped[8] = static_cast<std::uint8_t>(last16 & 0xFF);
+    wrapped[9] = static_cast<std::uint8_t>(last16 >> 8);
+    const Trial again = ReadC3dFromMemory(wrapped, "wrapped.c3d");
+    EXPECT_EQ(again.num_frames, 70000);
+    EXPECT_EQ(again.first_frame, first);
   }
 }
 
