@@ -550,6 +550,8 @@ class YamlParser {
 };
 
 YamlNode ParseYaml(std::string_view text, const std::string& file_name) {
+  // A UTF-8 byte-order mark (some Windows editors write one) is not content.
+  if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
   return YamlParser(text, file_name).ParseDocument();
 }
 

@@ -25,7 +25,9 @@ constexpr const char* kBodyHelp =
     "  --height/--mass/--sex  de Leva (1996) regression\n"
     "  --pose SPEC          straight | pike | tuck and/or NAME=DEG, comma-separated, e.g.\n"
     "                       'tuck,knee_flexion=120' (names: docs/athlete-model.md)\n"
-    "  --mesh OUT           writes the (posed) body mesh as OBJ or PLY\n";
+    "  --mesh OUT           writes the (posed) body mesh as OBJ or PLY\n"
+    "  --yeadon-package     reproduce the yeadon package's numbers (its cone centroids and\n"
+    "                       long-axis stadium inertia; see docs/athlete-model.md)\n";
 
 double Number(const std::string& option, const std::string& text) {
   double value = 0.0;
@@ -41,6 +43,7 @@ int RunBody(const std::vector<std::string>& args) {
   std::string measurements, profile_path, sex, density, pose_spec, mesh_path;
   std::optional<double> height, mass;
   bool json = false;
+  bool yeadon_package = false;
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& arg = args[i];
     auto value = [&]() -> const std::string& {
@@ -52,6 +55,8 @@ int RunBody(const std::vector<std::string>& args) {
       return 0;
     } else if (arg == "--json") {
       json = true;
+    } else if (arg == "--yeadon-package") {
+      yeadon_package = true;
     } else if (arg == "--measurements") {
       measurements = value();
     } else if (arg == "--profile") {
@@ -82,6 +87,7 @@ int RunBody(const std::vector<std::string>& args) {
   analysis::YeadonOptions yeadon_options;
   if (!density.empty() && !analysis::ParseDensitySet(density, &yeadon_options.density))
     throw UsageError{"--density must be dempster, chandler or clauser, got '" + density + "'"};
+  yeadon_options.package_compatible = yeadon_package;
   if (!measurements.empty()) {
     analysis::YeadonMeasurements meas = analysis::ReadYeadonMeasurements(measurements);
     if (mass) meas.total_mass_kg = *mass;
@@ -91,6 +97,7 @@ int RunBody(const std::vector<std::string>& args) {
     analysis::AthleteProfile profile = analysis::ReadAthleteProfile(profile_path);
     if (profile.yeadon_measurements) {
       if (!density.empty()) profile.yeadon_options.density = yeadon_options.density;
+      profile.yeadon_options.package_compatible = yeadon_package;
       analysis::YeadonMeasurements meas = *profile.yeadon_measurements;
       meas.total_mass_kg = profile.mass_kg;
       human = std::make_unique<analysis::YeadonHuman>(
@@ -101,7 +108,8 @@ int RunBody(const std::vector<std::string>& args) {
   } else {
     if (!height || !mass || sex.empty()) throw UsageError{"--height, --mass and --sex go together"};
     if (sex != "f" && sex != "m") throw UsageError{"--sex must be f or m, got '" + sex + "'"};
-    if (!density.empty()) throw UsageError{"--density applies to Yeadon measurements only"};
+    if (!density.empty() || yeadon_package)
+      throw UsageError{"--density and --yeadon-package apply to Yeadon measurements only"};
     rest = analysis::MakeDeLevaBody(
         *height, *mass, sex == "f" ? analysis::Sex::kFemale : analysis::Sex::kMale);
   }

@@ -107,6 +107,12 @@ TEST(Yaml, NumbersFollowYamlSpelling) {
   EXPECT_FALSE(ParseYamlNumber("", &v));
 }
 
+TEST(Yaml, ByteOrderMarkAndWindowsLineEndingsAreAccepted) {
+  const YamlNode root = ParseYaml("\xEF\xBB\xBFname: A\r\nlist: [1, 2]\r\n", "f.yaml");
+  EXPECT_EQ(root.At("name").AsString(), "A");
+  EXPECT_EQ(root.At("list").AsDoubleList(), (std::vector<double>{1, 2}));
+}
+
 TEST(Yaml, EmptyDocumentIsNull) {
   EXPECT_TRUE(ParseYaml("", "f.yaml").IsNull());
   EXPECT_TRUE(ParseYaml("# only a comment\n\n", "f.yaml").IsNull());
