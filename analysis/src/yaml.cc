@@ -208,7 +208,7 @@ class YamlParser {
         }
         ++indent;
       }
-      const std::string content(Trim(StripComment(raw.substr(indent), number)));
+      const std::string content(Trim(StripComment(raw.substr(indent))));
       if (content.empty()) {
         if (end == text.size()) break;
         continue;
@@ -226,7 +226,7 @@ class YamlParser {
   }
 
   // Removes a comment: '#' at the start or after a blank, outside quotes.
-  std::string_view StripComment(std::string_view s, int number) const {
+  static std::string_view StripComment(std::string_view s) {
     char quote = 0;
     for (size_t i = 0; i < s.size(); ++i) {
       const char c = s[i];
@@ -250,7 +250,6 @@ class YamlParser {
         quote = c;
       }
     }
-    (void)number;
     return s;
   }
 
