@@ -219,7 +219,7 @@ void C3dReader::ReadParameters() {
       group.id = -group_id;
       group.name = name;
       group.locked = name_length_signed < 0;
-      group.description = read_description(offset_at + 2, name);
+      group.description = read_description(offset_at + 2, "group " + name);
       natural_end = offset_at + 3 + group.description.size();
       groups.push_back(std::move(group));
     } else {
@@ -236,8 +236,14 @@ void C3dReader::ReadParameters() {
       const int type = static_cast<std::int8_t>(u8(offset_at + 2));
       const std::size_t num_dims = u8(offset_at + 3);
       if (type != -1 && type != 1 && type != 2 && type != 4) {
-        Fail(AtByte(static_cast<long long>(offset_at + 2)),
-             who + " has type " + std::to_string(type) + " (expected -1, 1, 2 or 4)");
+        // Unknown storage: skip the record when its offset leads on, else give up.
+        if (last || next <= pos || next > limit) {
+          Fail(AtByte(static_cast<long long>(offset_at + 2)),
+               who + " has type " + std::to_string(type) + " (expected -1, 1, 2 or 4)");
+        }
+        warn_(who, "has type " + std::to_string(type) + " (expected -1, 1, 2 or 4); skipped");
+        pos = next;
+        continue;
       }
       p.type = static_cast<ParameterType>(type);
       if (offset_at + 4 + num_dims > limit) {
@@ -252,7 +258,7 @@ void C3dReader::ReadParameters() {
       for (std::uint8_t d : p.dimensions)
         count = count > (std::size_t(1) << 40) ? count : count * d;
       const std::size_t data_at = offset_at + 4 + num_dims;
-      // The count is at most 255^7, so check it against the bytes left before multiplying.
+      // Check the count against the bytes left before anything is allocated.
       if (count > (limit - data_at) / element_size) {
         Fail(AtByte(static_cast<long long>(data_at)),
              who + " declares " + std::to_string(count) + " values of " +
