@@ -234,9 +234,7 @@ std::vector<Event> DecodeEventGroup(const ParameterSet& parameters, const Warner
     used = parameters.FindDouble(group, "USED");
   }
   if (!used || *used <= 0) return events;
-  const Parameter* times_parameter = parameters.Find(group, "TIMES");
-  const std::vector<double> times =
-      times_parameter ? times_parameter->AsDoubles() : std::vector<double>{};
+  const std::vector<double> times = ConcatDoubles(parameters, group, "TIMES");
   std::size_t n = static_cast<std::size_t>(*used);
   // TIMES is [2, n]: minutes then seconds of each event.
   if (times.size() / 2 < n) {

@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <cstring>
 #include <system_error>
+#include <type_traits>
 
 #include "acro/base/demand.h"
 #include "acro/base/input_error.h"
@@ -62,6 +63,43 @@ void SetStringList(ParameterSet& params,
     std::string part_name = std::string(name) + (chunk == 0 ? "" : std::to_string(chunk + 1));
     params.Set(group, MakeStringsParameter(part_name, part));
     if (strings.empty()) break;
+  }
+}
+
+// Replaces NAME and its continuations by `values` in parameters of up to 255 entries each (the
+// continuation scheme of POINT:LABELS2, used by readers for ANALOG:SCALE2, OFFSET2, …). With
+// `pairs`, entries are two-value columns ([2, n], as EVENT:TIMES).
+template <class T>
+void SetNumberList(ParameterSet& params,
+                   std::string_view group,
+                   std::string_view name,
+                   const std::vector<T>& values,
+                   bool pairs = false) {
+  ParameterGroup& g = params.GetOrAddGroup(group);
+  for (int k = 2; k < 100; ++k) {
+    const std::string continuation = std::string(name) + std::to_string(k);
+    auto it = std::find_if(g.parameters.begin(), g.parameters.end(), [&](const Parameter& p) {
+      return p.name == continuation;
+    });
+    if (it == g.parameters.end()) break;
+    g.parameters.erase(it);
+  }
+  const std::size_t width = pairs ? 2 : 1;
+  const std::size_t entries = values.size() / width;
+  std::size_t chunk = 0;
+  for (std::size_t begin = 0; begin < entries || begin == 0; begin += 255, ++chunk) {
+    const std::size_t end = std::min(entries, begin + 255);
+    std::vector<T> part(values.begin() + begin * width, values.begin() + end * width);
+    const std::string part_name = std::string(name) + (chunk == 0 ? "" : std::to_string(chunk + 1));
+    std::vector<std::uint8_t> dims;
+    if (pairs) dims.push_back(2);
+    dims.push_back(static_cast<std::uint8_t>(end - begin));
+    if constexpr (std::is_same_v<T, float>) {
+      params.Set(group, MakeFloatParameter(part_name, std::move(part), dims));
+    } else {
+      params.Set(group, MakeInt16Parameter(part_name, std::move(part), dims));
+    }
+    if (entries == 0) break;
   }
 }
 
@@ -256,8 +294,7 @@ ParameterSet SyncParameters(const Trial& trial, Layout* layout) {
     if (!scales || (scratch && C > 0)) {
       std::vector<float> v;
       for (const AnalogChannel& c : trial.analog_channels) v.push_back(static_cast<float>(c.scale));
-      params.Set("ANALOG",
-                 MakeFloatParameter("SCALE", v, {static_cast<std::uint8_t>(std::min(C, 255))}));
+      SetNumberList(params, "ANALOG", "SCALE", v);
       if (!params.Find("ANALOG", "GEN_SCALE"))
         params.Set("ANALOG", MakeFloatParameter("GEN_SCALE", {1.0f}, {}));
     }
@@ -273,10 +310,11 @@ ParameterSet SyncParameters(const Trial& trial, Layout* layout) {
             static_cast<std::uint16_t>(static_cast<std::int32_t>(c.offset))));
         floats.push_back(static_cast<float>(c.offset));
       }
-      const std::uint8_t n = static_cast<std::uint8_t>(std::min(C, 255));
-      params.Set("ANALOG",
-                 integral ? MakeInt16Parameter("OFFSET", ints, {n})
-                          : MakeFloatParameter("OFFSET", floats, {n}));
+      if (integral) {
+        SetNumberList(params, "ANALOG", "OFFSET", ints);
+      } else {
+        SetNumberList(params, "ANALOG", "OFFSET", floats);
+      }
     }
     double analog_rate = trial.point_rate_hz * layout->per_frame;
     if (const std::optional<double> r = params.FindDouble("ANALOG", "RATE");
@@ -373,15 +411,14 @@ ParameterSet SyncParameters(const Trial& trial, Layout* layout) {
           icons.push_back(static_cast<std::int16_t>(e.icon_id));
           flags.push_back(static_cast<std::int16_t>(e.generic_flag));
         }
-        const std::uint8_t nn = static_cast<std::uint8_t>(std::min<std::size_t>(n, 255));
         params.Set("EVENT", MakeInt16Parameter("USED", {static_cast<std::int16_t>(n)}, {}));
-        params.Set("EVENT", MakeFloatParameter("TIMES", times, {2, nn}));
+        SetNumberList(params, "EVENT", "TIMES", times, /*pairs=*/true);
         SetStringList(params, "EVENT", "LABELS", labels);
         SetStringList(params, "EVENT", "CONTEXTS", contexts);
         SetStringList(params, "EVENT", "DESCRIPTIONS", descriptions);
         SetStringList(params, "EVENT", "SUBJECTS", subjects);
-        params.Set("EVENT", MakeInt16Parameter("ICON_IDS", icons, {nn}));
-        params.Set("EVENT", MakeInt16Parameter("GENERIC_FLAGS", flags, {nn}));
+        SetNumberList(params, "EVENT", "ICON_IDS", icons);
+        SetNumberList(params, "EVENT", "GENERIC_FLAGS", flags);
       }
     }
   }

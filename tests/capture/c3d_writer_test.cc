@@ -330,6 +330,41 @@ TEST(C3dWriter, MoreThan65535Frames) {
   }
 }
 
+// More than 255 points, channels and events: LABELS2, SCALE2, OFFSET2, TIMES2 … continuations.
+TEST(C3dWriter, MoreThan255PointsChannelsAndEvents) {
+  Trial t;
+  t.source.format = "generated";
+  t.point_rate_hz = 50;
+  t.num_frames = 3;
+  for (int p = 0; p < 300; ++p)
+    t.points.push_back({"P" + std::to_string(p), "", PointType::kMarker, "m"});
+  t.positions = Eigen::Matrix3Xd::Constant(3, 3 * 300, 0.25);
+  t.analog_rate_hz = 100;
+  for (int c = 0; c < 300; ++c) {
+    t.analog_channels.push_back({"C" + std::to_string(c), "", "V", 0.5 + c, double(c - 100), 0.0});
+  }
+  t.analog = Eigen::MatrixXd::Constant(300, 6, 3.0);
+  for (int e = 0; e < 300; ++e)
+    t.events.push_back({"E" + std::to_string(e), "General", "", "", 0.01 * e, true, 0, 0});
+  const Trial back = ReadC3dFromMemory(WriteC3dToMemory(t), "many.c3d");
+  EXPECT_TRUE(back.warnings.empty()) << back.warnings.front();
+  ASSERT_EQ(back.num_points(), 300);
+  EXPECT_EQ(back.points[299].label, "P299");
+  EXPECT_NE(back.parameters.Find("POINT", "LABELS2"), nullptr);
+  ASSERT_EQ(back.num_analog_channels(), 300);
+  EXPECT_EQ(back.analog_channels[299].label, "C299");
+  EXPECT_EQ(back.analog_channels[299].scale, 299.5);
+  EXPECT_EQ(back.analog_channels[299].offset, 199);
+  EXPECT_NE(back.parameters.Find("ANALOG", "SCALE2"), nullptr);
+  // Raw samples are floats: value / scale + offset rounded to float32, so the error is that of the
+  // raw value (|raw| < 200) times the scale (< 300).
+  EXPECT_LE((back.analog - t.analog).cwiseAbs().maxCoeff(), 200 * std::ldexp(1.0, -24) * 300);
+  ASSERT_EQ(back.events.size(), 300u);
+  EXPECT_EQ(back.events[299].label, "E299");
+  EXPECT_EQ(back.events[299].context, "General");
+  EXPECT_NEAR(back.events[299].time_s, 2.99, 1e-6);
+}
+
 TEST(C3dWriter, WriteC3dRenamesIntoPlace) {
   const auto path = acro::testing::RefdataFile("c3dio-c3d_org_samples/sample_01/Eb015pr.c3d");
   ACRO_REQUIRE_REFDATA_FILE(path);
