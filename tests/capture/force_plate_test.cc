@@ -128,6 +128,21 @@ TEST(ForcePlate, Sample09TwoPlatforms) {
   EXPECT_EQ(ReadC3d(path).force_plates.size(), 2u);
 }
 
+TEST(ForcePlate, OutputsOnlyWhenAsked) {
+  const auto path = RefdataFile("c3dio-c3d_org_samples/sample_01/Eb015pr.c3d");
+  ACRO_REQUIRE_REFDATA_FILE(path);
+  C3dReadOptions options;
+  options.compute_force_plates = false;
+  const Trial t = ReadC3d(path, options);
+  ASSERT_EQ(t.force_plates.size(), 2u);
+  EXPECT_EQ(t.force_plates[0].force_W_N.cols(), 0);
+  EXPECT_EQ(t.force_plates[0].channels.size(), 6u);  // geometry still read
+  // Computing afterwards gives what the reader gives.
+  ForcePlate plate = t.force_plates[0];
+  CalcForcePlateOutputs(t, &plate, nullptr);
+  EXPECT_TRUE(plate.force_W_N == ReadC3d(path).force_plates[0].force_W_N);
+}
+
 // ---------------------------------------------------------------------------------------------
 // Synthetic plates with a known wrench: closed-form expectations from the documented convention.
 Trial SyntheticTrial(int channels, int frames, int per_frame) {
