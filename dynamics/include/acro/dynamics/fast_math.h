@@ -44,15 +44,17 @@ inline void SinCosReduced(double x, double* s, double* c) {
                              1.38888888888730564116e-3) *
                                 z +
                             4.16666666666665929218e-2);
-  // Quadrant k mod 4: (sin, cos) of x is (s, c), (c, −s), (−s, −c), (−c, s) of r.
-  // Indexing and integer arithmetic instead of branches: random angles would mispredict them.
-  const int quadrant = static_cast<int>(k) & 3;
-  const int swap = quadrant & 1;
-  const double sign_s = static_cast<double>(1 - (quadrant & 2));
-  const double sign_c = static_cast<double>(1 - ((quadrant + 1) & 2));
-  const double sc[2] = {sin_r, cos_r};
-  *s = sign_s * sc[swap];
-  *c = sign_c * sc[1 - swap];
+  // Quadrant m = k mod 4 ∈ {0, 1, 2, 3}: (sin, cos) of x is (s, c), (c, −s), (−s, −c), (−c, s) of
+  // r. Computed in floating point without branches or integer conversions so that a loop over
+  // angles vectorises; every step is exact (small integers, products with 0 and ±1).
+  // floor(y) for y = k/4 is the nearest integer to y − 3/8.
+  const double m = k - 4.0 * ((k * 0.25 - 0.375 + kRound) - kRound);
+  const double half = (m * 0.5 - 0.25 + kRound) - kRound;  // 0 for m < 2, 1 otherwise
+  const double swap = m - 2.0 * half;                      // m mod 2
+  const double sign_s = 1.0 - 2.0 * half;
+  const double sign_c = sign_s * (1.0 - 2.0 * swap);
+  *s = sign_s * (swap * cos_r + (1.0 - swap) * sin_r);
+  *c = sign_c * (swap * sin_r + (1.0 - swap) * cos_r);
 }
 
 /// Beyond this the reduction loses accuracy and libm is used.
