@@ -142,14 +142,12 @@ bool MakeNamedPose(std::string_view name, BodyPose* pose) {
   pose->angles_rad.clear();
   if (name == "straight") return true;
   if (name == "pike") {
-    pose->angles_rad = {{"hip_flexion", 130 * kDeg}, {"shoulder_flexion", 70 * kDeg}};
+    pose->angles_rad = {{"hip_flexion", 130 * kDeg}, {"shoulder_flexion", 80 * kDeg}};
     return true;
   }
   if (name == "tuck") {
-    pose->angles_rad = {{"hip_flexion", 140 * kDeg},
-                        {"knee_flexion", 145 * kDeg},
-                        {"shoulder_flexion", 40 * kDeg},
-                        {"elbow_flexion", 90 * kDeg}};
+    pose->angles_rad = {
+        {"hip_flexion", 140 * kDeg}, {"knee_flexion", 145 * kDeg}, {"elbow_flexion", 100 * kDeg}};
     return true;
   }
   return false;

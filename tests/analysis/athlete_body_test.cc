@@ -45,7 +45,10 @@ TEST(AthleteBody, PosingAgreesWithYeadonsConfigurationAngles) {
   ACRO_REQUIRE_REFDATA_FILE(acro::testing::RefdataFile("yeadon/male1.txt"));
   const AthleteBody rest = MakeAthleteBodyFromYeadon(YeadonHuman::Make(Male1()));
   BodyPose tuck;
-  ASSERT_TRUE(MakeNamedPose("tuck", &tuck));
+  tuck.angles_rad = {{"hip_flexion", 140 * kDeg},
+                     {"knee_flexion", 145 * kDeg},
+                     {"shoulder_flexion", 40 * kDeg},
+                     {"elbow_flexion", 90 * kDeg}};
   tuck.angles_rad["l_hip_abduction"] = 20 * kDeg;
   tuck.angles_rad["r_shoulder_abduction"] = 30 * kDeg;
   const AthleteBody posed = PoseAthleteBody(rest, tuck);

@@ -94,7 +94,10 @@ TEST(StandardHuman, TuckedModelMatchesThePosedBody) {
       SetAngle(model, &q, (s + "_forearm").c_str(), 0, -90 * kDeg);
     }
     BodyPose tuck;
-    ASSERT_TRUE(MakeNamedPose("tuck", &tuck));
+    tuck.angles_rad = {{"hip_flexion", 140 * kDeg},
+                       {"knee_flexion", 145 * kDeg},
+                       {"shoulder_flexion", 40 * kDeg},
+                       {"elbow_flexion", 90 * kDeg}};
     const AthleteBody posed = PoseAthleteBody(body, tuck);
     EXPECT_LT((CentroidalInertia(model, q) - posed.total.I_Cm_H).norm(),
               1e3 * kEps * posed.total.I_Cm_H.norm())

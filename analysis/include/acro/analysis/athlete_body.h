@@ -100,7 +100,8 @@ inline constexpr std::array<std::string_view, 11> kBodyPoseAngleNames = {"somers
 bool IsBodyPoseAngle(std::string_view name);
 
 /// The named shapes a coach uses: "straight" (all zero), "pike" (hips flexed 130°, arms forward
-/// 70°), "tuck" (hips 140°, knees 145°, shoulders 40°, elbows 90°). False for another name.
+/// 80° towards the shins), "tuck" (hips 140°, knees 145°, upper arms down and elbows flexed 100°
+/// so that the hands reach the shins). False for another name.
 bool MakeNamedPose(std::string_view name, BodyPose* pose);
 
 /// Rotates each segment about its proximal joint (children follow their parents). Throws
