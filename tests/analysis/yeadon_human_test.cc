@@ -1,5 +1,6 @@
 #include "acro/analysis/yeadon_human.h"
 
+#include <cctype>
 #include <cmath>
 #include <fstream>
 #include <numbers>
