@@ -108,6 +108,19 @@ TEST_F(KinematicsTest, VelocitiesAgreeWithJacobiansAndDifferences) {
     CalcForwardKinematics(model, ws, Integrate(model, q, v, -kFdStep));
     const Eigen::Vector3d minus = CalcCenterOfMassPosition(model, ws);
     EXPECT_LE((v_com - (plus - minus) / (2 * kFdStep)).cwiseAbs().maxCoeff(), kFdTol);
+    // Centre-of-mass Jacobian: J v = v_com, and column by column against central differences.
+    CalcForwardKinematics(model, ws, q);
+    Matrix3X<double> Jc(3, model.nv());
+    CalcCenterOfMassJacobian(model, ws, Jc);
+    EXPECT_LE((Jc * v - v_com).cwiseAbs().maxCoeff(), 1e-12);
+    for (int k = 0; k < model.nv(); ++k) {
+      const Eigen::VectorXd e = Eigen::VectorXd::Unit(model.nv(), k);
+      CalcForwardKinematics(model, ws, Integrate(model, q, e, kFdStep));
+      const Eigen::Vector3d p_plus = CalcCenterOfMassPosition(model, ws);
+      CalcForwardKinematics(model, ws, Integrate(model, q, e, -kFdStep));
+      const Eigen::Vector3d p_minus = CalcCenterOfMassPosition(model, ws);
+      EXPECT_LE((Jc.col(k) - (p_plus - p_minus) / (2 * kFdStep)).cwiseAbs().maxCoeff(), kFdTol);
+    }
   }
 }
 

@@ -22,6 +22,13 @@ namespace {
 std::atomic<long> g_news{0};
 }  // namespace
 
+// The replaced operator new uses malloc, so the replaced operator delete must use free; GCC's
+// -Wmismatched-new-delete cannot see that the pair is replaced consistently and warns where it
+// inlines them.
+#if defined(__GNUC__) && !defined(__clang__)
+#pragma GCC diagnostic ignored "-Wmismatched-new-delete"
+#endif
+
 void* operator new(std::size_t size) {
   ++g_news;
   if (void* p = std::malloc(size == 0 ? 1 : size)) return p;
@@ -66,6 +73,8 @@ void RunFrame(const Model<double>& model,
     sink += Jb(3, 0) + CalcSegmentSpatialVelocity(ws, b).rotational()[0];
   }
   sink += CalcCenterOfMassPosition(model, ws)[2] + CalcCenterOfMassVelocity(model, ws)[2];
+  CalcCenterOfMassJacobian(model, ws, Jp);
+  sink += Jp(2, 6);
   sink += CalcCentroidalMomentum(model, ws).rotational()[0];
   sink += CalcCenterOfMassAcceleration(model, ws, q, v, a)[2];
   CalcFlightRootAcceleration(model, ws, q, v, a);

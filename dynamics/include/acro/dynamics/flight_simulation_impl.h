@@ -30,8 +30,7 @@ Vector6<T> CalcRootVelocityFromMomentum(const Model<T>& model,
                                         const Vector3<T>& H_Scm_W) {
   ACRO_DEMAND(q.size() == model.nq() && v.size() == model.nv());
   // Momentum of the joint motion alone (root at rest), about Bo in W.
-  VectorX<T>& v_joints = ws.h;  // scratch of size nv
-  v_joints = v;
+  VectorX<T> v_joints = v;
   v_joints.template head<6>().setZero();
   CalcForwardKinematics(model, ws, q, v_joints);
   const Vector3<T> p_WoScm_W = CalcCenterOfMassPosition(model, ws);

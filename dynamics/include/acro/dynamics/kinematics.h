@@ -56,6 +56,11 @@ void CalcSegmentJacobian(const Model<T>& model,
                          int segment,
                          Matrix6XRef<T> J);
 
+/// Jv_WScm_W (3 × nv): v_WScm_W = J·v, the mass-weighted mean of the segments' centre-of-mass
+/// Jacobians (after CalcForwardKinematics with q).
+template <typename T>
+void CalcCenterOfMassJacobian(const Model<T>& model, const Workspace<T>& ws, Matrix3XRef<T> J);
+
 /// p_WoScm_W: the whole-body (system S) centre of mass (after CalcForwardKinematics with q).
 template <typename T>
 Vector3<T> CalcCenterOfMassPosition(const Model<T>& model, const Workspace<T>& ws);
@@ -375,6 +380,35 @@ void CalcSegmentJacobian(const Model<T>& model,
   auto J_v = J.template bottomRows<3>();
   internal::AccumulateJacobian(
       model, ws, segment, ws.X_WB[static_cast<size_t>(segment)].translation(), &J_w, J_v);
+}
+
+template <typename T>
+void CalcCenterOfMassJacobian(const Model<T>& model, const Workspace<T>& ws, Matrix3XRef<T> J) {
+  ACRO_DEMAND(J.cols() == model.nv());
+  ACRO_DEMAND(ws.world_poses_current);
+  // Σ_B (m_B / m) Jv_Bcm: each segment adds its weighted centre-of-mass Jacobian columns, one per
+  // axis u (through Jo) of its ancestors, u × (p_WoBcm − p_WoJo) (as in AccumulateJacobian).
+  J.setZero();
+  for (int b = 0; b < model.num_segments(); ++b) {
+    const Segment<T>& s = model.segment(b);
+    const Vector3<T> p_WoBcm_W = ws.X_WB[static_cast<size_t>(b)] * s.p_BoBcm_B;
+    const T w = s.mass / model.total_mass();
+    for (int j = b; j >= 0; j = model.segment(j).parent) {
+      const Segment<T>& sj = model.segment(j);
+      const size_t uj = static_cast<size_t>(j);
+      const Matrix3<T>& R = ws.X_WB[uj].rotation();
+      const Vector3<T> r = p_WoBcm_W - ws.X_WB[uj].translation();
+      if (sj.joint_type == JointType::kFree) {
+        for (int k = 0; k < 3; ++k) {
+          J(k, k) += w;
+          J.col(3 + k) += w * R.col(k).cross(r);
+        }
+        continue;
+      }
+      for (int k = 0; k < sj.num_axes; ++k)
+        J.col(sj.v_start + k) += w * (R * ws.S_B[uj][static_cast<size_t>(k)]).cross(r);
+    }
+  }
 }
 
 template <typename T>

@@ -25,8 +25,7 @@ struct Workspace {
         M(model.nv(), model.nv()),
         h(model.nv()),
         sin_q(model.nq()),
-        cos_q(model.nq()),
-        scratch_forces(6, 6) {
+        cos_q(model.nq()) {
     tau.setZero();
     M.setZero();
     h.setZero();
@@ -63,7 +62,6 @@ struct Workspace {
 
   VectorX<T> sin_q;  ///< sin of the joint angles (entries 7… of q), from the last pose pass
   VectorX<T> cos_q;  ///< cos of the joint angles
-  Matrix6X<T> scratch_forces;  ///< up to 6 spatial-force columns for the mass matrix
 
  private:
   static size_t Size(const Model<T>& model) { return static_cast<size_t>(model.num_segments()); }
