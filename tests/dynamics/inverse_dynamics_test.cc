@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
+#include <cstdio>
 #include <limits>
 #include <random>
 
@@ -122,6 +123,12 @@ TEST(InverseDynamicsTest, BallisticRigidBodyHasZeroRootResidual) {
       const double weight = model.total_mass() * 9.81;
       EXPECT_LE(tau.head<6>().cwiseAbs().maxCoeff() / weight, 1e-12) << "t = " << t;
       const RootResidual<double> r = CalcRootResidual(model, ws, 1.75);
+      std::printf(
+          "ballistic %s, t = %.2f s: root residual / weight %.2g, moment / (weight height) %.2g\n",
+          model.segment(0).name.c_str(),
+          t,
+          r.force_per_weight.cwiseAbs().maxCoeff(),
+          r.moment_per_weight_height.cwiseAbs().maxCoeff());
       EXPECT_LE(r.force_per_weight.cwiseAbs().maxCoeff(), 1e-12);
       EXPECT_LE(r.moment_per_weight_height.cwiseAbs().maxCoeff(), 1e-12);
     }
