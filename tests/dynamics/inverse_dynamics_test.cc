@@ -197,6 +197,41 @@ TEST(InverseDynamicsTest, ExternalWrenchesEnterThroughJacobianTranspose) {
   }
 }
 
+// Power balance: the kinetic energy, summed over segments from their velocities, changes at the
+// rate vᵀ (ID(q, v, a) − ID(q, 0, 0)): the power of the generalised forces other than gravity
+// (Lagrange's equations; a check of the velocity-product terms independent of the mass matrix).
+TEST(InverseDynamicsTest, KineticEnergyRateIsPowerOfNonGravityForces) {
+  std::mt19937 rng(21);
+  for (int tree = 0; tree < 4; ++tree) {
+    const Model<double> model = tree < 3 ? MakeRandomTree(rng, 20, 6 * tree) : MakeReferenceHuman();
+    Workspace<double> ws(model);
+    const Eigen::VectorXd q = RandomConfiguration(model, rng);
+    const Eigen::VectorXd v = RandomVelocity(model, rng, 2.0);
+    const Eigen::VectorXd a = RandomVelocity(model, rng, 5.0);
+    const Eigen::VectorXd zero = Eigen::VectorXd::Zero(model.nv());
+    const Eigen::VectorXd tau = CalcInverseDynamics(model, ws, q, v, a);
+    const Eigen::VectorXd tau_g = CalcInverseDynamics(model, ws, q, zero, zero);
+    const double power = v.dot(tau - tau_g);
+    // T = Σ ½ (m |v_Bcm|² + ωᵀ I_Bcm ω), all in W.
+    auto kinetic_energy = [&](double t) {
+      CalcForwardKinematics(
+          model, ws, Integrate(model, q, v * t + 0.5 * t * t * a, 1.0), v + t * a);
+      double T = 0.0;
+      for (int b = 0; b < model.num_segments(); ++b) {
+        const Segment<double>& s = model.segment(b);
+        const SpatialMotion<double>& V = ws.V_WB_B[static_cast<size_t>(b)];
+        const Eigen::Vector3d v_cm = V.translational() + V.rotational().cross(s.p_BoBcm_B);
+        T += 0.5 * (s.mass * v_cm.squaredNorm() + V.rotational().dot(s.I_BBcm_B * V.rotational()));
+      }
+      return T;
+    };
+    const double dt = 1e-5;
+    const double rate = (kinetic_energy(dt) - kinetic_energy(-dt)) / (2 * dt);
+    // Central difference (h = 1e-5) of energies of O(10²–10³) J: truncation ~1e-8, rounding ~1e-8.
+    EXPECT_LE(std::abs(rate - power), 1e-6 * std::max(1.0, std::abs(power))) << "tree " << tree;
+  }
+}
+
 // The flight root acceleration leaves no root residual, and the centre of mass then falls at g.
 TEST(InverseDynamicsTest, FlightRootAccelerationCancelsResidual) {
   std::mt19937 rng(17);

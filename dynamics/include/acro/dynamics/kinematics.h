@@ -3,7 +3,8 @@
 // Forward kinematics, point and segment Jacobians, centre of mass and centroidal momentum.
 // Free functions over (const Model, Workspace, q, v, a); none allocates. Call
 // CalcForwardKinematics first: the other functions read the poses (and velocities) it leaves in
-// the workspace. Conventions: docs/notation.md.
+// the workspace, and demand ws.world_poses_current (inverse dynamics without applied wrenches
+// leaves only the root's world pose). Conventions: docs/notation.md.
 
 #include <cmath>
 
