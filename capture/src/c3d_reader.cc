@@ -50,6 +50,7 @@ struct Header {
   std::uint16_t analog_words = 0;      // word 3: analog samples per frame × channels
   std::uint16_t first_frame = 0;       // word 4
   std::uint16_t last_frame = 0;        // word 5
+  std::uint16_t max_gap = 0;           // word 6
   float scale = 0;                     // words 7–8
   std::uint16_t data_start = 0;        // word 9 (block number)
   std::uint16_t analog_per_frame = 0;  // word 10
@@ -132,6 +133,7 @@ void C3dReader::ReadHeader() {
   hd.analog_words = LoadU16(h + 4, processor_);
   hd.first_frame = LoadU16(h + 6, processor_);
   hd.last_frame = LoadU16(h + 8, processor_);
+  hd.max_gap = LoadU16(h + 10, processor_);
   hd.scale = LoadF32(h + 12, processor_);
   hd.data_start = LoadU16(h + 16, processor_);
   hd.analog_per_frame = LoadU16(h + 18, processor_);
@@ -496,6 +498,13 @@ void C3dReader::ReadData() {
 
   // Data start: header word 9, else POINT:DATA_START (read unsigned).
   std::size_t data_start = data_start_byte_;
+  if (const Parameter* ds = params.Find("POINT", "DATA_START");
+      ds && !ds->AsUnsigned().empty() && ds->AsUnsigned()[0] != header_.data_start &&
+      header_.data_start >= 2 && data_start < bytes_.size()) {
+    warn_("POINT:DATA_START",
+          "is " + std::to_string(ds->AsUnsigned()[0]) + " but the header says block " +
+              std::to_string(header_.data_start) + "; the header is used");
+  }
   if (header_.data_start < 2 || data_start >= bytes_.size()) {
     const Parameter* ds = params.Find("POINT", "DATA_START");
     const std::vector<std::uint32_t> v = ds ? ds->AsUnsigned() : std::vector<std::uint32_t>{};
@@ -613,6 +622,7 @@ void C3dReader::ReadData() {
   SourceInfo& src = trial_.source;
   src.processor = internal::ProcessorName(processor_);
   src.point_storage = is_float ? "float" : "integer";
+  src.max_interpolation_gap = header_.max_gap;
   src.point_scale = scale;
   const std::optional<std::string> units = params.FindString("POINT", "UNITS");
   double to_m = 0;

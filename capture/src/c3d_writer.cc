@@ -589,7 +589,9 @@ std::vector<std::uint8_t> WriteC3dToMemory(const Trial& trial) {
              std::min<std::int64_t>(std::int64_t(layout.channels) * layout.per_frame, 65535)));
   PutU16(out, 6, static_cast<std::uint16_t>(std::clamp<std::int64_t>(trial.first_frame, 0, 65535)));
   PutU16(out, 8, static_cast<std::uint16_t>(std::clamp<std::int64_t>(last, 0, 65535)));
-  PutU16(out, 10, 0);
+  PutU16(out,
+         10,
+         static_cast<std::uint16_t>(std::clamp(trial.source.max_interpolation_gap, 0, 65535)));
   PutF32(out, 12, static_cast<float>(-layout.abs_scale));
   PutU16(out, 16, static_cast<std::uint16_t>(data_block));
   PutU16(out, 18, static_cast<std::uint16_t>(layout.per_frame));

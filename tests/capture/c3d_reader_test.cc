@@ -58,6 +58,7 @@ TEST_P(Sample01, BtkValues) {
   EXPECT_NEAR(t.events[2].time_s, 7.32, 1e-4);
   EXPECT_EQ(t.source.point_units, "mm");
   EXPECT_EQ(t.source.point_units_to_m, 1e-3);
+  EXPECT_EQ(t.source.max_interpolation_gap, 10);
   EXPECT_TRUE(t.warnings.empty()) << t.warnings.front();
 }
 
@@ -435,7 +436,8 @@ TEST(C3dReader, SyntheticFileInEveryProcessorFormat) {
     EXPECT_TRUE(t.parameters.Find("POINT", "USED")->locked);
     EXPECT_EQ(t.parameters.Find("POINT", "USED")->description, "number of points");
     EXPECT_EQ(t.parameters.FindString("ANALOG", "FORMAT").value(), "UNSIGNED");
-    // Written as Intel float and read again: analog exact, the locked flags and the group order kept.
+    // Written as Intel float and read again: analog exact, the locked flags and the group order
+    // kept.
     const Trial back = ReadC3dFromMemory(WriteC3dToMemory(t), "synthetic-written.c3d");
     EXPECT_TRUE(back.analog == t.analog);
     EXPECT_EQ(back.source.processor, "Intel");

@@ -73,6 +73,7 @@ void ExpectSameMetadata(const Trial& a, const Trial& b, const std::string& file)
   EXPECT_EQ(a.source.point_units, b.source.point_units) << file;
   EXPECT_EQ(a.source.point_units_to_m, b.source.point_units_to_m) << file;
   EXPECT_EQ(std::abs(a.source.point_scale), std::abs(b.source.point_scale)) << file;
+  EXPECT_EQ(a.source.max_interpolation_gap, b.source.max_interpolation_gap) << file;
   ASSERT_EQ(a.num_points(), b.num_points()) << file;
   for (int i = 0; i < a.num_points(); ++i) {
     EXPECT_EQ(a.points[i].label, b.points[i].label) << file;

@@ -22,6 +22,8 @@ struct SourceInfo {
   double point_units_to_m = 1e-3;  ///< factor applied to marker coordinates on import
   /// The file's axis convention as written (C3D POINT:X_SCREEN/Y_SCREEN, e.g. "+X +Z"), or empty.
   std::string axis_convention;
+  /// C3D header word 6: the largest gap (frames) the recording system interpolated over; 0 if none.
+  int max_interpolation_gap = 0;
 };
 
 /// What a point holds. C3D files from Vicon Nexus store model outputs (angles, forces, moments,
