@@ -382,6 +382,7 @@ TEST(C3dSuite, OddFilesLoadWithWarnings) {
   };
   const Case cases[] = {
       {"sample_13/Dance.c3d", "POINT:FRAMES: is 500 but the header frames 1..499 give 499"},
+      {"sample_13/Dance.c3d", "POINT:DATA_START: is 0 but the header says block 8"},
       {"sample_16/basketball.c3d", "every sample has residual -1"},
       {"sample_16/basketball.c3d", "POINT:UNITS: missing; metres assumed"},
       {"sample_16/golf.c3d", "every sample has residual -1"},
