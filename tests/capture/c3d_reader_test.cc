@@ -127,6 +127,9 @@ TEST(C3dReader, Sample01VariantsAgree) {
           << file << " analog value " << i;
     }
     EXPECT_TRUE((t.residuals == ref.residuals).all()) << file;
+    EXPECT_TRUE((t.camera_masks == ref.camera_masks).all()) << file;
+    EXPECT_EQ(std::abs(t.source.point_scale), std::abs(ref.source.point_scale)) << file;
+    EXPECT_EQ(t.source.max_interpolation_gap, ref.source.max_interpolation_gap) << file;
   }
 }
 
@@ -180,6 +183,22 @@ TEST(C3dReader, Sample02VariantsAgreeWithinOneScaleStep) {
         worst = std::max(worst, (t.positions.col(i) - ref.positions.col(i)).cwiseAbs().maxCoeff());
     }
     EXPECT_LE(worst, step_m) << file;
+    // py-c3d's other criteria: residuals equal, camera masks equal or off by at most 1 (dec_int),
+    // |POINT:SCALE| equal, up to 2 header events unmatched (dec_int has 8, the others 9).
+    EXPECT_TRUE((t.residuals == ref.residuals).all()) << file;
+    EXPECT_LE((t.camera_masks.cast<int>() - ref.camera_masks.cast<int>()).abs().maxCoeff(), 1)
+        << file;
+    EXPECT_EQ(std::abs(t.source.point_scale), std::abs(ref.source.point_scale)) << file;
+    int unmatched = 0;
+    for (const Event& e : ref.events) {
+      bool found = false;
+      for (const Event& o : t.events) {
+        found = found || (o.label == e.label && std::abs(o.time_s - e.time_s) <= 1e-7 &&
+                          o.displayed == e.displayed);
+      }
+      unmatched += found ? 0 : 1;
+    }
+    EXPECT_LE(unmatched, 2) << file;
   }
 }
 

@@ -317,6 +317,22 @@ TEST(C3dSuite, Sample08SameDataWhateverThePointers) {
   EXPECT_EQ(b.parameters.FindDouble("ANALOG", "USED").value_or(0), 16);
 }
 
+// c3d.org sample 10 readme: DEC integer files, scale 0.17 / 0.06 / 0.17 / 0.06.
+TEST(C3dSuite, Sample10StorageAndScale) {
+  const std::pair<const char*, double> cases[] = {{"sample_10/TYPE-2.C3D", 0.17},
+                                                  {"sample_10/TYPE-2a.c3d", 0.06},
+                                                  {"sample_10/TYPE-4.C3D", 0.17},
+                                                  {"sample_10/TYPE-4a.c3d", 0.06}};
+  for (const auto& [file, scale] : cases) {
+    const auto path = RefdataFile(Org(file));
+    ACRO_REQUIRE_REFDATA_FILE(path);
+    const Trial t = ReadC3d(path);
+    EXPECT_EQ(t.source.processor, "DEC") << file;
+    EXPECT_EQ(t.source.point_storage, "integer") << file;
+    EXPECT_NEAR(t.source.point_scale, scale, 0.005) << file;  // the readme gives two decimals
+  }
+}
+
 // BTK Sample09: point types from POINT:ANGLES/FORCES/MOMENTS/POWERS, gains, frames from TRIAL.
 TEST(C3dSuite, Sample09PointTypesGainsAndFrames) {
   for (const char* file : {"sample_09/PolygonC3D.c3d", "sample_09/PlugInC3D.c3d"}) {
