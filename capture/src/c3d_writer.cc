@@ -425,14 +425,25 @@ ParameterSet SyncParameters(const Trial& trial, Layout* layout) {
 
   // TRIAL:ACTUAL_START_FIELD / ACTUAL_END_FIELD beyond 65535 frames (two 16-bit halves each).
   const std::int64_t last = trial.first_frame + F - 1;
-  if (last > 65535 || trial.first_frame > 65535) {
+  // Kept in step with the frames whenever present (a cropped trial must not carry the old range).
+  if (last > 65535 || trial.first_frame > 65535 || params.Find("TRIAL", "ACTUAL_START_FIELD") ||
+      params.Find("TRIAL", "ACTUAL_END_FIELD")) {
     const auto halves = [](std::int64_t v) {
       return std::vector<std::int16_t>{
           static_cast<std::int16_t>(static_cast<std::uint16_t>(v & 0xFFFF)),
           static_cast<std::int16_t>(static_cast<std::uint16_t>((v >> 16) & 0xFFFF))};
     };
-    params.Set("TRIAL", MakeInt16Parameter("ACTUAL_START_FIELD", halves(trial.first_frame), {2}));
-    params.Set("TRIAL", MakeInt16Parameter("ACTUAL_END_FIELD", halves(last), {2}));
+    // Rewritten only when the value differs, in the stored shape ([2] or [1, 2]).
+    const auto sync = [&](const char* name, std::int64_t value) {
+      const std::vector<std::int16_t> want = halves(value);
+      const Parameter* have = params.Find("TRIAL", name);
+      if (have && have->type == ParameterType::kInt16 && have->int16s == want) return;
+      std::vector<std::uint8_t> dims = {2};
+      if (have && have->ElementCount() == 2 && !have->dimensions.empty()) dims = have->dimensions;
+      params.Set("TRIAL", MakeInt16Parameter(name, want, dims));
+    };
+    sync("ACTUAL_START_FIELD", trial.first_frame);
+    sync("ACTUAL_END_FIELD", last);
   }
 
   // SUBJECTS:NAMES first entry.

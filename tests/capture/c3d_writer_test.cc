@@ -366,6 +366,31 @@ TEST(C3dWriter, MoreThan255PointsChannelsAndEvents) {
   EXPECT_NEAR(back.events[299].time_s, 2.99, 1e-6);
 }
 
+// A trial cropped in code: the layout parameters (POINT:FRAMES, TRIAL:ACTUAL_*_FIELD) follow.
+TEST(C3dWriter, CroppedTrialKeepsLayoutInStep) {
+  const auto path = acro::testing::RefdataFile("c3dio-c3d_org_samples/sample_09/PlugInC3D.c3d");
+  ACRO_REQUIRE_REFDATA_FILE(path);
+  Trial t = ReadC3d(path);
+  const int P = t.num_points();
+  const int spf = t.analog_samples_per_frame();
+  const int begin = 10, count = 100;
+  Trial cropped = t;
+  cropped.first_frame = t.first_frame + begin;
+  cropped.num_frames = count;
+  cropped.positions = t.positions.middleCols(std::int64_t(begin) * P, std::int64_t(count) * P);
+  cropped.residuals = t.residuals.middleCols(begin, count);
+  cropped.camera_masks = t.camera_masks.middleCols(begin, count);
+  cropped.analog = t.analog.middleCols(std::int64_t(begin) * spf, std::int64_t(count) * spf);
+  const Trial back = ReadC3dFromMemory(WriteC3dToMemory(cropped), "cropped.c3d");
+  EXPECT_EQ(back.first_frame, 11);
+  EXPECT_EQ(back.num_frames, 100);
+  EXPECT_EQ(back.parameters.Find("POINT", "FRAMES")->AsUnsigned()[0], 100u);
+  EXPECT_EQ(back.parameters.Find("TRIAL", "ACTUAL_START_FIELD")->AsUnsigned()[0], 11u);
+  EXPECT_EQ(back.parameters.Find("TRIAL", "ACTUAL_END_FIELD")->AsUnsigned()[0], 110u);
+  EXPECT_TRUE(back.analog == cropped.analog);
+  EXPECT_EQ(back.warnings.size(), t.warnings.size());  // only the file's own (ORIGIN z > 0)
+}
+
 TEST(C3dWriter, WriteC3dRenamesIntoPlace) {
   const auto path = acro::testing::RefdataFile("c3dio-c3d_org_samples/sample_01/Eb015pr.c3d");
   ACRO_REQUIRE_REFDATA_FILE(path);
