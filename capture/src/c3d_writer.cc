@@ -631,6 +631,10 @@ std::vector<std::uint8_t> WriteC3dToMemory(const Trial& trial) {
   std::uint8_t* dst = out.data() + data_at;
   const bool has_residuals = trial.residuals.size() > 0;
   const bool has_masks = trial.camera_masks.size() > 0;
+  // Files in which every residual word is −1 although the coordinates are real (SIMI, c3d.org
+  // sample 16) are written the same way, so they read back the same.
+  const bool keep_invalid_words =
+      has_residuals && trial.residuals.size() > 0 && (trial.residuals < 0).all();
   std::vector<float> frame(frame_floats);
   for (std::int64_t f = 0; f < F; ++f) {
     float* v = frame.data();
@@ -644,8 +648,12 @@ std::vector<std::uint8_t> WriteC3dToMemory(const Trial& trial) {
         v[0] = static_cast<float>(x(0) * point_factor[p]);
         v[1] = static_cast<float>(x(1) * point_factor[p]);
         v[2] = static_cast<float>(x(2) * point_factor[p]);
-        if (residual < 0) {
+        if (residual < 0 && keep_invalid_words) {
           v[3] = -1.0f;
+        } else if (residual < 0) {
+          // A coordinate where the residual says "invalid" was filled in by code (a gap filled):
+          // written valid, residual 0 ("computed").
+          v[3] = 0.0f;
         } else {
           const int r =
               std::clamp(static_cast<int>(std::lround(residual / layout.abs_scale)), 0, 255);

@@ -391,6 +391,27 @@ TEST(C3dWriter, CroppedTrialKeepsLayoutInStep) {
   EXPECT_EQ(back.warnings.size(), t.warnings.size());  // only the file's own (ORIGIN z > 0)
 }
 
+// A gap filled in code (coordinates set, residual still −1) is written as a valid sample.
+TEST(C3dWriter, FilledGapIsWrittenValid) {
+  const auto path = acro::testing::RefdataFile("c3dio-c3d_org_samples/sample_01/Eb015pr.c3d");
+  ACRO_REQUIRE_REFDATA_FILE(path);
+  Trial t = ReadC3d(path);
+  Eigen::Index gap = -1;
+  for (Eigen::Index i = 0; i < t.positions.cols() && gap < 0; ++i) {
+    if (std::isnan(t.positions(0, i))) gap = i;
+  }
+  ASSERT_GE(gap, 0);
+  const int frame = static_cast<int>(gap / t.num_points()),
+            point = static_cast<int>(gap % t.num_points());
+  ASSERT_EQ(t.residuals(point, frame), -1.0f);
+  t.positions.col(gap) << 0.5, 0.25, 0.125;
+  const Trial back = ReadC3dFromMemory(WriteC3dToMemory(t), "filled.c3d");
+  EXPECT_TRUE(back.valid(frame, point));
+  EXPECT_EQ(back.position(frame, point)(0), 0.5);
+  EXPECT_EQ(back.residuals(point, frame), 0.0f);
+  EXPECT_TRUE(back.warnings.empty()) << back.warnings.front();
+}
+
 TEST(C3dWriter, WriteC3dRenamesIntoPlace) {
   const auto path = acro::testing::RefdataFile("c3dio-c3d_org_samples/sample_01/Eb015pr.c3d");
   ACRO_REQUIRE_REFDATA_FILE(path);
