@@ -222,11 +222,9 @@ const MatrixX<T>& CalcMassMatrix(const Model<T>& model, Workspace<T>& ws, const 
     const size_t ui = static_cast<size_t>(i);
     const int ncols = seg.joint_type == JointType::kFree ? 6 : seg.num_axes;
     for (int k = 0; k < ncols; ++k) {
-      const SpatialMotion<T> s =
-          seg.joint_type == JointType::kFree
-              ? internal::RootMotionColumn(R0, k)
-              : SpatialMotion<T>(ws.S_B[ui][static_cast<size_t>(k)], Vector3<T>::Zero());
-      SpatialForce<T> F = ws.Ic_Bo_B[ui] * s;
+      SpatialForce<T> F = seg.joint_type == JointType::kFree
+                              ? ws.Ic_Bo_B[ui] * internal::RootMotionColumn(R0, k)
+                              : ws.Ic_Bo_B[ui].MultiplyRotation(ws.S_B[ui][static_cast<size_t>(k)]);
       const int col = seg.v_start + k;
       project(i, F, col);
       for (int j = i; model.segment(j).parent >= 0; j = model.segment(j).parent) {

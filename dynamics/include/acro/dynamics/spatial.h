@@ -236,6 +236,10 @@ class SpatialInertia {
     return SpatialForce<T>(I_ * m.rotational() + h_.cross(m.translational()),
                            m_ * m.translational() - h_.cross(m.rotational()));
   }
+  /// I·[ω; 0] = [Ī ω; −h × ω]: the cheaper product with a pure rotation.
+  SpatialForce<T> MultiplyRotation(const Vector3<T>& w) const {
+    return SpatialForce<T>(I_ * w, -h_.cross(w));
+  }
   SpatialMomentum<T> Momentum(const SpatialMotion<T>& V) const {
     const SpatialForce<T> f = (*this) * V;
     return SpatialMomentum<T>(f.rotational(), f.translational());
@@ -319,14 +323,17 @@ class RigidTransform {
     return SpatialMomentum<T>(F.rotational(), F.translational());
   }
   /// Inertia about Bo in B → about Ao in A (RBDA Table 2.5, "Xᵀ I X"):
-  /// h_A = R h_B + m p, Ī_A = R Ī_B Rᵀ − [h']×[p]× − [p]×[h']× − m [p]×[p]×, h' = R h_B.
+  /// h_A = R h_B + m p, Ī_A = R Ī_B Rᵀ − [h']×[p]× − [p]×[h']× − m [p]×[p]×, h' = R h_B,
+  /// with [a]×[b]× = b aᵀ − (a·b) 1 so that no 3 × 3 skew products are formed.
   SpatialInertia<T> Apply(const SpatialInertia<T>& I) const {
     const Vector3<T> hr = R_ * I.first_moment();
-    const Matrix3<T> px = Skew(p_);
-    const Matrix3<T> hx = Skew(hr);
+    const T& m = I.mass();
     Matrix3<T> Ia = R_ * I.rotational_inertia() * R_.transpose();
-    Ia -= hx * px + px * hx + I.mass() * px * px;
-    return SpatialInertia<T>(I.mass(), hr + I.mass() * p_, Ia);
+    // −([h']×[p]× + [p]×[h']× + m [p]×[p]×) = −(p h'ᵀ + h' pᵀ + m p pᵀ) + (2 h'·p + m |p|²) 1.
+    const Vector3<T> mp_half = T(0.5) * m * p_;
+    Ia.noalias() -= p_ * (hr + mp_half).transpose() + (hr + mp_half) * p_.transpose();
+    Ia.diagonal().array() += T(2) * hr.dot(p_) + m * p_.squaredNorm();
+    return SpatialInertia<T>(m, hr + m * p_, Ia);
   }
 
   template <typename U>
