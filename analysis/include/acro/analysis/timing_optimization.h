@@ -1,0 +1,185 @@
+#pragma once
+
+// Keyframe timing optimisation (Model 2) and trajectory optimisation (Model 1) for a skill, and
+// the flight simulation of a designed skill (DESIGN.md, "Keyframe timing and trajectory
+// optimisation"; docs/skill-design.md).
+//
+// Motion between keyframes: natural C² cubic splines for the joint angles (keyframe_spline.h) and
+// the cumulative C² quaternion spline for the root orientation (quaternion_spline.h). The root
+// translation is not interpolated: at every instant it is the one that puts the whole-body centre
+// of mass on the ballistic parabola of the take-off velocity (DESIGN.md's reduction), so the
+// three force components of the root residual vanish identically and
+//   J = T⁻¹ ∫₀ᵀ |n_Scm(t)|² dt,   n_Scm = moment residual about the COM / (m g height) = L̇_Scm / (m
+//   g h),
+// the rate of change of the angular momentum about the centre of mass, dimensionless. The
+// integral is Simpson's rule on a fixed grid of N intervals over [0, T]. Derivatives come from
+// automatic differentiation (ceres::Jet) through the splines and the inverse dynamics.
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "acro/analysis/skill_file.h"
+#include "acro/dynamics/flight_simulation.h"
+#include "acro/dynamics/model.h"
+
+namespace acro::analysis {
+
+/// A skill made ready for optimisation: the athlete's standard human model and the keyframes.
+class SkillDesign {
+ public:
+  explicit SkillDesign(const Skill& skill);
+
+  const Skill& skill() const { return skill_; }
+  const dynamics::Model<double>& model() const { return model_; }
+  int num_keyframes() const { return static_cast<int>(skill_.keyframes.size()); }
+  int num_joint_dofs() const { return model_.num_joint_dofs(); }
+  double flight_time_s() const { return skill_.flight_time_s; }
+  double height_m() const { return skill_.athlete.height_m; }
+  /// Keyframe orientations R_WB (somersault, tilt, twist).
+  const std::vector<Eigen::Quaterniond>& keyframe_orientations() const { return orientations_; }
+  /// Keyframe joint angles, num_joint_dofs × num_keyframes.
+  const Eigen::MatrixXd& keyframe_joint_angles_rad() const { return joint_angles_; }
+  /// Times spread evenly over [0, T].
+  Eigen::VectorXd EvenTimes() const;
+  /// The file's time guesses where given, the even times elsewhere (interpolated between guesses).
+  Eigen::VectorXd InitialTimes() const;
+
+ private:
+  Skill skill_;
+  dynamics::Model<double> model_;
+  std::vector<Eigen::Quaterniond> orientations_;
+  Eigen::MatrixXd joint_angles_;
+};
+
+/// A designed motion: keyframe times, the joint angles at the keyframes and the orientation knots.
+struct SkillTrajectory {
+  Eigen::VectorXd times_s;                                ///< num_keyframes, t_0 = 0, t_n = T
+  Eigen::MatrixXd joint_angles_rad;                       ///< num_joint_dofs × num_keyframes
+  std::vector<Eigen::Quaterniond> keyframe_orientations;  ///< num_keyframes
+  /// Extra orientation knots halfway between keyframes (Model 1), or empty.
+  std::vector<Eigen::Quaterniond> midpoint_orientations;
+};
+
+/// The keyframes as given at the given times.
+SkillTrajectory MakeKeyframeTrajectory(const SkillDesign& design, const Eigen::VectorXd& times_s);
+
+/// Configuration, velocity and acceleration of the designed motion at time t (root translation on
+/// the COM parabola; the COM starts at `com_start_W`).
+struct SkillMotionState {
+  Eigen::VectorXd q, v, a;
+};
+SkillMotionState EvalSkillMotion(const SkillDesign& design,
+                                 const SkillTrajectory& trajectory,
+                                 double t_s,
+                                 const Eigen::Vector3d& com_start_W = Eigen::Vector3d(0, 0, 1));
+
+/// Per-sample diagnostics of a designed motion on a uniform grid.
+struct SkillMotionProfile {
+  Eigen::VectorXd t_s;
+  Eigen::Matrix3Xd H_Scm_W;                   ///< angular momentum about the COM (kg m²/s)
+  Eigen::Matrix3Xd moment_per_weight_height;  ///< L̇/(m g h), the integrand of J
+  Eigen::Matrix3Xd force_per_weight;          ///< the force residual / (m g) (zero by construction)
+  double objective = 0.0;                     ///< J on this grid (Simpson)
+  /// (max − min) / mean of |H_Scm| over the grid.
+  double angular_momentum_variation = 0.0;
+};
+SkillMotionProfile CalcSkillMotionProfile(const SkillDesign& design,
+                                          const SkillTrajectory& trajectory,
+                                          int intervals);
+
+/// The optimisation variables x of Model (m) about a base trajectory:
+///   Model 2: the n − 1 gaps (s), t_i = T Σ_{j<i} g_j / Σ g_j;
+///   Model 1: the gaps, then the joint-angle offsets at the keyframes (rad, num_joint_dofs × n,
+///   keyframe-major), the keyframe orientation offsets δ_i (rad, Q_i = Q̄_i ⊗ exp(δ_i/2), 3n) and
+///   the midpoint orientation offsets (3(n − 1), free).
+int NumSkillParameters(const SkillDesign& design, int model);
+/// x for the base trajectory itself (its gaps, zero offsets).
+Eigen::VectorXd InitialSkillParameters(const SkillDesign& design,
+                                       const SkillTrajectory& base,
+                                       int model);
+/// The trajectory that x describes (Model 1 base trajectories need midpoint orientations).
+SkillTrajectory SkillTrajectoryFromParameters(const SkillDesign& design,
+                                              const SkillTrajectory& base,
+                                              int model,
+                                              const Eigen::VectorXd& x);
+/// J(x) by Simpson's rule on `intervals` intervals (even), and ∂J/∂x by automatic
+/// differentiation when gradient != nullptr.
+double CalcSkillObjective(const SkillDesign& design,
+                          const SkillTrajectory& base,
+                          int model,
+                          const Eigen::VectorXd& x,
+                          int intervals,
+                          Eigen::VectorXd* gradient = nullptr);
+
+struct TimingOptimizationOptions {
+  int model = 2;                  ///< 2: times only; 1: times and trajectory coefficients
+  int quadrature_intervals = 80;  ///< Simpson's rule, even
+  /// Smallest gap between keyframes, as a fraction of the even gap T/(n − 1).
+  double min_gap_fraction = 0.15;
+  int max_iterations = 200;
+  double function_tolerance = 1e-12;
+  double gradient_tolerance = 1e-14;
+  double parameter_tolerance = 1e-10;
+  /// Model 1 starts from the Model 2 optimum (true) or from the initial times.
+  bool model1_from_model2 = true;
+  /// Progress lines (iteration, objective) are handed here when set; the library prints nothing.
+  std::function<void(const std::string&)> progress;
+
+  bool IsValid(std::string* why) const;
+};
+
+struct TimingOptimizationSummary {
+  bool success = false;
+  std::string message;
+  int iterations = 0;
+  double initial_cost = 0.0;  ///< the solver's cost ½‖r‖² at the start
+  double final_cost = 0.0;
+  double time_s = 0.0;
+  std::string BriefReport() const;
+};
+
+struct TimingOptimizationResult {
+  int model = 2;
+  Eigen::VectorXd times_initial_s;  ///< the even (or guessed) timing the optimisation starts from
+  SkillTrajectory initial;          ///< keyframes at the initial times
+  SkillTrajectory optimized;
+  double objective_initial = 0.0;  ///< J with the initial timing
+  double objective = 0.0;          ///< J after optimisation
+  double angular_momentum_variation_initial = 0.0;
+  double angular_momentum_variation = 0.0;
+  /// Model 1: the largest keyframe deviation of any joint angle and of the root orientation
+  /// (geodesic angle), rad; zero for Model 2.
+  double max_joint_deviation_rad = 0.0;
+  double max_orientation_deviation_rad = 0.0;
+  std::vector<TimingOptimizationSummary> stages;  ///< Model 2, then Model 1 when asked
+  TimingOptimizationSummary summary;              ///< the last stage
+};
+
+/// Optimises the skill's timing (Model 2) or timing and trajectory (Model 1, after Model 2).
+TimingOptimizationResult OptimizeSkillTiming(const SkillDesign& design,
+                                             const TimingOptimizationOptions& options);
+
+/// Flight simulation of a designed motion: the joints follow the trajectory's splines, the root is
+/// integrated under gravity from the take-off COM velocity and the angular momentum H0 (the mean
+/// of the designed motion's H_Scm over the flight, the momentum the athlete must take off with).
+struct SkillSimulationResult {
+  dynamics::FlightSimulationResult<double> flight;
+  Eigen::Vector3d H_Scm_W = Eigen::Vector3d::Zero();
+  Eigen::Quaterniond final_orientation = Eigen::Quaterniond::Identity();
+  Eigen::Quaterniond intended_final_orientation = Eigen::Quaterniond::Identity();
+  /// Geodesic angle between the simulated and the intended final root orientation (rad).
+  double final_orientation_error_rad = 0.0;
+  /// Somersault turns (rotation of the trunk's long axis about W's y axis, unwrapped) and
+  /// the same for the designed motion.
+  double somersault_turns = 0.0;
+  double intended_somersault_turns = 0.0;
+};
+SkillSimulationResult SimulateSkill(const SkillDesign& design,
+                                    const SkillTrajectory& trajectory,
+                                    double step_s = 1e-3);
+
+}  // namespace acro::analysis

@@ -1,0 +1,702 @@
+// Keyframe timing (Model 2) and trajectory (Model 1) optimisation with Ceres. This is the one
+// translation unit that instantiates the splines and the inverse dynamics for ceres::Jet.
+
+#include "acro/analysis/timing_optimization.h"
+
+#include <ceres/ceres.h>
+#include <ceres/dynamic_autodiff_cost_function.h>
+
+#include <chrono>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+
+#include "acro/analysis/keyframe_spline.h"
+#include "acro/analysis/quaternion_spline.h"
+#include "acro/analysis/standard_human.h"
+#include "acro/dynamics/inverse_dynamics.h"
+#include "acro/dynamics/kinematics.h"
+
+namespace acro::analysis {
+namespace {
+
+// Derivative chunk of the dynamic automatic differentiation: Model 2's 11 gaps in one pass.
+constexpr int kStride = 12;
+using Jet = ceres::Jet<double, kStride>;
+
+// Simpson weights on N intervals over [0, T] divided by T, so that Σ w_k f_k ≈ T⁻¹ ∫ f dt.
+Eigen::VectorXd SimpsonWeightsOverT(int intervals) {
+  ACRO_DEMAND(intervals >= 2 && intervals % 2 == 0);
+  Eigen::VectorXd w(intervals + 1);
+  for (int k = 0; k <= intervals; ++k)
+    w[k] = (k == 0 || k == intervals) ? 1.0 : (k % 2 ? 4.0 : 2.0);
+  return w / (3.0 * intervals);
+}
+
+// Sizes of Model (m)'s parameter blocks: gaps, joint offsets, keyframe and midpoint orientation
+// offsets.
+std::vector<int> BlockSizes(const SkillDesign& d, int model) {
+  const int n = d.num_keyframes();
+  if (model == 2) return {n - 1};
+  return {n - 1, d.num_joint_dofs() * n, 3 * n, 3 * (n - 1)};
+}
+
+// Everything the residual evaluation needs besides the variables.
+struct ResidualData {
+  const SkillDesign* design = nullptr;
+  SkillTrajectory base;
+  int model = 2;
+  int intervals = 80;
+  Eigen::VectorXd sample_t;     // fixed quadrature grid
+  Eigen::VectorXd sqrt_weight;  // sqrt of the Simpson weights over T
+  double scale_weight = 0.0;    // weight of the gap-scale residual (0: none)
+};
+
+int NumResiduals(const ResidualData& d) {
+  return 3 * (d.intervals + 1) + (d.scale_weight > 0.0 ? 1 : 0);
+}
+
+// Keyframe times from the gaps: t_i = T Σ_{j<i} g_j / Σ g_j, with t_0 = 0 and t_n = T exact.
+template <typename T>
+std::vector<T> TimesFromGaps(const T* gaps, int n, double duration) {
+  T sum(0.0);
+  for (int j = 0; j + 1 < n; ++j) sum += gaps[j];
+  std::vector<T> t(static_cast<size_t>(n));
+  T cum(0.0);
+  t[0] = T(0.0);
+  for (int i = 1; i + 1 < n; ++i) {
+    cum += gaps[i - 1];
+    t[static_cast<size_t>(i)] = T(duration) * cum / sum;
+  }
+  t[static_cast<size_t>(n - 1)] = T(duration);
+  return t;
+}
+
+// The splines of one evaluation: joint channels and the orientation, for scalar T.
+template <typename T>
+struct SkillSplines {
+  CubicSplineKnots<T> joint_knots;
+  std::vector<T> joint_values;   // ndof × n, channel-major
+  std::vector<T> joint_moments;  // ndof × n
+  QuaternionSpline<T> orientation;
+  int ndof = 0;
+  int n = 0;
+};
+
+// Builds the splines from the variables (params as in BlockSizes; Model 2 uses only the gaps).
+template <typename T>
+void BuildSplines(const ResidualData& d, const T* const* params, SkillSplines<T>& s) {
+  const SkillDesign& design = *d.design;
+  const int n = design.num_keyframes();
+  const int ndof = design.num_joint_dofs();
+  s.n = n;
+  s.ndof = ndof;
+  const std::vector<T> t = TimesFromGaps(params[0], n, design.flight_time_s());
+  s.joint_knots.Reset(t);
+  s.joint_values.resize(static_cast<size_t>(ndof * n));
+  s.joint_moments.resize(static_cast<size_t>(ndof * n));
+  for (int j = 0; j < ndof; ++j) {
+    T* y = s.joint_values.data() + j * n;
+    for (int i = 0; i < n; ++i) {
+      y[i] = T(d.base.joint_angles_rad(j, i));
+      if (d.model == 1) y[i] += params[1][i * ndof + j];
+    }
+    s.joint_knots.SolveMoments(y, s.joint_moments.data() + j * n);
+  }
+  // Orientation knots: the keyframes (offset by exp(δ/2) in Model 1) and, when the base has them,
+  // the midpoints.
+  auto offset = [](const Eigen::Quaterniond& Q, const T* delta) {
+    const Eigen::Quaternion<T> Qt = Q.cast<T>();
+    if (delta == nullptr) return Qt;
+    return Eigen::Quaternion<T>(
+        Qt * dynamics::QuaternionExp<T>(dynamics::Vector3<T>(delta[0], delta[1], delta[2])));
+  };
+  const bool mid = !d.base.midpoint_orientations.empty();
+  std::vector<T> knot_t;
+  std::vector<Eigen::Quaternion<T>> knot_q;
+  for (int i = 0; i < n; ++i) {
+    knot_t.push_back(t[static_cast<size_t>(i)]);
+    knot_q.push_back(offset(d.base.keyframe_orientations[static_cast<size_t>(i)],
+                            d.model == 1 ? params[2] + 3 * i : nullptr));
+    if (mid && i + 1 < n) {
+      knot_t.push_back(T(0.5) * (t[static_cast<size_t>(i)] + t[static_cast<size_t>(i + 1)]));
+      knot_q.push_back(offset(d.base.midpoint_orientations[static_cast<size_t>(i)],
+                              d.model == 1 ? params[3] + 3 * i : nullptr));
+    }
+  }
+  s.orientation.Reset(std::move(knot_t), std::move(knot_q));
+}
+
+// q, v, a at time t with the root at the origin, at rest in translation (the moment residual about
+// the COM does not depend on the root translation).
+template <typename T>
+void SampleState(const SkillSplines<T>& s,
+                 double t,
+                 dynamics::VectorX<T>& q,
+                 dynamics::VectorX<T>& v,
+                 dynamics::VectorX<T>& a) {
+  const int interval = s.joint_knots.FindInterval(t);
+  for (int j = 0; j < s.ndof; ++j) {
+    const SplineSample<T> y = s.joint_knots.Eval(
+        interval, t, s.joint_values.data() + j * s.n, s.joint_moments.data() + j * s.n);
+    q[7 + j] = y.value;
+    v[6 + j] = y.d1;
+    a[6 + j] = y.d2;
+  }
+  const QuaternionSample<T> r = s.orientation.Eval(t);
+  q.template head<3>().setZero();
+  q[3] = r.q_WB.w();
+  q[4] = r.q_WB.x();
+  q[5] = r.q_WB.y();
+  q[6] = r.q_WB.z();
+  v.template head<3>().setZero();
+  a.template head<3>().setZero();
+  v.template segment<3>(3) = r.w_WB_B;
+  a.template segment<3>(3) = r.wdot_WB_B;
+}
+
+// The model and workspace for one scalar type.
+template <typename T>
+struct ScalarKit {
+  explicit ScalarKit(const dynamics::Model<double>& m)
+      : model(m.Cast<T>()), ws(model), q(model.nq()), v(model.nv()), a(model.nv()) {}
+  dynamics::Model<T> model;
+  dynamics::Workspace<T> ws;
+  dynamics::VectorX<T> q, v, a;
+  SkillSplines<T> splines;
+};
+
+// r_k = sqrt(w_k/T) · n_Scm(t_k)/(m g h) for every grid sample, then the gap-scale residual.
+template <typename T>
+void EvalResiduals(const ResidualData& d, ScalarKit<T>& kit, const T* const* params, T* residuals) {
+  BuildSplines(d, params, kit.splines);
+  const T height(d.design->height_m());
+  for (int k = 0; k <= d.intervals; ++k) {
+    SampleState(kit.splines, d.sample_t[k], kit.q, kit.v, kit.a);
+    dynamics::CalcInverseDynamics(kit.model, kit.ws, kit.q, kit.v, kit.a);
+    const dynamics::RootResidual<T> r = dynamics::CalcRootResidual(kit.model, kit.ws, height);
+    for (int c = 0; c < 3; ++c)
+      residuals[3 * k + c] = T(d.sqrt_weight[k]) * r.moment_per_weight_height[c];
+  }
+  if (d.scale_weight > 0.0) {
+    T sum(0.0);
+    for (int j = 0; j + 1 < d.design->num_keyframes(); ++j) sum += params[0][j];
+    residuals[3 * (d.intervals + 1)] =
+        T(d.scale_weight) * (sum / T(d.design->flight_time_s()) - T(1.0));
+  }
+}
+
+// The functor of ceres::DynamicAutoDiffCostFunction (double without Jacobians, Jet with).
+class SkillCostFunctor {
+ public:
+  explicit SkillCostFunctor(ResidualData data)
+      : data_(std::move(data)), kit_d_(data_.design->model()), kit_j_(data_.design->model()) {}
+
+  template <typename T>
+  bool operator()(T const* const* params, T* residuals) const {
+    if constexpr (std::is_same_v<T, double>)
+      EvalResiduals(data_, kit_d_, params, residuals);
+    else
+      EvalResiduals(data_, kit_j_, params, residuals);
+    return true;
+  }
+  const ResidualData& data() const { return data_; }
+
+ private:
+  ResidualData data_;
+  mutable ScalarKit<double> kit_d_;
+  mutable ScalarKit<Jet> kit_j_;
+};
+
+using SkillCostFunction = ceres::DynamicAutoDiffCostFunction<SkillCostFunctor, kStride>;
+
+ResidualData MakeResidualData(const SkillDesign& design,
+                              const SkillTrajectory& base,
+                              int model,
+                              int intervals,
+                              double scale_weight) {
+  ResidualData d;
+  d.design = &design;
+  d.base = base;
+  d.model = model;
+  d.intervals = intervals;
+  d.sample_t = Eigen::VectorXd::LinSpaced(intervals + 1, 0.0, design.flight_time_s());
+  d.sqrt_weight = SimpsonWeightsOverT(intervals).cwiseSqrt();
+  d.scale_weight = scale_weight;
+  return d;
+}
+
+std::unique_ptr<SkillCostFunction> MakeCostFunction(const ResidualData& d) {
+  auto cost = std::make_unique<SkillCostFunction>(new SkillCostFunctor(d));
+  for (int size : BlockSizes(*d.design, d.model)) cost->AddParameterBlock(size);
+  cost->SetNumResiduals(NumResiduals(d));
+  return cost;
+}
+
+// Splits x into the parameter blocks' pointers.
+std::vector<double*> BlockPointers(const SkillDesign& design, int model, double* x) {
+  std::vector<double*> out;
+  for (int size : BlockSizes(design, model)) {
+    out.push_back(x);
+    x += size;
+  }
+  return out;
+}
+
+// A double-precision evaluator of the designed motion (splines built once).
+class MotionEvaluator {
+ public:
+  MotionEvaluator(const SkillDesign& design,
+                  const SkillTrajectory& trajectory,
+                  const Eigen::Vector3d& com_start_W)
+      : design_(design), kit_(design.model()), com_start_W_(com_start_W) {
+    ResidualData d = MakeResidualData(design, trajectory, 2, 2, 0.0);
+    Eigen::VectorXd gaps(design.num_keyframes() - 1);
+    for (int i = 0; i + 1 < design.num_keyframes(); ++i)
+      gaps[i] = trajectory.times_s[i + 1] - trajectory.times_s[i];
+    const double* p = gaps.data();
+    BuildSplines(d, &p, kit_.splines);
+  }
+
+  // Joint angles, rates and accelerations only.
+  void Joints(double t,
+              Eigen::Ref<Eigen::VectorXd> qj,
+              Eigen::Ref<Eigen::VectorXd> vj,
+              Eigen::Ref<Eigen::VectorXd> aj) const {
+    SampleState(kit_.splines, t, kit_.q, kit_.v, kit_.a);
+    qj = kit_.q.tail(qj.size());
+    vj = kit_.v.tail(vj.size());
+    aj = kit_.a.tail(aj.size());
+  }
+
+  // The full state with the root translation that keeps the COM on the take-off parabola.
+  SkillMotionState Eval(double t) const {
+    SkillMotionState s;
+    s.q = Eigen::VectorXd(kit_.model.nq());
+    s.v = Eigen::VectorXd(kit_.model.nv());
+    s.a = Eigen::VectorXd(kit_.model.nv());
+    SampleState(kit_.splines, t, s.q, s.v, s.a);
+    const dynamics::Model<double>& m = kit_.model;
+    dynamics::Workspace<double>& ws = kit_.ws;
+    // COM position, velocity and acceleration relative to a root fixed at the origin.
+    dynamics::CalcForwardKinematics(m, ws, s.q, s.v);
+    const Eigen::Vector3d p0 = dynamics::CalcCenterOfMassPosition(m, ws);
+    const Eigen::Vector3d v0 = dynamics::CalcCenterOfMassVelocity(m, ws);
+    const Eigen::Vector3d a0 = dynamics::CalcCenterOfMassAcceleration(m, ws, s.q, s.v, s.a);
+    // The parabola: p_G = p_start + v_takeoff t + ½ g t².
+    const Eigen::Vector3d g = m.gravity_W();
+    const Eigen::Vector3d& vt = design_.skill().takeoff_com_velocity_mps;
+    s.q.head<3>() = com_start_W_ + vt * t + 0.5 * g * t * t - p0;
+    s.v.head<3>() = vt + g * t - v0;
+    s.a.head<3>() = g - a0;
+    return s;
+  }
+
+ private:
+  const SkillDesign& design_;
+  mutable ScalarKit<double> kit_;
+  Eigen::Vector3d com_start_W_;
+};
+
+SkillTrajectory WithMidpoints(const SkillTrajectory& t) {
+  SkillTrajectory out = t;
+  out.midpoint_orientations.clear();
+  QuaternionSpline<double> spline(
+      std::vector<double>(t.times_s.data(), t.times_s.data() + t.times_s.size()),
+      t.keyframe_orientations);
+  for (int i = 0; i + 1 < t.times_s.size(); ++i)
+    out.midpoint_orientations.push_back(spline.Eval(0.5 * (t.times_s[i] + t.times_s[i + 1])).q_WB);
+  return out;
+}
+
+// Progress from Ceres' iterations.
+class ProgressCallback : public ceres::IterationCallback {
+ public:
+  ProgressCallback(const std::function<void(const std::string&)>& out, std::string stage)
+      : out_(out), stage_(std::move(stage)) {}
+  ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
+    if (out_) {
+      std::ostringstream line;
+      line << stage_ << " iteration " << s.iteration << ": J = " << 2.0 * s.cost
+           << (s.step_is_successful ? "" : " (step rejected)");
+      out_(line.str());
+    }
+    return ceres::SOLVER_CONTINUE;
+  }
+
+ private:
+  const std::function<void(const std::string&)>& out_;
+  std::string stage_;
+};
+
+// One Ceres solve of Model (m) from `base`; returns the optimised variables.
+Eigen::VectorXd Solve(const SkillDesign& design,
+                      const SkillTrajectory& base,
+                      int model,
+                      const TimingOptimizationOptions& options,
+                      TimingOptimizationSummary* summary) {
+  const auto start = std::chrono::steady_clock::now();
+  // The gap-scale residual pins Σ g = T, a direction J does not see (J depends on the ratios).
+  ResidualData data = MakeResidualData(design, base, model, options.quadrature_intervals, 1e-2);
+  Eigen::VectorXd x = InitialSkillParameters(design, base, model);
+  std::vector<double*> blocks = BlockPointers(design, model, x.data());
+
+  ceres::Problem::Options problem_options;
+  problem_options.cost_function_ownership = ceres::TAKE_OWNERSHIP;
+  ceres::Problem problem(problem_options);
+  problem.AddResidualBlock(MakeCostFunction(data).release(), nullptr, blocks);
+  // Ordering kept by positive gaps: g_j ≥ min_gap_fraction · T/(n − 1).
+  const int n = design.num_keyframes();
+  const double min_gap = options.min_gap_fraction * design.flight_time_s() / (n - 1);
+  for (int j = 0; j + 1 < n; ++j) problem.SetParameterLowerBound(blocks[0], j, min_gap);
+  if (model == 1) {
+    // Keyframe tolerances as bounds: |Δθ| ≤ e₂ per joint angle; the orientation offset's
+    // components within e₂/√3 so that its geodesic angle |δ| ≤ e₂.
+    const int ndof = design.num_joint_dofs();
+    for (int i = 0; i < n; ++i) {
+      const double e2 = design.skill().keyframes[static_cast<size_t>(i)].tolerance_angle_rad;
+      for (int j = 0; j < ndof; ++j) {
+        problem.SetParameterLowerBound(blocks[1], i * ndof + j, -e2);
+        problem.SetParameterUpperBound(blocks[1], i * ndof + j, e2);
+      }
+      for (int c = 0; c < 3; ++c) {
+        problem.SetParameterLowerBound(blocks[2], 3 * i + c, -e2 / std::sqrt(3.0));
+        problem.SetParameterUpperBound(blocks[2], 3 * i + c, e2 / std::sqrt(3.0));
+      }
+    }
+  }
+
+  ceres::Solver::Options so;
+  so.minimizer_type = ceres::TRUST_REGION;
+  so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
+  so.linear_solver_type = ceres::DENSE_QR;
+  so.max_num_iterations = options.max_iterations;
+  so.function_tolerance = options.function_tolerance;
+  so.gradient_tolerance = options.gradient_tolerance;
+  so.parameter_tolerance = options.parameter_tolerance;
+  so.num_threads = 1;
+  so.logging_type = ceres::SILENT;
+  so.minimizer_progress_to_stdout = false;
+  ProgressCallback callback(options.progress, model == 2 ? "model 2" : "model 1");
+  so.callbacks.push_back(&callback);
+  ceres::Solver::Summary s;
+  ceres::Solve(so, &problem, &s);
+
+  summary->success = s.IsSolutionUsable();
+  summary->message = s.message;
+  summary->iterations = static_cast<int>(s.iterations.size()) - 1;
+  summary->initial_cost = s.initial_cost;
+  summary->final_cost = s.final_cost;
+  summary->time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return x;
+}
+
+double MaxJointDeviation(const SkillDesign& design, const SkillTrajectory& t) {
+  return (t.joint_angles_rad - design.keyframe_joint_angles_rad()).cwiseAbs().maxCoeff();
+}
+
+double MaxOrientationDeviation(const SkillDesign& design, const SkillTrajectory& t) {
+  double worst = 0.0;
+  for (size_t i = 0; i < t.keyframe_orientations.size(); ++i)
+    worst = std::max(worst,
+                     t.keyframe_orientations[i].angularDistance(design.keyframe_orientations()[i]));
+  return worst;
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+
+SkillDesign::SkillDesign(const Skill& skill)
+    : skill_(skill), model_(MakeStandardHumanModel(MakeAthleteBody(skill.athlete))) {
+  ACRO_DEMAND(model_.num_joint_dofs() == StandardJointDofCount());
+  const int n = num_keyframes();
+  joint_angles_.resize(model_.num_joint_dofs(), n);
+  for (int i = 0; i < n; ++i) {
+    const SkillKeyframe& k = skill_.keyframes[static_cast<size_t>(i)];
+    orientations_.push_back(KeyframeOrientation(k));
+    joint_angles_.col(i) = k.joint_angles_rad;
+  }
+  // The flight time T = 2 v_z / g used the model's g.
+  ACRO_DEMAND(std::abs(model_.gravity_W().norm() - skill.gravity_mps2) < 1e-12);
+}
+
+Eigen::VectorXd SkillDesign::EvenTimes() const {
+  return Eigen::VectorXd::LinSpaced(num_keyframes(), 0.0, flight_time_s());
+}
+
+Eigen::VectorXd SkillDesign::InitialTimes() const {
+  const int n = num_keyframes();
+  Eigen::VectorXd t(n);
+  std::vector<int> known;
+  for (int i = 0; i < n; ++i) {
+    const auto& g = skill_.keyframes[static_cast<size_t>(i)].time_s;
+    if (i == 0) {
+      t[i] = 0.0;
+    } else if (i == n - 1) {
+      t[i] = flight_time_s();
+    } else if (g) {
+      t[i] = *g;
+    } else {
+      continue;
+    }
+    known.push_back(i);
+  }
+  // Unknown times spread evenly between the known ones.
+  for (size_t k = 0; k + 1 < known.size(); ++k) {
+    const int a = known[k], b = known[k + 1];
+    for (int i = a + 1; i < b; ++i) t[i] = t[a] + (t[b] - t[a]) * (i - a) / double(b - a);
+  }
+  return t;
+}
+
+SkillTrajectory MakeKeyframeTrajectory(const SkillDesign& design, const Eigen::VectorXd& times_s) {
+  ACRO_DEMAND(times_s.size() == design.num_keyframes());
+  SkillTrajectory t;
+  t.times_s = times_s;
+  t.joint_angles_rad = design.keyframe_joint_angles_rad();
+  t.keyframe_orientations = design.keyframe_orientations();
+  return t;
+}
+
+SkillMotionState EvalSkillMotion(const SkillDesign& design,
+                                 const SkillTrajectory& trajectory,
+                                 double t_s,
+                                 const Eigen::Vector3d& com_start_W) {
+  return MotionEvaluator(design, trajectory, com_start_W).Eval(t_s);
+}
+
+SkillMotionProfile CalcSkillMotionProfile(const SkillDesign& design,
+                                          const SkillTrajectory& trajectory,
+                                          int intervals) {
+  const MotionEvaluator motion(design, trajectory, Eigen::Vector3d(0, 0, 1));
+  const dynamics::Model<double>& m = design.model();
+  dynamics::Workspace<double> ws(m);
+  SkillMotionProfile p;
+  p.t_s = Eigen::VectorXd::LinSpaced(intervals + 1, 0.0, design.flight_time_s());
+  p.H_Scm_W.resize(3, intervals + 1);
+  p.moment_per_weight_height.resize(3, intervals + 1);
+  p.force_per_weight.resize(3, intervals + 1);
+  const Eigen::VectorXd w = SimpsonWeightsOverT(intervals);
+  Eigen::VectorXd Hnorm(intervals + 1);
+  for (int k = 0; k <= intervals; ++k) {
+    const SkillMotionState s = motion.Eval(p.t_s[k]);
+    dynamics::CalcInverseDynamics(m, ws, s.q, s.v, s.a);
+    const dynamics::RootResidual<double> r = dynamics::CalcRootResidual(m, ws, design.height_m());
+    p.moment_per_weight_height.col(k) = r.moment_per_weight_height;
+    p.force_per_weight.col(k) = r.force_per_weight;
+    p.objective += w[k] * r.moment_per_weight_height.squaredNorm();
+    dynamics::CalcForwardKinematics(m, ws, s.q, s.v);
+    p.H_Scm_W.col(k) = dynamics::CalcCentroidalMomentum(m, ws).rotational();
+    Hnorm[k] = p.H_Scm_W.col(k).norm();
+  }
+  p.angular_momentum_variation = (Hnorm.maxCoeff() - Hnorm.minCoeff()) / Hnorm.mean();
+  return p;
+}
+
+int NumSkillParameters(const SkillDesign& design, int model) {
+  int n = 0;
+  for (int s : BlockSizes(design, model)) n += s;
+  return n;
+}
+
+Eigen::VectorXd InitialSkillParameters(const SkillDesign& design,
+                                       const SkillTrajectory& base,
+                                       int model) {
+  Eigen::VectorXd x = Eigen::VectorXd::Zero(NumSkillParameters(design, model));
+  for (int j = 0; j + 1 < design.num_keyframes(); ++j) x[j] = base.times_s[j + 1] - base.times_s[j];
+  return x;
+}
+
+SkillTrajectory SkillTrajectoryFromParameters(const SkillDesign& design,
+                                              const SkillTrajectory& base,
+                                              int model,
+                                              const Eigen::VectorXd& x) {
+  ACRO_DEMAND(x.size() == NumSkillParameters(design, model));
+  ACRO_DEMAND(model == 2 ||
+              base.midpoint_orientations.size() + 1 == base.keyframe_orientations.size());
+  const int n = design.num_keyframes();
+  const int ndof = design.num_joint_dofs();
+  SkillTrajectory t = base;
+  const std::vector<double> times = TimesFromGaps(x.data(), n, design.flight_time_s());
+  t.times_s = Eigen::Map<const Eigen::VectorXd>(times.data(), n);
+  if (model == 1) {
+    const double* joints = x.data() + (n - 1);
+    const double* key = joints + ndof * n;
+    const double* mid = key + 3 * n;
+    for (int i = 0; i < n; ++i) {
+      for (int j = 0; j < ndof; ++j) t.joint_angles_rad(j, i) += joints[i * ndof + j];
+      t.keyframe_orientations[static_cast<size_t>(i)] =
+          (base.keyframe_orientations[static_cast<size_t>(i)] *
+           dynamics::QuaternionExp<double>(
+               Eigen::Vector3d(key[3 * i], key[3 * i + 1], key[3 * i + 2])))
+              .normalized();
+      if (i + 1 < n)
+        t.midpoint_orientations[static_cast<size_t>(i)] =
+            (base.midpoint_orientations[static_cast<size_t>(i)] *
+             dynamics::QuaternionExp<double>(
+                 Eigen::Vector3d(mid[3 * i], mid[3 * i + 1], mid[3 * i + 2])))
+                .normalized();
+    }
+  }
+  return t;
+}
+
+double CalcSkillObjective(const SkillDesign& design,
+                          const SkillTrajectory& base,
+                          int model,
+                          const Eigen::VectorXd& x,
+                          int intervals,
+                          Eigen::VectorXd* gradient) {
+  ACRO_DEMAND(x.size() == NumSkillParameters(design, model));
+  ACRO_DEMAND(model == 2 ||
+              base.midpoint_orientations.size() + 1 == base.keyframe_orientations.size());
+  const ResidualData data = MakeResidualData(design, base, model, intervals, 0.0);
+  const std::unique_ptr<SkillCostFunction> cost = MakeCostFunction(data);
+  Eigen::VectorXd xc = x;
+  const std::vector<double*> blocks = BlockPointers(design, model, xc.data());
+  const int nr = NumResiduals(data);
+  Eigen::VectorXd r(nr);
+  if (gradient == nullptr) {
+    cost->Evaluate(blocks.data(), r.data(), nullptr);
+    return r.squaredNorm();
+  }
+  // Row-major Jacobian blocks; ∇J = 2 Jᵀ r.
+  const std::vector<int> sizes = BlockSizes(design, model);
+  std::vector<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> jac;
+  std::vector<double*> jac_ptr;
+  for (int size : sizes) jac.emplace_back(nr, size);
+  for (auto& m : jac) jac_ptr.push_back(m.data());
+  cost->Evaluate(blocks.data(), r.data(), jac_ptr.data());
+  gradient->resize(x.size());
+  int offset = 0;
+  for (size_t b = 0; b < sizes.size(); ++b) {
+    gradient->segment(offset, sizes[b]) = 2.0 * jac[b].transpose() * r;
+    offset += sizes[b];
+  }
+  return r.squaredNorm();
+}
+
+bool TimingOptimizationOptions::IsValid(std::string* why) const {
+  auto fail = [&](const char* m) {
+    if (why != nullptr) *why = m;
+    return false;
+  };
+  if (model != 1 && model != 2) return fail("model must be 1 or 2");
+  if (quadrature_intervals < 2 || quadrature_intervals % 2 != 0)
+    return fail("quadrature_intervals must be even and at least 2");
+  if (!(min_gap_fraction > 0.0 && min_gap_fraction < 1.0))
+    return fail("min_gap_fraction must lie in (0, 1)");
+  if (max_iterations < 0) return fail("max_iterations must be non-negative");
+  return true;
+}
+
+std::string TimingOptimizationSummary::BriefReport() const {
+  std::ostringstream s;
+  s << (success ? "converged" : "not converged") << " after " << iterations << " iterations, cost "
+    << initial_cost << " -> " << final_cost << ", " << time_s << " s: " << message;
+  return s.str();
+}
+
+TimingOptimizationResult OptimizeSkillTiming(const SkillDesign& design,
+                                             const TimingOptimizationOptions& options) {
+  std::string why;
+  ACRO_DEMAND(options.IsValid(&why));
+  TimingOptimizationResult result;
+  result.model = options.model;
+  result.times_initial_s = design.InitialTimes();
+  result.initial = MakeKeyframeTrajectory(design, result.times_initial_s);
+  const int N = options.quadrature_intervals;
+  // Fine grid (4N) for the momentum variation, the optimisation grid for J.
+  const SkillMotionProfile p0 = CalcSkillMotionProfile(design, result.initial, 4 * N);
+  result.objective_initial = CalcSkillObjective(
+      design, result.initial, 2, InitialSkillParameters(design, result.initial, 2), N);
+  result.angular_momentum_variation_initial = p0.angular_momentum_variation;
+
+  // Model 2: times only.
+  TimingOptimizationSummary s2;
+  const Eigen::VectorXd x2 = Solve(design, result.initial, 2, options, &s2);
+  result.stages.push_back(s2);
+  result.optimized = SkillTrajectoryFromParameters(design, result.initial, 2, x2);
+  int final_model = 2;
+  Eigen::VectorXd x_final = x2;
+  SkillTrajectory base_final = result.initial;
+
+  // Model 1: times and trajectory coefficients, from the Model 2 optimum (or the initial times).
+  if (options.model == 1) {
+    const SkillTrajectory base1 =
+        WithMidpoints(options.model1_from_model2 ? result.optimized : result.initial);
+    TimingOptimizationSummary s1;
+    x_final = Solve(design, base1, 1, options, &s1);
+    result.stages.push_back(s1);
+    result.optimized = SkillTrajectoryFromParameters(design, base1, 1, x_final);
+    base_final = base1;
+    final_model = 1;
+  }
+  result.summary = result.stages.back();
+  result.objective = CalcSkillObjective(design, base_final, final_model, x_final, N);
+  const SkillMotionProfile p = CalcSkillMotionProfile(design, result.optimized, 4 * N);
+  result.angular_momentum_variation = p.angular_momentum_variation;
+  result.max_joint_deviation_rad = MaxJointDeviation(design, result.optimized);
+  result.max_orientation_deviation_rad = MaxOrientationDeviation(design, result.optimized);
+  return result;
+}
+
+SkillSimulationResult SimulateSkill(const SkillDesign& design,
+                                    const SkillTrajectory& trajectory,
+                                    double step_s) {
+  const dynamics::Model<double>& m = design.model();
+  const MotionEvaluator motion(design, trajectory, Eigen::Vector3d(0, 0, 1));
+  SkillSimulationResult out;
+  // Take-off angular momentum: the mean of the designed motion's H_Scm over the flight.
+  const SkillMotionProfile profile = CalcSkillMotionProfile(design, trajectory, 200);
+  out.H_Scm_W = profile.H_Scm_W.rowwise().mean();
+  const SkillMotionState s0 = motion.Eval(0.0);
+  dynamics::Workspace<double> ws(m);
+  const dynamics::Vector6<double> v_root0 = dynamics::CalcRootVelocityFromMomentum(
+      m,
+      ws,
+      s0.q,
+      s0.v,
+      Eigen::Vector3d(design.skill().takeoff_com_velocity_mps),
+      Eigen::Vector3d(out.H_Scm_W));
+  dynamics::FlightSimulationOptions fo;
+  fo.duration_s = design.flight_time_s();
+  fo.step_s = step_s;
+  fo.output_interval_s = 0.01;
+  const dynamics::JointTrajectory<double> joints = [&](const double& t,
+                                                       dynamics::VectorXRef<double> qj,
+                                                       dynamics::VectorXRef<double> vj,
+                                                       dynamics::VectorXRef<double> aj) {
+    motion.Joints(t, qj, vj, aj);
+  };
+  out.flight =
+      dynamics::SimulateFlight(m, fo, Eigen::Matrix<double, 7, 1>(s0.q.head<7>()), v_root0, joints);
+  const Eigen::VectorXd& qf = out.flight.q.back();
+  out.final_orientation = Eigen::Quaterniond(qf[3], qf[4], qf[5], qf[6]).normalized();
+  out.intended_final_orientation = design.keyframe_orientations().back();
+  out.final_orientation_error_rad =
+      out.final_orientation.angularDistance(out.intended_final_orientation);
+  // Somersault angle of the root's long axis z_B in W's x–z plane, unwrapped.
+  auto turns = [](const std::vector<Eigen::Quaterniond>& qs) {
+    double total = 0.0, prev = 0.0;
+    for (size_t i = 0; i < qs.size(); ++i) {
+      const Eigen::Vector3d z = qs[i] * Eigen::Vector3d::UnitZ();
+      const double a = std::atan2(z.x(), z.z());
+      if (i > 0) total += std::remainder(a - prev, 2.0 * std::numbers::pi);
+      prev = a;
+    }
+    return total / (2.0 * std::numbers::pi);
+  };
+  std::vector<Eigen::Quaterniond> sim, designed;
+  for (const Eigen::VectorXd& q : out.flight.q) sim.emplace_back(q[3], q[4], q[5], q[6]);
+  for (double t : out.flight.t) {
+    const SkillMotionState s = motion.Eval(t);
+    designed.emplace_back(s.q[3], s.q[4], s.q[5], s.q[6]);
+  }
+  out.somersault_turns = turns(sim);
+  out.intended_somersault_turns = turns(designed);
+  return out;
+}
+
+}  // namespace acro::analysis
