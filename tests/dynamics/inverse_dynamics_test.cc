@@ -251,3 +251,29 @@ TEST(InverseDynamicsTest, FlightRootAccelerationCancelsResidual) {
 
 }  // namespace
 }  // namespace acro::dynamics
+
+namespace acro::dynamics {
+namespace {
+
+// A workspace made for another model, or vectors of the wrong size, are programming errors that
+// ACRO_DEMAND reports instead of reading out of bounds.
+TEST(InverseDynamicsTest, RejectsMismatchedWorkspaceAndSizes) {
+  std::mt19937 rng(3);
+  const Model<double> human = MakeReferenceHuman();
+  const Model<double> tree = MakeRandomTree(rng, 5, 0);
+  Workspace<double> ws_tree(tree);
+  const Eigen::VectorXd q = MakeNeutralConfiguration(human);
+  const Eigen::VectorXd v = Eigen::VectorXd::Zero(human.nv());
+  EXPECT_THROW(CalcInverseDynamics(human, ws_tree, q, v, v), std::logic_error);
+  EXPECT_THROW(CalcForwardKinematics(human, ws_tree, q), std::logic_error);
+  Workspace<double> ws(human);
+  EXPECT_THROW(CalcInverseDynamics(human, ws, q, v, Eigen::VectorXd::Zero(3)), std::logic_error);
+  EXPECT_NO_THROW(CalcInverseDynamics(human, ws, q, v, v));
+  // World poses not computed by a plain inverse dynamics are not silently read.
+  EXPECT_THROW(CalcCenterOfMassPosition(human, ws), std::logic_error);
+  CalcForwardKinematics(human, ws, q);
+  EXPECT_NO_THROW(CalcCenterOfMassPosition(human, ws));
+}
+
+}  // namespace
+}  // namespace acro::dynamics

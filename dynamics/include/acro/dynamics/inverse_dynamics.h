@@ -93,6 +93,7 @@ void Rnea(const Model<T>& model,
           const std::vector<SpatialForce<T>>* F_ext_Bo_W,
           VectorX<T>& tau) {
   ACRO_DEMAND(q.size() == model.nq() && v.size() == model.nv() && tau.size() == model.nv());
+  ACRO_DEMAND(ws.IsFor(model));
   const int n = model.num_segments();
   // Net force on segment i, f_B = I A + V ×* I V − f_ext (RBDA eq. 5.9).
   auto net_force = [&](int i) {

@@ -258,6 +258,7 @@ inline void CalcAccelerations(const Model<T>& model,
 template <typename T>
 void CalcForwardKinematics(const Model<T>& model, Workspace<T>& ws, const VectorXcRef<T>& q) {
   ACRO_DEMAND(q.size() == model.nq());
+  ACRO_DEMAND(ws.IsFor(model));
   internal::CalcJointSinCos(model, ws, q);
   internal::CalcJointPose(model.segment(0), q, ws, ws.X_PB[0], ws.S_B[0]);
   ws.X_WB[0] = ws.X_PB[0];

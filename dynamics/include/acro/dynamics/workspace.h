@@ -33,6 +33,11 @@ struct Workspace {
     cos_q.setZero();
   }
 
+  /// True when this workspace was sized for a model of this shape (checked by the algorithms).
+  bool IsFor(const Model<T>& model) const {
+    return X_PB.size() == Size(model) && tau.size() == model.nv() && sin_q.size() == model.nq();
+  }
+
   // Position kinematics (CalcForwardKinematics with q).
   std::vector<RigidTransform<T>> X_PB;  ///< segment B in its parent P (the root: in W)
   std::vector<RigidTransform<T>> X_WB;  ///< segment B in the world W
