@@ -90,6 +90,27 @@ class SimbodyModel {
     state_ = system_.getDefaultState();
   }
 
+  // M(q) in Acrolab's convention from Simbody's calcM: with u = P v (u_ω = R w_WB_B, u_v =
+  // v_WBo_W), M = Pᵀ M_Simbody P.
+  Eigen::MatrixXd MassMatrix(const Model<double>& model, const Eigen::VectorXd& q) {
+    const int n = model.num_joint_dofs();
+    SimTK::Vector& sq = state_.updQ();
+    for (int k = 0; k < 4; ++k) sq[k] = q[3 + k];
+    for (int k = 0; k < 3; ++k) sq[4 + k] = q[k];
+    for (int k = 0; k < n; ++k) sq[7 + k] = q[7 + k];
+    system_.realize(state_, SimTK::Stage::Position);
+    SimTK::Matrix Ms;
+    matter_.calcM(state_, Ms);
+    Eigen::MatrixXd M_sb(6 + n, 6 + n);
+    for (int r = 0; r < 6 + n; ++r)
+      for (int c = 0; c < 6 + n; ++c) M_sb(r, c) = Ms(r, c);
+    Eigen::MatrixXd P = Eigen::MatrixXd::Identity(6 + n, 6 + n);
+    P.topLeftCorner<6, 6>().setZero();
+    P.block<3, 3>(0, 3) = GetRootQuaternion(q).toRotationMatrix();
+    P.block<3, 3>(3, 0).setIdentity();
+    return P.transpose() * M_sb * P;
+  }
+
   // τ in Acrolab's convention from Simbody's residual forces at (q, v, a) under gravity and the
   // wrenches F_ext_Bo_W.
   Eigen::VectorXd InverseDynamics(const Model<double>& model,
@@ -218,6 +239,25 @@ TEST(SimbodyOracleTest, RandomTreesWithEveryJointSequence) {
       "random trees vs Simbody: root wrench %.3g, joint torques %.3g\n", worst.root, worst.joints);
   EXPECT_LE(worst.root, 1e-8);
   EXPECT_LE(worst.joints, 1e-8);
+}
+
+TEST(SimbodyOracleTest, MassMatrixOfHumanAndRandomTrees) {
+  std::mt19937 rng(2029);
+  double worst = 0.0;
+  for (int m = 0; m < 4; ++m) {
+    const Model<double> model =
+        m == 0 ? MakeReferenceHuman() : testing::MakeRandomTree(rng, 20, 7 * m);
+    SimbodyModel oracle(model);
+    Workspace<double> ws(model);
+    for (int trial = 0; trial < 5; ++trial) {
+      const Eigen::VectorXd q = testing::RandomConfiguration(model, rng);
+      const Eigen::MatrixXd theirs = oracle.MassMatrix(model, q);
+      const Eigen::MatrixXd mine = CalcMassMatrix(model, ws, q);
+      worst = std::max(worst, (mine - theirs).norm() / theirs.norm());
+    }
+  }
+  std::printf("mass matrices vs Simbody: %.3g (relative, Frobenius)\n", worst);
+  EXPECT_LE(worst, 1e-12);
 }
 
 #else
