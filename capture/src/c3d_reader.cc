@@ -437,6 +437,16 @@ void C3dReader::ReadData() {
   if (const Parameter* used = params.Find("ANALOG", "USED"); used && !used->AsUnsigned().empty()) {
     channel_candidates.push_back(static_cast<int>(used->AsUnsigned().front()));
   }
+  // Header word 10 missing (0) while word 3 announces analog words: samples per frame from
+  // ANALOG:USED.
+  if (analog_per_frame_ == 0 && header_.analog_words > 0 && !channel_candidates.empty() &&
+      channel_candidates.front() > 0 && header_.analog_words % channel_candidates.front() == 0) {
+    analog_per_frame_ = header_.analog_words / channel_candidates.front();
+    warn_(AtByte(18),
+          "header analog samples per frame is 0 with " + std::to_string(header_.analog_words) +
+              " analog words per frame; " + std::to_string(analog_per_frame_) +
+              " samples per frame from ANALOG:USED");
+  }
   const int header_channels = analog_per_frame_ > 0 ? header_.analog_words / analog_per_frame_ : 0;
   if (channel_candidates.empty() || channel_candidates.front() != header_channels) {
     if (!channel_candidates.empty()) {

@@ -406,6 +406,23 @@ std::vector<std::uint8_t> SyntheticFile(std::uint8_t processor) {
   return b.bytes();
 }
 
+// Header word 10 (analog samples per frame) left at 0 by a writer: recovered from word 3 and
+// ANALOG:USED, with a warning.
+TEST(C3dReader, MissingHeaderSamplesPerFrame) {
+  std::vector<std::uint8_t> bytes = SyntheticFile(84);
+  const Trial reference = ReadC3dFromMemory(bytes, "synthetic.c3d");
+  bytes[18] = 0;
+  bytes[19] = 0;
+  const Trial t = ReadC3dFromMemory(bytes, "synthetic.c3d");
+  EXPECT_EQ(t.analog_samples_per_frame(), 2);
+  EXPECT_TRUE(t.analog == reference.analog);
+  EXPECT_TRUE(t.positions.cwiseEqual(reference.positions).count() +
+                  reference.positions.array().isNaN().count() ==
+              reference.positions.size());
+  ASSERT_EQ(t.warnings.size(), 1u);
+  EXPECT_NE(t.warnings[0].find("byte 18"), std::string::npos) << t.warnings[0];
+}
+
 TEST(C3dReader, SyntheticFileInEveryProcessorFormat) {
   for (const std::uint8_t processor : {84, 85, 86}) {
     const std::vector<std::uint8_t> bytes = SyntheticFile(processor);
