@@ -51,11 +51,16 @@ double FractionCopOnPlate(const ForcePlate& plate,
 void CalcForcePlateOutputs(const Trial& trial,
                            ForcePlate* plate,
                            std::vector<std::string>* warnings) {
-  const auto warn = [&](const std::string& problem) {
-    if (warnings != nullptr) {
-      warnings->push_back(trial.source.path + ": FORCE_PLATFORM TYPE " +
-                          std::to_string(plate->type) + " plate: " + problem);
+  // Warnings name the plate by its number in the trial when it is one of the trial's plates.
+  std::string which = "FORCE_PLATFORM TYPE " + std::to_string(plate->type) + " plate";
+  for (std::size_t i = 0; i < trial.force_plates.size(); ++i) {
+    if (&trial.force_plates[i] == plate) {
+      which = "FORCE_PLATFORM plate " + std::to_string(i + 1) + " (TYPE " +
+              std::to_string(plate->type) + ")";
     }
+  }
+  const auto warn = [&](const std::string& problem) {
+    if (warnings != nullptr) warnings->push_back(trial.source.path + ": " + which + ": " + problem);
   };
   plate->force_W_N.resize(3, 0);
   plate->cop_W_m.resize(3, 0);
