@@ -20,8 +20,8 @@ inline constexpr double kMinCopForce_N = 10.0;
 /// Sign convention: the outputs are the ground *reaction* — the force and moment that the plate
 /// exerts on the body — expressed in W, so a person standing still gives force_W_N ≈ (0, 0, +m g)
 /// in a Z-up lab. The analog channels are taken to give that same reaction in the plate frame F;
-/// as F's z axis points into the ground, FZ is negative under load (as in every TYPE 1–4 file of
-/// the c3d.org and BTK suites: AMTI, Kistler, Motion Analysis, BTS). The plate frame F is built
+/// as F's z axis points into the ground, FZ is negative under load (as in the well-formed TYPE 2–4
+/// files of the c3d.org and BTK suites: AMTI, Kistler, Motion Analysis). The plate frame F is built
 /// from CORNERS: x along corner 2 → corner 1, y completed from corner 4 → corner 1, z = x × y
 /// (pointing into the plate); its origin is the centre of the top surface (the mean of the
 /// corners). ORIGIN is the position of that surface centre relative to the transducer origin, in F
