@@ -2,7 +2,7 @@
 
 #include <cmath>
 
-#include <Eigen/SVD>
+#include <Eigen/Geometry>
 
 #include "acro/base/demand.h"
 
