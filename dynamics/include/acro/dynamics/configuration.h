@@ -148,4 +148,23 @@ void IntegrateConfiguration(const Model<T>& model,
   q_out.tail(n) = q.tail(n) + v.tail(n) * dt;
 }
 
+// Explicit instantiations for double live in src/configuration.cc.
+extern template VectorX<double> MakeNeutralConfiguration<double>(const Model<double>&);
+extern template void CalcConfigurationDerivative<double>(const Model<double>&,
+                                                         const VectorXcRef<double>&,
+                                                         const VectorXcRef<double>&,
+                                                         VectorXRef<double>);
+extern template void CalcConfigurationDerivativeMatrix<double>(const Model<double>&,
+                                                               const VectorXcRef<double>&,
+                                                               MatrixXRef<double>);
+extern template void CalcVelocityFromConfigurationDerivative<double>(const Model<double>&,
+                                                                     const VectorXcRef<double>&,
+                                                                     const VectorXcRef<double>&,
+                                                                     VectorXRef<double>);
+extern template void IntegrateConfiguration<double>(const Model<double>&,
+                                                    const VectorXcRef<double>&,
+                                                    const VectorXcRef<double>&,
+                                                    const double&,
+                                                    VectorXRef<double>);
+
 }  // namespace acro::dynamics
