@@ -136,7 +136,7 @@ TEST(InverseDynamicsTest, BallisticRigidBodyHasZeroRootResidual) {
 }
 
 // The root residual at the centre of mass is the rate of change of the whole-body momentum minus
-// gravity: F = m (a_Scm − g), M_Scm = dH_Scm/dt (Newton–Euler for the system, Winter 2009 §7).
+// gravity: F = m (a_Scm − g), M_Scm = dH_Scm/dt (Newton–Euler equations of the whole system).
 TEST(InverseDynamicsTest, RootResidualIsMomentumRateAtCenterOfMass) {
   std::mt19937 rng(9);
   const Model<double> model = MakeReferenceHuman();

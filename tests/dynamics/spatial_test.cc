@@ -39,7 +39,7 @@ static_assert(!Addable<SpatialForce<double>, SpatialMomentum<double>>);
 static_assert(!std::is_convertible_v<SpatialForce<double>, SpatialMotion<double>>);
 static_assert(!std::is_convertible_v<Vector6<double>, SpatialMotion<double>>);
 
-// The 6×6 Plücker matrix of X_AB acting on motions (RBDA eq. 2.24 with E = R_ABᵀ, r = p_AoBo),
+// The 6×6 Plücker matrix of X_AB acting on motions (RBDA ch. 2, with E = R_ABᵀ, r = p_AoBo),
 // built here independently of RigidTransform's formulas.
 Matrix6<double> MotionMatrix(const RigidTransform<double>& X_AB) {
   Matrix6<double> X = Matrix6<double>::Zero();
@@ -63,7 +63,7 @@ TEST_F(SpatialTest, TransformsMatchPluckerMatrices) {
   for (int trial = 0; trial < 20; ++trial) {
     const RigidTransform<double> X = RandomTransform();
     const Matrix6<double> Xm = MotionMatrix(X);
-    // Forces transform by X* = X⁻ᵀ (RBDA eq. 2.25).
+    // Forces transform by X* = X⁻ᵀ (RBDA ch. 2).
     const Matrix6<double> Xf = Xm.inverse().transpose();
     const SpatialMotion<double> m(RandomVector(rng_, 1.0), RandomVector(rng_, 1.0));
     const SpatialForce<double> f(RandomVector(rng_, 1.0), RandomVector(rng_, 1.0));
@@ -77,7 +77,7 @@ TEST_F(SpatialTest, TransformsMatchPluckerMatrices) {
     EXPECT_LE(
         (X.ApplyInverse(f).get_coeffs() - Xf.inverse() * f.get_coeffs()).cwiseAbs().maxCoeff(),
         tol);
-    // Power is invariant under a change of frame (RBDA eq. 2.26).
+    // Power is invariant under a change of frame (RBDA ch. 2).
     EXPECT_NEAR(X.Apply(m).Dot(X.Apply(f)), m.Dot(f), tol);
     // Composition and inverse.
     const RigidTransform<double> Y = RandomTransform();
@@ -92,7 +92,7 @@ TEST_F(SpatialTest, InertiaTransformIsCongruence) {
     const SpatialInertia<double> I_B =
         SpatialInertia<double>::FromMassComInertia(mp.mass_kg, mp.p_BoBcm_B, mp.I_BBcm_B);
     const RigidTransform<double> X_AB = RandomTransform();
-    // I_A = X_BA* I_B X_BA with X_BA = X_AB⁻¹ as a motion transform (RBDA eq. 2.66).
+    // I_A = X_BA* I_B X_BA with X_BA = X_AB⁻¹ as a motion transform (RBDA ch. 2).
     const Matrix6<double> X_BA = MotionMatrix(X_AB.Inverse());
     const Matrix6<double> expected = X_BA.transpose() * I_B.ToMatrix() * X_BA;
     // Entries up to m·|p|² ≈ 10·12: relative rounding of a few dozen operations.
@@ -109,7 +109,7 @@ TEST_F(SpatialTest, CrossProductsMatchRbdaMatrices) {
   const SpatialMotion<double> m(RandomVector(rng_, 1.0), RandomVector(rng_, 1.0));
   const SpatialMotion<double> n(RandomVector(rng_, 1.0), RandomVector(rng_, 1.0));
   const SpatialForce<double> f(RandomVector(rng_, 1.0), RandomVector(rng_, 1.0));
-  // crm(m) = [ω× 0; v× ω×] (RBDA eq. 2.31), crf(m) = −crm(m)ᵀ (eq. 2.32).
+  // crm(m) = [ω× 0; v× ω×] (RBDA ch. 2), crf(m) = −crm(m)ᵀ.
   Matrix6<double> crm = Matrix6<double>::Zero();
   crm.topLeftCorner<3, 3>() = Skew(m.rotational());
   crm.bottomRightCorner<3, 3>() = Skew(m.rotational());

@@ -36,7 +36,8 @@ Vector6<T> CalcRootVelocityFromMomentum(const Model<T>& model,
   const Vector3<T> p_WoScm_W = CalcCenterOfMassPosition(model, ws);
   const Vector3<T>& p_WoBo_W = ws.X_WB[0].translation();
   const SpatialMomentum<T> L_joints = CalcCentroidalMomentum(model, ws);
-  // Target momentum about Bo: h_Bo = h_Scm + p_BoScm × l (RBDA §2.10), minus the joints' share.
+  // Target momentum about Bo: h_Bo = h_Scm + p_BoScm × l (RBDA ch. 2, spatial momentum), minus the
+  // joints' share.
   const Vector3<T> l_target = model.total_mass() * v_WScm_W;
   const Vector3<T> p_BoScm_W = p_WoScm_W - p_WoBo_W;
   const Vector3<T> dh_W = (H_Scm_W + p_BoScm_W.cross(l_target)) -
@@ -99,7 +100,7 @@ FlightSimulationResult<T> SimulateFlight(const Model<T>& model,
     dy[6] = half * (w * wz + x * wy - yq * wx);
     dy.template tail<6>() = a.template head<6>();
   };
-  // One classical RK4 step (Hairer, Nørsett & Wanner 1993, §II.1, Table 1.2), then the quaternion
+  // One classical RK4 step (Hairer, Nørsett & Wanner 1993, §II.1), then the quaternion
   // is projected back on the unit sphere.
   State k1, k2, k3, k4, tmp;
   auto rk4 = [&](double t, const State& y, double h, State& out) {

@@ -17,8 +17,9 @@ namespace acro::dynamics {
 /// under gravity and the optional applied wrenches F_ext_Bo_W (one per segment, about Bo,
 /// expressed in W; nullptr for none). τ[0:3] is the root force in W, τ[3:6] the root moment about
 /// the root origin in the root frame (the generalised forces of v_WBo_W and w_WB_B), τ[6:] one
-/// torque per joint axis. Writes ws.tau (returned), the poses, velocities, accelerations and the
-/// joint wrenches ws.F_Bo_B.
+/// torque per joint axis. Writes ws.tau (returned), the relative poses X_PB, velocities,
+/// accelerations and joint wrenches ws.F_Bo_B; world poses X_WB only when F_ext_Bo_W is given
+/// (else only the root's, and ws.world_poses_current is false).
 template <typename T>
 const VectorX<T>& CalcInverseDynamics(const Model<T>& model,
                                       Workspace<T>& ws,
@@ -66,7 +67,7 @@ void NormalizeByBodyWeight(const SpatialForce<T>& F_Scm_W,
 /// Root accelerations of a body in flight: given the joint accelerations a[6:] (the root part of
 /// a is overwritten), the root accelerations a[0:6] for which the root residual vanishes, so that
 /// gravity and F_ext_Bo_W are the only external wrenches. One inverse dynamics pass plus the
-/// whole-body composite inertia Ic about the root: Ic·ΔA = −F_root (RBDA §9.2's floating base).
+/// whole-body composite inertia Ic about the root: Ic·ΔA = −F_root (RBDA ch. 9, floating bases).
 /// ws is left with that pass (zero root acceleration) and with the composite inertias.
 template <typename T>
 void CalcFlightRootAcceleration(const Model<T>& model,
@@ -95,7 +96,7 @@ void Rnea(const Model<T>& model,
   ACRO_DEMAND(q.size() == model.nq() && v.size() == model.nv() && tau.size() == model.nv());
   ACRO_DEMAND(ws.IsFor(model));
   const int n = model.num_segments();
-  // Net force on segment i, f_B = I A + V ×* I V − f_ext (RBDA eq. 5.9).
+  // Net force on segment i, f_B = I A + V ×* I V − f_ext (RBDA Table 5.1).
   auto net_force = [&](int i) {
     const size_t ui = static_cast<size_t>(i);
     const SpatialInertia<T>& I = model.segment(i).M_Bo_B;
@@ -108,7 +109,7 @@ void Rnea(const Model<T>& model,
           SpatialForce<T>(R.transpose() * Fe.rotational(), R.transpose() * Fe.translational());
     }
   };
-  // Root: pose, velocity, and acceleration with the base accelerating at −g (RBDA §5.3).
+  // Root: pose, velocity, and acceleration with the base accelerating at −g (RBDA ch. 5).
   {
     CalcJointSinCos(model, ws, q);
     CalcJointPose(model.segment(0), q, ws, ws.X_PB[0], ws.S_B[0]);
@@ -117,7 +118,7 @@ void Rnea(const Model<T>& model,
     ws.A_WB_B[0] = RootAcceleration(ws.X_WB[0], ws.V_WB_B[0], a, model.gravity_W());
     net_force(0);
   }
-  // Forward pass (RBDA eq. 5.7).
+  // Forward pass (RBDA Table 5.1).
   for (int i = 1; i < n; ++i) {
     const Segment<T>& seg = model.segment(i);
     const size_t ui = static_cast<size_t>(i);
@@ -136,7 +137,7 @@ void Rnea(const Model<T>& model,
                     ws.A_WB_B[ui]);
     net_force(i);
   }
-  // Backward pass: τ_k = S_kᵀ f_B and f_P += X_PB* f_B (RBDA eqs. 5.10–5.11).
+  // Backward pass: τ_k = S_kᵀ f_B and f_P += X_PB* f_B (RBDA Table 5.1).
   for (int i = n - 1; i > 0; --i) {
     const Segment<T>& seg = model.segment(i);
     const size_t ui = static_cast<size_t>(i);

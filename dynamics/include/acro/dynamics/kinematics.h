@@ -104,8 +104,8 @@ inline void LeftMultiplyAxisRotation(int axis, const T& c, const T& s, Matrix3<T
 
 /// Pose of segment i in its parent and its joint axes in B, from q.
 ///   Euler joint: R_PB = R_PJ·R_a1(θ1)·R_a2(θ2)·R_a3(θ3), p_PoBo_P = p_PoJo_P. The angular velocity
-///   of B in P, in B, is Σ_k S_k θ̇_k with S_k = (R_a(k+1)⋯R_an)ᵀ e_ak (RBDA §4.4, a chain of
-///   revolute joints whose intermediate frames carry no mass).
+///   of B in P, in B, is Σ_k S_k θ̇_k with S_k = (R_a(k+1)⋯R_an)ᵀ e_ak (RBDA ch. 4, joint models, a
+///   chain of revolute joints whose intermediate frames carry no mass).
 /// sin and cos of every joint angle into ws.sin_q, ws.cos_q, in one loop of independent
 /// iterations (so that they overlap in the processor's pipeline).
 template <typename T>
@@ -184,10 +184,10 @@ inline void ComposeWorldPoses(const Model<T>& model, Workspace<T>& ws) {
   ws.world_poses_current = true;
 }
 
-/// Root spatial acceleration about Bo in B with the base accelerating at −g_extra (RBDA §5.3's
+/// Root spatial acceleration about Bo in B with the base accelerating at −g_extra (RBDA ch. 5's
 /// fictitious base acceleration when g_extra = gravity; the true acceleration when zero):
 ///   A = [ẇ_WB_B; R_WBᵀ(a_WBo_W − g_extra) − w × R_WBᵀ v_WBo_W]
-/// (the linear part of a spatial acceleration is the classical one minus ω × v, RBDA §2.11).
+/// (the linear part of a spatial acceleration is the classical one minus ω × v, RBDA ch. 2).
 template <typename T>
 inline SpatialMotion<T> RootAcceleration(const RigidTransform<T>& X_WB,
                                          const SpatialMotion<T>& V,
@@ -206,7 +206,7 @@ inline SpatialMotion<T> RootAcceleration(const RigidTransform<T>& X_WB,
 /// Velocity and acceleration of a non-root segment from its parent's (a = nullptr: zero):
 ///   V_B = X_BP V_P + [ω_J; 0]
 ///   A_B = X_BP A_P + [S θ̈ + c_J; 0] + V_B × [ω_J; 0]
-/// (RBDA eq. 5.7; c_J = S̊ θ̇ = Σ_k (Σ_{j<k} S_j θ̇_j) × S_k θ̇_k for the chain of revolute axes).
+/// (RBDA Table 5.1; c_J = S̊ θ̇ = Σ_k (Σ_{j<k} S_j θ̇_j) × S_k θ̇_k for the chain of revolute axes).
 template <typename T>
 inline void PropagateMotion(const Segment<T>& seg,
                             const RigidTransform<T>& X_PB,
@@ -277,7 +277,7 @@ void CalcForwardKinematics(const Model<T>& model,
                            const VectorXcRef<T>& v) {
   ACRO_DEMAND(v.size() == model.nv());
   CalcForwardKinematics(model, ws, q);
-  // V_B = X_BP V_P + [ω_J; 0] (RBDA eq. 5.7, first line).
+  // V_B = X_BP V_P + [ω_J; 0] (RBDA Table 5.1).
   ws.V_WB_B[0] = internal::RootVelocity(ws.X_WB[0], v);
   for (int i = 1; i < model.num_segments(); ++i) {
     const Segment<T>& seg = model.segment(i);
@@ -450,7 +450,7 @@ Vector3<T> CalcCenterOfMassAcceleration(const Model<T>& model,
   CalcForwardKinematics(model, ws, q, v);
   internal::CalcAccelerations(model, ws, v, a.data(), Vector3<T>::Zero().eval());
   // Classical acceleration of the body-fixed point c from the spatial acceleration [ẇ; a] about
-  // Bo: a_c = a + ẇ × c + w × (v + w × c) (RBDA eq. 2.40 and §2.11), then Σ m a_c / Σ m.
+  // Bo: a_c = a + ẇ × c + w × (v + w × c) (RBDA ch. 2, spatial acceleration), then Σ m a_c / Σ m.
   Vector3<T> sum = Vector3<T>::Zero();
   for (int i = 0; i < model.num_segments(); ++i) {
     const Segment<T>& seg = model.segment(i);
@@ -469,7 +469,8 @@ Vector3<T> CalcCenterOfMassAcceleration(const Model<T>& model,
 template <typename T>
 SpatialMomentum<T> CalcCentroidalMomentum(const Model<T>& model, const Workspace<T>& ws) {
   ACRO_DEMAND(ws.world_poses_current);
-  // Σ X_WB (I_B V_B) about Wo in W, then shifted to the centre of mass (RBDA §2.10).
+  // Σ X_WB (I_B V_B) about Wo in W, then shifted to the centre of mass (RBDA ch. 2, spatial
+  // momentum).
   SpatialMomentum<T> L_Wo_W = SpatialMomentum<T>::Zero();
   for (int i = 0; i < model.num_segments(); ++i) {
     const size_t ui = static_cast<size_t>(i);

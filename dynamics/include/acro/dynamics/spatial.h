@@ -66,7 +66,7 @@ template <typename T>
 class SpatialForce;
 
 /// A spatial motion vector [ω; v] (velocity or acceleration): ω the angular part, v the linear
-/// part of the point at the origin of the frame it is expressed about. RBDA §2.2.
+/// part of the point at the origin of the frame it is expressed about. RBDA ch. 2.
 template <typename T>
 class SpatialMotion {
  public:
@@ -105,13 +105,13 @@ class SpatialMotion {
     return SpatialMotion(s * a.w_, s * a.v_);
   }
 
-  /// Motion cross product m₁ × m₂ = [ω₁×ω₂; ω₁×v₂ + v₁×ω₂], RBDA eq. 2.31.
+  /// Motion cross product m₁ × m₂ = [ω₁×ω₂; ω₁×v₂ + v₁×ω₂], RBDA ch. 2 (crm).
   SpatialMotion Cross(const SpatialMotion& m) const {
     return SpatialMotion(w_.cross(m.w_), w_.cross(m.v_) + v_.cross(m.w_));
   }
-  /// Force cross product m ×* f = [ω×n + v×f; ω×f], RBDA eq. 2.32.
+  /// Force cross product m ×* f = [ω×n + v×f; ω×f], RBDA ch. 2 (crf).
   SpatialForce<T> CrossForce(const SpatialForce<T>& f) const;
-  /// Power m · f (a scalar, the only product of a motion and a force), RBDA eq. 2.6.
+  /// Power m · f (a scalar, the only product of a motion and a force), RBDA ch. 2.
   T Dot(const SpatialForce<T>& f) const;
 
  private:
@@ -120,7 +120,7 @@ class SpatialMotion {
 };
 
 /// A spatial force vector [n; f]: n the moment about the origin of the frame it is expressed
-/// about, f the force. Momentum is force-like and uses SpatialMomentum. RBDA §2.3.
+/// about, f the force. Momentum is force-like and uses SpatialMomentum. RBDA ch. 2.
 template <typename T>
 class SpatialForce {
  public:
@@ -142,7 +142,7 @@ class SpatialForce {
   }
 
   /// The same force about a point Q instead of the current origin O, given p_OQ in the same
-  /// expressed-in frame: n_Q = n_O − p_OQ × f (RBDA eq. 2.21 with a pure translation).
+  /// expressed-in frame: n_Q = n_O − p_OQ × f (RBDA ch. 2, a pure translation).
   SpatialForce Shift(const Vector3<T>& p_OQ) const { return SpatialForce(n_ - p_OQ.cross(f_), f_); }
 
   SpatialForce& operator+=(const SpatialForce& o) {
@@ -168,7 +168,8 @@ class SpatialForce {
 };
 
 /// Spatial momentum [h; l] of a body or system about a point: h the angular momentum about that
-/// point, l the linear momentum (RBDA §2.10). Its own type so that it is not mistaken for a force.
+/// point, l the linear momentum (RBDA ch. 2, spatial momentum). Its own type so that it is not
+/// mistaken for a force.
 template <typename T>
 class SpatialMomentum {
  public:
@@ -205,7 +206,7 @@ T SpatialMotion<T>::Dot(const SpatialForce<T>& f) const {
 
 /// Spatial inertia of a rigid body about the origin O of the frame it is expressed in, stored as
 /// mass m, first moment h = m·p_OBcm and rotational inertia about O, Ī_O = I_Bcm − m [c]×[c]×
-/// (RBDA eq. 2.63 and §2.13's compact representation). Composite inertias are plain sums.
+/// (RBDA ch. 2, spatial inertia in its compact form). Composite inertias are plain sums.
 template <typename T>
 class SpatialInertia {
  public:
@@ -231,7 +232,7 @@ class SpatialInertia {
   /// p_OBcm (undefined for zero mass).
   Vector3<T> com() const { return h_ / m_; }
 
-  /// I·m: momentum (or force, for an acceleration) [Ī ω + h × v; m v − h × ω], RBDA eq. 2.63.
+  /// I·m: momentum (or force, for an acceleration) [Ī ω + h × v; m v − h × ω], RBDA ch. 2.
   SpatialForce<T> operator*(const SpatialMotion<T>& m) const {
     return SpatialForce<T>(I_ * m.rotational() + h_.cross(m.translational()),
                            m_ * m.translational() - h_.cross(m.rotational()));
@@ -271,7 +272,7 @@ class SpatialInertia {
 };
 
 /// Pose X_AB of frame B in frame A: rotation R_AB (columns are B's axes in A) and position
-/// p_AoBo_A. Applying it re-expresses spatial vectors from B to A (RBDA §2.8 with E = R_ABᵀ,
+/// p_AoBo_A. Applying it re-expresses spatial vectors from B to A (RBDA ch. 2 with E = R_ABᵀ,
 /// r = p_AoBo_A); the Inverse* methods go from A to B without forming the inverse.
 template <typename T>
 class RigidTransform {
@@ -322,7 +323,7 @@ class RigidTransform {
     const SpatialForce<T> F = Apply(SpatialForce<T>(L.rotational(), L.translational()));
     return SpatialMomentum<T>(F.rotational(), F.translational());
   }
-  /// Inertia about Bo in B → about Ao in A (RBDA Table 2.5, "Xᵀ I X"):
+  /// Inertia about Bo in B → about Ao in A (RBDA ch. 2, Xᵀ I X):
   /// h_A = R h_B + m p, Ī_A = R Ī_B Rᵀ − [h']×[p]× − [p]×[h']× − m [p]×[p]×, h' = R h_B,
   /// with [a]×[b]× = b aᵀ − (a·b) 1 so that no 3 × 3 skew products are formed.
   SpatialInertia<T> Apply(const SpatialInertia<T>& I) const {

@@ -45,20 +45,20 @@ struct Workspace {
   /// (the rest is not needed there); CalcForwardKinematics makes all current again.
   bool world_poses_current = false;
   /// Joint axes as angular-velocity directions in B: column k of the motion subspace of B's
-  /// inboard Euler joint is [S_B[B][k]; 0] (RBDA §4.4).
+  /// inboard Euler joint is [S_B[B][k]; 0] (RBDA ch. 4, joint models).
   std::vector<std::array<Vector3<T>, 3>> S_B;
 
   // Velocity and acceleration kinematics, about Bo, expressed in B.
   std::vector<SpatialMotion<T>> V_WB_B;
   /// Spatial accelerations; after inverse dynamics they include the fictitious −g of the base
-  /// (RBDA §5.3), after CalcCenterOfMassAcceleration they are the true accelerations.
+  /// (RBDA ch. 5), after CalcCenterOfMassAcceleration they are the true accelerations.
   std::vector<SpatialMotion<T>> A_WB_B;
 
   /// After inverse dynamics: the spatial force that B's inboard joint transmits to B, about Bo in
-  /// B (RBDA eq. 5.9). For the root this is the net external wrench the motion needs besides
+  /// B (RBDA Table 5.1). For the root this is the net external wrench the motion needs besides
   /// gravity and the applied wrenches: the root residual.
   std::vector<SpatialForce<T>> F_Bo_B;
-  /// Composite inertia of the subtree rooted at B, about Bo in B (RBDA §6.2).
+  /// Composite inertia of the subtree rooted at B, about Bo in B (RBDA Table 6.2).
   std::vector<SpatialInertia<T>> Ic_Bo_B;
 
   VectorX<T> tau;  ///< generalised forces from inverse dynamics (nv)
