@@ -20,7 +20,7 @@ constexpr const char* kOptimizeHelp =
     "motion.mot and report.html. Progress goes to stderr.\n"
     "  --model 1|2     2 (default): times only; 1: times and trajectory coefficients\n"
     "  --simulate      also simulate the flight with the optimised motion (somersaults, landing)\n"
-    "  --intervals N   quadrature intervals over the flight (even; default 80)\n"
+    "  --intervals N   quadrature intervals over the flight (even; default 40)\n"
     "  -o DIR          output folder (created)\n"
     "Skill files: docs/formats/skill.md; method: docs/skill-design.md.\n";
 

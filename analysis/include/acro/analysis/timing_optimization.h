@@ -116,14 +116,18 @@ double CalcSkillObjective(const SkillDesign& design,
                           Eigen::VectorXd* gradient = nullptr);
 
 struct TimingOptimizationOptions {
-  int model = 2;                  ///< 2: times only; 1: times and trajectory coefficients
-  int quadrature_intervals = 80;  ///< Simpson's rule, even
+  int model = 2;  ///< 2: times only; 1: times and trajectory coefficients
+  /// Simpson's rule on this many intervals over [0, T] (even): 40 gives samples 40 ms apart at
+  /// T = 1.6 s, about four per keyframe interval.
+  int quadrature_intervals = 40;
   /// Smallest gap between keyframes, as a fraction of the even gap T/(n − 1).
   double min_gap_fraction = 0.15;
   int max_iterations = 200;
-  double function_tolerance = 1e-12;
-  double gradient_tolerance = 1e-14;
-  double parameter_tolerance = 1e-10;
+  /// Ceres' convergence tests: stop when the relative decrease of the cost falls below
+  /// function_tolerance (J then has about six stable digits), and so on.
+  double function_tolerance = 1e-7;
+  double gradient_tolerance = 1e-10;
+  double parameter_tolerance = 1e-8;
   /// Model 1 starts from the Model 2 optimum (true) or from the initial times.
   bool model1_from_model2 = true;
   /// Progress lines (iteration, objective) are handed here when set; the library prints nothing.

@@ -1,0 +1,64 @@
+// Skill design benchmarks on the paper's example, samples/skills/front_1_3_4_half_twist.yaml
+// (docs/performance.md, "Skill design").
+// Run: build-opt/bench/optimize_bench --benchmark_repetitions=9
+// --benchmark_report_aggregates_only=true
+
+#include <benchmark/benchmark.h>
+
+#include <filesystem>
+
+#include "acro/analysis/timing_optimization.h"
+
+namespace acro::analysis {
+namespace {
+
+const SkillDesign& Example() {
+  // The sample relative to this file (tests/bench/ → repository root).
+  static const SkillDesign design(
+      ReadSkill(std::filesystem::path(__FILE__).parent_path().parent_path().parent_path() /
+                "samples/skills" / "front_1_3_4_half_twist.yaml"));
+  return design;
+}
+
+// Model 2 from even timing: the whole OptimizeSkillTiming call (initial and final profiles
+// included).
+void BM_Model2(benchmark::State& state) {
+  TimingOptimizationOptions o;
+  o.model = 2;
+  double ratio = 0.0;
+  for (auto _ : state) {
+    const TimingOptimizationResult r = OptimizeSkillTiming(Example(), o);
+    ratio = r.objective_initial / r.objective;
+    benchmark::DoNotOptimize(ratio);
+  }
+  state.counters["J_ratio"] = ratio;
+}
+BENCHMARK(BM_Model2)->Unit(benchmark::kMillisecond);
+
+// One objective and gradient of Model 2 (what each solver iteration costs).
+void BM_Model2Gradient(benchmark::State& state) {
+  const SkillTrajectory t = MakeKeyframeTrajectory(Example(), Example().EvenTimes());
+  const Eigen::VectorXd x = InitialSkillParameters(Example(), t, 2);
+  Eigen::VectorXd g;
+  for (auto _ : state) benchmark::DoNotOptimize(CalcSkillObjective(Example(), t, 2, x, 80, &g));
+}
+BENCHMARK(BM_Model2Gradient)->Unit(benchmark::kMillisecond);
+
+// Model 1 (after Model 2).
+void BM_Model1(benchmark::State& state) {
+  TimingOptimizationOptions o;
+  o.model = 1;
+  double ratio = 0.0;
+  for (auto _ : state) {
+    const TimingOptimizationResult r = OptimizeSkillTiming(Example(), o);
+    ratio = r.objective_initial / r.objective;
+    benchmark::DoNotOptimize(ratio);
+  }
+  state.counters["J_ratio"] = ratio;
+}
+BENCHMARK(BM_Model1)->Unit(benchmark::kMillisecond)->Iterations(1);
+
+}  // namespace
+}  // namespace acro::analysis
+
+BENCHMARK_MAIN();
