@@ -298,7 +298,9 @@ class MotionEvaluator {
   Eigen::Vector3d com_start_W_;
 };
 
-SkillTrajectory WithMidpoints(const SkillTrajectory& t) {
+}  // namespace
+
+SkillTrajectory AddMidpointOrientations(const SkillTrajectory& t) {
   SkillTrajectory out = t;
   out.midpoint_orientations.clear();
   QuaternionSpline<double> spline(
@@ -308,6 +310,8 @@ SkillTrajectory WithMidpoints(const SkillTrajectory& t) {
     out.midpoint_orientations.push_back(spline.Eval(0.5 * (t.times_s[i] + t.times_s[i + 1])).q_WB);
   return out;
 }
+
+namespace {
 
 // Progress from Ceres' iterations.
 class ProgressCallback : public ceres::IterationCallback {
@@ -625,7 +629,7 @@ TimingOptimizationResult OptimizeSkillTiming(const SkillDesign& design,
   // Model 1: times and trajectory coefficients, from the Model 2 optimum (or the initial times).
   if (options.model == 1) {
     const SkillTrajectory base1 =
-        WithMidpoints(options.model1_from_model2 ? result.optimized : result.initial);
+        AddMidpointOrientations(options.model1_from_model2 ? result.optimized : result.initial);
     TimingOptimizationSummary s1;
     x_final = Solve(design, base1, 1, options, &s1);
     result.stages.push_back(s1);

@@ -102,11 +102,79 @@ TEST(TimingOptimization, Model2OnThePapersExample) {
   EXPECT_LT(t1[7] - t1[2], t0[7] - t0[2]);
   EXPECT_GT(t1[2] - t1[0], t0[2] - t0[0]);
   EXPECT_GT(t1[11] - t1[7], t0[11] - t0[7]);
-  const SkillSimulationResult sim = SimulateSkill(d, r.optimized);
-  std::printf("simulated final orientation error %.1f deg, somersaults %.3f (designed %.3f)\n",
-              sim.final_orientation_error_rad / kDeg,
-              sim.somersault_turns,
-              sim.intended_somersault_turns);
+}
+
+const SkillDesign& BackTuck() {
+  static const SkillDesign design(ReadSkill(SkillPath("back_tuck.yaml")));
+  return design;
+}
+
+// The designed motion passes through every keyframe pose at its time.
+TEST(TimingOptimization, TheMotionPassesThroughTheKeyframes) {
+  const SkillDesign& d = FrontExample();
+  const SkillTrajectory t = MakeKeyframeTrajectory(d, d.EvenTimes());
+  for (int i = 0; i < d.num_keyframes(); ++i) {
+    const SkillMotionState s = EvalSkillMotion(d, t, t.times_s[i]);
+    const Eigen::Quaterniond q(s.q[3], s.q[4], s.q[5], s.q[6]);
+    EXPECT_LT(q.angularDistance(d.keyframe_orientations()[static_cast<size_t>(i)]), 1e-7) << i;
+    EXPECT_LT(
+        (s.q.tail(d.num_joint_dofs()) - d.keyframe_joint_angles_rad().col(i)).cwiseAbs().maxCoeff(),
+        1e-12);
+  }
+}
+
+// Model 1's gradient (times, joint offsets, orientation offsets) against central differences, on
+// a coarse grid to keep the 2·(n_x) evaluations cheap.
+TEST(TimingOptimization, Model1GradientMatchesCentralDifferences) {
+  const SkillDesign& d = BackTuck();
+  const SkillTrajectory base = AddMidpointOrientations(MakeKeyframeTrajectory(d, d.EvenTimes()));
+  Eigen::VectorXd x = InitialSkillParameters(d, base, 1);
+  ASSERT_EQ(x.size(), NumSkillParameters(d, 1));
+  for (int i = 0; i < x.size(); ++i)
+    x[i] += (i < d.num_keyframes() - 1 ? 0.01 : 0.02) * std::sin(0.7 * i);
+  Eigen::VectorXd g;
+  CalcSkillObjective(d, base, 1, x, 8, &g);
+  const Eigen::VectorXd fd = CentralDifferences(d, base, 1, x, 8, 1e-6);
+  EXPECT_LT((g - fd).norm(), 1e-6 * g.norm());
+  EXPECT_LT((g - fd).cwiseAbs().maxCoeff(), 1e-6 * g.cwiseAbs().maxCoeff());
+}
+
+// Model 1 keeps every keyframe within its tolerances and goes below Model 2's optimum.
+TEST(TimingOptimization, Model1StaysWithinTheTolerancesAndBeatsModel2) {
+  const SkillDesign& d = BackTuck();
+  TimingOptimizationOptions o;
+  o.model = 1;
+  o.quadrature_intervals = 20;
+  const TimingOptimizationResult r = OptimizeSkillTiming(d, o);
+  ASSERT_EQ(r.stages.size(), 2u);
+  EXPECT_TRUE(r.summary.success) << r.summary.BriefReport();
+  // Model 2's final cost is the start of Model 1 (same curve up to the midpoint knots).
+  EXPECT_LT(r.stages[1].final_cost, 0.5 * r.stages[0].final_cost);
+  for (int i = 0; i < d.num_keyframes(); ++i) {
+    const double e2 = d.skill().keyframes[static_cast<size_t>(i)].tolerance_angle_rad;
+    // Bounds are enforced by projection: exact up to rounding.
+    EXPECT_LE((r.optimized.joint_angles_rad.col(i) - d.keyframe_joint_angles_rad().col(i))
+                  .cwiseAbs()
+                  .maxCoeff(),
+              e2 * (1 + 4 * kEps));
+    EXPECT_LE(r.optimized.keyframe_orientations[static_cast<size_t>(i)].angularDistance(
+                  d.keyframe_orientations()[static_cast<size_t>(i)]),
+              e2 + 1e-7);  // acos near 1: √ε
+  }
+  EXPECT_LT(r.objective, r.objective_initial);
+}
+
+// Flight simulation of the sample skills without twist, with their Model 2 timing: the final
+// orientation within 15° of the last keyframe's, and the somersault count as designed.
+TEST(TimingOptimization, SimulatedSinglesLandAsDesigned) {
+  for (const char* name : {"back_tuck.yaml", "back_pike.yaml"}) {
+    const SkillDesign d(ReadSkill(SkillPath(name)));
+    const TimingOptimizationResult r = OptimizeSkillTiming(d, TimingOptimizationOptions{});
+    const SkillSimulationResult sim = SimulateSkill(d, r.optimized);
+    EXPECT_EQ(sim.flight.summary.status, dynamics::FlightSimulationStatus::kSuccess);
+    EXPECT_LT(sim.final_orientation_error_rad, 15 * kDeg) << name;
+    EXPECT_NEAR(sim.somersault_turns, sim.intended_somersault_turns, 15.0 / 360.0) << name;
+  }
 }
 
 }  // namespace

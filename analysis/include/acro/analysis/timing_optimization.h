@@ -67,6 +67,10 @@ struct SkillTrajectory {
 /// The keyframes as given at the given times.
 SkillTrajectory MakeKeyframeTrajectory(const SkillDesign& design, const Eigen::VectorXd& times_s);
 
+/// The same trajectory with orientation knots added halfway between keyframes, on the keyframe-only
+/// quaternion spline (Model 1's base: the curve barely changes, the midpoints become free).
+SkillTrajectory AddMidpointOrientations(const SkillTrajectory& trajectory);
+
 /// Configuration, velocity and acceleration of the designed motion at time t (root translation on
 /// the COM parabola; the COM starts at `com_start_W`).
 struct SkillMotionState {
