@@ -153,6 +153,27 @@ class JointLimitCost : public ceres::CostFunction {
   double k_;
 };
 
+/// Huber's loss that can be switched off (ρ(s) = s), so that a cold start reaches the right
+/// basin by plain least squares before outlying markers are down-weighted: started far from the
+/// solution, a robust loss would treat a whole limb's markers as outliers and keep it wrong.
+class SwitchableHuberLoss : public ceres::LossFunction {
+ public:
+  explicit SwitchableHuberLoss(double scale) : huber_(scale) {}
+  void Evaluate(double s, double rho[3]) const override {
+    if (enabled) {
+      huber_.Evaluate(s, rho);
+    } else {
+      rho[0] = s;
+      rho[1] = 1.0;
+      rho[2] = 0.0;
+    }
+  }
+  bool enabled = true;
+
+ private:
+  ceres::HuberLoss huber_;
+};
+
 }  // namespace
 
 std::vector<JointLimit> StandardJointLimits(const dynamics::Model<double>& model) {
@@ -235,7 +256,7 @@ struct InverseKinematics::Impl {
     po.manifold_ownership = ceres::TAKE_OWNERSHIP;
     problem = std::make_unique<ceres::Problem>(po);
     if (options.robust_scale_m > 0)
-      loss = std::make_unique<ceres::HuberLoss>(options.robust_scale_m);
+      loss = std::make_unique<SwitchableHuberLoss>(options.robust_scale_m);
     problem->AddParameterBlock(p.data(), 3);
     problem->AddParameterBlock(quat.data(), 4, new ceres::QuaternionManifold);
     problem->AddParameterBlock(joints.data(), static_cast<int>(joints.size()));
@@ -274,7 +295,7 @@ struct InverseKinematics::Impl {
   Eigen::Vector3d p;
   Eigen::Vector4d quat;  // w x y z, as q stores it and as ceres::QuaternionManifold expects
   Eigen::VectorXd joints;
-  std::unique_ptr<ceres::LossFunction> loss;
+  std::unique_ptr<SwitchableHuberLoss> loss;
   std::unique_ptr<ceres::Problem> problem;
   ceres::Solver::Options solver_options;
   ceres::Solver::Summary summary;
@@ -397,12 +418,18 @@ IkFrameResult InverseKinematics::Solve(const Eigen::Matrix3Xd& observed,
   s.joints = q.tail(s.model.num_joint_dofs());
   int iterations = 0;
   if (cold) {
-    // Root first with the joints held, then everything.
+    // Plain least squares: the root first with the joints held, then everything; the robust
+    // fit below then starts in the right basin.
+    if (s.loss) s.loss->enabled = false;
     s.problem->SetParameterBlockConstant(s.joints.data());
     s.solver_options.max_num_iterations = 50;
     ceres::Solve(s.solver_options, s.problem.get(), &s.summary);
     iterations += static_cast<int>(s.summary.iterations.size());
     s.problem->SetParameterBlockVariable(s.joints.data());
+    s.solver_options.max_num_iterations = s.options.cold_start_iterations;
+    ceres::Solve(s.solver_options, s.problem.get(), &s.summary);
+    iterations += static_cast<int>(s.summary.iterations.size());
+    if (s.loss) s.loss->enabled = true;
   }
   s.solver_options.max_num_iterations =
       cold ? s.options.cold_start_iterations : s.options.max_iterations;

@@ -223,8 +223,11 @@ ReconstructionResult Reconstruct(const capture::Trial& trial,
 
   // Scaling: to the static trial's mean frame, or to frames spread over a window of the motion.
   result.model = model0;
+  std::vector<std::pair<int, Eigen::VectorXd>> seeds;
   if (options.scale) {
     std::vector<Eigen::Matrix3Xd> frames;
+    std::vector<Eigen::VectorXd> initial_q;
+    std::vector<int> chosen;
     if (static_trial != nullptr) {
       const MarkerSetMatch sm = MatchMarkerSet(result.markerset, *static_trial);
       Eigen::Matrix3Xd mean = Eigen::Matrix3Xd::Constant(3, M, std::nan(""));
@@ -245,7 +248,8 @@ ReconstructionResult Reconstruct(const capture::Trial& trial,
       const int first = options.scaling_first_frame >= 0 ? options.scaling_first_frame : 0;
       const int last =
           options.scaling_last_frame >= 0 ? std::min(options.scaling_last_frame, F - 1) : F - 1;
-      // Frames of the window with at least 80 % of the markers, evenly spread.
+      // Frames of the window with at least 80 % of the markers, evenly spread; their starting
+      // poses from inverse kinematics warm-started through the window.
       std::vector<int> candidates;
       for (int f = first; f <= last; ++f) {
         int present = 0;
@@ -255,13 +259,36 @@ ReconstructionResult Reconstruct(const capture::Trial& trial,
       const int want = std::min<int>(options.scaling_window_frames, int(candidates.size()));
       for (int k = 0; k < want; ++k) {
         const size_t i = size_t((double(k) + 0.5) * double(candidates.size()) / want);
-        frames.push_back(FrameObservations(P, candidates[std::min(i, candidates.size() - 1)], M));
+        chosen.push_back(candidates[std::min(i, candidates.size() - 1)]);
+      }
+      if (!chosen.empty()) {
+        InverseKinematics ik(model0, markers, limits, options.ik);
+        Eigen::VectorXd q = dynamics::MakeNeutralConfiguration(model0);
+        int last_fitted = -1000000;
+        size_t next = 0;
+        for (int f = chosen.front(); f <= chosen.back(); ++f) {
+          const Eigen::Matrix3Xd obs = FrameObservations(P, f, M);
+          if (ik.Solve(obs, q, f - last_fitted > 10).num_markers >= 3) last_fitted = f;
+          if (f == chosen[next]) {
+            frames.push_back(obs);
+            initial_q.push_back(q);
+            ++next;
+          }
+        }
       }
     }
     if (!frames.empty()) {
-      ScalingResult scaled = ScaleModel(model0, markers, limits, frames, options.scaling);
+      ScalingResult scaled = ScaleModel(model0,
+                                        markers,
+                                        limits,
+                                        frames,
+                                        options.scaling,
+                                        initial_q.empty() ? nullptr : &initial_q);
       result.model = scaled.model;
       markers = scaled.markers;
+      // The poses fitted with the factors (frames of this trial) start the inverse kinematics.
+      if (!chosen.empty())
+        for (size_t k = 0; k < chosen.size(); ++k) seeds.push_back({chosen[k], scaled.poses[k]});
       summary.scaling_report =
           (static_trial ? "static trial, " : "motion window, ") + scaled.BriefReport();
     } else {
@@ -294,51 +321,53 @@ ReconstructionResult Reconstruct(const capture::Trial& trial,
       options.progress(d, F);
     }
   };
-  // Solves frames [begin, end) starting from q (cold unless warm is set), writing into motion.
-  auto solve_range = [&](InverseKinematics& ik, int begin, int end, Eigen::VectorXd q, bool warm) {
-    int last_fitted = warm ? begin - 1 : -1000000;
-    Eigen::Matrix3Xd predicted;
-    Eigen::VectorXd dist;
-    for (int f = begin; f < end; ++f) {
-      Eigen::Matrix3Xd obs = FrameObservations(P, f, M);
-      if (!options.fit_filled_samples)
-        for (int m = 0; m < M; ++m)
-          if (!recorded[Eigen::Index(f) * M + m]) obs.col(m).setConstant(std::nan(""));
-      const bool cold = f - last_fitted > 10;
-      // Left/right swaps: a mirror pair whose exchange fits the prediction far better.
-      if (!cold && options.repair_swaps) {
-        ik.CalcMarkerPositions(q, predicted);
-        for (int m = 0; m < M; ++m) {
-          const int n = markers[size_t(m)].mirror;
-          if (n <= m || std::isnan(obs(0, m)) || std::isnan(obs(0, n))) continue;
-          const double keep =
-              (obs.col(m) - predicted.col(m)).norm() + (obs.col(n) - predicted.col(n)).norm();
-          const double swap =
-              (obs.col(m) - predicted.col(n)).norm() + (obs.col(n) - predicted.col(m)).norm();
-          if (swap < options.swap_ratio * keep && keep - swap > options.swap_min_gain_m) {
-            obs.col(m).swap(obs.col(n));
-            P.col(Eigen::Index(f) * M + m).swap(P.col(Eigen::Index(f) * M + n));
-            ++swaps;
+  // Solves frames begin, begin + step, … up to (not including) end, starting from q (cold unless
+  // warm is set), writing into motion; step −1 runs backwards in time.
+  auto solve_range =
+      [&](InverseKinematics& ik, int begin, int end, Eigen::VectorXd q, bool warm, int step = 1) {
+        int last_fitted = warm ? begin - step : -1000000;
+        Eigen::Matrix3Xd predicted;
+        Eigen::VectorXd dist;
+        for (int f = begin; f != end; f += step) {
+          Eigen::Matrix3Xd obs = FrameObservations(P, f, M);
+          if (!options.fit_filled_samples)
+            for (int m = 0; m < M; ++m)
+              if (!recorded[Eigen::Index(f) * M + m]) obs.col(m).setConstant(std::nan(""));
+          const bool cold = std::abs(f - last_fitted) > 10;
+          // Left/right swaps: a mirror pair whose exchange fits the prediction far better.
+          if (!cold && options.repair_swaps) {
+            ik.CalcMarkerPositions(q, predicted);
+            for (int m = 0; m < M; ++m) {
+              const int n = markers[size_t(m)].mirror;
+              if (n <= m || std::isnan(obs(0, m)) || std::isnan(obs(0, n))) continue;
+              const double keep =
+                  (obs.col(m) - predicted.col(m)).norm() + (obs.col(n) - predicted.col(n)).norm();
+              const double swap =
+                  (obs.col(m) - predicted.col(n)).norm() + (obs.col(n) - predicted.col(m)).norm();
+              if (swap < options.swap_ratio * keep && keep - swap > options.swap_min_gain_m) {
+                obs.col(m).swap(obs.col(n));
+                P.col(Eigen::Index(f) * M + m).swap(P.col(Eigen::Index(f) * M + n));
+                ++swaps;
+              }
+            }
           }
+          const IkFrameResult r = ik.Solve(obs, q, cold);
+          FrameFit& fit = motion.fit[size_t(f)];
+          fit.num_markers = r.num_markers;
+          fit.iterations = r.iterations;
+          fit.converged = r.converged;
+          fit.valid = r.num_markers >= 3;
+          fit.rms_m = r.rms_m;
+          fit.max_m = r.max_m;
+          if (fit.valid) {
+            last_fitted = f;
+            ik.Evaluate(obs, q, &dist);
+            motion.marker_error_m.col(f) = dist;
+          }
+          motion.q.col(f) = q;
+          report_progress();
         }
-      }
-      const IkFrameResult r = ik.Solve(obs, q, cold);
-      FrameFit& fit = motion.fit[size_t(f)];
-      fit.num_markers = r.num_markers;
-      fit.iterations = r.iterations;
-      fit.converged = r.converged;
-      fit.valid = r.num_markers >= 3;
-      fit.rms_m = r.rms_m;
-      fit.max_m = r.max_m;
-      if (fit.valid) {
-        last_fitted = f;
-        ik.Evaluate(obs, q, &dist);
-        motion.marker_error_m.col(f) = dist;
-      }
-      motion.q.col(f) = q;
-      report_progress();
-    }
-  };
+      };
   std::vector<int> bounds(size_t(chunks) + 1);
   for (int c = 0; c <= chunks; ++c) bounds[size_t(c)] = int(std::int64_t(F) * c / chunks);
   {
@@ -346,11 +375,18 @@ ReconstructionResult Reconstruct(const capture::Trial& trial,
     for (int c = 0; c < chunks; ++c) {
       workers.emplace_back([&, c]() {
         InverseKinematics ik(result.model, markers, limits, options.ik);
-        solve_range(ik,
-                    bounds[size_t(c)],
-                    bounds[size_t(c) + 1],
-                    dynamics::MakeNeutralConfiguration(result.model),
-                    false);
+        const int b = bounds[size_t(c)], e = bounds[size_t(c) + 1];
+        // A pose fitted with the scale factors inside the chunk is the exact start: solve forward
+        // from its frame to the chunk's end and backward to its beginning. Otherwise cold-start.
+        const std::pair<int, Eigen::VectorXd>* seed = nullptr;
+        for (const auto& sd : seeds)
+          if (sd.first >= b && sd.first < e && seed == nullptr) seed = &sd;
+        if (seed) {
+          solve_range(ik, seed->first, e, seed->second, true, 1);
+          solve_range(ik, seed->first - 1, b - 1, motion.q.col(seed->first), true, -1);
+        } else {
+          solve_range(ik, b, e, dynamics::MakeNeutralConfiguration(result.model), false);
+        }
       });
     }
     for (std::thread& t : workers) t.join();

@@ -74,6 +74,22 @@ struct PriorResidual {
   }
 };
 
+/// The inverse kinematics' soft joint limits, so that scaling fits the same objective.
+struct LimitResidual {
+  std::vector<JointLimit> limits;
+  double k;
+  template <typename T>
+  bool operator()(T const* const* x, T* r) const {
+    for (size_t j = 0; j < limits.size(); ++j) {
+      const T t = x[0][j];
+      r[j] = T(0.0);
+      if (t > T(limits[j].upper_rad)) r[j] = T(k) * (t - T(limits[j].upper_rad));
+      if (t < T(limits[j].lower_rad)) r[j] = T(k) * (t - T(limits[j].lower_rad));
+    }
+    return true;
+  }
+};
+
 }  // namespace
 
 std::string ScaleGroupOf(const std::string& segment) {
@@ -103,7 +119,12 @@ std::string ScalingResult::BriefReport() const {
     std::snprintf(buf, sizeof buf, " %s %.3f", g.c_str(), s);
     out += buf;
   }
-  return out;
+  std::snprintf(buf,
+                sizeof buf,
+                "; largest marker offset correction %.1f mm (%s)",
+                largest_offset_m * 1e3,
+                largest_offset_marker.c_str());
+  return out + buf;
 }
 
 dynamics::Model<double> MakeScaledModel(const dynamics::Model<double>& model,
@@ -140,7 +161,8 @@ ScalingResult ScaleModel(const dynamics::Model<double>& model,
                          const std::vector<ModelMarker>& markers,
                          const std::vector<JointLimit>& limits,
                          const std::vector<Eigen::Matrix3Xd>& frames,
-                         const ScalingOptions& options) {
+                         const ScalingOptions& options,
+                         const std::vector<Eigen::VectorXd>* initial_q) {
   std::string why;
   ACRO_DEMAND(options.IsValid(&why));
   ACRO_DEMAND(!frames.empty());
@@ -162,11 +184,16 @@ ScalingResult ScaleModel(const dynamics::Model<double>& model,
   InverseKinematicsOptions ik_options;
   InverseKinematics ik(model, markers, limits, ik_options);
   std::vector<Eigen::VectorXd> q(frames.size(), dynamics::MakeNeutralConfiguration(model));
+  if (initial_q) {
+    ACRO_DEMAND(initial_q->size() == frames.size());
+    q = *initial_q;
+  }
   ScalingResult result;
   double sum = 0;
   int count = 0;
   for (size_t k = 0; k < frames.size(); ++k) {
-    const IkFrameResult r = ik.Solve(frames[k], q[k], true);
+    const IkFrameResult r =
+        initial_q ? ik.Evaluate(frames[k], q[k], nullptr) : ik.Solve(frames[k], q[k], true);
     if (r.num_markers > 0) {
       sum += r.rms_m * r.rms_m * r.num_markers;
       count += r.num_markers;
@@ -184,6 +211,13 @@ ScalingResult ScaleModel(const dynamics::Model<double>& model,
     problem.AddParameterBlock(pk, 3);
     problem.AddParameterBlock(pk + 3, 4, new ceres::QuaternionManifold);
     problem.AddParameterBlock(pk + 7, n);
+    if (ik_options.joint_limit_stiffness_m_per_rad > 0) {
+      auto* lim = new ceres::DynamicAutoDiffCostFunction<LimitResidual, 16>(
+          new LimitResidual{limits, ik_options.joint_limit_stiffness_m_per_rad});
+      lim->AddParameterBlock(n);
+      lim->SetNumResiduals(n);
+      problem.AddResidualBlock(lim, nullptr, pk + 7);
+    }
     for (int m = 0; m < M; ++m) {
       if (std::isnan(frames[k](0, m))) continue;
       auto* f = new ScaledMarkerResidual;
@@ -244,20 +278,25 @@ ScalingResult ScaleModel(const dynamics::Model<double>& model,
   for (int m = 0; m < M; ++m) {
     ModelMarker& mk = result.markers[size_t(m)];
     mk.p_BoM_B = scales[size_t(group_of[size_t(mk.segment)])] * mk.p_BoM_B + delta[size_t(m)];
+    if (delta[size_t(m)].norm() > result.largest_offset_m) {
+      result.largest_offset_m = delta[size_t(m)].norm();
+      result.largest_offset_marker = mk.name;
+    }
   }
-  // Fit after scaling, with the fitted poses.
+  // Fit after scaling, at the poses fitted with it.
   InverseKinematics ik_scaled(result.model, result.markers, limits, ik_options);
   sum = 0;
   count = 0;
   for (size_t k = 0; k < frames.size(); ++k) {
     q[k].segment<4>(3).normalize();
-    const IkFrameResult r = ik_scaled.Solve(frames[k], q[k], false);
+    const IkFrameResult r = ik_scaled.Evaluate(frames[k], q[k], nullptr);
     if (r.num_markers > 0) {
       sum += r.rms_m * r.rms_m * r.num_markers;
       count += r.num_markers;
     }
   }
   result.rms_after_m = count > 0 ? std::sqrt(sum / count) : 0.0;
+  result.poses = q;
   return result;
 }
 

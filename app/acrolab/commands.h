@@ -10,6 +10,7 @@ namespace acro::app {
 int RunInfo(const std::vector<std::string>& args);
 int RunConvert(const std::vector<std::string>& args);
 int RunBody(const std::vector<std::string>& args);
+int RunReconstruct(const std::vector<std::string>& args);
 int RunOptimize(const std::vector<std::string>& args);
 
 /// Thrown for a bad command line: main() prints it with the usage hint and exits with status 2.

@@ -18,6 +18,7 @@ constexpr const char* kUsage =
     "events\n"
     "  convert IN OUT         convert between C3D, TRC and CSV (by file extension)\n"
     "  body ...               athlete segments, mass, centre of mass, inertia; tuck/pike ratios\n"
+    "  reconstruct TRIAL -o DIR  markers or keypoints to joint angles (.mot, CSV, C3D)\n"
     "  optimize SKILL.yaml -o DIR  keyframe timing / trajectory optimisation of a skill\n"
     "\n"
     "  acrolab <command> --help for a command's options; docs/cli.md for everything.\n";
@@ -35,6 +36,7 @@ int main(int argc, char** argv) {
     if (command == "info") return acro::app::RunInfo(args);
     if (command == "convert") return acro::app::RunConvert(args);
     if (command == "body") return acro::app::RunBody(args);
+    if (command == "reconstruct") return acro::app::RunReconstruct(args);
     if (command == "optimize") return acro::app::RunOptimize(args);
     if (command == "--version") {
       std::puts("acrolab 0.1.0");

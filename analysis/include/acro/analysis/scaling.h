@@ -39,19 +39,26 @@ struct ScalingResult {
   /// Factor per segment group ("pelvis", "thorax", "head", "upper_arm", … "foot").
   std::map<std::string, double> scale;
   int frames_used = 0;
+  /// The configuration of each frame used, fitted together with the factors (on `model`).
+  std::vector<Eigen::VectorXd> poses;
   double rms_before_m = 0.0;  ///< marker RMS over the frames used, unscaled model (after IK)
   double rms_after_m = 0.0;   ///< after scaling
   bool converged = false;
+  /// The largest marker offset correction |δ| and its marker.
+  double largest_offset_m = 0.0;
+  std::string largest_offset_marker;
   std::string BriefReport() const;
 };
 
 /// Fits scale factors and marker offsets to `frames` (each 3 × markers, NaN = missing). The
-/// model's mass properties keep their masses.
+/// model's mass properties keep their masses. `initial_q` (one per frame, optional) starts the
+/// poses; without it each frame is fitted by a cold-started inverse kinematics first.
 ScalingResult ScaleModel(const dynamics::Model<double>& model,
                          const std::vector<ModelMarker>& markers,
                          const std::vector<JointLimit>& limits,
                          const std::vector<Eigen::Matrix3Xd>& frames,
-                         const ScalingOptions& options = {});
+                         const ScalingOptions& options = {},
+                         const std::vector<Eigen::VectorXd>* initial_q = nullptr);
 
 /// The model with segment group factors applied (missing groups: 1).
 dynamics::Model<double> MakeScaledModel(const dynamics::Model<double>& model,

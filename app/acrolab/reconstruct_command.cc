@@ -1,0 +1,183 @@
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <optional>
+
+#include "acro/analysis/athlete_profile.h"
+#include "acro/analysis/de_leva.h"
+#include "acro/analysis/motion_export.h"
+#include "acro/analysis/reconstruction.h"
+#include "acro/analysis/yaml.h"
+#include "acro/capture/file_io.h"
+#include "acro/capture/trial_io.h"
+#include "commands.h"
+
+namespace acro::app {
+
+namespace {
+
+constexpr const char* kReconstructHelp =
+    "usage: acrolab reconstruct TRIAL [--static STATIC] [--athlete ATHLETE.yaml]\n"
+    "                           [--markerset NAME|FILE.yaml] -o DIR [options]\n"
+    "\n"
+    "Markers or video keypoints (C3D, TRC, CSV) to the athlete's joint angles: marker set\n"
+    "detection, gap filling, zero-lag low-pass filter, scaling, per-frame inverse kinematics.\n"
+    "Writes DIR/<trial>.mot (OpenSim, degrees), DIR/<trial>_angles.csv, DIR/<trial>_model.c3d\n"
+    "(processed markers + joint angles as Vicon-style angle points), DIR/<trial>_residuals.csv\n"
+    "and DIR/<trial>_summary.txt; prints the summary. docs/reconstruction.md.\n"
+    "  --static FILE        static trial for scaling (otherwise a window of the motion)\n"
+    "  --athlete FILE       athlete profile (docs/formats/athlete.md); without it a de Leva\n"
+    "                       athlete from --height (1.75) / --mass (65) / --sex (f), with a "
+    "warning\n"
+    "  --markerset NAME     plug_in_gait | helen_hayes | coco17 | trampoline | FILE.yaml\n"
+    "                       (default: detected from the labels)\n"
+    "  --cutoff HZ          low-pass cutoff (default: Winter's residual analysis); 0 = no filter\n"
+    "  --order N            Butterworth order per pass (default 2)\n"
+    "  --max-gap FRAMES     longest gap filled by a cubic spline (default 20)\n"
+    "  --window A:B         frames (0-based) to scale to when there is no static trial\n"
+    "  --no-scale           keep the athlete's segment lengths and default marker offsets\n"
+    "  --threads N          worker threads (default: all cores)\n"
+    "  --quiet              no progress bar\n";
+
+double Number(const std::string& option, const std::string& text) {
+  double value = 0.0;
+  if (!analysis::ParseYamlNumber(text, &value))
+    throw UsageError{option + " needs a number, got '" + text + "'"};
+  return value;
+}
+
+}  // namespace
+
+int RunReconstruct(const std::vector<std::string>& args) {
+  // Arguments.
+  std::string trial_path, static_path, athlete_path, markerset, out_dir, sex = "f", window;
+  double height = 1.75, mass = 65.0;
+  bool have_body_numbers = false, quiet = false;
+  analysis::ReconstructionOptions options;
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& arg = args[i];
+    auto value = [&]() -> const std::string& {
+      if (i + 1 >= args.size()) throw UsageError{arg + " needs a value"};
+      return args[++i];
+    };
+    if (arg == "--help" || arg == "-h") {
+      std::fputs(kReconstructHelp, stdout);
+      return 0;
+    } else if (arg == "--static") {
+      static_path = value();
+    } else if (arg == "--athlete") {
+      athlete_path = value();
+    } else if (arg == "--markerset") {
+      markerset = value();
+    } else if (arg == "-o" || arg == "--output") {
+      out_dir = value();
+    } else if (arg == "--height") {
+      height = Number(arg, value());
+      have_body_numbers = true;
+    } else if (arg == "--mass") {
+      mass = Number(arg, value());
+      have_body_numbers = true;
+    } else if (arg == "--sex") {
+      sex = value();
+      have_body_numbers = true;
+    } else if (arg == "--cutoff") {
+      options.cutoff_hz = Number(arg, value());
+      if (options.cutoff_hz < 0) throw UsageError{"--cutoff must be >= 0"};
+      options.filter = options.cutoff_hz > 0;
+    } else if (arg == "--order") {
+      options.filter_order = static_cast<int>(Number(arg, value()));
+    } else if (arg == "--max-gap") {
+      options.gaps.max_spline_gap_frames = static_cast<int>(Number(arg, value()));
+    } else if (arg == "--window") {
+      window = value();
+      const size_t colon = window.find(':');
+      if (colon == std::string::npos) throw UsageError{"--window needs A:B"};
+      options.scaling_first_frame = static_cast<int>(Number(arg, window.substr(0, colon)));
+      options.scaling_last_frame = static_cast<int>(Number(arg, window.substr(colon + 1)));
+    } else if (arg == "--no-scale") {
+      options.scale = false;
+    } else if (arg == "--threads") {
+      options.num_threads = static_cast<int>(Number(arg, value()));
+    } else if (arg == "--quiet") {
+      quiet = true;
+    } else if (!arg.empty() && arg[0] == '-') {
+      throw UsageError{"unknown option '" + arg + "'"};
+    } else if (trial_path.empty()) {
+      trial_path = arg;
+    } else {
+      throw UsageError{"one TRIAL only, got '" + trial_path + "' and '" + arg + "'"};
+    }
+  }
+  if (trial_path.empty()) throw UsageError{"missing TRIAL"};
+  if (out_dir.empty()) throw UsageError{"missing -o DIR"};
+  if (sex != "f" && sex != "m") throw UsageError{"--sex must be f or m, got '" + sex + "'"};
+  if (!athlete_path.empty() && have_body_numbers)
+    throw UsageError{"--athlete and --height/--mass/--sex exclude each other"};
+  std::string why;
+  if (!options.IsValid(&why)) throw UsageError{why};
+
+  // Inputs: trial, static trial, athlete.
+  const capture::Trial trial = capture::ReadTrial(trial_path);
+  std::optional<capture::Trial> static_trial;
+  if (!static_path.empty()) static_trial = capture::ReadTrial(static_path);
+  analysis::AthleteBody body;
+  if (!athlete_path.empty()) {
+    body = analysis::MakeAthleteBody(analysis::ReadAthleteProfile(athlete_path));
+  } else {
+    std::fprintf(stderr,
+                 "acrolab reconstruct: warning: no --athlete file; using a de Leva athlete of "
+                 "%.2f m, %.1f kg, sex %s (segment masses and inertias will be generic)\n",
+                 height,
+                 mass,
+                 sex.c_str());
+    body = analysis::MakeDeLevaBody(
+        height, mass, sex == "f" ? analysis::Sex::kFemale : analysis::Sex::kMale);
+  }
+  options.markerset = markerset;
+
+  // Reconstruction with a progress bar on stderr.
+  if (!quiet) {
+    // A bar redrawn in place on a terminal; one line at the end otherwise (logs, pipes).
+    const bool tty = isatty(fileno(stderr)) != 0;
+    options.progress = [tty](int done, int total) {
+      if (!tty && done < total) return;
+      const int width = 40;
+      const int filled = total > 0 ? done * width / total : width;
+      std::fprintf(stderr,
+                   "\rinverse kinematics [%s%s] %3d%% (%d/%d frames)",
+                   std::string(size_t(filled), '#').c_str(),
+                   std::string(size_t(width - filled), ' ').c_str(),
+                   total > 0 ? done * 100 / total : 100,
+                   done,
+                   total);
+      if (done >= total) std::fputc('\n', stderr);
+      std::fflush(stderr);
+    };
+  }
+  const analysis::ReconstructionResult result =
+      analysis::Reconstruct(trial, static_trial ? &*static_trial : nullptr, body, options);
+
+  // Outputs.
+  std::filesystem::create_directories(out_dir);
+  const std::string stem = std::filesystem::path(trial_path).stem().string();
+  const std::filesystem::path dir(out_dir);
+  analysis::WriteMotionMot(result.motion, dir / (stem + ".mot"));
+  analysis::WriteMotionCsv(result.motion, dir / (stem + "_angles.csv"));
+  analysis::WriteMotionC3d(result, trial, dir / (stem + "_model.c3d"));
+  capture::WriteFileAtomically(dir / (stem + "_residuals.csv"),
+                               analysis::FormatMarkerResidualsCsv(result.motion));
+  const std::string summary = "trial " + trial_path + " (" + std::to_string(trial.num_frames) +
+                              " frames at " + std::to_string(trial.point_rate_hz) + " Hz)\n" +
+                              "athlete " + body.model + ", " + std::to_string(body.height_m) +
+                              " m\n" + result.summary.BriefReport();
+  capture::WriteFileAtomically(dir / (stem + "_summary.txt"), summary);
+  std::fputs(summary.c_str(), stdout);
+  std::fprintf(stdout,
+               "wrote %s/%s{.mot,_angles.csv,_model.c3d,_residuals.csv,_summary.txt}\n",
+               out_dir.c_str(),
+               stem.c_str());
+  return 0;
+}
+
+}  // namespace acro::app
