@@ -153,6 +153,29 @@ class JointLimitCost : public ceres::CostFunction {
   double k_;
 };
 
+/// Prior towards the reference pose: r_j = w_j θ_j.
+class JointPriorCost : public ceres::CostFunction {
+ public:
+  explicit JointPriorCost(const std::vector<double>& w) : w_(w) {
+    set_num_residuals(static_cast<int>(w.size()));
+    mutable_parameter_block_sizes()->assign({static_cast<int>(w.size())});
+  }
+  bool Evaluate(double const* const* parameters,
+                double* residuals,
+                double** jacobians) const override {
+    const size_t n = w_.size();
+    if (jacobians && jacobians[0]) std::fill(jacobians[0], jacobians[0] + n * n, 0.0);
+    for (size_t j = 0; j < n; ++j) {
+      residuals[j] = w_[j] * parameters[0][j];
+      if (jacobians && jacobians[0]) jacobians[0][j * n + j] = w_[j];
+    }
+    return true;
+  }
+
+ private:
+  std::vector<double> w_;
+};
+
 /// Huber's loss that can be switched off (ρ(s) = s), so that a cold start reaches the right
 /// basin by plain least squares before outlying markers are down-weighted: started far from the
 /// solution, a robust loss would treat a whole limb's markers as outliers and keep it wrong.
@@ -224,6 +247,8 @@ bool InverseKinematicsOptions::IsValid(std::string* why) const {
     return false;
   };
   if (max_iterations < 1 || cold_start_iterations < 1) return fail("iterations must be >= 1");
+  for (double w : joint_prior_m_per_rad)
+    if (!(w >= 0.0)) return fail("joint_prior_m_per_rad must be >= 0");
   if (!(robust_scale_m >= 0.0)) return fail("robust_scale_m must be >= 0");
   if (!(joint_limit_stiffness_m_per_rad >= 0.0))
     return fail("joint_limit_stiffness_m_per_rad must be >= 0");
@@ -275,6 +300,11 @@ struct InverseKinematics::Impl {
       problem->AddResidualBlock(new JointLimitCost(limits, options.joint_limit_stiffness_m_per_rad),
                                 nullptr,
                                 joints.data());
+    if (!options.joint_prior_m_per_rad.empty()) {
+      ACRO_DEMAND(static_cast<int>(options.joint_prior_m_per_rad.size()) == model.num_joint_dofs());
+      problem->AddResidualBlock(
+          new JointPriorCost(options.joint_prior_m_per_rad), nullptr, joints.data());
+    }
     solver_options.linear_solver_type =
         options.normal_cholesky ? ceres::DENSE_NORMAL_CHOLESKY : ceres::DENSE_QR;
     solver_options.num_threads = 1;

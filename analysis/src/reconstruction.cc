@@ -173,6 +173,22 @@ ReconstructionResult Reconstruct(const capture::Trial& trial,
   const dynamics::Model<double> model0 = MakeStandardHumanModel(body);
   std::vector<ModelMarker> markers = PlaceMarkers(result.markerset, model0, body.height_m);
   const std::vector<JointLimit> limits = StandardJointLimits(model0);
+  InverseKinematicsOptions ik_options = options.ik;
+  if (result.markerset.keypoints && ik_options.joint_prior_m_per_rad.empty()) {
+    // Angles that 17 keypoints leave undetermined rest at the reference pose.
+    ik_options.joint_prior_m_per_rad.assign(size_t(model0.num_joint_dofs()), 0.0);
+    for (int s = 1; s < model0.num_segments(); ++s) {
+      const dynamics::Segment<double>& seg = model0.segment(s);
+      const std::string base = ScaleGroupOf(seg.name);
+      for (int k = 0; k < seg.num_axes; ++k) {
+        const bool unseen =
+            base == "thorax" || base == "hand" || base == "foot" || (base == "forearm" && k == 1);
+        if (unseen)
+          ik_options.joint_prior_m_per_rad[size_t(seg.q_start - 7 + k)] =
+              options.keypoint_unseen_angle_prior_m_per_rad;
+      }
+    }
+  }
   const int M = static_cast<int>(markers.size());
   const int F = trial.num_frames;
   const double rate = trial.point_rate_hz;
@@ -262,7 +278,7 @@ ReconstructionResult Reconstruct(const capture::Trial& trial,
         chosen.push_back(candidates[std::min(i, candidates.size() - 1)]);
       }
       if (!chosen.empty()) {
-        InverseKinematics ik(model0, markers, limits, options.ik);
+        InverseKinematics ik(model0, markers, limits, ik_options);
         Eigen::VectorXd q = dynamics::MakeNeutralConfiguration(model0);
         int last_fitted = -1000000;
         size_t next = 0;
@@ -278,12 +294,15 @@ ReconstructionResult Reconstruct(const capture::Trial& trial,
       }
     }
     if (!frames.empty()) {
+      ScalingOptions scaling_options = options.scaling;
+      if (result.markerset.keypoints) scaling_options.offset_prior = options.keypoint_offset_prior;
       ScalingResult scaled = ScaleModel(model0,
                                         markers,
                                         limits,
                                         frames,
-                                        options.scaling,
-                                        initial_q.empty() ? nullptr : &initial_q);
+                                        scaling_options,
+                                        initial_q.empty() ? nullptr : &initial_q,
+                                        ik_options);
       result.model = scaled.model;
       markers = scaled.markers;
       // The poses fitted with the factors (frames of this trial) start the inverse kinematics.
@@ -374,7 +393,7 @@ ReconstructionResult Reconstruct(const capture::Trial& trial,
     std::vector<std::thread> workers;
     for (int c = 0; c < chunks; ++c) {
       workers.emplace_back([&, c]() {
-        InverseKinematics ik(result.model, markers, limits, options.ik);
+        InverseKinematics ik(result.model, markers, limits, ik_options);
         const int b = bounds[size_t(c)], e = bounds[size_t(c) + 1];
         // A pose fitted with the scale factors inside the chunk is the exact start: solve forward
         // from its frame to the chunk's end and backward to its beginning. Otherwise cold-start.
@@ -394,7 +413,7 @@ ReconstructionResult Reconstruct(const capture::Trial& trial,
   // Chunk joins: warm-solve each chunk's first frame from the previous chunk's last; if the cold
   // start found another branch, re-solve the chunk sequentially from there.
   {
-    InverseKinematics ik(result.model, markers, limits, options.ik);
+    InverseKinematics ik(result.model, markers, limits, ik_options);
     for (int c = 1; c < chunks; ++c) {
       const int s = bounds[size_t(c)];
       if (!motion.fit[size_t(s - 1)].valid) continue;

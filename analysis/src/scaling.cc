@@ -78,13 +78,16 @@ struct PriorResidual {
 struct LimitResidual {
   std::vector<JointLimit> limits;
   double k;
+  std::vector<double> prior;  // empty or one weight per joint angle
   template <typename T>
   bool operator()(T const* const* x, T* r) const {
-    for (size_t j = 0; j < limits.size(); ++j) {
+    const size_t n = limits.size();
+    for (size_t j = 0; j < n; ++j) {
       const T t = x[0][j];
       r[j] = T(0.0);
       if (t > T(limits[j].upper_rad)) r[j] = T(k) * (t - T(limits[j].upper_rad));
       if (t < T(limits[j].lower_rad)) r[j] = T(k) * (t - T(limits[j].lower_rad));
+      if (!prior.empty()) r[n + j] = T(prior[j]) * t;
     }
     return true;
   }
@@ -162,7 +165,8 @@ ScalingResult ScaleModel(const dynamics::Model<double>& model,
                          const std::vector<JointLimit>& limits,
                          const std::vector<Eigen::Matrix3Xd>& frames,
                          const ScalingOptions& options,
-                         const std::vector<Eigen::VectorXd>* initial_q) {
+                         const std::vector<Eigen::VectorXd>* initial_q,
+                         const InverseKinematicsOptions& ik_options) {
   std::string why;
   ACRO_DEMAND(options.IsValid(&why));
   ACRO_DEMAND(!frames.empty());
@@ -181,7 +185,6 @@ ScalingResult ScaleModel(const dynamics::Model<double>& model,
     group_of[size_t(s)] = static_cast<int>(it - groups.begin());
   }
   // Initial poses: inverse kinematics of each frame with the unscaled model.
-  InverseKinematicsOptions ik_options;
   InverseKinematics ik(model, markers, limits, ik_options);
   std::vector<Eigen::VectorXd> q(frames.size(), dynamics::MakeNeutralConfiguration(model));
   if (initial_q) {
@@ -211,11 +214,11 @@ ScalingResult ScaleModel(const dynamics::Model<double>& model,
     problem.AddParameterBlock(pk, 3);
     problem.AddParameterBlock(pk + 3, 4, new ceres::QuaternionManifold);
     problem.AddParameterBlock(pk + 7, n);
-    if (ik_options.joint_limit_stiffness_m_per_rad > 0) {
-      auto* lim = new ceres::DynamicAutoDiffCostFunction<LimitResidual, 16>(
-          new LimitResidual{limits, ik_options.joint_limit_stiffness_m_per_rad});
+    {
+      auto* lim = new ceres::DynamicAutoDiffCostFunction<LimitResidual, 16>(new LimitResidual{
+          limits, ik_options.joint_limit_stiffness_m_per_rad, ik_options.joint_prior_m_per_rad});
       lim->AddParameterBlock(n);
-      lim->SetNumResiduals(n);
+      lim->SetNumResiduals(ik_options.joint_prior_m_per_rad.empty() ? n : 2 * n);
       problem.AddResidualBlock(lim, nullptr, pk + 7);
     }
     for (int m = 0; m < M; ++m) {

@@ -37,6 +37,7 @@ constexpr const char* kReconstructHelp =
     "  --max-gap FRAMES     longest gap filled by a cubic spline (default 20)\n"
     "  --window A:B         frames (0-based) to scale to when there is no static trial\n"
     "  --no-scale           keep the athlete's segment lengths and default marker offsets\n"
+    "  --no-swap-repair     do not exchange left/right markers that fit the other side better\n"
     "  --threads N          worker threads (default: all cores)\n"
     "  --quiet              no progress bar\n";
 
@@ -97,6 +98,8 @@ int RunReconstruct(const std::vector<std::string>& args) {
       options.scaling_last_frame = static_cast<int>(Number(arg, window.substr(colon + 1)));
     } else if (arg == "--no-scale") {
       options.scale = false;
+    } else if (arg == "--no-swap-repair") {
+      options.repair_swaps = false;
     } else if (arg == "--threads") {
       options.num_threads = static_cast<int>(Number(arg, value()));
     } else if (arg == "--quiet") {

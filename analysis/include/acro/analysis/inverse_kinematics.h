@@ -42,6 +42,11 @@ struct InverseKinematicsOptions {
   /// Residual per radian beyond a joint limit (m/rad): 0.2 makes 5° past a limit cost like a
   /// 1.7 cm marker error.
   double joint_limit_stiffness_m_per_rad = 0.2;
+  /// Optional prior pulling joint angles towards zero (the reference pose): residual w_j θ_j
+  /// (m/rad), one weight per joint angle, or empty. For angles the markers cannot see (video
+  /// keypoints: pelvis tilt against lumbar flexion, forearm pronation, wrists, ankles), so that
+  /// they rest at the reference pose instead of drifting along the null space.
+  std::vector<double> joint_prior_m_per_rad;
   /// Dense normal equations (Cholesky) rather than dense QR.
   bool normal_cholesky = true;
   bool IsValid(std::string* why) const;

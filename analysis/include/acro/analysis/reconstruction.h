@@ -39,6 +39,13 @@ struct ReconstructionOptions {
   double cutoff_hz = 0.0;
   bool scale = true;
   ScalingOptions scaling;
+  /// Offset prior (ScalingOptions::offset_prior) for keypoint sets: video keypoints are meant to
+  /// be joint centres and landmarks, so their offsets are held far more firmly than skin markers'.
+  double keypoint_offset_prior = 5.0;
+  /// For keypoint sets without ik.joint_prior_m_per_rad: the prior weight (m/rad) on the angles
+  /// 17 keypoints cannot see — lumbar (pelvis tilt trades against it), forearm pronation, wrists
+  /// and ankles (docs/reconstruction.md).
+  double keypoint_unseen_angle_prior_m_per_rad = 0.05;
   /// Frames of the motion used for scaling without a static trial (evenly spread over the window).
   int scaling_window_frames = 20;
   /// Window for scaling without a static trial, in frames of the trial (−1: the whole trial).

@@ -52,13 +52,16 @@ struct ScalingResult {
 
 /// Fits scale factors and marker offsets to `frames` (each 3 × markers, NaN = missing). The
 /// model's mass properties keep their masses. `initial_q` (one per frame, optional) starts the
-/// poses; without it each frame is fitted by a cold-started inverse kinematics first.
+/// poses; without it each frame is fitted by a cold-started inverse kinematics first. The joint
+/// limits, their stiffness and the joint prior of `ik_options` enter the fit as in the inverse
+/// kinematics, so that both minimise the same objective.
 ScalingResult ScaleModel(const dynamics::Model<double>& model,
                          const std::vector<ModelMarker>& markers,
                          const std::vector<JointLimit>& limits,
                          const std::vector<Eigen::Matrix3Xd>& frames,
                          const ScalingOptions& options = {},
-                         const std::vector<Eigen::VectorXd>* initial_q = nullptr);
+                         const std::vector<Eigen::VectorXd>* initial_q = nullptr,
+                         const InverseKinematicsOptions& ik_options = {});
 
 /// The model with segment group factors applied (missing groups: 1).
 dynamics::Model<double> MakeScaledModel(const dynamics::Model<double>& model,
