@@ -269,6 +269,14 @@ TEST(InverseDynamicsTest, RejectsMismatchedWorkspaceAndSizes) {
   Workspace<double> ws(human);
   EXPECT_THROW(CalcInverseDynamics(human, ws, q, v, Eigen::VectorXd::Zero(3)), std::logic_error);
   EXPECT_NO_THROW(CalcInverseDynamics(human, ws, q, v, v));
+  // A scaled quaternion describes the same orientation.
+  std::mt19937 rng2(4);
+  const Eigen::VectorXd qr = RandomConfiguration(human, rng2);
+  const Eigen::VectorXd vr = RandomVelocity(human, rng2, 2.0);
+  const Eigen::VectorXd tau = CalcInverseDynamics(human, ws, qr, vr, vr);
+  Eigen::VectorXd q_scaled = qr;
+  q_scaled.segment<4>(3) *= 1.7;
+  EXPECT_LE(RelativeError(CalcInverseDynamics(human, ws, q_scaled, vr, vr), tau), 1e-14);
   // World poses not computed by a plain inverse dynamics are not silently read.
   EXPECT_THROW(CalcCenterOfMassPosition(human, ws), std::logic_error);
   CalcForwardKinematics(human, ws, q);

@@ -30,10 +30,12 @@ void SetRootQuaternion(const Eigen::Quaternion<T>& q_WB, VectorXRef<T> q) {
   q[6] = q_WB.z();
 }
 
-/// R_WB of the unit quaternion (w, x, y, z) (not normalised: q must be a unit quaternion).
+/// R_WB of the quaternion (w, x, y, z), normalised on the way: the homogeneous form with
+/// s = 2/|q|² gives the rotation of q/|q| for any nonzero q, so that an optimiser's slightly
+/// non-unit quaternion still yields a proper rotation (Shoemake 1985).
 template <typename T>
 Matrix3<T> QuaternionToRotation(const T& w, const T& x, const T& y, const T& z) {
-  const T two(2);
+  const T two = T(2) / (w * w + x * x + y * y + z * z);
   const T xx = x * x, yy = y * y, zz = z * z;
   const T xy = x * y, xz = x * z, yz = y * z;
   const T wx = w * x, wy = w * y, wz = w * z;
