@@ -1,0 +1,74 @@
+#pragma once
+
+// Contact and flight phases of a trampoline (or floor) trial, from the whole-body centre of mass
+// or from force plates. One flight = one skill; flights cut by the start or end of the recording
+// are flagged partial and not scored.
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace acro::analysis {
+
+struct PhaseOptions {
+  double gravity_m_per_s2 = 9.81;
+  /// Half-width of the Savitzky–Golay window used to find free fall (s); wide enough that 1 mm of
+  /// COM noise does not break a flight into pieces.
+  double smoothing_half_window_s = 0.08;
+  /// A frame is in free fall when the smoothed vertical COM acceleration is within this of −g.
+  double free_fall_tolerance_m_per_s2 = 2.0;
+  /// Shorter free-fall runs are not flights (bounces, noise).
+  double min_flight_s = 0.15;
+  /// How far into the contact phase the take-off/landing model is fitted (s): see RefineEvent in
+  /// phases.cc (the COM departs from the flight parabola with d³ at take-off, d² at a damped
+  /// landing).
+  double contact_fit_window_s = 0.10;
+  /// Force-plate route: contact while the vertical force exceeds its flight baseline by this (N).
+  double force_threshold_N = 20.0;
+
+  bool IsValid(std::string* why) const;
+};
+
+struct Flight {
+  double takeoff_s = 0.0;  ///< sub-frame estimate
+  double landing_s = 0.0;
+  int takeoff_frame = 0;  ///< first frame in the air
+  int landing_frame = 0;  ///< first frame back in contact
+  bool partial = false;   ///< cut by the start or end of the recording: not a complete skill
+  /// COM vertical motion fitted over the flight: z(t) = z0 + v0 (t − takeoff) − ½ g_fit (t −
+  /// takeoff)².
+  double fitted_gravity_m_per_s2 = 0.0;
+  double takeoff_vertical_velocity_m_per_s = 0.0;
+  double apex_z_m = 0.0;
+  double apex_s = 0.0;
+  double parabola_rms_m = 0.0;  ///< RMS of COM z about the fitted parabola over the flight
+
+  double time_of_flight_s() const { return landing_s - takeoff_s; }
+};
+
+struct PhaseSegmentation {
+  std::vector<Flight> flights;
+  std::string method;  ///< "com" or "force plates"
+};
+
+/// Flights from the whole-body COM height sampled at `time_s` (uniform rate).
+PhaseSegmentation DetectFlightsFromCom(const Eigen::VectorXd& time_s,
+                                       const Eigen::VectorXd& com_z_m,
+                                       const PhaseOptions& options = {});
+
+/// Flights from the total vertical ground reaction (N) sampled at `time_s`; the parabola fields are
+/// filled from `com_z_m` at `com_time_s` when given (may be empty).
+PhaseSegmentation DetectFlightsFromForce(const Eigen::VectorXd& time_s,
+                                         const Eigen::VectorXd& force_z_N,
+                                         const Eigen::VectorXd& com_time_s,
+                                         const Eigen::VectorXd& com_z_m,
+                                         const PhaseOptions& options = {});
+
+/// Savitzky–Golay (quadratic) second derivative of uniformly sampled values, half-window h samples;
+/// the ends use the nearest full window.
+Eigen::VectorXd SavitzkyGolaySecondDerivative(const Eigen::VectorXd& values,
+                                              double dt,
+                                              int half_window);
+
+}  // namespace acro::analysis
