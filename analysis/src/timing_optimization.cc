@@ -135,10 +135,10 @@ void SampleState(const SkillSplines<T>& s,
                  dynamics::VectorX<T>& q,
                  dynamics::VectorX<T>& v,
                  dynamics::VectorX<T>& a) {
-  const int interval = s.joint_knots.FindInterval(t);
+  const SplineWeights<T> w = s.joint_knots.Weights(s.joint_knots.FindInterval(t), t);
   for (int j = 0; j < s.ndof; ++j) {
-    const SplineSample<T> y = s.joint_knots.Eval(
-        interval, t, s.joint_values.data() + j * s.n, s.joint_moments.data() + j * s.n);
+    const SplineSample<T> y =
+        s.joint_knots.Combine(w, s.joint_values.data() + j * s.n, s.joint_moments.data() + j * s.n);
     q[7 + j] = y.value;
     v[6 + j] = y.d1;
     a[6 + j] = y.d2;
@@ -353,6 +353,7 @@ Eigen::VectorXd Solve(const SkillDesign& design,
   const int n = design.num_keyframes();
   const double min_gap = options.min_gap_fraction * design.flight_time_s() / (n - 1);
   for (int j = 0; j + 1 < n; ++j) problem.SetParameterLowerBound(blocks[0], j, min_gap);
+  if (model == 1 && !options.model1_vary_joints) problem.SetParameterBlockConstant(blocks[1]);
   if (model == 1) {
     // Keyframe tolerances as bounds: |Δθ| ≤ e₂ per joint angle; the orientation offset's
     // components within e₂/√3 so that its geodesic angle |δ| ≤ e₂.

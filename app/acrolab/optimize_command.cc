@@ -19,6 +19,8 @@ constexpr const char* kOptimizeHelp =
     "writes DIR/result.json, timing.csv/.svg/.png, angular_momentum.svg/.png, motion.c3d,\n"
     "motion.mot and report.html. Progress goes to stderr.\n"
     "  --model 1|2     2 (default): times only; 1: times and trajectory coefficients\n"
+    "  --fixed-joints  Model 1 keeps the keyframe joint angles and varies the times and the root\n"
+    "                  orientation only\n"
     "  --simulate      also simulate the flight with the optimised motion (somersaults, landing)\n"
     "  --intervals N   quadrature intervals over the flight (even; default 40)\n"
     "  -o DIR          output folder (created)\n"
@@ -44,6 +46,8 @@ int RunOptimize(const std::vector<std::string>& args) {
       const std::string& m = value();
       if (m != "1" && m != "2") throw UsageError{"--model is 1 or 2, got '" + m + "'"};
       options.model = m == "1" ? 1 : 2;
+    } else if (arg == "--fixed-joints") {
+      options.model1_vary_joints = false;
     } else if (arg == "--simulate") {
       simulate = true;
     } else if (arg == "--intervals") {

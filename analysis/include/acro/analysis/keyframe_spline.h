@@ -41,6 +41,13 @@ struct SplineSample {
   T d2{0.0};
 };
 
+/// Per-time coefficients of a spline evaluation (see CubicSplineKnots::Weights).
+template <typename T>
+struct SplineWeights {
+  int interval = 0;
+  T a{0.0}, b{0.0}, ca{0.0}, cb{0.0}, da{0.0}, db{0.0}, inv_h{0.0};
+};
+
 /// The knots of a natural cubic spline and the factorisation of its moment equations.
 template <typename T>
 class CubicSplineKnots {
@@ -104,22 +111,42 @@ class CubicSplineKnots {
     return i;
   }
 
+  /// The coefficients of y_i, y_{i+1}, M_i, M_{i+1} in s, s' and s'' on interval i at time t: the
+  /// part of an evaluation shared by every channel.
+  template <typename TT>
+  SplineWeights<T> Weights(int i, const TT& t) const {
+    const size_t ui = static_cast<size_t>(i);
+    const T& h = h_[ui];
+    SplineWeights<T> w;
+    w.interval = i;
+    w.inv_h = T(1.0) / h;
+    w.a = (t_[ui + 1] - t) * w.inv_h;
+    w.b = (t - t_[ui]) * w.inv_h;
+    const T h2_6 = h * h / T(6.0);
+    w.ca = (w.a * w.a * w.a - w.a) * h2_6;
+    w.cb = (w.b * w.b * w.b - w.b) * h2_6;
+    w.da = -(T(3.0) * w.a * w.a - T(1.0)) * h / T(6.0);
+    w.db = (T(3.0) * w.b * w.b - T(1.0)) * h / T(6.0);
+    return w;
+  }
+
+  /// One channel (values y, moments M) with precomputed weights.
+  template <typename Y>
+  SplineSample<T> Combine(const SplineWeights<T>& w, const Y* y, const T* M) const {
+    const size_t ui = static_cast<size_t>(w.interval);
+    const T yi = T(y[ui]);
+    const T yj = T(y[ui + 1]);
+    SplineSample<T> s;
+    s.value = w.a * yi + w.b * yj + w.ca * M[ui] + w.cb * M[ui + 1];
+    s.d1 = (yj - yi) * w.inv_h + w.da * M[ui] + w.db * M[ui + 1];
+    s.d2 = w.a * M[ui] + w.b * M[ui + 1];
+    return s;
+  }
+
   /// The spline through y with moments M, on interval i, at time t.
   template <typename Y, typename TT>
   SplineSample<T> Eval(int i, const TT& t, const Y* y, const T* M) const {
-    const size_t ui = static_cast<size_t>(i);
-    const T& h = h_[ui];
-    const T a = (t_[ui + 1] - t) / h;
-    const T b = (t - t_[ui]) / h;
-    SplineSample<T> s;
-    const T yi = T(y[ui]);
-    const T yj = T(y[ui + 1]);
-    s.value =
-        a * yi + b * yj + ((a * a * a - a) * M[ui] + (b * b * b - b) * M[ui + 1]) * h * h / T(6.0);
-    s.d1 = (yj - yi) / h - (T(3.0) * a * a - T(1.0)) * h * M[ui] / T(6.0) +
-           (T(3.0) * b * b - T(1.0)) * h * M[ui + 1] / T(6.0);
-    s.d2 = a * M[ui] + b * M[ui + 1];
-    return s;
+    return Combine(Weights(i, t), y, M);
   }
 
  private:

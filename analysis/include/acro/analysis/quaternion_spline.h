@@ -91,11 +91,12 @@ class QuaternionSpline {
     out.q_WB = Q_[0];
     out.w_WB_B.setZero();
     out.wdot_WB_B.setZero();
+    const SplineWeights<T> weights = knots_.Weights(interval, t);
     std::vector<double>& step = step_;
     step.resize(n);
     for (size_t k = 1; k < n; ++k) {
       for (size_t j = 0; j < n; ++j) step[j] = j >= k ? 1.0 : 0.0;
-      const SplineSample<T> B = knots_.Eval(interval, t, step.data(), moments_.data() + k * n);
+      const SplineSample<T> B = knots_.Combine(weights, step.data(), moments_.data() + k * n);
       const dynamics::Vector3<T> phi = omega_[k] * B.value;
       const Eigen::Quaternion<T> A = dynamics::QuaternionExp<T>(phi);
       const dynamics::Matrix3<T> Rt = A.toRotationMatrix().transpose();

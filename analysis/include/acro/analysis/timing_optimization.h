@@ -129,9 +129,12 @@ struct TimingOptimizationOptions {
   int max_iterations = 200;
   /// Ceres' convergence tests: stop when the relative decrease of the cost falls below
   /// function_tolerance (J then has about six stable digits), and so on.
-  double function_tolerance = 1e-7;
+  double function_tolerance = 1e-5;
   double gradient_tolerance = 1e-10;
   double parameter_tolerance = 1e-8;
+  /// Model 1 varies the joint angles at the keyframes (true) or keeps them as given and varies only
+  /// the times and the root orientation knots (false).
+  bool model1_vary_joints = true;
   /// Model 1 starts from the Model 2 optimum (true) or from the initial times.
   bool model1_from_model2 = true;
   /// Progress lines (iteration, objective) are handed here when set; the library prints nothing.
