@@ -56,8 +56,8 @@ struct ReconstructionOptions {
   bool repair_swaps = true;
   /// A swap is repaired when exchanging the pair reduces the pair's distance to the prediction by
   /// this factor and by at least swap_min_gain_m.
-  double swap_ratio = 0.5;
-  double swap_min_gain_m = 0.05;
+  double swap_ratio = 0.3;
+  double swap_min_gain_m = 0.08;
   /// Worker threads (0: hardware concurrency); frames are cut into this many chunks.
   int num_threads = 0;
   /// Chunks shorter than this many frames are not split off.
