@@ -38,7 +38,7 @@ Eigen::VectorXd SimpsonWeightsOverT(int intervals) {
 std::vector<int> BlockSizes(const SkillDesign& d, int model) {
   const int n = d.num_keyframes();
   if (model == 2) return {n - 1};
-  return {n - 1, d.num_joint_dofs() * n, 3 * n, 3 * (n - 1)};
+  return {n - 1, d.num_joint_dofs() * n, 3 * n, 3 * (n - 1), d.num_joint_dofs() * (n - 1)};
 }
 
 // Everything the residual evaluation needs besides the variables.
@@ -92,16 +92,32 @@ void BuildSplines(const ResidualData& d, const T* const* params, SkillSplines<T>
   s.n = n;
   s.ndof = ndof;
   const std::vector<T> t = TimesFromGaps(params[0], n, design.flight_time_s());
-  s.joint_knots.Reset(t);
-  s.joint_values.resize(static_cast<size_t>(ndof * n));
-  s.joint_moments.resize(static_cast<size_t>(ndof * n));
+  // Joint knots: the keyframes and, when the base has them, the midpoints (Model 1 offsets both).
+  const bool joint_mid = d.base.midpoint_joint_angles_rad.cols() > 0;
+  const int nk = joint_mid ? 2 * n - 1 : n;
+  s.n = nk;
+  std::vector<T> joint_t;
+  for (int i = 0; i < n; ++i) {
+    joint_t.push_back(t[static_cast<size_t>(i)]);
+    if (joint_mid && i + 1 < n)
+      joint_t.push_back(T(0.5) * (t[static_cast<size_t>(i)] + t[static_cast<size_t>(i + 1)]));
+  }
+  s.joint_knots.Reset(std::move(joint_t));
+  s.joint_values.resize(static_cast<size_t>(ndof * nk));
+  s.joint_moments.resize(static_cast<size_t>(ndof * nk));
   for (int j = 0; j < ndof; ++j) {
-    T* y = s.joint_values.data() + j * n;
-    for (int i = 0; i < n; ++i) {
-      y[i] = T(d.base.joint_angles_rad(j, i));
-      if (d.model == 1) y[i] += params[1][i * ndof + j];
+    T* y = s.joint_values.data() + j * nk;
+    for (int i = 0, k = 0; i < n; ++i) {
+      y[k] = T(d.base.joint_angles_rad(j, i));
+      if (d.model == 1) y[k] += params[1][i * ndof + j];
+      ++k;
+      if (joint_mid && i + 1 < n) {
+        y[k] = T(d.base.midpoint_joint_angles_rad(j, i));
+        if (d.model == 1) y[k] += params[4][i * ndof + j];
+        ++k;
+      }
     }
-    s.joint_knots.SolveMoments(y, s.joint_moments.data() + j * n);
+    s.joint_knots.SolveMoments(y, s.joint_moments.data() + j * nk);
   }
   // Orientation knots: the keyframes (offset by exp(δ/2) in Model 1) and, when the base has them,
   // the midpoints.
@@ -300,13 +316,28 @@ class MotionEvaluator {
 
 }  // namespace
 
-SkillTrajectory AddMidpointOrientations(const SkillTrajectory& t) {
+SkillTrajectory AddMidpointKnots(const SkillTrajectory& t) {
   SkillTrajectory out = t;
   out.midpoint_orientations.clear();
-  QuaternionSpline<double> spline(
-      std::vector<double>(t.times_s.data(), t.times_s.data() + t.times_s.size()),
-      t.keyframe_orientations);
-  for (int i = 0; i + 1 < t.times_s.size(); ++i)
+  const std::vector<double> times(t.times_s.data(), t.times_s.data() + t.times_s.size());
+  const int n = static_cast<int>(times.size());
+  QuaternionSpline<double> spline(times, t.keyframe_orientations);
+  CubicSplineKnots<double> knots(times);
+  std::vector<double> M(times.size());
+  out.midpoint_joint_angles_rad.resize(t.joint_angles_rad.rows(), n - 1);
+  for (int j = 0; j < t.joint_angles_rad.rows(); ++j) {
+    const Eigen::VectorXd y = t.joint_angles_rad.row(j).transpose();
+    knots.SolveMoments(y.data(), M.data());
+    for (int i = 0; i + 1 < n; ++i)
+      out.midpoint_joint_angles_rad(j, i) =
+          knots
+              .Eval(i,
+                    0.5 * (times[static_cast<size_t>(i)] + times[static_cast<size_t>(i + 1)]),
+                    y.data(),
+                    M.data())
+              .value;
+  }
+  for (int i = 0; i + 1 < n; ++i)
     out.midpoint_orientations.push_back(spline.Eval(0.5 * (t.times_s[i] + t.times_s[i + 1])).q_WB);
   return out;
 }
@@ -353,7 +384,10 @@ Eigen::VectorXd Solve(const SkillDesign& design,
   const int n = design.num_keyframes();
   const double min_gap = options.min_gap_fraction * design.flight_time_s() / (n - 1);
   for (int j = 0; j + 1 < n; ++j) problem.SetParameterLowerBound(blocks[0], j, min_gap);
-  if (model == 1 && !options.model1_vary_joints) problem.SetParameterBlockConstant(blocks[1]);
+  if (model == 1 && !options.model1_vary_joints) {
+    problem.SetParameterBlockConstant(blocks[1]);
+    problem.SetParameterBlockConstant(blocks[4]);
+  }
   if (model == 1) {
     // Keyframe tolerances as bounds: |Δθ| ≤ e₂ per joint angle; the orientation offset's
     // components within e₂/√3 so that its geodesic angle |δ| ≤ e₂.
@@ -529,6 +563,7 @@ SkillTrajectory SkillTrajectoryFromParameters(const SkillDesign& design,
     const double* joints = x.data() + (n - 1);
     const double* key = joints + ndof * n;
     const double* mid = key + 3 * n;
+    const double* mid_joints = mid + 3 * (n - 1);
     for (int i = 0; i < n; ++i) {
       for (int j = 0; j < ndof; ++j) t.joint_angles_rad(j, i) += joints[i * ndof + j];
       t.keyframe_orientations[static_cast<size_t>(i)] =
@@ -536,6 +571,9 @@ SkillTrajectory SkillTrajectoryFromParameters(const SkillDesign& design,
            dynamics::QuaternionExp<double>(
                Eigen::Vector3d(key[3 * i], key[3 * i + 1], key[3 * i + 2])))
               .normalized();
+      if (i + 1 < n)
+        for (int j = 0; j < ndof; ++j)
+          t.midpoint_joint_angles_rad(j, i) += mid_joints[i * ndof + j];
       if (i + 1 < n)
         t.midpoint_orientations[static_cast<size_t>(i)] =
             (base.midpoint_orientations[static_cast<size_t>(i)] *
@@ -630,7 +668,7 @@ TimingOptimizationResult OptimizeSkillTiming(const SkillDesign& design,
   // Model 1: times and trajectory coefficients, from the Model 2 optimum (or the initial times).
   if (options.model == 1) {
     const SkillTrajectory base1 =
-        AddMidpointOrientations(options.model1_from_model2 ? result.optimized : result.initial);
+        AddMidpointKnots(options.model1_from_model2 ? result.optimized : result.initial);
     TimingOptimizationSummary s1;
     x_final = Solve(design, base1, 1, options, &s1);
     result.stages.push_back(s1);

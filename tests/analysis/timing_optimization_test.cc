@@ -127,7 +127,7 @@ TEST(TimingOptimization, TheMotionPassesThroughTheKeyframes) {
 // a coarse grid to keep the 2·(n_x) evaluations cheap.
 TEST(TimingOptimization, Model1GradientMatchesCentralDifferences) {
   const SkillDesign& d = BackTuck();
-  const SkillTrajectory base = AddMidpointOrientations(MakeKeyframeTrajectory(d, d.EvenTimes()));
+  const SkillTrajectory base = AddMidpointKnots(MakeKeyframeTrajectory(d, d.EvenTimes()));
   Eigen::VectorXd x = InitialSkillParameters(d, base, 1);
   ASSERT_EQ(x.size(), NumSkillParameters(d, 1));
   for (int i = 0; i < x.size(); ++i)

@@ -62,14 +62,17 @@ struct SkillTrajectory {
   std::vector<Eigen::Quaterniond> keyframe_orientations;  ///< num_keyframes
   /// Extra orientation knots halfway between keyframes (Model 1), or empty.
   std::vector<Eigen::Quaterniond> midpoint_orientations;
+  /// Extra joint-angle knots halfway between keyframes (Model 1), num_joint_dofs × (n − 1), or
+  /// empty.
+  Eigen::MatrixXd midpoint_joint_angles_rad;
 };
 
 /// The keyframes as given at the given times.
 SkillTrajectory MakeKeyframeTrajectory(const SkillDesign& design, const Eigen::VectorXd& times_s);
 
-/// The same trajectory with orientation knots added halfway between keyframes, on the keyframe-only
-/// quaternion spline (Model 1's base: the curve barely changes, the midpoints become free).
-SkillTrajectory AddMidpointOrientations(const SkillTrajectory& trajectory);
+/// The same trajectory with orientation and joint-angle knots added halfway between keyframes, on
+/// the keyframe-only splines (Model 1's base: the curves barely change, the midpoints become free).
+SkillTrajectory AddMidpointKnots(const SkillTrajectory& trajectory);
 
 /// Configuration, velocity and acceleration of the designed motion at time t (root translation on
 /// the COM parabola; the COM starts at `com_start_W`).
