@@ -1,6 +1,7 @@
 #include "acro/analysis/inverse_kinematics.h"
 
 #include <ceres/ceres.h>
+#include <ceres/tiny_solver.h>
 
 #include <cmath>
 #include <cstring>
@@ -71,12 +72,22 @@ struct MarkerKinematics {
   bool have_jacobians = false;
 };
 
-/// r = w (p_WM(q) − p̂): three residuals, parameter blocks (p_WoBo_W 3, quaternion 4, joints n).
-class MarkerCost : public ceres::CostFunction {
+/// All markers in one residual block (one block keeps Ceres's per-block overhead out of the
+/// per-frame cost): r_m = w_m (p_WM(q) − p̂_m), three residuals per marker, zero for a missing one.
+/// Huber's loss is applied per marker by transforming its residual so that |r̃|² = ρ(|r|²):
+/// with x = |r| > δ, r̃ = (φ/x) r, φ = (2δx − δ²)^½, and the exact Jacobian
+/// J̃ = (φ/x) J + (φ' − φ/x) r̂ r̂ᵀ J (φ' = δ/φ, r̂ = r/x); inside δ, r̃ = r. The transformed
+/// problem has the robust cost as its sum of squares, so Gauss–Newton on it is a robust fit.
+/// Parameter blocks: p_WoBo_W (3), quaternion (4), joints (n).
+class AllMarkersCost : public ceres::CostFunction {
  public:
-  MarkerCost(MarkerKinematics* kin, int marker, const double* target, const bool* present)
-      : kin_(kin), marker_(marker), target_(target), present_(present) {
-    set_num_residuals(3);
+  AllMarkersCost(MarkerKinematics* kin,
+                 const Eigen::Matrix3Xd* targets,
+                 const bool* present,
+                 const double* huber_scale,
+                 const bool* robust)
+      : kin_(kin), targets_(targets), present_(present), delta_(huber_scale), robust_(robust) {
+    set_num_residuals(3 * static_cast<int>(kin->markers.size()));
     mutable_parameter_block_sizes()->assign({3, 4, kin->model.num_joint_dofs()});
   }
 
@@ -84,45 +95,58 @@ class MarkerCost : public ceres::CostFunction {
                 double* residuals,
                 double** jacobians) const override {
     const int n = kin_->model.num_joint_dofs();
-    if (!*present_) {
-      // A missing marker contributes nothing (the block stays so that the problem is reused).
-      residuals[0] = residuals[1] = residuals[2] = 0.0;
-      if (jacobians) {
-        if (jacobians[0]) std::fill(jacobians[0], jacobians[0] + 9, 0.0);
-        if (jacobians[1]) std::fill(jacobians[1], jacobians[1] + 12, 0.0);
-        if (jacobians[2]) std::fill(jacobians[2], jacobians[2] + 3 * n, 0.0);
+    const int M = static_cast<int>(kin_->markers.size());
+    const bool need = jacobians != nullptr;
+    kin_->Update(parameters, need);
+    using RowMajor3X = Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor>;
+    for (int m = 0; m < M; ++m) {
+      double* r = residuals + 3 * m;
+      const bool here = present_[m];
+      Eigen::Map<Eigen::Vector3d> res(r);
+      const double w = kin_->markers[static_cast<size_t>(m)].weight;
+      if (here) {
+        res = w * (kin_->p_WM.col(m) - targets_->col(m));
+      } else {
+        res.setZero();
       }
-      return true;
-    }
-    kin_->Update(parameters, jacobians != nullptr);
-    const double w = kin_->markers[static_cast<size_t>(marker_)].weight;
-    const Eigen::Vector3d p = kin_->p_WM.col(marker_);
-    for (int k = 0; k < 3; ++k) residuals[k] = w * (p[k] - target_[k]);
-    if (jacobians) {
-      const Eigen::Matrix3Xd& J = kin_->J[static_cast<size_t>(marker_)];
-      // Row-major blocks as Ceres expects.
-      if (jacobians[0]) {
-        Eigen::Map<Eigen::Matrix<double, 3, 3, Eigen::RowMajor>> J_p(jacobians[0]);
-        J_p = w * J.leftCols<3>();
+      // Robust transform of this marker's residual.
+      double scale = 1.0, extra = 0.0;  // J̃ = scale J + extra r̂ r̂ᵀ J
+      Eigen::Vector3d rhat = Eigen::Vector3d::Zero();
+      const double x = res.norm();
+      if (here && *robust_ && *delta_ > 0 && x > *delta_) {
+        const double d = *delta_;
+        const double phi = std::sqrt(2.0 * d * x - d * d);
+        scale = phi / x;
+        extra = d / phi - scale;
+        rhat = res / x;
+        res *= scale;
       }
-      if (jacobians[1]) {
-        Eigen::Map<Eigen::Matrix<double, 3, 4, Eigen::RowMajor>> J_quat(jacobians[1]);
-        J_quat = w * J.middleCols<3>(3) * kin_->G;
-      }
-      if (jacobians[2]) {
-        Eigen::Map<Eigen::Matrix<double, 3, Eigen::Dynamic, Eigen::RowMajor>> J_joints(
-            jacobians[2], 3, n);
-        J_joints = w * J.rightCols(n);
-      }
+      if (!need) continue;
+      const Eigen::Matrix3Xd& J = kin_->J[static_cast<size_t>(m)];
+      // Row-major blocks, rows 3m … 3m + 2, as Ceres expects.
+      auto fill = [&](double* out, int cols, const auto& block) {
+        if (out == nullptr) return;
+        Eigen::Map<RowMajor3X> dst(out + 3 * m * cols, 3, cols);
+        if (!here) {
+          dst.setZero();
+          return;
+        }
+        dst = (w * scale) * block;
+        if (extra != 0.0) dst += (w * extra) * rhat * (rhat.transpose() * block);
+      };
+      fill(jacobians[0], 3, J.leftCols<3>());
+      fill(jacobians[1], 4, (J.middleCols<3>(3) * kin_->G).eval());
+      fill(jacobians[2], n, J.rightCols(n));
     }
     return true;
   }
 
  private:
   MarkerKinematics* kin_;
-  int marker_;
-  const double* target_;
+  const Eigen::Matrix3Xd* targets_;
   const bool* present_;
+  const double* delta_;
+  const bool* robust_;
 };
 
 /// Soft joint limits: r_j = k (max(0, θ_j − hi_j) + min(0, θ_j − lo_j)).
@@ -176,25 +200,92 @@ class JointPriorCost : public ceres::CostFunction {
   std::vector<double> w_;
 };
 
-/// Huber's loss that can be switched off (ρ(s) = s), so that a cold start reaches the right
-/// basin by plain least squares before outlying markers are down-weighted: started far from the
-/// solution, a robust loss would treat a whole limb's markers as outliers and keep it wrong.
-class SwitchableHuberLoss : public ceres::LossFunction {
- public:
-  explicit SwitchableHuberLoss(double scale) : huber_(scale) {}
-  void Evaluate(double s, double rho[3]) const override {
-    if (enabled) {
-      huber_.Evaluate(s, rho);
-    } else {
-      rho[0] = s;
-      rho[1] = 1.0;
-      rho[2] = 0.0;
-    }
-  }
-  bool enabled = true;
+/// The warm-started frame as a plain least-squares function for ceres::TinySolver (dense
+/// Levenberg–Marquardt on the normal equations, no problem preprocessing): parameters
+/// x = [p_WoBo_W (3), φ (3), joints (n)] with the root orientation q0 ⊗ exp(φ) in a chart around
+/// the warm start (the manifold, made explicit: a frame turns the root by a few degrees), residuals
+/// the robust marker residuals of AllMarkersCost, then the joint limits and the prior.
+/// ∂p_WM/∂φ = J_w Jr(φ), with J_w the point Jacobian's w_WB_B columns and Jr the right Jacobian of
+/// SO(3): Jr(φ) = I − (1 − cos θ)/θ² [φ]× + (θ − sin θ)/θ³ [φ]×².
+struct WarmFrameFunction {
+  using Scalar = double;
+  enum { NUM_RESIDUALS = Eigen::Dynamic, NUM_PARAMETERS = Eigen::Dynamic };
+  MarkerKinematics* kin;
+  AllMarkersCost* markers;
+  const std::vector<JointLimit>* limits;
+  double limit_k;
+  const std::vector<double>* prior;
+  Eigen::Quaterniond q0;  // warm-start root orientation (Eigen storage)
+  int n;
+  int M;
 
- private:
-  ceres::HuberLoss huber_;
+  int NumResiduals() const { return 3 * M + 2 * n; }
+  int NumParameters() const { return 6 + n; }
+
+  bool operator()(const double* x, double* residuals, double* jacobian) const {
+    // Configuration from the chart.
+    const Eigen::Vector3d phi(x[3], x[4], x[5]);
+    const Eigen::Quaterniond quat = q0 * dynamics::QuaternionExp<double>(phi);
+    double quat_wxyz[4] = {quat.w(), quat.x(), quat.y(), quat.z()};
+    const double* params[3] = {x, quat_wxyz, x + 6};
+    const int R = NumResiduals();
+    // Marker residuals and their Jacobians (p and joints as in AllMarkersCost; the quaternion
+    // block is replaced by the chart's).
+    double* jac_blocks[3] = {nullptr, nullptr, nullptr};
+    if (jacobian) {
+      jac_p.resize(3 * M * 3);
+      jac_quat.resize(3 * M * 4);
+      jac_joints.resize(size_t(3 * M * n));
+      jac_blocks[0] = jac_p.data();
+      jac_blocks[1] = jac_quat.data();
+      jac_blocks[2] = jac_joints.data();
+    }
+    markers->Evaluate(params, residuals, jacobian ? jac_blocks : nullptr);
+    if (jacobian) {
+      Eigen::Map<Eigen::MatrixXd> Jx(jacobian, R, 6 + n);
+      Jx.setZero();
+      using RowMajorX = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
+      Jx.block(0, 0, 3 * M, 3) = Eigen::Map<RowMajorX>(jac_p.data(), 3 * M, 3);
+      Jx.block(0, 6, 3 * M, n) = Eigen::Map<RowMajorX>(jac_joints.data(), 3 * M, n);
+      // Chart block: (∂r/∂q_quat) G⁻¹-free form: ∂r/∂φ = (∂r/∂w_B) Jr(φ), with ∂r/∂w_B recovered
+      // from the quaternion block as (∂r/∂q_quat)·½ Q(q) (q̇ = ½ q ⊗ (0, w_B), docs/notation.md).
+      const double w = quat.w(), a = quat.x(), b = quat.y(), c = quat.z();
+      Eigen::Matrix<double, 4, 3> Q;
+      Q << -a, -b, -c, w, -c, b, c, w, -a, -b, a, w;
+      const double th = phi.norm();
+      Eigen::Matrix3d K;
+      K << 0, -phi.z(), phi.y(), phi.z(), 0, -phi.x(), -phi.y(), phi.x(), 0;
+      Eigen::Matrix3d Jr = Eigen::Matrix3d::Identity();
+      if (th > 1e-8)
+        Jr += -(1 - std::cos(th)) / (th * th) * K + (th - std::sin(th)) / (th * th * th) * K * K;
+      else
+        Jr += -0.5 * K;
+      const Eigen::Matrix<double, 4, 3> dq_dphi = 0.5 * Q * Jr;
+      Jx.block(0, 3, 3 * M, 3) = Eigen::Map<RowMajorX>(jac_quat.data(), 3 * M, 4) * dq_dphi;
+    }
+    // Soft joint limits and the prior.
+    for (int j = 0; j < n; ++j) {
+      const double t = x[6 + j];
+      double r = 0.0, d = 0.0;
+      if (t > (*limits)[size_t(j)].upper_rad) {
+        r = t - (*limits)[size_t(j)].upper_rad;
+        d = 1.0;
+      } else if (t < (*limits)[size_t(j)].lower_rad) {
+        r = t - (*limits)[size_t(j)].lower_rad;
+        d = 1.0;
+      }
+      residuals[3 * M + j] = limit_k * r;
+      const double wp = prior->empty() ? 0.0 : (*prior)[size_t(j)];
+      residuals[3 * M + n + j] = wp * t;
+      if (jacobian) {
+        jacobian[size_t(6 + j) * size_t(R) + size_t(3 * M + j)] = limit_k * d;
+        jacobian[size_t(6 + j) * size_t(R) + size_t(3 * M + n + j)] = wp;
+      }
+    }
+    return true;
+  }
+
+  mutable std::vector<double> jac_p, jac_quat, jac_joints;
 };
 
 }  // namespace
@@ -277,25 +368,15 @@ struct InverseKinematics::Impl {
     ACRO_DEMAND(options.IsValid(&why));
     targets.setZero();
     ceres::Problem::Options po;
-    po.loss_function_ownership = ceres::DO_NOT_TAKE_OWNERSHIP;
     po.manifold_ownership = ceres::TAKE_OWNERSHIP;
     problem = std::make_unique<ceres::Problem>(po);
-    if (options.robust_scale_m > 0)
-      loss = std::make_unique<SwitchableHuberLoss>(options.robust_scale_m);
     problem->AddParameterBlock(p.data(), 3);
     problem->AddParameterBlock(quat.data(), 4, new ceres::QuaternionManifold);
     problem->AddParameterBlock(joints.data(), static_cast<int>(joints.size()));
-    for (size_t m = 0; m < markers.size(); ++m) {
-      present[m] = false;
-      problem->AddResidualBlock(new MarkerCost(&kin,
-                                               static_cast<int>(m),
-                                               targets.col(static_cast<Eigen::Index>(m)).data(),
-                                               &present[m]),
-                                loss.get(),
-                                p.data(),
-                                quat.data(),
-                                joints.data());
-    }
+    for (size_t m = 0; m < markers.size(); ++m) present[m] = false;
+    marker_cost =
+        new AllMarkersCost(&kin, &targets, present.get(), &options.robust_scale_m, &robust);
+    problem->AddResidualBlock(marker_cost, nullptr, p.data(), quat.data(), joints.data());
     if (options.joint_limit_stiffness_m_per_rad > 0)
       problem->AddResidualBlock(new JointLimitCost(limits, options.joint_limit_stiffness_m_per_rad),
                                 nullptr,
@@ -325,7 +406,10 @@ struct InverseKinematics::Impl {
   Eigen::Vector3d p;
   Eigen::Vector4d quat;  // w x y z, as q stores it and as ceres::QuaternionManifold expects
   Eigen::VectorXd joints;
-  std::unique_ptr<SwitchableHuberLoss> loss;
+  bool robust = true;  // the Huber transform is on (off during a cold start's first fits)
+  AllMarkersCost* marker_cost = nullptr;  // owned by the problem
+  ceres::TinySolver<WarmFrameFunction> tiny;
+  Eigen::VectorXd x_tiny;
   std::unique_ptr<ceres::Problem> problem;
   ceres::Solver::Options solver_options;
   ceres::Solver::Summary summary;
@@ -447,10 +531,45 @@ IkFrameResult InverseKinematics::Solve(const Eigen::Matrix3Xd& observed,
   s.quat = q.segment<4>(3).normalized();
   s.joints = q.tail(s.model.num_joint_dofs());
   int iterations = 0;
+  if (!cold && s.options.fast_warm_start) {
+    // Warm start: TinySolver in the chart around the previous orientation.
+    WarmFrameFunction fn{&s.kin,
+                         s.marker_cost,
+                         &s.limits,
+                         s.options.joint_limit_stiffness_m_per_rad,
+                         &s.options.joint_prior_m_per_rad,
+                         Eigen::Quaterniond(s.quat[0], s.quat[1], s.quat[2], s.quat[3]),
+                         s.model.num_joint_dofs(),
+                         num_markers(),
+                         {},
+                         {},
+                         {}};
+    const int n = s.model.num_joint_dofs();
+    s.x_tiny.resize(6 + n);
+    s.x_tiny.head<3>() = s.p;
+    s.x_tiny.segment<3>(3).setZero();
+    s.x_tiny.tail(n) = s.joints;
+    s.tiny.options.max_num_iterations = s.options.max_iterations + 1;
+    s.tiny.options.gradient_tolerance = s.options.gradient_tolerance;
+    s.tiny.options.parameter_tolerance = s.options.parameter_tolerance;
+    s.tiny.options.function_tolerance = s.options.absolute_cost_tolerance_m2;
+    const auto& summary = s.tiny.Solve(fn, &s.x_tiny);
+    const Eigen::Quaterniond quat =
+        fn.q0 * dynamics::QuaternionExp<double>(Eigen::Vector3d(s.x_tiny.segment<3>(3)));
+    q.head<3>() = s.x_tiny.head<3>();
+    q.segment<4>(3) << quat.w(), quat.x(), quat.y(), quat.z();
+    q.segment<4>(3).normalize();
+    q.tail(n) = s.x_tiny.tail(n);
+    result = Evaluate(observed, q, nullptr);
+    result.iterations = summary.iterations;
+    result.converged = summary.status != ceres::TinySolver<WarmFrameFunction>::HIT_MAX_ITERATIONS;
+    result.final_cost = summary.final_cost;
+    return result;
+  }
   if (cold) {
     // Plain least squares: the root first with the joints held, then everything; the robust
     // fit below then starts in the right basin.
-    if (s.loss) s.loss->enabled = false;
+    s.robust = false;
     s.problem->SetParameterBlockConstant(s.joints.data());
     s.solver_options.max_num_iterations = 50;
     ceres::Solve(s.solver_options, s.problem.get(), &s.summary);
@@ -459,7 +578,7 @@ IkFrameResult InverseKinematics::Solve(const Eigen::Matrix3Xd& observed,
     s.solver_options.max_num_iterations = s.options.cold_start_iterations;
     ceres::Solve(s.solver_options, s.problem.get(), &s.summary);
     iterations += static_cast<int>(s.summary.iterations.size());
-    if (s.loss) s.loss->enabled = true;
+    s.robust = true;
   }
   s.solver_options.max_num_iterations =
       cold ? s.options.cold_start_iterations : s.options.max_iterations;

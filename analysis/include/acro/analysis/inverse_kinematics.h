@@ -47,7 +47,15 @@ struct InverseKinematicsOptions {
   /// keypoints: pelvis tilt against lumbar flexion, forearm pronation, wrists, ankles), so that
   /// they rest at the reference pose instead of drifting along the null space.
   std::vector<double> joint_prior_m_per_rad;
-  /// Dense normal equations (Cholesky) rather than dense QR.
+  /// Warm-started frames with ceres::TinySolver (dense Levenberg–Marquardt, no per-solve
+  /// preprocessing; the root orientation in a chart around the previous frame's) rather than a
+  /// ceres::Problem on the quaternion manifold. Same objective; cold starts always use the Problem.
+  /// Off by default: measured slower (its dense JᵀJ of all 3M + 2n rows dominates;
+  /// reconstruct_bench).
+  bool fast_warm_start = false;
+  /// TinySolver's stop on an absolute change of the cost ½Σr² (m²).
+  double absolute_cost_tolerance_m2 = 1e-12;
+  /// Dense normal equations (Cholesky) rather than dense QR (ceres::Problem path).
   bool normal_cholesky = true;
   bool IsValid(std::string* why) const;
 };
