@@ -1,12 +1,13 @@
 #include "acro/analysis/inverse_kinematics.h"
 
 #include <ceres/ceres.h>
-#include <ceres/tiny_solver.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <numbers>
 
+#include <Eigen/Cholesky>
 #include <Eigen/SVD>
 
 #include "acro/analysis/standard_human.h"
@@ -200,94 +201,6 @@ class JointPriorCost : public ceres::CostFunction {
   std::vector<double> w_;
 };
 
-/// The warm-started frame as a plain least-squares function for ceres::TinySolver (dense
-/// Levenberg–Marquardt on the normal equations, no problem preprocessing): parameters
-/// x = [p_WoBo_W (3), φ (3), joints (n)] with the root orientation q0 ⊗ exp(φ) in a chart around
-/// the warm start (the manifold, made explicit: a frame turns the root by a few degrees), residuals
-/// the robust marker residuals of AllMarkersCost, then the joint limits and the prior.
-/// ∂p_WM/∂φ = J_w Jr(φ), with J_w the point Jacobian's w_WB_B columns and Jr the right Jacobian of
-/// SO(3): Jr(φ) = I − (1 − cos θ)/θ² [φ]× + (θ − sin θ)/θ³ [φ]×².
-struct WarmFrameFunction {
-  using Scalar = double;
-  enum { NUM_RESIDUALS = Eigen::Dynamic, NUM_PARAMETERS = Eigen::Dynamic };
-  MarkerKinematics* kin;
-  AllMarkersCost* markers;
-  const std::vector<JointLimit>* limits;
-  double limit_k;
-  const std::vector<double>* prior;
-  Eigen::Quaterniond q0;  // warm-start root orientation (Eigen storage)
-  int n;
-  int M;
-
-  int NumResiduals() const { return 3 * M + 2 * n; }
-  int NumParameters() const { return 6 + n; }
-
-  bool operator()(const double* x, double* residuals, double* jacobian) const {
-    // Configuration from the chart.
-    const Eigen::Vector3d phi(x[3], x[4], x[5]);
-    const Eigen::Quaterniond quat = q0 * dynamics::QuaternionExp<double>(phi);
-    double quat_wxyz[4] = {quat.w(), quat.x(), quat.y(), quat.z()};
-    const double* params[3] = {x, quat_wxyz, x + 6};
-    const int R = NumResiduals();
-    // Marker residuals and their Jacobians (p and joints as in AllMarkersCost; the quaternion
-    // block is replaced by the chart's).
-    double* jac_blocks[3] = {nullptr, nullptr, nullptr};
-    if (jacobian) {
-      jac_p.resize(3 * M * 3);
-      jac_quat.resize(3 * M * 4);
-      jac_joints.resize(size_t(3 * M * n));
-      jac_blocks[0] = jac_p.data();
-      jac_blocks[1] = jac_quat.data();
-      jac_blocks[2] = jac_joints.data();
-    }
-    markers->Evaluate(params, residuals, jacobian ? jac_blocks : nullptr);
-    if (jacobian) {
-      Eigen::Map<Eigen::MatrixXd> Jx(jacobian, R, 6 + n);
-      Jx.setZero();
-      using RowMajorX = Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>;
-      Jx.block(0, 0, 3 * M, 3) = Eigen::Map<RowMajorX>(jac_p.data(), 3 * M, 3);
-      Jx.block(0, 6, 3 * M, n) = Eigen::Map<RowMajorX>(jac_joints.data(), 3 * M, n);
-      // Chart block: (∂r/∂q_quat) G⁻¹-free form: ∂r/∂φ = (∂r/∂w_B) Jr(φ), with ∂r/∂w_B recovered
-      // from the quaternion block as (∂r/∂q_quat)·½ Q(q) (q̇ = ½ q ⊗ (0, w_B), docs/notation.md).
-      const double w = quat.w(), a = quat.x(), b = quat.y(), c = quat.z();
-      Eigen::Matrix<double, 4, 3> Q;
-      Q << -a, -b, -c, w, -c, b, c, w, -a, -b, a, w;
-      const double th = phi.norm();
-      Eigen::Matrix3d K;
-      K << 0, -phi.z(), phi.y(), phi.z(), 0, -phi.x(), -phi.y(), phi.x(), 0;
-      Eigen::Matrix3d Jr = Eigen::Matrix3d::Identity();
-      if (th > 1e-8)
-        Jr += -(1 - std::cos(th)) / (th * th) * K + (th - std::sin(th)) / (th * th * th) * K * K;
-      else
-        Jr += -0.5 * K;
-      const Eigen::Matrix<double, 4, 3> dq_dphi = 0.5 * Q * Jr;
-      Jx.block(0, 3, 3 * M, 3) = Eigen::Map<RowMajorX>(jac_quat.data(), 3 * M, 4) * dq_dphi;
-    }
-    // Soft joint limits and the prior.
-    for (int j = 0; j < n; ++j) {
-      const double t = x[6 + j];
-      double r = 0.0, d = 0.0;
-      if (t > (*limits)[size_t(j)].upper_rad) {
-        r = t - (*limits)[size_t(j)].upper_rad;
-        d = 1.0;
-      } else if (t < (*limits)[size_t(j)].lower_rad) {
-        r = t - (*limits)[size_t(j)].lower_rad;
-        d = 1.0;
-      }
-      residuals[3 * M + j] = limit_k * r;
-      const double wp = prior->empty() ? 0.0 : (*prior)[size_t(j)];
-      residuals[3 * M + n + j] = wp * t;
-      if (jacobian) {
-        jacobian[size_t(6 + j) * size_t(R) + size_t(3 * M + j)] = limit_k * d;
-        jacobian[size_t(6 + j) * size_t(R) + size_t(3 * M + n + j)] = wp;
-      }
-    }
-    return true;
-  }
-
-  mutable std::vector<double> jac_p, jac_quat, jac_joints;
-};
-
 }  // namespace
 
 std::vector<JointLimit> StandardJointLimits(const dynamics::Model<double>& model) {
@@ -386,6 +299,14 @@ struct InverseKinematics::Impl {
       problem->AddResidualBlock(
           new JointPriorCost(options.joint_prior_m_per_rad), nullptr, joints.data());
     }
+    for (const ModelMarker& marker : markers) {
+      std::vector<int> cols = {0, 1, 2, 3, 4, 5};
+      for (int j = marker.segment; j > 0; j = model.segment(j).parent)
+        for (int k = 0; k < model.segment(j).num_axes; ++k)
+          cols.push_back(model.segment(j).v_start + k);
+      std::sort(cols.begin(), cols.end());
+      columns.push_back(cols);
+    }
     solver_options.linear_solver_type =
         options.normal_cholesky ? ceres::DENSE_NORMAL_CHOLESKY : ceres::DENSE_QR;
     solver_options.num_threads = 1;
@@ -408,8 +329,17 @@ struct InverseKinematics::Impl {
   Eigen::VectorXd joints;
   bool robust = true;  // the Huber transform is on (off during a cold start's first fits)
   AllMarkersCost* marker_cost = nullptr;  // owned by the problem
-  ceres::TinySolver<WarmFrameFunction> tiny;
-  Eigen::VectorXd x_tiny;
+  // Structured warm-start solver: per marker, the velocity columns its point depends on (the
+  // root's six and its ancestors' joint axes), and scratch for the normal equations.
+  std::vector<std::vector<int>> columns;
+  Eigen::MatrixXd H, H_damped;
+  Eigen::VectorXd g, x, x_new, step;
+  Eigen::LDLT<Eigen::MatrixXd> ldlt;
+
+  /// ½ Σ r̃² at chart coordinates x (p, φ, θ) around q0; with `normal` also H = J̃ᵀJ̃, g = J̃ᵀr̃.
+  double EvaluateChart(const Eigen::Quaterniond& q0, const Eigen::VectorXd& xc, bool normal);
+  /// Levenberg–Marquardt on the chart (Nielsen's damping update); returns iterations.
+  int SolveWarm(Eigen::VectorXd& q, bool* converged);
   std::unique_ptr<ceres::Problem> problem;
   ceres::Solver::Options solver_options;
   ceres::Solver::Summary summary;
@@ -506,6 +436,151 @@ bool InverseKinematics::InitializeRoot(const Eigen::Matrix3Xd& observed, Eigen::
   return true;
 }
 
+double InverseKinematics::Impl::EvaluateChart(const Eigen::Quaterniond& q0,
+                                              const Eigen::VectorXd& xc,
+                                              bool normal) {
+  const int n = model.num_joint_dofs();
+  const int nv = model.nv();
+  // Configuration from the chart: root orientation q0 ⊗ exp(φ).
+  const Eigen::Vector3d phi = xc.segment<3>(3);
+  const Eigen::Quaterniond q_WB = q0 * dynamics::QuaternionExp<double>(phi);
+  double quat_wxyz[4] = {q_WB.w(), q_WB.x(), q_WB.y(), q_WB.z()};
+  const double* params[3] = {xc.data(), quat_wxyz, xc.data() + 6};
+  kin.Update(params, normal);
+  // ∂w_WB_B/∂φ = Jr(φ) (right Jacobian of SO(3)).
+  Eigen::Matrix3d Jr = Eigen::Matrix3d::Identity();
+  if (normal) {
+    Eigen::Matrix3d K;
+    K << 0, -phi.z(), phi.y(), phi.z(), 0, -phi.x(), -phi.y(), phi.x(), 0;
+    const double th = phi.norm();
+    if (th > 1e-8)
+      Jr += -(1 - std::cos(th)) / (th * th) * K + (th - std::sin(th)) / (th * th * th) * K * K;
+    else
+      Jr -= 0.5 * K;
+    H.setZero(nv, nv);
+    g.setZero(nv);
+  }
+  double cost = 0.0;
+  Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 48> Jc;
+  for (size_t m = 0; m < markers.size(); ++m) {
+    if (!present[m]) continue;
+    const double w = markers[m].weight;
+    Eigen::Vector3d r = w * (kin.p_WM.col(Eigen::Index(m)) - targets.col(Eigen::Index(m)));
+    // Huber by the residual transform of AllMarkersCost.
+    double scale = 1.0, extra = 0.0;
+    Eigen::Vector3d rhat = Eigen::Vector3d::Zero();
+    const double xr = r.norm();
+    const double d = options.robust_scale_m;
+    if (robust && d > 0 && xr > d) {
+      const double phi_r = std::sqrt(2.0 * d * xr - d * d);
+      scale = phi_r / xr;
+      extra = d / phi_r - scale;
+      rhat = r / xr;
+      r *= scale;
+    }
+    cost += 0.5 * r.squaredNorm();
+    if (!normal) continue;
+    // The marker's Jacobian on its columns, the root rotation through Jr, then transformed.
+    const std::vector<int>& cols = columns[m];
+    const Eigen::Matrix3Xd& J = kin.J[m];
+    const int k = static_cast<int>(cols.size());
+    Jc.resize(3, k);
+    for (int c = 0; c < k; ++c) Jc.col(c) = w * J.col(cols[size_t(c)]);
+    Jc.middleCols<3>(3) = (Jc.middleCols<3>(3) * Jr).eval();
+    if (extra != 0.0) {
+      const Eigen::Matrix<double, 1, Eigen::Dynamic, Eigen::RowMajor, 1, 48> rtJ =
+          rhat.transpose() * Jc;
+      Jc = scale * Jc + extra * rhat * rtJ;
+    } else if (scale != 1.0) {
+      Jc *= scale;
+    }
+    // H += J̃ᵀJ̃, g += J̃ᵀr̃ on the marker's columns only.
+    for (int a = 0; a < k; ++a) {
+      const int ia = cols[size_t(a)];
+      g[ia] += Jc.col(a).dot(r);
+      for (int b = 0; b <= a; ++b) H(ia, cols[size_t(b)]) += Jc.col(a).dot(Jc.col(b));
+    }
+  }
+  // Soft joint limits and the prior (diagonal).
+  const double kl = options.joint_limit_stiffness_m_per_rad;
+  for (int j = 0; j < n; ++j) {
+    const double t = xc[6 + j];
+    double r = 0.0;
+    if (t > limits[size_t(j)].upper_rad) r = t - limits[size_t(j)].upper_rad;
+    if (t < limits[size_t(j)].lower_rad) r = t - limits[size_t(j)].lower_rad;
+    cost += 0.5 * kl * kl * r * r;
+    const double wp =
+        options.joint_prior_m_per_rad.empty() ? 0.0 : options.joint_prior_m_per_rad[size_t(j)];
+    cost += 0.5 * wp * wp * t * t;
+    if (normal) {
+      if (r != 0.0) {
+        H(6 + j, 6 + j) += kl * kl;
+        g[6 + j] += kl * kl * r;
+      }
+      H(6 + j, 6 + j) += wp * wp;
+      g[6 + j] += wp * wp * t;
+    }
+  }
+  if (normal) H = H.selfadjointView<Eigen::Lower>();
+  return cost;
+}
+
+int InverseKinematics::Impl::SolveWarm(Eigen::VectorXd& q, bool* converged) {
+  const int n = model.num_joint_dofs();
+  const int nv = model.nv();
+  const Eigen::Quaterniond q0 = Eigen::Quaterniond(q[3], q[4], q[5], q[6]).normalized();
+  x.resize(nv);
+  x.head<3>() = q.head<3>();
+  x.segment<3>(3).setZero();
+  x.tail(n) = q.tail(n);
+  // Levenberg–Marquardt with Marquardt's diagonal scaling and Nielsen's damping update
+  // (Madsen, Nielsen & Tingleff 2004, Methods for Non-Linear Least Squares Problems, §3.2).
+  double cost = EvaluateChart(q0, x, true);
+  double mu = 1e-4, nu = 2.0;
+  int it = 0;
+  *converged = false;
+  for (; it < options.max_iterations; ++it) {
+    if (g.lpNorm<Eigen::Infinity>() < options.gradient_tolerance) {
+      *converged = true;
+      break;
+    }
+    H_damped = H;
+    H_damped.diagonal() += mu * H.diagonal().cwiseMax(1e-9);
+    ldlt.compute(H_damped);
+    step = -ldlt.solve(g);
+    if (step.norm() < options.parameter_tolerance * (x.norm() + options.parameter_tolerance)) {
+      *converged = true;
+      break;
+    }
+    x_new = x + step;
+    const double cost_new = EvaluateChart(q0, x_new, false);
+    const double predicted = -(step.dot(g) + 0.5 * step.dot(H * step));
+    const double rho = predicted > 0 ? (cost - cost_new) / predicted : -1.0;
+    if (rho > 0) {
+      const bool small = cost - cost_new < options.function_tolerance * cost;
+      x = x_new;
+      cost = EvaluateChart(q0, x, true);
+      mu *= std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3));
+      nu = 2.0;
+      if (small) {
+        *converged = true;
+        ++it;
+        break;
+      }
+    } else {
+      mu *= nu;
+      nu *= 2.0;
+    }
+  }
+  const Eigen::Quaterniond q_WB =
+      q0 * dynamics::QuaternionExp<double>(Eigen::Vector3d(x.segment<3>(3)));
+  q.head<3>() = x.head<3>();
+  q.segment<4>(3) << q_WB.w(), q_WB.x(), q_WB.y(), q_WB.z();
+  q.segment<4>(3).normalize();
+  q.tail(n) = x.tail(n);
+  return it;
+}
+
 IkFrameResult InverseKinematics::Solve(const Eigen::Matrix3Xd& observed,
                                        Eigen::VectorXd& q,
                                        bool cold) {
@@ -531,39 +606,12 @@ IkFrameResult InverseKinematics::Solve(const Eigen::Matrix3Xd& observed,
   s.quat = q.segment<4>(3).normalized();
   s.joints = q.tail(s.model.num_joint_dofs());
   int iterations = 0;
-  if (!cold && s.options.fast_warm_start) {
-    // Warm start: TinySolver in the chart around the previous orientation.
-    WarmFrameFunction fn{&s.kin,
-                         s.marker_cost,
-                         &s.limits,
-                         s.options.joint_limit_stiffness_m_per_rad,
-                         &s.options.joint_prior_m_per_rad,
-                         Eigen::Quaterniond(s.quat[0], s.quat[1], s.quat[2], s.quat[3]),
-                         s.model.num_joint_dofs(),
-                         num_markers(),
-                         {},
-                         {},
-                         {}};
-    const int n = s.model.num_joint_dofs();
-    s.x_tiny.resize(6 + n);
-    s.x_tiny.head<3>() = s.p;
-    s.x_tiny.segment<3>(3).setZero();
-    s.x_tiny.tail(n) = s.joints;
-    s.tiny.options.max_num_iterations = s.options.max_iterations + 1;
-    s.tiny.options.gradient_tolerance = s.options.gradient_tolerance;
-    s.tiny.options.parameter_tolerance = s.options.parameter_tolerance;
-    s.tiny.options.function_tolerance = s.options.absolute_cost_tolerance_m2;
-    const auto& summary = s.tiny.Solve(fn, &s.x_tiny);
-    const Eigen::Quaterniond quat =
-        fn.q0 * dynamics::QuaternionExp<double>(Eigen::Vector3d(s.x_tiny.segment<3>(3)));
-    q.head<3>() = s.x_tiny.head<3>();
-    q.segment<4>(3) << quat.w(), quat.x(), quat.y(), quat.z();
-    q.segment<4>(3).normalize();
-    q.tail(n) = s.x_tiny.tail(n);
+  if (!cold && s.options.structured_warm_start) {
+    bool converged = false;
+    const int it = s.SolveWarm(q, &converged);
     result = Evaluate(observed, q, nullptr);
-    result.iterations = summary.iterations;
-    result.converged = summary.status != ceres::TinySolver<WarmFrameFunction>::HIT_MAX_ITERATIONS;
-    result.final_cost = summary.final_cost;
+    result.iterations = it;
+    result.converged = converged;
     return result;
   }
   if (cold) {

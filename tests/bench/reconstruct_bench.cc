@@ -61,13 +61,13 @@ const Scene& GetScene() {
 }
 
 /// Arguments: maximum iterations per frame, 1 = dense normal Cholesky / 0 = dense QR,
-/// 1 = ceres::TinySolver for warm starts / 0 = ceres::Problem.
+/// 1 = structured Levenberg–Marquardt for warm starts / 0 = ceres::Problem.
 void BM_IkPerFrameWarmStarted(benchmark::State& state) {
   const Scene& s = GetScene();
   InverseKinematicsOptions options;
   options.max_iterations = static_cast<int>(state.range(0));
   options.normal_cholesky = state.range(1) != 0;
-  options.fast_warm_start = state.range(2) != 0;
+  options.structured_warm_start = state.range(2) != 0;
   InverseKinematics ik(s.model, s.markers, acro::analysis::StandardJointLimits(s.model), options);
   Eigen::VectorXd q = s.q0;
   // Settle on the first frame, then one frame per benchmark iteration.
@@ -91,6 +91,7 @@ BENCHMARK(BM_IkPerFrameWarmStarted)
     ->Args({2, 1, 0})
     ->Args({10, 0, 0})
     ->Args({10, 1, 1})
+    ->Args({3, 1, 1})
     ->Unit(benchmark::kMicrosecond);
 
 /// The forward kinematics and 39 point Jacobians of one evaluation (the analytic Jacobian's cost).
