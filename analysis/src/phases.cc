@@ -177,19 +177,32 @@ PhaseSegmentation DetectFlightsFromCom(const Eigen::VectorXd& time_s,
   const int h = std::max(2, static_cast<int>(std::lround(options.smoothing_half_window_s / dt)));
   const Eigen::VectorXd a = SavitzkyGolaySecondDerivative(com_z_m, dt, h);
 
-  // Free-fall runs, shrunk by the smoothing half-window (the filter smears the transitions).
+  // Free-fall runs. A support only pushes, so in contact a ≥ −g: free fall is a ≤ −g + tolerance
+  // (one sided; lower values are noise). Short interruptions whose mean acceleration stays below
+  // zero are noise too (a real contact pushes with several body weights) and are bridged.
   const double g = options.gravity_m_per_s2;
   const int min_frames = static_cast<int>(std::ceil(options.min_flight_s / dt));
+  auto falling = [&](int k) {
+    return !std::isnan(com_z_m[k]) && a[k] <= -g + options.free_fall_tolerance_m_per_s2;
+  };
   int i = 0;
   while (i < n) {
-    if (std::isnan(com_z_m[i]) || std::abs(a[i] + g) > options.free_fall_tolerance_m_per_s2) {
+    if (!falling(i)) {
       ++i;
       continue;
     }
     int j = i;
-    while (j + 1 < n && !std::isnan(com_z_m[j + 1]) &&
-           std::abs(a[j + 1] + g) <= options.free_fall_tolerance_m_per_s2)
-      ++j;
+    while (true) {
+      while (j + 1 < n && falling(j + 1)) ++j;
+      int k = j + 1;
+      double sum = 0;
+      while (k < n && k <= j + 2 * h && !falling(k) && !std::isnan(com_z_m[k])) sum += a[k++];
+      if (k < n && k <= j + 2 * h && falling(k) && sum / (k - j - 1) < 0) {
+        j = k;
+        continue;
+      }
+      break;
+    }
     const int first = i, last = j;
     i = j + 1;
     if (last - first + 1 < min_frames) continue;

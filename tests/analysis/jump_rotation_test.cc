@@ -147,3 +147,60 @@ TEST(JumpRotation, DropPositionsChangeTheNominalCount) {
 
 }  // namespace
 }  // namespace acro::analysis
+
+namespace acro::analysis {
+namespace {
+
+// Orientation from cumulative somersault and twist curves (turns), sampled linearly between points.
+std::vector<Eigen::Quaterniond> FromCurves(const std::vector<double>& somersault_turns,
+                                           const std::vector<double>& twist_turns) {
+  std::vector<Eigen::Quaterniond> q;
+  const int per_segment = 50;
+  for (std::size_t k = 0; k + 1 < somersault_turns.size(); ++k) {
+    for (int i = 0; i < per_segment + (k + 2 == somersault_turns.size() ? 1 : 0); ++i) {
+      const double u = double(i) / per_segment;
+      const double phi =
+          2 * kPi * (somersault_turns[k] + u * (somersault_turns[k + 1] - somersault_turns[k]));
+      const double psi = 2 * kPi * (twist_turns[k] + u * (twist_turns[k + 1] - twist_turns[k]));
+      q.emplace_back(Eigen::AngleAxisd(phi, Eigen::Vector3d::UnitY()) *
+                     Eigen::AngleAxisd(psi, Eigen::Vector3d::UnitZ()));
+    }
+  }
+  return q;
+}
+
+TEST(JumpRotation, PublicCountingRulesOfTheTrampolineSuite) {
+  // ../shared/refdata/s2mLab-EKF_multicamera-trampoline/expected.md: cumulative rotation curves in
+  // turns.
+  const auto a = FromCurves({0.0, -0.60, -1.05, -1.70, -2.02}, {0.0, 0.60, 1.52, 1.80, 2.01});
+  const JumpRotation ra =
+      CountJumpRotation(a, 0, static_cast<int>(a.size()) - 1, Eigen::VectorXd(), Eigen::VectorXd());
+  EXPECT_EQ(ra.skill.quarter_somersaults, 8);
+  EXPECT_EQ(ra.skill.half_twists, (std::vector<int>{3, 1}));  // code 831
+  EXPECT_EQ(ra.skill.direction, SomersaultDirection::kBackward);
+  const auto b = FromCurves({0.0, 0.55, 1.02, 1.55, 1.94}, {0.0, 0.45, 1.02, 1.32, 1.53});
+  const JumpRotation rb =
+      CountJumpRotation(b, 0, static_cast<int>(b.size()) - 1, Eigen::VectorXd(), Eigen::VectorXd());
+  EXPECT_EQ(rb.skill.quarter_somersaults, 8);
+  EXPECT_EQ(rb.skill.half_twists, (std::vector<int>{2, 1}));  // code 821
+  EXPECT_EQ(rb.skill.direction, SomersaultDirection::kForward);
+}
+
+TEST(JumpRotation, ShapeRulesOfTheTrampolineSuite) {
+  // Hip 80° with knee 85° is tucked; hip 85–90° with knee 5–15° is piked; open hips are straight.
+  std::vector<Eigen::Quaterniond> q;
+  for (int i = 0; i < 100; ++i)
+    q.emplace_back(Eigen::AngleAxisd(-i / 99.0 * 3 * kPi / 2, Eigen::Vector3d::UnitY()));
+  auto shape = [&](double hip_deg, double knee_deg) {
+    const Eigen::VectorXd hip = Eigen::VectorXd::Constant(100, hip_deg * kDeg);
+    const Eigen::VectorXd knee = Eigen::VectorXd::Constant(100, knee_deg * kDeg);
+    return CountJumpRotation(q, 0, 99, hip, knee).skill.shape;
+  };
+  EXPECT_EQ(shape(80, 85), SkillShape::kTuck);
+  EXPECT_EQ(shape(85, 5), SkillShape::kPike);
+  EXPECT_EQ(shape(90, 15), SkillShape::kPike);
+  EXPECT_EQ(shape(20, 10), SkillShape::kStraight);
+}
+
+}  // namespace
+}  // namespace acro::analysis

@@ -16,7 +16,9 @@ struct PhaseOptions {
   /// Half-width of the Savitzky–Golay window used to find free fall (s); wide enough that 1 mm of
   /// COM noise does not break a flight into pieces.
   double smoothing_half_window_s = 0.08;
-  /// A frame is in free fall when the smoothed vertical COM acceleration is within this of −g.
+  /// A frame is in free fall when the smoothed vertical COM acceleration is at most −g plus this
+  /// (a support only pushes, so contact never reads below −g). 2 m/s² suits optical markers; a COM
+  /// reconstructed from video keypoints needs about 6.
   double free_fall_tolerance_m_per_s2 = 2.0;
   /// Shorter free-fall runs are not flights (bounces, noise).
   double min_flight_s = 0.15;
