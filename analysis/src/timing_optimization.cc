@@ -368,11 +368,12 @@ class ProgressCallback : public ceres::IterationCallback {
 Eigen::VectorXd Solve(const SkillDesign& design,
                       const SkillTrajectory& base,
                       int model,
+                      int intervals,
                       const TimingOptimizationOptions& options,
                       TimingOptimizationSummary* summary) {
   const auto start = std::chrono::steady_clock::now();
   // The gap-scale residual pins Σ g = T, a direction J does not see (J depends on the ratios).
-  ResidualData data = MakeResidualData(design, base, model, options.quadrature_intervals, 1e-2);
+  ResidualData data = MakeResidualData(design, base, model, intervals, 1e-2);
   Eigen::VectorXd x = InitialSkillParameters(design, base, model);
   std::vector<double*> blocks = BlockPointers(design, model, x.data());
 
@@ -631,6 +632,8 @@ bool TimingOptimizationOptions::IsValid(std::string* why) const {
   if (!(min_gap_fraction > 0.0 && min_gap_fraction < 1.0))
     return fail("min_gap_fraction must lie in (0, 1)");
   if (max_iterations < 0) return fail("max_iterations must be non-negative");
+  if (model1_samples_per_knot_interval < 1)
+    return fail("model1_samples_per_knot_interval must be positive");
   return true;
 }
 
@@ -650,35 +653,37 @@ TimingOptimizationResult OptimizeSkillTiming(const SkillDesign& design,
   result.times_initial_s = design.InitialTimes();
   result.initial = MakeKeyframeTrajectory(design, result.times_initial_s);
   const int N = options.quadrature_intervals;
-  // Fine grid (4N) for the momentum variation, the optimisation grid for J.
-  const SkillMotionProfile p0 = CalcSkillMotionProfile(design, result.initial, 4 * N);
-  result.objective_initial = CalcSkillObjective(
-      design, result.initial, 2, InitialSkillParameters(design, result.initial, 2), N);
+  // Model 1's knots (keyframes and midpoints) are twice as dense: its grid keeps
+  // model1_samples_per_knot_interval samples per knot interval, so that the free midpoints cannot
+  // make the residual small at the samples alone.
+  const int n = design.num_keyframes();
+  int N1 = std::max(N, options.model1_samples_per_knot_interval * 2 * (n - 1));
+  N1 += N1 % 2;
+  // J and the momentum variation are reported on a check grid 8 times finer than the
+  // optimisation's (Simpson's rule as well).
+  const int check = 8 * std::max(N, options.model == 1 ? N1 : N);
+  const SkillMotionProfile p0 = CalcSkillMotionProfile(design, result.initial, check);
+  result.objective_initial = p0.objective;
   result.angular_momentum_variation_initial = p0.angular_momentum_variation;
 
   // Model 2: times only.
   TimingOptimizationSummary s2;
-  const Eigen::VectorXd x2 = Solve(design, result.initial, 2, options, &s2);
+  const Eigen::VectorXd x2 = Solve(design, result.initial, 2, N, options, &s2);
   result.stages.push_back(s2);
   result.optimized = SkillTrajectoryFromParameters(design, result.initial, 2, x2);
-  int final_model = 2;
-  Eigen::VectorXd x_final = x2;
-  SkillTrajectory base_final = result.initial;
 
   // Model 1: times and trajectory coefficients, from the Model 2 optimum (or the initial times).
   if (options.model == 1) {
     const SkillTrajectory base1 =
         AddMidpointKnots(options.model1_from_model2 ? result.optimized : result.initial);
     TimingOptimizationSummary s1;
-    x_final = Solve(design, base1, 1, options, &s1);
+    const Eigen::VectorXd x1 = Solve(design, base1, 1, N1, options, &s1);
     result.stages.push_back(s1);
-    result.optimized = SkillTrajectoryFromParameters(design, base1, 1, x_final);
-    base_final = base1;
-    final_model = 1;
+    result.optimized = SkillTrajectoryFromParameters(design, base1, 1, x1);
   }
   result.summary = result.stages.back();
-  result.objective = CalcSkillObjective(design, base_final, final_model, x_final, N);
-  const SkillMotionProfile p = CalcSkillMotionProfile(design, result.optimized, 4 * N);
+  const SkillMotionProfile p = CalcSkillMotionProfile(design, result.optimized, check);
+  result.objective = p.objective;
   result.angular_momentum_variation = p.angular_momentum_variation;
   result.max_joint_deviation_rad = MaxJointDeviation(design, result.optimized);
   result.max_orientation_deviation_rad = MaxOrientationDeviation(design, result.optimized);

@@ -145,6 +145,7 @@ TEST(TimingOptimization, Model1StaysWithinTheTolerancesAndBeatsModel2) {
   TimingOptimizationOptions o;
   o.model = 1;
   o.quadrature_intervals = 20;
+  o.model1_samples_per_knot_interval = 2;  // a coarse grid keeps the test short
   const TimingOptimizationResult r = OptimizeSkillTiming(d, o);
   ASSERT_EQ(r.stages.size(), 2u);
   EXPECT_TRUE(r.summary.success) << r.summary.BriefReport();

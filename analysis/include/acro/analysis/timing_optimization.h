@@ -138,6 +138,9 @@ struct TimingOptimizationOptions {
   /// Model 1 varies the joint angles at the keyframes (true) or keeps them as given and varies only
   /// the times and the root orientation knots (false).
   bool model1_vary_joints = true;
+  /// Model 1's quadrature grid: at least this many intervals per knot interval (its knots are the
+  /// keyframes and the midpoints), and never fewer than quadrature_intervals.
+  int model1_samples_per_knot_interval = 4;
   /// Model 1 starts from the Model 2 optimum (true) or from the initial times.
   bool model1_from_model2 = true;
   /// Progress lines (iteration, objective) are handed here when set; the library prints nothing.
@@ -161,8 +164,10 @@ struct TimingOptimizationResult {
   Eigen::VectorXd times_initial_s;  ///< the even (or guessed) timing the optimisation starts from
   SkillTrajectory initial;          ///< keyframes at the initial times
   SkillTrajectory optimized;
-  double objective_initial = 0.0;  ///< J with the initial timing
-  double objective = 0.0;          ///< J after optimisation
+  /// J with the initial timing and after optimisation, on a check grid 8 times finer than the
+  /// optimisation's (the solver's own figures are in `stages`).
+  double objective_initial = 0.0;
+  double objective = 0.0;
   double angular_momentum_variation_initial = 0.0;
   double angular_momentum_variation = 0.0;
   /// Model 1: the largest keyframe deviation of any joint angle and of the root orientation
