@@ -145,7 +145,8 @@ TEST(TimingOptimization, Model1StaysWithinTheTolerancesAndBeatsModel2) {
   TimingOptimizationOptions o;
   o.model = 1;
   o.quadrature_intervals = 20;
-  o.model1_samples_per_knot_interval = 2;  // a coarse grid keeps the test short
+  o.model1_samples_per_knot_interval = 2;  // a coarse grid and few iterations keep the test short
+  o.max_iterations = 10;
   const TimingOptimizationResult r = OptimizeSkillTiming(d, o);
   ASSERT_EQ(r.stages.size(), 2u);
   EXPECT_TRUE(r.summary.success) << r.summary.BriefReport();
