@@ -11,12 +11,13 @@ namespace acro::app {
 namespace {
 
 constexpr const char* kOptimizeHelp =
-    "usage: acrolab optimize SKILL.yaml [--model 1|2] [--simulate] [--intervals N] -o DIR\n"
+    "usage: acrolab optimize SKILL.yaml [--model 1|2] [--fixed-joints] [--simulate] [--intervals "
+    "N]\n"
+    "                        -o DIR\n"
     "\n"
     "Finds when each keyframe of a skill must happen so that the motion obeys physics (Model 2:\n"
-    "keyframe times), or also bends the trajectories within the keyframe tolerances (Model 1), "
-    "and\n"
-    "writes DIR/result.json, timing.csv/.svg/.png, angular_momentum.svg/.png, motion.c3d,\n"
+    "keyframe times), or also bends the trajectories within the keyframe tolerances (Model 1),\n"
+    "and writes DIR/result.json, timing.csv/.svg/.png, angular_momentum.svg/.png, motion.c3d,\n"
     "motion.mot and report.html. Progress goes to stderr.\n"
     "  --model 1|2     2 (default): times only; 1: times and trajectory coefficients\n"
     "  --fixed-joints  Model 1 keeps the keyframe joint angles and varies the times and the root\n"
