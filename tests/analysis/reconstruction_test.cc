@@ -11,9 +11,13 @@
 #include <random>
 
 #include "acro/analysis/de_leva.h"
+#include "acro/analysis/motion_export.h"
 #include "acro/analysis/standard_human.h"
+#include "acro/capture/c3d.h"
+#include "acro/capture/trial_io.h"
 #include "acro/dynamics/flight_simulation.h"
 #include "acro/dynamics/kinematics.h"
+#include "refdata.h"
 
 namespace acro::analysis {
 namespace {
@@ -262,6 +266,92 @@ TEST_P(SyntheticRoundTrip, DoubleSomersaultWithTwoTwists) {
   EXPECT_LT(r.max_root_error_deg, 1.0);
   // No branch flips: no frame departs from the truth by more than a few degrees anywhere.
   EXPECT_LT(r.max_joint_error_deg, 10.0);
+}
+
+TEST(Reconstruction, RepairsLeftRightSwaps) {
+  const AthleteBody body = MakeDeLevaBody(1.75, 65.0, Sex::kFemale);
+  const Synthetic s = MakeDoubleTwistingDouble(body, -55.0, 9.0);
+  const MarkerSet set = BuiltinMarkerSet("plug_in_gait");
+  const std::vector<ModelMarker> markers = PlaceMarkers(set, s.model, body.height_m);
+  std::mt19937 rng(99);
+  capture::Trial trial = MakeMarkerTrial(s, set, markers, 1e-3, 5, 0, rng);
+  // Knees and wrists exchanged over 12 frames, as a video pipeline confuses sides.
+  const int lk = set.Find("LKNE"), rk = set.Find("RKNE"), lw = set.Find("LWRA"),
+            rw = set.Find("RWRA");
+  for (int f = 150; f < 162; ++f) {
+    trial.position(f, lk).swap(trial.position(f, rk));
+    trial.position(f, lw).swap(trial.position(f, rw));
+  }
+  ReconstructionOptions options;
+  options.scale = false;
+  options.num_threads = 1;
+  const ReconstructionResult fixed = Reconstruct(trial, nullptr, body, options);
+  EXPECT_EQ(fixed.summary.swaps_repaired, 24);
+  options.repair_swaps = false;
+  const ReconstructionResult broken = Reconstruct(trial, nullptr, body, options);
+  const RoundTrip a = Compare(s, fixed.motion), b = Compare(s, broken.motion);
+  std::printf("swaps: worst joint RMS %.2f° repaired, %.2f° not\n",
+              a.worst_joint_rms_deg,
+              b.worst_joint_rms_deg);
+  EXPECT_LT(a.worst_joint_rms_deg, 1.0);
+  EXPECT_GT(b.worst_joint_rms_deg, a.worst_joint_rms_deg);
+}
+
+TEST(Reconstruction, ExportsMotCsvAndC3dWithAngles) {
+  const AthleteBody body = MakeDeLevaBody(1.75, 65.0, Sex::kFemale);
+  const Synthetic s = MakeDoubleTwistingDouble(body, -55.0, 9.0);
+  const MarkerSet set = BuiltinMarkerSet("trampoline");
+  std::mt19937 rng(5);
+  const capture::Trial trial =
+      MakeMarkerTrial(s, set, PlaceMarkers(set, s.model, body.height_m), 1e-3, 5, 0, rng);
+  ReconstructionOptions options;
+  options.scale = false;
+  const ReconstructionResult r = Reconstruct(trial, nullptr, body, options);
+  const auto dir = testing::TempDir();
+  WriteMotionMot(r.motion, dir / "m.mot");
+  const capture::Storage mot = capture::ReadStorage(dir / "m.mot");
+  EXPECT_TRUE(mot.in_degrees);
+  const int knee = mot.FindColumn("l_knee_flexion");
+  ASSERT_GE(knee, 0);
+  const int k = static_cast<int>(std::find(r.motion.coordinate_names.begin(),
+                                           r.motion.coordinate_names.end(),
+                                           "l_knee_flexion") -
+                                 r.motion.coordinate_names.begin());
+  // Degrees in the file; %.9g-ish text round trip of the storage writer.
+  EXPECT_NEAR(mot.data(200, knee), r.motion.q(k, 200) * 180 / std::numbers::pi, 1e-6);
+  WriteMotionC3d(r, trial, dir / "m.c3d");
+  const capture::Trial c3d = capture::ReadTrial(dir / "m.c3d");
+  const int p = c3d.FindPoint("LKneeAngles");
+  ASSERT_GE(p, 0);
+  EXPECT_EQ(c3d.points[size_t(p)].type, capture::PointType::kAngle);
+  // Stored as float: 1e-4° is within single precision for angles below 180°.
+  EXPECT_NEAR(c3d.position(200, p).x(), r.motion.q(k, 200) * 180 / std::numbers::pi, 1e-4);
+  EXPECT_EQ(c3d.points[0].type, capture::PointType::kMarker);
+  EXPECT_NE(FormatMotionCsv(r.motion).find("l_knee_flexion_deg"), std::string::npos);
+}
+
+TEST(Reconstruction, RealDataHelenHayesAndKeypoints) {
+  const auto jump = testing::RefdataFile(
+      "c3dio-c3d_org_samples/sample_00/Motion Analysis Corporation/Sample_Jump2.c3d");
+  ACRO_REQUIRE_REFDATA_FILE(jump);
+  const AthleteBody body = MakeDeLevaBody(1.75, 65.0, Sex::kFemale);
+  const ReconstructionResult a = Reconstruct(capture::ReadTrial(jump), nullptr, body, {});
+  std::printf("%s", a.summary.BriefReport().c_str());
+  EXPECT_EQ(a.summary.markerset, "helen_hayes");
+  EXPECT_EQ(a.summary.frames_fitted, 264);
+  // OpenSim's guideline for a good fit: RMS about 2 cm, largest below 4 cm.
+  EXPECT_LT(a.summary.median_rms_m, 0.02);
+  EXPECT_LT(a.summary.max_m, 0.04);
+  const auto trc =
+      testing::RefdataFile("s2mLab-EKF_multicamera-trampoline/inputs/trc/1_partie_0429_002.trc");
+  ACRO_REQUIRE_REFDATA_FILE(trc);
+  const ReconstructionResult b = Reconstruct(capture::ReadTrial(trc), nullptr, body, {});
+  std::printf("%s", b.summary.BriefReport().c_str());
+  EXPECT_EQ(b.summary.markerset, "coco17");
+  EXPECT_EQ(b.summary.frames_fitted, 1261);
+  EXPECT_GE(b.summary.flights.size(), 4u);
+  // Video keypoints: the median frame near the guideline (measured 2.7 cm; docs/reconstruction.md).
+  EXPECT_LT(b.summary.median_rms_m, 0.03);
 }
 
 INSTANTIATE_TEST_SUITE_P(MarkerSets,

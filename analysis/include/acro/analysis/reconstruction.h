@@ -52,10 +52,12 @@ struct ReconstructionOptions {
   int scaling_first_frame = -1;
   int scaling_last_frame = -1;
   InverseKinematicsOptions ik;
-  /// Repair left/right swaps (a mirror pair whose exchange fits the predicted positions better).
+  /// Repair left/right swaps: in the raw data of marker sets (not keypoints), a mirror pair whose
+  /// exchange brings both markers closer to their positions in the previous frame; before each
+  /// warm-started frame, a pair whose exchange fits the model's predicted positions better.
   bool repair_swaps = true;
-  /// A swap is repaired when exchanging the pair reduces the pair's distance to the prediction by
-  /// this factor and by at least swap_min_gain_m.
+  /// A swap is repaired when exchanging the pair reduces the pair's distance (to the previous
+  /// frame, or to the prediction) below this factor and by at least swap_min_gain_m.
   double swap_ratio = 0.3;
   double swap_min_gain_m = 0.08;
   /// Worker threads (0: hardware concurrency); frames are cut into this many chunks.
