@@ -297,6 +297,38 @@ TEST(Reconstruction, RepairsLeftRightSwaps) {
   EXPECT_GT(b.worst_joint_rms_deg, a.worst_joint_rms_deg);
 }
 
+TEST(Reconstruction, ScalesToAStaticTrial) {
+  // The markers come from a 1.75 m athlete; the reconstruction is given a 1.62 m one and a
+  // static trial (one second standing, arms slightly abducted), and must scale to the truth.
+  const AthleteBody truth_body = MakeDeLevaBody(1.75, 65.0, Sex::kFemale);
+  const Synthetic s = MakeDoubleTwistingDouble(truth_body, -55.0, 9.0);
+  const MarkerSet set = BuiltinMarkerSet("trampoline");
+  const std::vector<ModelMarker> markers = PlaceMarkers(set, s.model, truth_body.height_m);
+  std::mt19937 rng(21);
+  const capture::Trial trial = MakeMarkerTrial(s, set, markers, 1e-3, 20, 25, rng);
+  Synthetic stand{s.model, s.rate_hz, {}};
+  Eigen::VectorXd q = dynamics::MakeNeutralConfiguration(s.model);
+  q[2] = 0.95;
+  q[s.model.segment(s.model.FindSegment("l_upper_arm")).q_start + 2] = 0.3;
+  q[s.model.segment(s.model.FindSegment("r_upper_arm")).q_start + 2] = -0.3;
+  stand.q.assign(200, q);
+  const capture::Trial static_trial = MakeMarkerTrial(stand, set, markers, 1e-3, 5, 0, rng);
+  ReconstructionOptions options;
+  const ReconstructionResult r =
+      Reconstruct(trial, &static_trial, MakeDeLevaBody(1.62, 65.0, Sex::kFemale), options);
+  std::printf("%s", r.summary.BriefReport().c_str());
+  EXPECT_NE(r.summary.scaling_report.find("static trial"), std::string::npos);
+  const RoundTrip rt = Compare(s, r.motion);
+  std::printf("scaled from 1.62 m: joint angles RMS %.3f° (worst %s %.3f°), root max %.3f°\n",
+              rt.all_joint_rms_deg,
+              rt.worst_joint.c_str(),
+              rt.worst_joint_rms_deg,
+              rt.max_root_error_deg);
+  EXPECT_LT(r.summary.median_rms_m, 2e-3);
+  EXPECT_LT(rt.worst_joint_rms_deg, 1.0);
+  EXPECT_LT(rt.max_root_error_deg, 1.0);
+}
+
 TEST(Reconstruction, ExportsMotCsvAndC3dWithAngles) {
   const AthleteBody body = MakeDeLevaBody(1.75, 65.0, Sex::kFemale);
   const Synthetic s = MakeDoubleTwistingDouble(body, -55.0, 9.0);
