@@ -86,6 +86,18 @@ std::string MakeSkillResultJson(const SkillDesign& design,
   w.Field("angular_momentum_variation", r.angular_momentum_variation);
   w.Field("max_joint_deviation_deg", r.max_joint_deviation_rad * kRadToDeg);
   w.Field("max_orientation_deviation_deg", r.max_orientation_deviation_rad * kRadToDeg);
+  // Every keyframe's joint angles and orientation within its e₂ (rounding: 1e-9 rad).
+  bool within = true;
+  for (int i = 0; i < design.num_keyframes(); ++i) {
+    const double e2 = design.skill().keyframes[static_cast<size_t>(i)].tolerance_angle_rad + 1e-9;
+    within = within &&
+             (r.optimized.joint_angles_rad.col(i) - design.keyframe_joint_angles_rad().col(i))
+                     .cwiseAbs()
+                     .maxCoeff() <= e2 &&
+             r.optimized.keyframe_orientations[static_cast<size_t>(i)].angularDistance(
+                 design.keyframe_orientations()[static_cast<size_t>(i)]) <= e2;
+  }
+  w.Field("keyframes_within_tolerance", within);
   w.Key("solver");
   w.BeginArray();
   for (size_t i = 0; i < r.stages.size(); ++i) {

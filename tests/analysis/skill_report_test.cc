@@ -51,6 +51,7 @@ TEST(SkillReport, WritesEveryOutput) {
                           "\"angular_momentum_variation\"",
                           "\"angular_momentum_variation_initial\"",
                           "\"model\": 2",
+                          "\"keyframes_within_tolerance\": true",
                           "\"solver\"",
                           "\"simulation\""})
     EXPECT_NE(json.find(key), std::string::npos) << key;
