@@ -559,14 +559,15 @@ int InverseKinematics::Impl::SolveWarm(Eigen::VectorXd& q, bool* converged) {
     if (rho > 0) {
       const bool small = cost - cost_new < options.function_tolerance * cost;
       x = x_new;
-      cost = EvaluateChart(q0, x, true);
-      mu *= std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3));
-      nu = 2.0;
       if (small) {
+        // Converged: the normal equations at the new point are not needed.
         *converged = true;
         ++it;
         break;
       }
+      cost = EvaluateChart(q0, x, true);
+      mu *= std::max(1.0 / 3.0, 1.0 - std::pow(2.0 * rho - 1.0, 3));
+      nu = 2.0;
     } else {
       mu *= nu;
       nu *= 2.0;
