@@ -10,7 +10,7 @@ pkg_check_modules(FFMPEG REQUIRED IMPORTED_TARGET libavformat libavcodec libswsc
 
 # Ceres, OpenCV, OpenMesh (analysis/src only).
 find_package(Ceres 2.1 REQUIRED)
-find_package(OpenCV 4 REQUIRED COMPONENTS core imgproc calib3d)
+find_package(OpenCV 4 REQUIRED COMPONENTS core imgproc imgcodecs calib3d)
 find_package(OpenMesh QUIET CONFIG)
 if(NOT TARGET OpenMeshCore)
   # Debian's libopenmesh-dev ships headers and libraries without a usable CMake config in some versions.

@@ -6,6 +6,7 @@
 #include <limits>
 #include <sstream>
 
+#include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
 namespace acro::analysis {
@@ -100,77 +101,10 @@ std::string Hex(std::uint32_t rgb) {
   return buf;
 }
 
-// A PNG file of an 8-bit BGR image (PNG specification, ISO/IEC 15948): IHDR, one IDAT holding a
-// zlib stream (RFC 1950) of stored deflate blocks (RFC 1951 §3.2.4, no compression: the project's
-// OpenCV build links no image codecs), IEND. Each row is prefixed by filter type 0.
+// PNG bytes of an 8-bit BGR image (OpenCV's encoder, deflate-compressed).
 std::vector<std::uint8_t> EncodePng(const cv::Mat& bgr) {
-  static std::uint32_t crc_table[256];
-  static bool crc_ready = false;
-  if (!crc_ready) {
-    for (std::uint32_t n = 0; n < 256; ++n) {
-      std::uint32_t c = n;
-      for (int k = 0; k < 8; ++k) c = (c & 1) ? 0xedb88320u ^ (c >> 1) : c >> 1;
-      crc_table[n] = c;
-    }
-    crc_ready = true;
-  }
-  auto crc = [&](const std::uint8_t* p, size_t n) {
-    std::uint32_t c = 0xffffffffu;
-    for (size_t i = 0; i < n; ++i) c = crc_table[(c ^ p[i]) & 0xff] ^ (c >> 8);
-    return c ^ 0xffffffffu;
-  };
-  auto be32 = [](std::vector<std::uint8_t>& out, std::uint32_t v) {
-    for (int s = 24; s >= 0; s -= 8) out.push_back(static_cast<std::uint8_t>(v >> s));
-  };
-  std::vector<std::uint8_t> out = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1a, '\n'};
-  auto chunk = [&](const char* type, const std::vector<std::uint8_t>& data) {
-    be32(out, static_cast<std::uint32_t>(data.size()));
-    const size_t start = out.size();
-    out.insert(out.end(), type, type + 4);
-    out.insert(out.end(), data.begin(), data.end());
-    be32(out, crc(out.data() + start, out.size() - start));
-  };
-  // Raw scanlines in RGB order.
-  std::vector<std::uint8_t> raw;
-  raw.reserve(static_cast<size_t>(bgr.rows) * (1 + 3 * static_cast<size_t>(bgr.cols)));
-  for (int r = 0; r < bgr.rows; ++r) {
-    raw.push_back(0);
-    const std::uint8_t* row = bgr.ptr<std::uint8_t>(r);
-    for (int c = 0; c < bgr.cols; ++c) {
-      raw.push_back(row[3 * c + 2]);
-      raw.push_back(row[3 * c + 1]);
-      raw.push_back(row[3 * c]);
-    }
-  }
-  std::vector<std::uint8_t> ihdr;
-  be32(ihdr, static_cast<std::uint32_t>(bgr.cols));
-  be32(ihdr, static_cast<std::uint32_t>(bgr.rows));
-  ihdr.insert(ihdr.end(), {8, 2, 0, 0, 0});  // 8-bit RGB, deflate, adaptive filters, no interlace
-  chunk("IHDR", ihdr);
-  // zlib: header, stored blocks of at most 65535 bytes, Adler-32.
-  std::vector<std::uint8_t> z = {0x78, 0x01};
-  std::uint32_t a = 1, b = 0;
-  for (std::uint8_t v : raw) {
-    a = (a + v) % 65521u;
-    b = (b + a) % 65521u;
-  }
-  for (size_t pos = 0; pos < raw.size() || pos == 0;) {
-    const size_t len = std::min<size_t>(65535, raw.size() - pos);
-    const bool last = pos + len == raw.size();
-    z.push_back(last ? 1 : 0);
-    z.push_back(static_cast<std::uint8_t>(len & 0xff));
-    z.push_back(static_cast<std::uint8_t>(len >> 8));
-    z.push_back(static_cast<std::uint8_t>(~len & 0xff));
-    z.push_back(static_cast<std::uint8_t>((~len >> 8) & 0xff));
-    z.insert(z.end(),
-             raw.begin() + static_cast<std::ptrdiff_t>(pos),
-             raw.begin() + static_cast<std::ptrdiff_t>(pos + len));
-    pos += len;
-    if (last) break;
-  }
-  be32(z, (b << 16) | a);
-  chunk("IDAT", z);
-  chunk("IEND", {});
+  std::vector<std::uint8_t> out;
+  cv::imencode(".png", bgr, out, {cv::IMWRITE_PNG_COMPRESSION, 6});
   return out;
 }
 
