@@ -29,13 +29,6 @@ constexpr const char* kBodyHelp =
     "  --yeadon-package     reproduce the yeadon package's numbers (its cone centroids and\n"
     "                       long-axis stadium inertia; see docs/athlete-model.md)\n";
 
-double Number(const std::string& option, const std::string& text) {
-  double value = 0.0;
-  if (!analysis::ParseYamlNumber(text, &value))
-    throw UsageError{option + " needs a number, got '" + text + "'"};
-  return value;
-}
-
 }  // namespace
 
 int RunBody(const std::vector<std::string>& args) {
@@ -46,10 +39,7 @@ int RunBody(const std::vector<std::string>& args) {
   bool yeadon_package = false;
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& arg = args[i];
-    auto value = [&]() -> const std::string& {
-      if (i + 1 >= args.size()) throw UsageError{arg + " needs a value"};
-      return args[++i];
-    };
+    auto value = [&]() -> const std::string& { return OptionValue(args, &i); };
     if (arg == "--help" || arg == "-h") {
       std::fputs(kBodyHelp, stdout);
       return 0;
@@ -62,9 +52,9 @@ int RunBody(const std::vector<std::string>& args) {
     } else if (arg == "--profile") {
       profile_path = value();
     } else if (arg == "--height") {
-      height = Number(arg, value());
+      height = OptionNumber(arg, value());
     } else if (arg == "--mass") {
-      mass = Number(arg, value());
+      mass = OptionNumber(arg, value());
     } else if (arg == "--sex") {
       sex = value();
     } else if (arg == "--density") {

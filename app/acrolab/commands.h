@@ -1,5 +1,6 @@
 #pragma once
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -17,5 +18,11 @@ int RunOptimize(const std::vector<std::string>& args);
 struct UsageError {
   std::string message;
 };
+
+/// The value that follows option args[*i] (advancing *i), or UsageError "<option> needs a value".
+const std::string& OptionValue(const std::vector<std::string>& args, std::size_t* i);
+
+/// `text` as a number, or UsageError "<option> needs a number, got '<text>'".
+double OptionNumber(const std::string& option, const std::string& text);
 
 }  // namespace acro::app

@@ -36,10 +36,7 @@ int RunOptimize(const std::vector<std::string>& args) {
   analysis::TimingOptimizationOptions options;
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& arg = args[i];
-    auto value = [&]() -> const std::string& {
-      if (i + 1 >= args.size()) throw UsageError{arg + " needs a value"};
-      return args[++i];
-    };
+    auto value = [&]() -> const std::string& { return OptionValue(args, &i); };
     if (arg == "--help" || arg == "-h") {
       std::fputs(kOptimizeHelp, stdout);
       return 0;
