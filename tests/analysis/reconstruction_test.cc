@@ -382,7 +382,7 @@ TEST(Reconstruction, RealDataHelenHayesAndKeypoints) {
   EXPECT_EQ(b.summary.markerset, "coco17");
   EXPECT_EQ(b.summary.frames_fitted, 1261);
   EXPECT_GE(b.summary.flights.size(), 4u);
-  // Video keypoints: the median frame near the guideline (measured 2.7 cm; docs/reconstruction.md).
+  // Video keypoints: the median frame near the guideline (measured 2.3 cm; docs/reconstruction.md).
   EXPECT_LT(b.summary.median_rms_m, 0.03);
 }
 

@@ -41,7 +41,7 @@ struct ReconstructionOptions {
   ScalingOptions scaling;
   /// Offset prior (ScalingOptions::offset_prior) for keypoint sets: video keypoints are meant to
   /// be joint centres and landmarks, so their offsets are held far more firmly than skin markers'.
-  double keypoint_offset_prior = 5.0;
+  double keypoint_offset_prior = 2.0;
   /// For keypoint sets without ik.joint_prior_m_per_rad: the prior weight (m/rad) on the angles
   /// 17 keypoints cannot see — lumbar (pelvis tilt trades against it), forearm pronation, wrists
   /// and ankles (docs/reconstruction.md).
