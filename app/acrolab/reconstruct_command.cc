@@ -8,7 +8,6 @@
 #include "acro/analysis/de_leva.h"
 #include "acro/analysis/motion_export.h"
 #include "acro/analysis/reconstruction.h"
-#include "acro/analysis/yaml.h"
 #include "acro/capture/file_io.h"
 #include "acro/capture/trial_io.h"
 #include "commands.h"
@@ -41,13 +40,6 @@ constexpr const char* kReconstructHelp =
     "  --threads N          worker threads (default: all cores)\n"
     "  --quiet              no progress bar\n";
 
-double Number(const std::string& option, const std::string& text) {
-  double value = 0.0;
-  if (!analysis::ParseYamlNumber(text, &value))
-    throw UsageError{option + " needs a number, got '" + text + "'"};
-  return value;
-}
-
 }  // namespace
 
 int RunReconstruct(const std::vector<std::string>& args) {
@@ -58,10 +50,7 @@ int RunReconstruct(const std::vector<std::string>& args) {
   analysis::ReconstructionOptions options;
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& arg = args[i];
-    auto value = [&]() -> const std::string& {
-      if (i + 1 >= args.size()) throw UsageError{arg + " needs a value"};
-      return args[++i];
-    };
+    auto value = [&]() -> const std::string& { return OptionValue(args, &i); };
     if (arg == "--help" || arg == "-h") {
       std::fputs(kReconstructHelp, stdout);
       return 0;
@@ -74,34 +63,34 @@ int RunReconstruct(const std::vector<std::string>& args) {
     } else if (arg == "-o" || arg == "--output") {
       out_dir = value();
     } else if (arg == "--height") {
-      height = Number(arg, value());
+      height = OptionNumber(arg, value());
       have_body_numbers = true;
     } else if (arg == "--mass") {
-      mass = Number(arg, value());
+      mass = OptionNumber(arg, value());
       have_body_numbers = true;
     } else if (arg == "--sex") {
       sex = value();
       have_body_numbers = true;
     } else if (arg == "--cutoff") {
-      options.cutoff_hz = Number(arg, value());
+      options.cutoff_hz = OptionNumber(arg, value());
       if (options.cutoff_hz < 0) throw UsageError{"--cutoff must be >= 0"};
       options.filter = options.cutoff_hz > 0;
     } else if (arg == "--order") {
-      options.filter_order = static_cast<int>(Number(arg, value()));
+      options.filter_order = static_cast<int>(OptionNumber(arg, value()));
     } else if (arg == "--max-gap") {
-      options.gaps.max_spline_gap_frames = static_cast<int>(Number(arg, value()));
+      options.gaps.max_spline_gap_frames = static_cast<int>(OptionNumber(arg, value()));
     } else if (arg == "--window") {
       window = value();
       const size_t colon = window.find(':');
       if (colon == std::string::npos) throw UsageError{"--window needs A:B"};
-      options.scaling_first_frame = static_cast<int>(Number(arg, window.substr(0, colon)));
-      options.scaling_last_frame = static_cast<int>(Number(arg, window.substr(colon + 1)));
+      options.scaling_first_frame = static_cast<int>(OptionNumber(arg, window.substr(0, colon)));
+      options.scaling_last_frame = static_cast<int>(OptionNumber(arg, window.substr(colon + 1)));
     } else if (arg == "--no-scale") {
       options.scale = false;
     } else if (arg == "--no-swap-repair") {
       options.repair_swaps = false;
     } else if (arg == "--threads") {
-      options.num_threads = static_cast<int>(Number(arg, value()));
+      options.num_threads = static_cast<int>(OptionNumber(arg, value()));
     } else if (arg == "--quiet") {
       quiet = true;
     } else if (!arg.empty() && arg[0] == '-') {
