@@ -63,36 +63,36 @@ int RunReconstruct(const std::vector<std::string>& args) {
     } else if (arg == "-o" || arg == "--output") {
       out_dir = value();
     } else if (arg == "--height") {
-      height = OptionOptionNumber(arg, value());
+      height = OptionNumber(arg, value());
       have_body_numbers = true;
     } else if (arg == "--mass") {
-      mass = OptionOptionNumber(arg, value());
+      mass = OptionNumber(arg, value());
       have_body_numbers = true;
     } else if (arg == "--sex") {
       sex = value();
       have_body_numbers = true;
     } else if (arg == "--cutoff") {
-      options.cutoff_hz = OptionOptionNumber(arg, value());
+      options.cutoff_hz = OptionNumber(arg, value());
       if (options.cutoff_hz < 0) throw UsageError{"--cutoff must be >= 0"};
       options.filter = options.cutoff_hz > 0;
     } else if (arg == "--order") {
-      options.filter_order = static_cast<int>(OptionOptionNumber(arg, value()));
+      options.filter_order = static_cast<int>(OptionNumber(arg, value()));
     } else if (arg == "--max-gap") {
-      options.gaps.max_spline_gap_frames = static_cast<int>(OptionOptionNumber(arg, value()));
+      options.gaps.max_spline_gap_frames = static_cast<int>(OptionNumber(arg, value()));
     } else if (arg == "--window") {
       window = value();
       const size_t colon = window.find(':');
       if (colon == std::string::npos) throw UsageError{"--window needs A:B"};
       options.scaling_first_frame =
-          static_cast<int>(OptionOptionNumber(arg, window.substr(0, colon)));
+          static_cast<int>(OptionNumber(arg, window.substr(0, colon)));
       options.scaling_last_frame =
-          static_cast<int>(OptionOptionNumber(arg, window.substr(colon + 1)));
+          static_cast<int>(OptionNumber(arg, window.substr(colon + 1)));
     } else if (arg == "--no-scale") {
       options.scale = false;
     } else if (arg == "--no-swap-repair") {
       options.repair_swaps = false;
     } else if (arg == "--threads") {
-      options.num_threads = static_cast<int>(OptionOptionNumber(arg, value()));
+      options.num_threads = static_cast<int>(OptionNumber(arg, value()));
     } else if (arg == "--quiet") {
       quiet = true;
     } else if (!arg.empty() && arg[0] == '-') {
