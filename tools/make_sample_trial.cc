@@ -31,7 +31,8 @@ constexpr double kG = 9.81;
 struct Marker {
   const char* label;
   const char* description;
-  Eigen::Vector3d p_BcmM_B;  // marker position from the body's COM, in body frame B (x forward, z head)
+  Eigen::Vector3d
+      p_BcmM_B;  // marker position from the body's COM, in body frame B (x forward, z head)
 };
 
 // A straight body 1.75 m tall, COM 0.97 m above the soles (de Leva-like proportions).
@@ -67,10 +68,11 @@ int main(int argc, char** argv) {
   // Athlete, bed and jump.
   const double mass_kg = 65.0;
   const double bed_stiffness_N_per_m = 5000.0;  // effective vertical stiffness of a competition bed
-  const double v0_m_per_s = 7.0;                // take-off vertical velocity: flight 2 v0 / g ≈ 1.43 s
-  const double z_com_rest_m = 0.97;             // COM height standing on the unloaded bed (bed at z = 0)
-  // In contact z(t) = z_eq + B cos θ, θ = θ0 + ω t, about the static equilibrium z_eq = z_rest − m g / k.
-  // Touch-down (z = z_rest, ż = −v0) is at θ0 = atan2(v0 / ω, m g / k); take-off (ż = +v0) at 2π − θ0.
+  const double v0_m_per_s = 7.0;     // take-off vertical velocity: flight 2 v0 / g ≈ 1.43 s
+  const double z_com_rest_m = 0.97;  // COM height standing on the unloaded bed (bed at z = 0)
+  // In contact z(t) = z_eq + B cos θ, θ = θ0 + ω t, about the static equilibrium z_eq = z_rest − m
+  // g / k. Touch-down (z = z_rest, ż = −v0) is at θ0 = atan2(v0 / ω, m g / k); take-off (ż = +v0)
+  // at 2π − θ0.
   const double omega = std::sqrt(bed_stiffness_N_per_m / mass_kg);
   const double sag_m = mass_kg * kG / bed_stiffness_N_per_m;
   const double amplitude_m = std::hypot(sag_m, v0_m_per_s / omega);
@@ -78,7 +80,8 @@ int main(int argc, char** argv) {
   const double contact_s = (2 * kPi - 2 * theta0) / omega;
   const double flight_s = 2 * v0_m_per_s / kG;
   const double horizontal_m_per_s = 0.15;  // drift towards +x
-  // A back somersault (negative rotation about +y): 0.92 of a turn in the air, the rest happens on the bed.
+  // A back somersault (negative rotation about +y): 0.92 of a turn in the air, the rest happens on
+  // the bed.
   const double somersault_rad_per_s = -2 * kPi * 0.92 / flight_s;
 
   // Time line: contact, flight, contact (landing), at 200 Hz.
@@ -130,7 +133,8 @@ int main(int argc, char** argv) {
     const double t = f / rate_hz;
     double z, zdd, x, angle;
     state(t, &z, &zdd, &x, &angle);
-    const Eigen::Matrix3d R_WB = Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitY()).toRotationMatrix();
+    const Eigen::Matrix3d R_WB =
+        Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitY()).toRotationMatrix();
     const Eigen::Vector3d p_WoBcm_W(x, 0.0, z);
     for (int m = 0; m < num_markers; ++m) {
       Eigen::Vector3d p = p_WoBcm_W + R_WB * Markers()[m].p_BcmM_B;
@@ -141,7 +145,8 @@ int main(int argc, char** argv) {
       double zs, zdds, xs, as;
       state(t + s / trial.analog_rate_hz, &zs, &zdds, &xs, &as);
       // The bed pushes only while compressed: m (g + z̈), zero in flight.
-      trial.analog(0, std::int64_t(f) * analog_per_frame + s) = std::max(0.0, mass_kg * (kG + zdds));
+      trial.analog(0, std::int64_t(f) * analog_per_frame + s) =
+          std::max(0.0, mass_kg * (kG + zdds));
     }
   }
   // One occlusion: the right wrist is hidden for 12 frames at the top of the flight.
@@ -152,8 +157,16 @@ int main(int argc, char** argv) {
     trial.residuals(right_wrist, f) = -1.0f;
   }
   // Events where the athlete leaves and touches the bed.
-  trial.events.push_back({"Take-off", "General", "athlete leaves the bed", "Sample Athlete", contact_s, true, 0, 0});
-  trial.events.push_back({"Landing", "General", "athlete touches the bed", "Sample Athlete", contact_s + flight_s, true, 0, 0});
+  trial.events.push_back(
+      {"Take-off", "General", "athlete leaves the bed", "Sample Athlete", contact_s, true, 0, 0});
+  trial.events.push_back({"Landing",
+                          "General",
+                          "athlete touches the bed",
+                          "Sample Athlete",
+                          contact_s + flight_s,
+                          true,
+                          0,
+                          0});
 
   try {
     acro::capture::WriteC3d(trial, argv[1]);
@@ -161,7 +174,12 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "make_sample_trial: %s\n", e.what());
     return 1;
   }
-  std::printf("wrote %s: %d frames at %g Hz, %d markers, flight %.3f s, contact %.3f s\n", argv[1], frames, rate_hz,
-              num_markers, flight_s, contact_s);
+  std::printf("wrote %s: %d frames at %g Hz, %d markers, flight %.3f s, contact %.3f s\n",
+              argv[1],
+              frames,
+              rate_hz,
+              num_markers,
+              flight_s,
+              contact_s);
   return 0;
 }

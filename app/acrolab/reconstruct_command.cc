@@ -83,10 +83,8 @@ int RunReconstruct(const std::vector<std::string>& args) {
       window = value();
       const size_t colon = window.find(':');
       if (colon == std::string::npos) throw UsageError{"--window needs A:B"};
-      options.scaling_first_frame =
-          static_cast<int>(OptionNumber(arg, window.substr(0, colon)));
-      options.scaling_last_frame =
-          static_cast<int>(OptionNumber(arg, window.substr(colon + 1)));
+      options.scaling_first_frame = static_cast<int>(OptionNumber(arg, window.substr(0, colon)));
+      options.scaling_last_frame = static_cast<int>(OptionNumber(arg, window.substr(colon + 1)));
     } else if (arg == "--no-scale") {
       options.scale = false;
     } else if (arg == "--no-swap-repair") {

@@ -163,10 +163,12 @@ std::string Slurp(const std::filesystem::path& path) {
 
 TEST(Samples, CommittedSampleTrialIsWhatTheGeneratorMakes) {
   // samples/ holds only what the project makes itself: regenerating gives the same bytes.
-  const auto committed = acro::testing::SourceDir() / "samples/trials/straight_jump/straight_jump.c3d";
+  const auto committed =
+      acro::testing::SourceDir() / "samples/trials/straight_jump/straight_jump.c3d";
   ASSERT_TRUE(std::filesystem::exists(committed));
   EXPECT_EQ(Slurp(committed), Slurp(SampleC3d()))
-      << "regenerate with: build/bin/make_sample_trial samples/trials/straight_jump/straight_jump.c3d";
+      << "regenerate with: build/bin/make_sample_trial "
+         "samples/trials/straight_jump/straight_jump.c3d";
 }
 
 }  // namespace

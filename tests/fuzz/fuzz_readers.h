@@ -2,8 +2,8 @@
 
 // The one entry point of the reader fuzzers: every reader of untrusted files gets the same bytes.
 // A reader may accept the bytes or reject them with acro::InputError; anything else (another
-// exception, a crash, a sanitizer report, a hang, an allocation beyond the fuzzer's limit) is a bug.
-// Used by the libFuzzer target (tests/fuzz/readers_fuzz.cc) and by the ctest corpus replay
+// exception, a crash, a sanitizer report, a hang, an allocation beyond the fuzzer's limit) is a
+// bug. Used by the libFuzzer target (tests/fuzz/readers_fuzz.cc) and by the ctest corpus replay
 // (tests/capture/reader_corpus_test.cc), so the suite runs exactly what the fuzzer runs.
 
 #include <cstddef>

@@ -22,7 +22,8 @@ struct C3dReadOptions {
 Trial ReadC3d(const std::filesystem::path& path, const C3dReadOptions& options = {});
 
 /// The same from bytes in memory; `name` is used in error messages.
-Trial ReadC3dFromMemory(std::span<const std::uint8_t> bytes, const std::string& name,
+Trial ReadC3dFromMemory(std::span<const std::uint8_t> bytes,
+                        const std::string& name,
                         const C3dReadOptions& options = {});
 
 /// Writes Intel-float C3D keeping points, analog, labels, rates, events, force plates and every

@@ -22,10 +22,10 @@ struct Parameter {
   bool locked = false;  // the C3D "locked" flag: a negative name length
   ParameterType type = ParameterType::kInt16;
   std::vector<std::uint8_t> dimensions;
-  std::vector<char> chars;            // kChar
-  std::vector<std::uint8_t> bytes;    // kByte
-  std::vector<std::int16_t> int16s;   // kInt16
-  std::vector<float> floats;          // kFloat
+  std::vector<char> chars;           // kChar
+  std::vector<std::uint8_t> bytes;   // kByte
+  std::vector<std::int16_t> int16s;  // kInt16
+  std::vector<float> floats;         // kFloat
 
   /// Number of elements (product of the dimensions; 1 for a scalar).
   std::size_t ElementCount() const;
@@ -33,7 +33,8 @@ struct Parameter {
   std::vector<double> AsDoubles() const;
   /// int16 values read as unsigned 16-bit (for counts that exceed 32767, e.g. POINT:FRAMES).
   std::vector<std::uint32_t> AsUnsigned() const;
-  /// Character arrays split into strings of dimensions[0] characters, trailing blanks and NULs removed.
+  /// Character arrays split into strings of dimensions[0] characters, trailing blanks and NULs
+  /// removed.
   std::vector<std::string> AsStrings() const;
   /// The whole character array as one string, trailing blanks and NULs removed.
   std::string AsString() const;
@@ -78,15 +79,22 @@ class ParameterSet {
 };
 
 /// Builders for writers and tests.
-Parameter MakeFloatParameter(std::string name, std::vector<float> values,
-                             std::vector<std::uint8_t> dimensions, std::string description = {});
-Parameter MakeInt16Parameter(std::string name, std::vector<std::int16_t> values,
-                             std::vector<std::uint8_t> dimensions, std::string description = {});
+Parameter MakeFloatParameter(std::string name,
+                             std::vector<float> values,
+                             std::vector<std::uint8_t> dimensions,
+                             std::string description = {});
+Parameter MakeInt16Parameter(std::string name,
+                             std::vector<std::int16_t> values,
+                             std::vector<std::uint8_t> dimensions,
+                             std::string description = {});
 /// A 2-D character array of `strings.size()` entries padded with blanks to the longest (or to
 /// `width` when larger).
-Parameter MakeStringsParameter(std::string name, const std::vector<std::string>& strings,
-                               std::size_t width = 0, std::string description = {});
-Parameter MakeStringParameter(std::string name, const std::string& value,
+Parameter MakeStringsParameter(std::string name,
+                               const std::vector<std::string>& strings,
+                               std::size_t width = 0,
+                               std::string description = {});
+Parameter MakeStringParameter(std::string name,
+                              const std::string& value,
                               std::string description = {});
 
 }  // namespace acro::capture

@@ -29,7 +29,15 @@ struct SourceInfo {
 /// What a point holds. C3D files from Vicon Nexus store model outputs (angles, forces, moments,
 /// powers) as points; only markers are lengths converted to metres on import, the others keep the
 /// file's units (named in Point::unit).
-enum class PointType : std::uint8_t { kMarker, kAngle, kForce, kMoment, kPower, kScalar, kReaction };
+enum class PointType : std::uint8_t {
+  kMarker,
+  kAngle,
+  kForce,
+  kMoment,
+  kPower,
+  kScalar,
+  kReaction
+};
 
 struct PointInfo {
   std::string label;
@@ -41,11 +49,11 @@ struct PointInfo {
 /// An event on the trial's time line: C3D header events and EVENT group, or text formats' events.
 struct Event {
   std::string label;
-  std::string context;      ///< e.g. "Left", "Right", "General", or a phase name
+  std::string context;  ///< e.g. "Left", "Right", "General", or a phase name
   std::string description;
   std::string subject;
-  double time_s = 0.0;      ///< seconds from the C3D time origin (frame 1 at t = 0)
-  bool displayed = true;    ///< header event display flag
+  double time_s = 0.0;    ///< seconds from the C3D time origin (frame 1 at t = 0)
+  bool displayed = true;  ///< header event display flag
   int icon_id = 0;
   int generic_flag = 0;
 };
@@ -53,10 +61,10 @@ struct Event {
 struct AnalogChannel {
   std::string label;
   std::string description;
-  std::string unit;         ///< ANALOG:UNITS, e.g. "V", "N", "Nmm"
-  double scale = 1.0;       ///< ANALOG:SCALE of this channel
-  double offset = 0.0;      ///< ANALOG:OFFSET of this channel (as decoded: signed or unsigned)
-  double gain_code = 0.0;   ///< ANALOG:GAIN if present
+  std::string unit;        ///< ANALOG:UNITS, e.g. "V", "N", "Nmm"
+  double scale = 1.0;      ///< ANALOG:SCALE of this channel
+  double offset = 0.0;     ///< ANALOG:OFFSET of this channel (as decoded: signed or unsigned)
+  double gain_code = 0.0;  ///< ANALOG:GAIN if present
 };
 
 /// A force platform (C3D FORCE_PLATFORM group, types 1–4) and what it measured.
@@ -69,13 +77,13 @@ struct ForcePlate {
   int type = 0;
   Eigen::Matrix<double, 3, 4> corners_W_m = Eigen::Matrix<double, 3, 4>::Zero();
   Eigen::Vector3d origin_F_m = Eigen::Vector3d::Zero();
-  std::vector<int> channels;           ///< 0-based analog channel indices, in the type's order
-  Eigen::MatrixXd cal_matrix;          ///< CAL_MATRIX (rows = outputs), empty when absent
-  std::vector<int> zero;               ///< ZERO: first and last frame of the baseline, 1-based
+  std::vector<int> channels;   ///< 0-based analog channel indices, in the type's order
+  Eigen::MatrixXd cal_matrix;  ///< CAL_MATRIX (rows = outputs), empty when absent
+  std::vector<int> zero;       ///< ZERO: first and last frame of the baseline, 1-based
 
   /// Ground reaction per analog sample, in W: the force that the plate exerts on the body (N), the
-  /// centre of pressure on the plate's top surface (m), the free moment about the plate normal at the
-  /// COP (N·m, as a vector in W), and the moment about the plate's transducer origin (N·m).
+  /// centre of pressure on the plate's top surface (m), the free moment about the plate normal at
+  /// the COP (N·m, as a vector in W), and the moment about the plate's transducer origin (N·m).
   /// Samples where the vertical force is too small for a COP hold NaN COP and free moment.
   Eigen::Matrix3Xd force_W_N;
   Eigen::Matrix3Xd cop_W_m;
@@ -94,19 +102,21 @@ struct Trial {
   int num_frames = 0;
 
   std::vector<PointInfo> points;
-  Eigen::Matrix3Xd positions;      ///< 3 × (num_frames·num_points); metres for markers; NaN = gap
-  Eigen::ArrayXXf residuals;       ///< num_points × num_frames; C3D residual in file units, −1 = invalid
-  Eigen::Array<std::uint8_t, Eigen::Dynamic, Eigen::Dynamic> camera_masks;  ///< num_points × num_frames
+  Eigen::Matrix3Xd positions;  ///< 3 × (num_frames·num_points); metres for markers; NaN = gap
+  Eigen::ArrayXXf residuals;  ///< num_points × num_frames; C3D residual in file units, −1 = invalid
+  Eigen::Array<std::uint8_t, Eigen::Dynamic, Eigen::Dynamic>
+      camera_masks;  ///< num_points × num_frames
 
   double analog_rate_hz = 0.0;
   std::vector<AnalogChannel> analog_channels;
-  Eigen::MatrixXd analog;          ///< num_channels × num_samples, scaled to the channels' units
+  Eigen::MatrixXd analog;  ///< num_channels × num_samples, scaled to the channels' units
 
   std::vector<ForcePlate> force_plates;
   std::vector<Event> events;
 
   std::string subject_name;
-  /// Every C3D parameter as read (empty for text formats). Writers keep it so a round trip is lossless.
+  /// Every C3D parameter as read (empty for text formats). Writers keep it so a round trip is
+  /// lossless.
   ParameterSet parameters;
   /// Problems that did not stop the import, one line each, naming file, field and value.
   std::vector<std::string> warnings;
@@ -118,11 +128,18 @@ struct Trial {
   int analog_samples_per_frame() const;
   double duration_s() const { return point_rate_hz > 0 ? num_frames / point_rate_hz : 0.0; }
 
-  auto position(int frame, int point) const { return positions.col(std::int64_t(frame) * num_points() + point); }
-  auto position(int frame, int point) { return positions.col(std::int64_t(frame) * num_points() + point); }
-  bool valid(int frame, int point) const { return !std::isnan(positions(0, std::int64_t(frame) * num_points() + point)); }
+  auto position(int frame, int point) const {
+    return positions.col(std::int64_t(frame) * num_points() + point);
+  }
+  auto position(int frame, int point) {
+    return positions.col(std::int64_t(frame) * num_points() + point);
+  }
+  bool valid(int frame, int point) const {
+    return !std::isnan(positions(0, std::int64_t(frame) * num_points() + point));
+  }
 
-  /// Index of the point with this label (exact match first, then ignoring a `Subject:` prefix), or −1.
+  /// Index of the point with this label (exact match first, then ignoring a `Subject:` prefix), or
+  /// −1.
   int FindPoint(const std::string& label) const;
   /// Index of the analog channel with this label, or −1.
   int FindAnalog(const std::string& label) const;
