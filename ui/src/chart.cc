@@ -44,6 +44,8 @@ namespace acro::ui {
 namespace {
 
 constexpr int kMaxSidePx = 8192;
+// zlib level for the PNGs: charts are mostly flat colour, so a fast level loses little size.
+constexpr int kPngCompressionLevel = 1;
 
 // "series 2 'COM height'" for error messages.
 std::string Describe(std::string_view kind, std::size_t index, const std::string& name) {
@@ -375,6 +377,7 @@ std::vector<std::uint8_t> ChartRenderer::RenderPngBytes(const Chart& chart) {
   }
   vtkNew<vtkPNGWriter> writer;
   impl_->errors.Observe(writer);
+  writer->SetCompressionLevel(kPngCompressionLevel);
   writer->WriteToMemoryOn();
   writer->SetInputConnection(grab->GetOutputPort());
   writer->Write();
