@@ -371,7 +371,7 @@ TEST_F(XvfbRelaunchTest, RelaunchesOnlyWithoutDisplayOnceAndWhenInstalled) {
   const std::vector<std::string> expected = {fake_.string(),
                                              "-a",
                                              "-s",
-                                             "-screen 0 1280x1024x24",
+                                             "-screen 0 1280x1024x24 -noreset",
                                              "env",
                                              "ACRO_UNDER_XVFB=1",
                                              "/opt/acrolab",

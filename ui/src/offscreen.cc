@@ -99,12 +99,13 @@ std::optional<std::vector<std::string>> XvfbRelaunchCommand(std::span<const std:
   const std::optional<std::filesystem::path> xvfb_run = FindOnPath("xvfb-run", env.path);
   if (!xvfb_run) return std::nullopt;
 
-  // xvfb-run's default screen depth differs between versions; ask for 24-bit colour explicitly.
+  // xvfb-run's default screen depth differs between versions: ask for 24-bit colour, and for no
+  // server reset when the last client leaves (VTK reconnecting during a reset fails).
   // `env` sets the guard inside the relaunched process, so the command needs no caller setup.
   std::vector<std::string> command = {xvfb_run->string(),
                                       "-a",
                                       "-s",
-                                      "-screen 0 1280x1024x24",
+                                      "-screen 0 1280x1024x24 -noreset",
                                       "env",
                                       std::string(kUnderXvfbEnv) + "=1"};
   command.insert(command.end(), args.begin(), args.end());

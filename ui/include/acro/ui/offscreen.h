@@ -49,7 +49,7 @@ struct DisplayEnvironment {
 std::optional<std::filesystem::path> FindOnPath(std::string_view name, std::string_view path_var);
 
 /// The command to run instead of `args` (args[0] = this program) so that it gets a virtual display:
-///   <xvfb-run> -a -s "-screen 0 1280x1024x24" env ACRO_UNDER_XVFB=1 args…
+///   <xvfb-run> -a -s "-screen 0 1280x1024x24 -noreset" env ACRO_UNDER_XVFB=1 args…
 /// when DISPLAY is empty, ACRO_UNDER_XVFB is not set and xvfb-run is found on PATH; nothing
 /// otherwise (a display exists, we are already the relaunched process, or Xvfb is not installed —
 /// then OffscreenRenderingStatus() says why and how to fix it). Pure: reads only `env` and the
