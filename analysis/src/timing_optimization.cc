@@ -16,6 +16,8 @@
 #include "acro/analysis/standard_human.h"
 #include "acro/dynamics/inverse_dynamics.h"
 #include "acro/dynamics/kinematics.h"
+#include "skill_solver.h"
+#include "trajectory_optimization.h"
 
 namespace acro::analysis {
 namespace {
@@ -33,12 +35,10 @@ Eigen::VectorXd SimpsonWeightsOverT(int intervals) {
   return w / (3.0 * intervals);
 }
 
-// Sizes of Model (m)'s parameter blocks: gaps, joint offsets, keyframe and midpoint orientation
-// offsets.
+// Model 2's one parameter block: the gaps (Model 1 lives in trajectory_optimization.cc).
 std::vector<int> BlockSizes(const SkillDesign& d, int model) {
-  const int n = d.num_keyframes();
-  if (model == 2) return {n - 1};
-  return {n - 1, d.num_joint_dofs() * n, 3 * n, 3 * (n - 1), d.num_joint_dofs() * (n - 1)};
+  ACRO_DEMAND(model == 2);
+  return {d.num_keyframes() - 1};
 }
 
 // Everything the residual evaluation needs besides the variables.
@@ -83,7 +83,7 @@ struct SkillSplines {
   int n = 0;
 };
 
-// Builds the splines from the variables (params as in BlockSizes; Model 2 uses only the gaps).
+// Builds the keyframe splines from the gaps.
 template <typename T>
 void BuildSplines(const ResidualData& d, const T* const* params, SkillSplines<T>& s) {
   const SkillDesign& design = *d.design;
@@ -92,55 +92,18 @@ void BuildSplines(const ResidualData& d, const T* const* params, SkillSplines<T>
   s.n = n;
   s.ndof = ndof;
   const std::vector<T> t = TimesFromGaps(params[0], n, design.flight_time_s());
-  // Joint knots: the keyframes and, when the base has them, the midpoints (Model 1 offsets both).
-  const bool joint_mid = d.base.midpoint_joint_angles_rad.cols() > 0;
-  const int nk = joint_mid ? 2 * n - 1 : n;
-  s.n = nk;
-  std::vector<T> joint_t;
-  for (int i = 0; i < n; ++i) {
-    joint_t.push_back(t[static_cast<size_t>(i)]);
-    if (joint_mid && i + 1 < n)
-      joint_t.push_back(T(0.5) * (t[static_cast<size_t>(i)] + t[static_cast<size_t>(i + 1)]));
-  }
-  s.joint_knots.Reset(std::move(joint_t));
-  s.joint_values.resize(static_cast<size_t>(ndof * nk));
-  s.joint_moments.resize(static_cast<size_t>(ndof * nk));
+  s.joint_knots.Reset(t);
+  s.joint_values.resize(static_cast<size_t>(ndof * n));
+  s.joint_moments.resize(static_cast<size_t>(ndof * n));
   for (int j = 0; j < ndof; ++j) {
-    T* y = s.joint_values.data() + j * nk;
-    for (int i = 0, k = 0; i < n; ++i) {
-      y[k] = T(d.base.joint_angles_rad(j, i));
-      if (d.model == 1) y[k] += params[1][i * ndof + j];
-      ++k;
-      if (joint_mid && i + 1 < n) {
-        y[k] = T(d.base.midpoint_joint_angles_rad(j, i));
-        if (d.model == 1) y[k] += params[4][i * ndof + j];
-        ++k;
-      }
-    }
-    s.joint_knots.SolveMoments(y, s.joint_moments.data() + j * nk);
+    T* y = s.joint_values.data() + j * n;
+    for (int i = 0; i < n; ++i) y[i] = T(d.base.joint_angles_rad(j, i));
+    s.joint_knots.SolveMoments(y, s.joint_moments.data() + j * n);
   }
-  // Orientation knots: the keyframes (offset by exp(δ/2) in Model 1) and, when the base has them,
-  // the midpoints.
-  auto offset = [](const Eigen::Quaterniond& Q, const T* delta) {
-    const Eigen::Quaternion<T> Qt = Q.cast<T>();
-    if (delta == nullptr) return Qt;
-    return Eigen::Quaternion<T>(
-        Qt * dynamics::QuaternionExp<T>(dynamics::Vector3<T>(delta[0], delta[1], delta[2])));
-  };
-  const bool mid = !d.base.midpoint_orientations.empty();
-  std::vector<T> knot_t;
   std::vector<Eigen::Quaternion<T>> knot_q;
-  for (int i = 0; i < n; ++i) {
-    knot_t.push_back(t[static_cast<size_t>(i)]);
-    knot_q.push_back(offset(d.base.keyframe_orientations[static_cast<size_t>(i)],
-                            d.model == 1 ? params[2] + 3 * i : nullptr));
-    if (mid && i + 1 < n) {
-      knot_t.push_back(T(0.5) * (t[static_cast<size_t>(i)] + t[static_cast<size_t>(i + 1)]));
-      knot_q.push_back(offset(d.base.midpoint_orientations[static_cast<size_t>(i)],
-                              d.model == 1 ? params[3] + 3 * i : nullptr));
-    }
-  }
-  s.orientation.Reset(std::move(knot_t), std::move(knot_q));
+  for (int i = 0; i < n; ++i)
+    knot_q.push_back(d.base.keyframe_orientations[static_cast<size_t>(i)].template cast<T>());
+  s.orientation.Reset(t, std::move(knot_q));
 }
 
 // q, v, a at time t with the root at the origin, at rest in translation (the moment residual about
@@ -259,13 +222,15 @@ std::vector<double*> BlockPointers(const SkillDesign& design, int model, double*
   return out;
 }
 
-// A double-precision evaluator of the designed motion (splines built once).
+// A double-precision evaluator of the designed motion: Model 2's keyframe splines (built once) or
+// Model 1's local form.
 class MotionEvaluator {
  public:
   MotionEvaluator(const SkillDesign& design,
                   const SkillTrajectory& trajectory,
                   const Eigen::Vector3d& com_start_W)
-      : design_(design), kit_(design.model()), com_start_W_(com_start_W) {
+      : design_(design), trajectory_(trajectory), kit_(design.model()), com_start_W_(com_start_W) {
+    if (trajectory.has_knots()) return;
     ResidualData d = MakeResidualData(design, trajectory, 2, 2, 0.0);
     Eigen::VectorXd gaps(design.num_keyframes() - 1);
     for (int i = 0; i + 1 < design.num_keyframes(); ++i)
@@ -274,12 +239,41 @@ class MotionEvaluator {
     BuildSplines(d, &p, kit_.splines);
   }
 
+  // q, v, a with the root at the origin, at rest in translation.
+  void State(double t,
+             Eigen::Ref<Eigen::VectorXd> q,
+             Eigen::Ref<Eigen::VectorXd> v,
+             Eigen::Ref<Eigen::VectorXd> a) const {
+    if (!trajectory_.has_knots()) {
+      dynamics::VectorX<double>& kq = kit_.q;
+      SampleState(kit_.splines, t, kq, kit_.v, kit_.a);
+      q = kit_.q;
+      v = kit_.v;
+      a = kit_.a;
+      return;
+    }
+    const int ndof = design_.num_joint_dofs();
+    Eigen::Quaterniond q_WB;
+    Eigen::Vector3d w, wdot;
+    internal::EvalKnotTrajectory(
+        trajectory_, t, q.tail(ndof), v.tail(ndof), a.tail(ndof), &q_WB, &w, &wdot);
+    q.head<3>().setZero();
+    q[3] = q_WB.w();
+    q[4] = q_WB.x();
+    q[5] = q_WB.y();
+    q[6] = q_WB.z();
+    v.head<3>().setZero();
+    a.head<3>().setZero();
+    v.segment<3>(3) = w;
+    a.segment<3>(3) = wdot;
+  }
+
   // Joint angles, rates and accelerations only.
   void Joints(double t,
               Eigen::Ref<Eigen::VectorXd> qj,
               Eigen::Ref<Eigen::VectorXd> vj,
               Eigen::Ref<Eigen::VectorXd> aj) const {
-    SampleState(kit_.splines, t, kit_.q, kit_.v, kit_.a);
+    State(t, kit_.q, kit_.v, kit_.a);
     qj = kit_.q.tail(qj.size());
     vj = kit_.v.tail(vj.size());
     aj = kit_.a.tail(aj.size());
@@ -291,7 +285,7 @@ class MotionEvaluator {
     s.q = Eigen::VectorXd(kit_.model.nq());
     s.v = Eigen::VectorXd(kit_.model.nv());
     s.a = Eigen::VectorXd(kit_.model.nv());
-    SampleState(kit_.splines, t, s.q, s.v, s.a);
+    State(t, s.q, s.v, s.a);
     const dynamics::Model<double>& m = kit_.model;
     dynamics::Workspace<double>& ws = kit_.ws;
     // COM position, velocity and acceleration relative to a root fixed at the origin.
@@ -310,69 +304,74 @@ class MotionEvaluator {
 
  private:
   const SkillDesign& design_;
+  const SkillTrajectory& trajectory_;
   mutable ScalarKit<double> kit_;
   Eigen::Vector3d com_start_W_;
 };
 
 }  // namespace
 
-SkillTrajectory AddMidpointKnots(const SkillTrajectory& t) {
+SkillTrajectory MakeKnotTrajectory(const SkillTrajectory& t, int knots_per_interval) {
+  ACRO_DEMAND(knots_per_interval >= 1 && !t.has_knots());
   SkillTrajectory out = t;
-  out.midpoint_orientations.clear();
+  const int P = knots_per_interval;
   const std::vector<double> times(t.times_s.data(), t.times_s.data() + t.times_s.size());
   const int n = static_cast<int>(times.size());
-  QuaternionSpline<double> spline(times, t.keyframe_orientations);
-  CubicSplineKnots<double> knots(times);
-  std::vector<double> M(times.size());
-  out.midpoint_joint_angles_rad.resize(t.joint_angles_rad.rows(), n - 1);
-  for (int j = 0; j < t.joint_angles_rad.rows(); ++j) {
-    const Eigen::VectorXd y = t.joint_angles_rad.row(j).transpose();
-    knots.SolveMoments(y.data(), M.data());
-    for (int i = 0; i + 1 < n; ++i)
-      out.midpoint_joint_angles_rad(j, i) =
-          knots
-              .Eval(i,
-                    0.5 * (times[static_cast<size_t>(i)] + times[static_cast<size_t>(i + 1)]),
-                    y.data(),
-                    M.data())
-              .value;
+  const int K = P * (n - 1) + 1;
+  const int ndof = static_cast<int>(t.joint_angles_rad.rows());
+  out.knots_per_interval = P;
+  out.knot_joint_angles_rad.resize(ndof, K);
+  out.knot_joint_rates.resize(ndof, K);
+  out.knot_joint_accelerations.resize(ndof, K);
+  out.knot_orientations.clear();
+  out.knot_angular_velocities_B.resize(3, K);
+  out.knot_angular_accelerations_B.resize(3, K);
+  // The keyframe splines, read at the knots (value, first and second derivative).
+  const QuaternionSpline<double> spline(times, t.keyframe_orientations);
+  const CubicSplineKnots<double> knots(times);
+  // Row j: joint j's keyframe values, then its spline moments.
+  const Eigen::MatrixXd Y = t.joint_angles_rad;
+  Eigen::MatrixXd M(ndof, n);
+  for (int j = 0; j < ndof; ++j) {
+    const Eigen::VectorXd y = Y.row(j).transpose();
+    Eigen::VectorXd m(n);
+    knots.SolveMoments(y.data(), m.data());
+    M.row(j) = m.transpose();
   }
-  for (int i = 0; i + 1 < n; ++i)
-    out.midpoint_orientations.push_back(spline.Eval(0.5 * (t.times_s[i] + t.times_s[i + 1])).q_WB);
+  for (int k = 0; k < K; ++k) {
+    const int i = std::min(k / P, n - 2);
+    const double tk =
+        k == K - 1 ? times.back() : times[i] + (k - i * P) * (times[i + 1] - times[i]) / P;
+    for (int j = 0; j < ndof; ++j) {
+      const Eigen::VectorXd y = Y.row(j).transpose();
+      const Eigen::VectorXd m = M.row(j).transpose();
+      const SplineSample<double> s = knots.Eval(i, tk, y.data(), m.data());
+      // Keyframe knots carry the keyframe value itself (the spline matches it to rounding).
+      out.knot_joint_angles_rad(j, k) = k % P == 0 ? t.joint_angles_rad(j, k / P) : s.value;
+      out.knot_joint_rates(j, k) = s.d1;
+      out.knot_joint_accelerations(j, k) = s.d2;
+    }
+    const QuaternionSample<double> r = spline.Eval(tk);
+    // Keyframe knots carry the keyframe orientation itself (the spline matches it to rounding).
+    out.knot_orientations.push_back(k % P == 0 ? t.keyframe_orientations[static_cast<size_t>(k / P)]
+                                               : r.q_WB.normalized());
+    out.knot_angular_velocities_B.col(k) = r.w_WB_B;
+    out.knot_angular_accelerations_B.col(k) = r.wdot_WB_B;
+  }
   return out;
 }
 
 namespace {
 
-// Progress from Ceres' iterations.
-class ProgressCallback : public ceres::IterationCallback {
- public:
-  ProgressCallback(const std::function<void(const std::string&)>& out, std::string stage)
-      : out_(out), stage_(std::move(stage)) {}
-  ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
-    if (out_) {
-      std::ostringstream line;
-      line << stage_ << " iteration " << s.iteration << ": J = " << 2.0 * s.cost
-           << (s.step_is_successful ? "" : " (step rejected)");
-      out_(line.str());
-    }
-    return ceres::SOLVER_CONTINUE;
-  }
-
- private:
-  const std::function<void(const std::string&)>& out_;
-  std::string stage_;
-};
-
-// One Ceres solve of Model (m) from `base`; returns the optimised variables.
+// One Ceres solve of Model 2 from `base`; returns the optimised gaps.
 Eigen::VectorXd Solve(const SkillDesign& design,
                       const SkillTrajectory& base,
-                      int model,
                       int intervals,
                       const TimingOptimizationOptions& options,
                       TimingOptimizationSummary* summary) {
   const auto start = std::chrono::steady_clock::now();
   // The gap-scale residual pins Σ g = T, a direction J does not see (J depends on the ratios).
+  const int model = 2;
   ResidualData data = MakeResidualData(design, base, model, intervals, 1e-2);
   Eigen::VectorXd x = InitialSkillParameters(design, base, model);
   std::vector<double*> blocks = BlockPointers(design, model, x.data());
@@ -385,26 +384,6 @@ Eigen::VectorXd Solve(const SkillDesign& design,
   const int n = design.num_keyframes();
   const double min_gap = options.min_gap_fraction * design.flight_time_s() / (n - 1);
   for (int j = 0; j + 1 < n; ++j) problem.SetParameterLowerBound(blocks[0], j, min_gap);
-  if (model == 1 && !options.model1_vary_joints) {
-    problem.SetParameterBlockConstant(blocks[1]);
-    problem.SetParameterBlockConstant(blocks[4]);
-  }
-  if (model == 1) {
-    // Keyframe tolerances as bounds: |Δθ| ≤ e₂ per joint angle; the orientation offset's
-    // components within e₂/√3 so that its geodesic angle |δ| ≤ e₂.
-    const int ndof = design.num_joint_dofs();
-    for (int i = 0; i < n; ++i) {
-      const double e2 = design.skill().keyframes[static_cast<size_t>(i)].tolerance_angle_rad;
-      for (int j = 0; j < ndof; ++j) {
-        problem.SetParameterLowerBound(blocks[1], i * ndof + j, -e2);
-        problem.SetParameterUpperBound(blocks[1], i * ndof + j, e2);
-      }
-      for (int c = 0; c < 3; ++c) {
-        problem.SetParameterLowerBound(blocks[2], 3 * i + c, -e2 / std::sqrt(3.0));
-        problem.SetParameterUpperBound(blocks[2], 3 * i + c, e2 / std::sqrt(3.0));
-      }
-    }
-  }
 
   ceres::Solver::Options so;
   so.minimizer_type = ceres::TRUST_REGION;
@@ -417,17 +396,12 @@ Eigen::VectorXd Solve(const SkillDesign& design,
   so.num_threads = 1;
   so.logging_type = ceres::SILENT;
   so.minimizer_progress_to_stdout = false;
-  ProgressCallback callback(options.progress, model == 2 ? "model 2" : "model 1");
+  internal::SkillProgressCallback callback(options.progress, "model 2");
   so.callbacks.push_back(&callback);
   ceres::Solver::Summary s;
   ceres::Solve(so, &problem, &s);
 
-  summary->success = s.IsSolutionUsable();
-  summary->message = s.message;
-  summary->iterations = static_cast<int>(s.iterations.size()) - 1;
-  summary->initial_cost = s.initial_cost;
-  summary->final_cost = s.final_cost;
-  summary->time_s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  *summary = internal::MakeStageSummary(s, start);
   return x;
 }
 
@@ -534,7 +508,8 @@ SkillMotionProfile CalcSkillMotionProfile(const SkillDesign& design,
   return p;
 }
 
-int NumSkillParameters(const SkillDesign& design, int model) {
+int NumSkillParameters(const SkillDesign& design, int model, int knots_per_interval) {
+  if (model == 1) return internal::NumModel1Parameters(design, knots_per_interval);
   int n = 0;
   for (int s : BlockSizes(design, model)) n += s;
   return n;
@@ -543,7 +518,9 @@ int NumSkillParameters(const SkillDesign& design, int model) {
 Eigen::VectorXd InitialSkillParameters(const SkillDesign& design,
                                        const SkillTrajectory& base,
                                        int model) {
-  Eigen::VectorXd x = Eigen::VectorXd::Zero(NumSkillParameters(design, model));
+  ACRO_DEMAND(model == 2 || base.has_knots());
+  Eigen::VectorXd x =
+      Eigen::VectorXd::Zero(NumSkillParameters(design, model, base.knots_per_interval));
   for (int j = 0; j + 1 < design.num_keyframes(); ++j) x[j] = base.times_s[j + 1] - base.times_s[j];
   return x;
 }
@@ -552,37 +529,12 @@ SkillTrajectory SkillTrajectoryFromParameters(const SkillDesign& design,
                                               const SkillTrajectory& base,
                                               int model,
                                               const Eigen::VectorXd& x) {
+  if (model == 1) return internal::Model1TrajectoryFromParameters(design, base, x);
   ACRO_DEMAND(x.size() == NumSkillParameters(design, model));
-  ACRO_DEMAND(model == 2 ||
-              base.midpoint_orientations.size() + 1 == base.keyframe_orientations.size());
   const int n = design.num_keyframes();
-  const int ndof = design.num_joint_dofs();
   SkillTrajectory t = base;
   const std::vector<double> times = TimesFromGaps(x.data(), n, design.flight_time_s());
   t.times_s = Eigen::Map<const Eigen::VectorXd>(times.data(), n);
-  if (model == 1) {
-    const double* joints = x.data() + (n - 1);
-    const double* key = joints + ndof * n;
-    const double* mid = key + 3 * n;
-    const double* mid_joints = mid + 3 * (n - 1);
-    for (int i = 0; i < n; ++i) {
-      for (int j = 0; j < ndof; ++j) t.joint_angles_rad(j, i) += joints[i * ndof + j];
-      t.keyframe_orientations[static_cast<size_t>(i)] =
-          (base.keyframe_orientations[static_cast<size_t>(i)] *
-           dynamics::QuaternionExp<double>(
-               Eigen::Vector3d(key[3 * i], key[3 * i + 1], key[3 * i + 2])))
-              .normalized();
-      if (i + 1 < n)
-        for (int j = 0; j < ndof; ++j)
-          t.midpoint_joint_angles_rad(j, i) += mid_joints[i * ndof + j];
-      if (i + 1 < n)
-        t.midpoint_orientations[static_cast<size_t>(i)] =
-            (base.midpoint_orientations[static_cast<size_t>(i)] *
-             dynamics::QuaternionExp<double>(
-                 Eigen::Vector3d(mid[3 * i], mid[3 * i + 1], mid[3 * i + 2])))
-                .normalized();
-    }
-  }
   return t;
 }
 
@@ -592,9 +544,8 @@ double CalcSkillObjective(const SkillDesign& design,
                           const Eigen::VectorXd& x,
                           int intervals,
                           Eigen::VectorXd* gradient) {
+  if (model == 1) return internal::CalcModel1Objective(design, base, x, intervals, gradient);
   ACRO_DEMAND(x.size() == NumSkillParameters(design, model));
-  ACRO_DEMAND(model == 2 ||
-              base.midpoint_orientations.size() + 1 == base.keyframe_orientations.size());
   const ResidualData data = MakeResidualData(design, base, model, intervals, 0.0);
   const std::unique_ptr<SkillCostFunction> cost = MakeCostFunction(data);
   Eigen::VectorXd xc = x;
@@ -632,8 +583,10 @@ bool TimingOptimizationOptions::IsValid(std::string* why) const {
   if (!(min_gap_fraction > 0.0 && min_gap_fraction < 1.0))
     return fail("min_gap_fraction must lie in (0, 1)");
   if (max_iterations < 0) return fail("max_iterations must be non-negative");
-  if (model1_samples_per_knot_interval < 1)
-    return fail("model1_samples_per_knot_interval must be positive");
+  if (model1_samples_per_knot_interval < 2 || model1_samples_per_knot_interval % 2 != 0)
+    return fail("model1_samples_per_knot_interval must be even and at least 2");
+  if (model1_knots_per_interval < 1) return fail("model1_knots_per_interval must be positive");
+  if (num_threads < 0) return fail("num_threads must be non-negative");
   return true;
 }
 
@@ -653,12 +606,10 @@ TimingOptimizationResult OptimizeSkillTiming(const SkillDesign& design,
   result.times_initial_s = design.InitialTimes();
   result.initial = MakeKeyframeTrajectory(design, result.times_initial_s);
   const int N = options.quadrature_intervals;
-  // Model 1's knots (keyframes and midpoints) are twice as dense: its grid keeps
-  // model1_samples_per_knot_interval samples per knot interval, so that the free midpoints cannot
-  // make the residual small at the samples alone.
+  // Model 1's grid: model1_samples_per_knot_interval intervals in each of its knot intervals.
   const int n = design.num_keyframes();
-  int N1 = std::max(N, options.model1_samples_per_knot_interval * 2 * (n - 1));
-  N1 += N1 % 2;
+  const int N1 =
+      options.model1_samples_per_knot_interval * options.model1_knots_per_interval * (n - 1);
   // J and the momentum variation are reported on a check grid 8 times finer than the
   // optimisation's (Simpson's rule as well).
   const int check = 8 * std::max(N, options.model == 1 ? N1 : N);
@@ -668,16 +619,17 @@ TimingOptimizationResult OptimizeSkillTiming(const SkillDesign& design,
 
   // Model 2: times only.
   TimingOptimizationSummary s2;
-  const Eigen::VectorXd x2 = Solve(design, result.initial, 2, N, options, &s2);
+  const Eigen::VectorXd x2 = Solve(design, result.initial, N, options, &s2);
   result.stages.push_back(s2);
   result.optimized = SkillTrajectoryFromParameters(design, result.initial, 2, x2);
 
   // Model 1: times and trajectory coefficients, from the Model 2 optimum (or the initial times).
   if (options.model == 1) {
     const SkillTrajectory base1 =
-        AddMidpointKnots(options.model1_from_model2 ? result.optimized : result.initial);
+        MakeKnotTrajectory(options.model1_from_model2 ? result.optimized : result.initial,
+                           options.model1_knots_per_interval);
     TimingOptimizationSummary s1;
-    const Eigen::VectorXd x1 = Solve(design, base1, 1, N1, options, &s1);
+    const Eigen::VectorXd x1 = internal::SolveModel1(design, base1, options, &s1);
     result.stages.push_back(s1);
     result.optimized = SkillTrajectoryFromParameters(design, base1, 1, x1);
   }
