@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "acro/base/demand.h"
 #include "acro/base/input_error.h"
 
 namespace acro::analysis {
@@ -10,7 +11,8 @@ AthleteProfile AthleteProfileFromYaml(const YamlNode& root, const std::filesyste
   AthleteProfile profile;
   profile.source = root.file();
   if (!root.IsMap()) root.Fail("an athlete profile is a map of 'key: value' lines");
-  root.RequireKnownKeys({"name", "sex", "height_m", "mass_kg", "yeadon", "segment_lengths_m"});
+  root.RequireKnownKeys(
+      {"name", "sex", "height_m", "mass_kg", "yeadon", "segment_lengths_m", "segment_masses_kg"});
 
   // Identity, sex, height and mass (all required).
   profile.name = root.At("name").AsString();
@@ -67,6 +69,19 @@ AthleteProfile AthleteProfileFromYaml(const YamlNode& root, const std::filesyste
       profile.segment_lengths_m[key] = v;
     }
   }
+  // Optional segment masses (either route).
+  if (const YamlNode* masses = root.Find("segment_masses_kg"); masses != nullptr) {
+    if (!masses->IsMap()) masses->Fail("expected 'segment: mass' lines");
+    const std::vector<std::string_view> names(kStandardSegmentNames.begin(),
+                                              kStandardSegmentNames.end());
+    masses->RequireKnownKeys(names);
+    for (const auto& [key, node] : masses->entries()) {
+      const double v = node.AsDouble();
+      if (!(v > 0.0 && v < 0.8 * profile.mass_kg))
+        node.Fail("'" + node.text() + "' is not a segment mass in kg (0 < m < 0.8 × mass_kg)");
+      profile.segment_masses_kg[key] = v;
+    }
+  }
   return profile;
 }
 
@@ -75,13 +90,28 @@ AthleteProfile ReadAthleteProfile(const std::filesystem::path& path) {
 }
 
 AthleteBody MakeAthleteBody(const AthleteProfile& profile) {
+  AthleteBody body;
   if (profile.yeadon_measurements) {
     YeadonMeasurements meas = *profile.yeadon_measurements;
     meas.total_mass_kg = profile.mass_kg;
-    AthleteBody body = MakeAthleteBodyFromYeadon(YeadonHuman::Make(meas, profile.yeadon_options));
-    return body;
+    body = MakeAthleteBodyFromYeadon(YeadonHuman::Make(meas, profile.yeadon_options));
+  } else {
+    body =
+        MakeDeLevaBody(profile.height_m, profile.mass_kg, profile.sex, profile.segment_lengths_m);
   }
-  return MakeDeLevaBody(profile.height_m, profile.mass_kg, profile.sex, profile.segment_lengths_m);
+  if (profile.segment_masses_kg.empty()) return body;
+  // Replaced segment masses: same centre of mass, inertia in proportion; then the whole body.
+  for (const auto& [name, mass_kg] : profile.segment_masses_kg) {
+    const int s = body.Find(name);
+    ACRO_DEMAND(s >= 0);
+    InertialProperties& in = body.segments[static_cast<size_t>(s)].in_H;
+    in.I_Cm_H *= mass_kg / in.mass_kg;
+    in.mass_kg = mass_kg;
+  }
+  std::vector<InertialProperties> all;
+  for (const BodySegment& s : body.segments) all.push_back(s.in_H);
+  body.total = CombineInertia(all);
+  return body;
 }
 
 }  // namespace acro::analysis

@@ -133,6 +133,8 @@ bool PhaseOptions::IsValid(std::string* why) const {
   if (!(min_flight_s > 0)) return fail("min_flight_s must be positive");
   if (!(contact_fit_window_s > 0)) return fail("contact_fit_window_s must be positive");
   if (!(force_threshold_N > 0)) return fail("force_threshold_N must be positive");
+  if (!std::isfinite(feet_clearance_m)) return fail("feet_clearance_m must be a number");
+  if (!(feet_bridge_s >= 0)) return fail("feet_bridge_s must be non-negative");
   return true;
 }
 
@@ -226,40 +228,48 @@ PhaseSegmentation DetectFlightsFromCom(const Eigen::VectorXd& time_s,
   return result;
 }
 
-PhaseSegmentation DetectFlightsFromForce(const Eigen::VectorXd& time_s,
-                                         const Eigen::VectorXd& force_z_N,
-                                         const Eigen::VectorXd& com_time_s,
-                                         const Eigen::VectorXd& com_z_m,
-                                         const PhaseOptions& options) {
-  std::string why;
-  ACRO_DEMAND(options.IsValid(&why));
-  ACRO_DEMAND(time_s.size() == force_z_N.size());
+namespace {
+
+// Flights as the runs where `signal` ≤ `threshold` (at least min_flight_s long), their events at
+// the interpolated crossings; contact interruptions shorter than `bridge_s` inside a run are noise
+// and are bridged. The COM (when given) supplies the frames and the parabola.
+PhaseSegmentation FlightsBelowThreshold(const Eigen::VectorXd& time_s,
+                                        const Eigen::VectorXd& signal,
+                                        double threshold,
+                                        double bridge_s,
+                                        const Eigen::VectorXd& com_time_s,
+                                        const Eigen::VectorXd& com_z_m,
+                                        const PhaseOptions& options) {
   PhaseSegmentation result;
-  result.method = "force plates";
   const int n = static_cast<int>(time_s.size());
   if (n < 4) return result;
-  // The flight baseline: unloaded plates read their offset. Take the median of the lowest tenth of
-  // the samples as that offset (flight is where the force is smallest).
-  std::vector<double> sorted(force_z_N.data(), force_z_N.data() + n);
-  std::sort(sorted.begin(), sorted.end());
-  const double baseline = sorted[static_cast<std::size_t>(n / 20)];
-  const double threshold = baseline + options.force_threshold_N;
   const double dt = (time_s[n - 1] - time_s[0]) / (n - 1);
   const int min_samples = static_cast<int>(std::ceil(options.min_flight_s / dt));
+  const int bridge = static_cast<int>(std::floor(bridge_s / dt));
   // Linear interpolation of the threshold crossing between samples k and k+1.
   auto crossing = [&](int k) {
-    const double f0 = force_z_N[k], f1 = force_z_N[k + 1];
+    const double f0 = signal[k], f1 = signal[k + 1];
     const double s = f1 != f0 ? (threshold - f0) / (f1 - f0) : 0.5;
     return time_s[k] + std::clamp(s, 0.0, 1.0) * (time_s[k + 1] - time_s[k]);
   };
   int i = 0;
   while (i < n) {
-    if (force_z_N[i] > threshold) {
+    if (signal[i] > threshold) {
       ++i;
       continue;
     }
     int j = i;
-    while (j + 1 < n && force_z_N[j + 1] <= threshold) ++j;
+    for (;;) {
+      while (j + 1 < n && signal[j + 1] <= threshold) ++j;
+      // A short excursion above the threshold followed by more flight: bridge it.
+      int k = j + 1;
+      while (k < n && signal[k] > threshold && k - j <= bridge) ++k;
+      if (k < n && k - j <= bridge && signal[k] <= threshold) {
+        j = k;
+        continue;
+      }
+      break;
+    }
     const int first = i, last = j;
     i = j + 1;
     if (last - first + 1 < min_samples) continue;
@@ -274,6 +284,49 @@ PhaseSegmentation DetectFlightsFromForce(const Eigen::VectorXd& time_s,
     }
     result.flights.push_back(flight);
   }
+  return result;
+}
+
+}  // namespace
+
+PhaseSegmentation DetectFlightsFromForce(const Eigen::VectorXd& time_s,
+                                         const Eigen::VectorXd& force_z_N,
+                                         const Eigen::VectorXd& com_time_s,
+                                         const Eigen::VectorXd& com_z_m,
+                                         const PhaseOptions& options) {
+  std::string why;
+  ACRO_DEMAND(options.IsValid(&why));
+  ACRO_DEMAND(time_s.size() == force_z_N.size());
+  const int n = static_cast<int>(time_s.size());
+  if (n < 4) return PhaseSegmentation{{}, "force plates"};
+  // The flight baseline: unloaded plates read their offset. Take the median of the lowest tenth of
+  // the samples as that offset (flight is where the force is smallest).
+  std::vector<double> sorted(force_z_N.data(), force_z_N.data() + n);
+  std::sort(sorted.begin(), sorted.end());
+  const double baseline = sorted[static_cast<std::size_t>(n / 20)];
+  PhaseSegmentation result = FlightsBelowThreshold(
+      time_s, force_z_N, baseline + options.force_threshold_N, 0.0, com_time_s, com_z_m, options);
+  result.method = "force plates";
+  return result;
+}
+
+PhaseSegmentation DetectFlightsFromFeet(const Eigen::VectorXd& time_s,
+                                        const Eigen::VectorXd& feet_z_m,
+                                        double surface_z_m,
+                                        const Eigen::VectorXd& com_z_m,
+                                        const PhaseOptions& options) {
+  std::string why;
+  ACRO_DEMAND(options.IsValid(&why));
+  ACRO_DEMAND(time_s.size() == feet_z_m.size() && com_z_m.size() == feet_z_m.size());
+  // In the air while the lowest sole is above the surface: the signal −z is at most −surface.
+  PhaseSegmentation result = FlightsBelowThreshold(time_s,
+                                                   -feet_z_m,
+                                                   -(surface_z_m + options.feet_clearance_m),
+                                                   options.feet_bridge_s,
+                                                   time_s,
+                                                   com_z_m,
+                                                   options);
+  result.method = "feet";
   return result;
 }
 

@@ -123,6 +123,7 @@ bool PhysicalCheckOptions::IsValid(std::string* why) const {
   if (!(max_gravity_error > 0)) return fail("max_gravity_error must be positive");
   if (!(max_marker_error_m > 0)) return fail("max_marker_error_m must be positive");
   if (std::isnan(edge_margin_s)) return fail("edge_margin_s is not a number");
+  if (!(residual_window_s >= 0)) return fail("residual_window_s must be non-negative");
   return true;
 }
 
@@ -287,6 +288,29 @@ PhysicalCheck CheckPhysics(const dynamics::Model<double>& model,
     fc.rms_force_bw = std::sqrt(force.array().square().mean());
     fc.peak_moment_bwh = moment.maxCoeff();
     fc.rms_moment_bwh = std::sqrt(moment.array().square().mean());
+    // The judged residual: the mean over every window of residual_window_s inside the judged
+    // frames (the whole judged span when it is shorter).
+    {
+      const int w = std::clamp(static_cast<int>(std::lround(options.residual_window_s / dt)), 1, m);
+      const Eigen::Matrix3Xd F = check.frames.force_bw.middleCols(fc.first_frame, m);
+      const Eigen::Matrix3Xd M = check.frames.moment_bwh.middleCols(fc.first_frame, m);
+      Eigen::Vector3d sum_f = F.leftCols(w).rowwise().sum();
+      Eigen::Vector3d sum_m = M.leftCols(w).rowwise().sum();
+      for (int a = 0;; ++a) {
+        const double wf = sum_f.norm() / w, wm = sum_m.norm() / w;
+        if (wf > fc.window_force_bw) {
+          fc.window_force_bw = wf;
+          fc.window_force_at_s = motion.time_s[fc.first_frame + a];
+        }
+        if (wm > fc.window_moment_bwh) {
+          fc.window_moment_bwh = wm;
+          fc.window_moment_at_s = motion.time_s[fc.first_frame + a];
+        }
+        if (a + w >= m) break;
+        sum_f += F.col(a + w) - F.col(a);
+        sum_m += M.col(a + w) - M.col(a);
+      }
+    }
 
     const Eigen::Matrix3Xd L = check.frames.angular_momentum.middleCols(fc.first_frame, m);
     fc.mean_angular_momentum = L.rowwise().mean().norm();
@@ -311,12 +335,20 @@ PhysicalCheck CheckPhysics(const dynamics::Model<double>& model,
       if (fit.valid) fc.max_marker_error_m = std::max(fc.max_marker_error_m, fit.max_m);
     }
 
-    if (fc.peak_force_bw > options.max_force_bw)
-      fc.failures.push_back(
-          Format("residual force %.3f BW > %.3f", fc.peak_force_bw, options.max_force_bw));
-    if (fc.peak_moment_bwh > options.max_moment_bwh)
-      fc.failures.push_back(
-          Format("residual moment %.4f BW·h > %.4f", fc.peak_moment_bwh, options.max_moment_bwh));
+    const std::string over =
+        options.residual_window_s > 0 ? Format(" over %.2f s", options.residual_window_s) : "";
+    if (fc.window_force_bw > options.max_force_bw)
+      fc.failures.push_back(Format("residual force %.3f BW > %.3f at %.2f s",
+                                   fc.window_force_bw,
+                                   options.max_force_bw,
+                                   fc.window_force_at_s) +
+                            over);
+    if (fc.window_moment_bwh > options.max_moment_bwh)
+      fc.failures.push_back(Format("residual moment %.4f BW·h > %.4f at %.2f s",
+                                   fc.window_moment_bwh,
+                                   options.max_moment_bwh,
+                                   fc.window_moment_at_s) +
+                            over);
     if (fc.momentum_variation > options.max_momentum_variation)
       fc.failures.push_back(Format("angular momentum varies %.0f %% > %.0f %%",
                                    100 * fc.momentum_variation,

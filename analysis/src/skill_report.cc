@@ -7,6 +7,7 @@
 
 #include "acro/analysis/line_plot.h"
 #include "acro/base/json_writer.h"
+#include "acro/base/text_format.h"
 #include "acro/capture/c3d.h"
 #include "acro/capture/file_io.h"
 #include "acro/dynamics/kinematics.h"
@@ -39,24 +40,11 @@ Eigen::Vector3d SomersaultTiltTwist(const Eigen::Quaterniond& q) {
 }
 
 std::string Fixed(double v, int digits) {
-  char buf[48];
-  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
-  return buf;
+  return FormatFixed(v, digits);
 }
 
 std::string Html(const std::string& s) {
-  std::string out;
-  for (char c : s) {
-    if (c == '<')
-      out += "&lt;";
-    else if (c == '>')
-      out += "&gt;";
-    else if (c == '&')
-      out += "&amp;";
-    else
-      out += c;
-  }
-  return out;
+  return HtmlEscape(s);
 }
 
 }  // namespace

@@ -13,6 +13,7 @@ int RunConvert(const std::vector<std::string>& args);
 int RunBody(const std::vector<std::string>& args);
 int RunReconstruct(const std::vector<std::string>& args);
 int RunOptimize(const std::vector<std::string>& args);
+int RunAnalyze(const std::vector<std::string>& args);
 
 /// Thrown for a bad command line: main() prints it with the usage hint and exits with status 2.
 struct UsageError {

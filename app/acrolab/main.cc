@@ -20,6 +20,8 @@ constexpr const char* kUsage =
     "  body ...               athlete segments, mass, centre of mass, inertia; tuck/pike ratios\n"
     "  reconstruct TRIAL -o DIR  markers or keypoints to joint angles (.mot, CSV, C3D)\n"
     "  optimize SKILL.yaml -o DIR  keyframe timing / trajectory optimisation of a skill\n"
+    "  analyze TRIAL -o DIR   the main job: reconstruct, check the physics, measure every jump,\n"
+    "                         report.html with plots\n"
     "\n"
     "  acrolab <command> --help for a command's options; docs/cli.md for everything.\n";
 
@@ -38,6 +40,15 @@ int main(int argc, char** argv) {
     if (command == "body") return acro::app::RunBody(args);
     if (command == "reconstruct") return acro::app::RunReconstruct(args);
     if (command == "optimize") return acro::app::RunOptimize(args);
+#ifdef ACRO_NO_UI
+    if (command == "analyze") {
+      std::fprintf(
+          stderr, "acrolab: analyze needs the ui layer; this build has none (ACRO_BUILD_UI=OFF)\n");
+      return 2;
+    }
+#else
+    if (command == "analyze") return acro::app::RunAnalyze(args);
+#endif
     if (command == "--version") {
       std::puts("acrolab 0.1.0");
       return 0;

@@ -4,6 +4,7 @@
 // Yeadon measurements (inline or a path to a yeadon measurement file) and measured segment lengths.
 
 #include <filesystem>
+#include <map>
 #include <optional>
 #include <string>
 
@@ -26,6 +27,11 @@ struct AthleteProfile {
   YeadonOptions yeadon_options;
   /// Measured segment lengths for the de Leva route (see de_leva.h for the names).
   SegmentLengths segment_lengths_m;
+  /// Segment masses that replace the model's (standard segment names, e.g. "r_thigh"): each
+  /// segment keeps its centre of mass and its inertia scales with the mass; the body's total
+  /// mass becomes the sum of its segments'. For measured or corrected masses, e.g. what the
+  /// physical check suggests.
+  std::map<std::string, double> segment_masses_kg;
   /// The profile's file name.
   std::string source;
 };

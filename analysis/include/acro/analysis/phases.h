@@ -28,6 +28,11 @@ struct PhaseOptions {
   double contact_fit_window_s = 0.10;
   /// Force-plate route: contact while the vertical force exceeds its flight baseline by this (N).
   double force_threshold_N = 20.0;
+  /// Feet route: in the air while the lowest sole is more than this above the surface (m). The
+  /// sole points are the model's (the midpoint of the toe tip and the heel point below the ankle).
+  double feet_clearance_m = 0.0;
+  /// Feet route: dips below the surface shorter than this inside a flight are marker noise (s).
+  double feet_bridge_s = 0.03;
 
   bool IsValid(std::string* why) const;
 };
@@ -51,7 +56,7 @@ struct Flight {
 
 struct PhaseSegmentation {
   std::vector<Flight> flights;
-  std::string method;  ///< "com" or "force plates"
+  std::string method;  ///< "com", "feet" or "force plates"
 };
 
 /// Flights from the whole-body COM height sampled at `time_s` (uniform rate).
@@ -66,6 +71,16 @@ PhaseSegmentation DetectFlightsFromForce(const Eigen::VectorXd& time_s,
                                          const Eigen::VectorXd& com_time_s,
                                          const Eigen::VectorXd& com_z_m,
                                          const PhaseOptions& options = {});
+
+/// Flights from the lowest sole height per frame against the height of the surface at rest (a
+/// trampoline bed, the floor): take-off and landing where the soles cross it (interpolated), the
+/// parabola fields from `com_z_m` (same frames). A trampoline bed without mass lets go of the feet
+/// when it is back at its rest level, so this is the instant of leaving and touching the bed.
+PhaseSegmentation DetectFlightsFromFeet(const Eigen::VectorXd& time_s,
+                                        const Eigen::VectorXd& feet_z_m,
+                                        double surface_z_m,
+                                        const Eigen::VectorXd& com_z_m,
+                                        const PhaseOptions& options = {});
 
 /// Savitzky–Golay (quadratic) second derivative of uniformly sampled values, half-window h samples;
 /// the ends use the nearest full window.

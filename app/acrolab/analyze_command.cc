@@ -1,0 +1,194 @@
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <optional>
+
+#include "acro/analysis/athlete_profile.h"
+#include "acro/analysis/de_leva.h"
+#include "acro/analysis/trial_analysis.h"
+#include "acro/capture/trial_io.h"
+#include "acro/ui/analysis_report.h"
+#include "acro/ui/offscreen.h"
+#include "commands.h"
+
+namespace acro::app {
+
+namespace {
+
+constexpr const char* kAnalyzeHelp =
+    "usage: acrolab analyze TRIAL [--athlete ATHLETE.yaml] [--static STATIC]\n"
+    "                       [--markerset NAME|FILE.yaml] -o DIR [options]\n"
+    "\n"
+    "The main job: import, reconstruct, check the physics, measure every jump. Writes\n"
+    "DIR/report.html (routine summary, per-jump table, verdict with its cause, plots),\n"
+    "DIR/jumps.json, DIR/angles.mot, DIR/torques.sto, DIR/residuals.csv. docs/cli.md.\n"
+    "  --athlete FILE       athlete profile (docs/formats/athlete.md); without it a de Leva\n"
+    "                       athlete from --height (1.75) / --mass (65) / --sex (f), with a "
+    "warning\n"
+    "  --static FILE        static trial for scaling (otherwise a window of the motion)\n"
+    "  --markerset NAME     plug_in_gait | helen_hayes | coco17 | trampoline | FILE.yaml\n"
+    "                       (default: detected from the labels)\n"
+    "  --cutoff HZ          marker low-pass cutoff (default: Winter's residual analysis)\n"
+    "  --no-scale           keep the athlete's segment lengths and default marker offsets\n"
+    "  --joint NAME         the joint whose angle and torque the report plots\n"
+    "                       (default r_hip_flexion)\n"
+    "  --bed X,Y,Z          centre of the trampoline bed (m), when the trial has no BED markers\n"
+    "  --no-force-plates    phases from the body's centre of mass even when plates exist\n"
+    "  --no-images          the report without plots (no rendering at all)\n"
+    "  --threads N          worker threads (default: all cores)\n"
+    "  --quiet              no progress on stderr\n";
+
+// "x,y,z" as three numbers.
+Eigen::Vector3d ParseVector(const std::string& option, const std::string& text) {
+  Eigen::Vector3d v;
+  size_t start = 0;
+  for (int k = 0; k < 3; ++k) {
+    const size_t comma = text.find(',', start);
+    if ((k < 2) != (comma != std::string::npos))
+      throw UsageError{option + " needs X,Y,Z, got '" + text + "'"};
+    v[k] = OptionNumber(option, text.substr(start, comma - start));
+    start = comma + 1;
+  }
+  return v;
+}
+
+}  // namespace
+
+int RunAnalyze(const std::vector<std::string>& args) {
+  // Arguments.
+  std::string trial_path, static_path, athlete_path, markerset, out_dir, sex = "f";
+  double height = 1.75, mass = 65.0;
+  bool have_body_numbers = false, quiet = false, images = true;
+  analysis::TrialAnalysisOptions options;
+  ui::AnalysisReportOptions report;
+  for (size_t i = 0; i < args.size(); ++i) {
+    const std::string& arg = args[i];
+    auto value = [&]() -> const std::string& { return OptionValue(args, &i); };
+    if (arg == "--help" || arg == "-h") {
+      std::fputs(kAnalyzeHelp, stdout);
+      return 0;
+    } else if (arg == "--static") {
+      static_path = value();
+    } else if (arg == "--athlete") {
+      athlete_path = value();
+    } else if (arg == "--markerset") {
+      markerset = value();
+    } else if (arg == "-o" || arg == "--output") {
+      out_dir = value();
+    } else if (arg == "--height") {
+      height = OptionNumber(arg, value());
+      have_body_numbers = true;
+    } else if (arg == "--mass") {
+      mass = OptionNumber(arg, value());
+      have_body_numbers = true;
+    } else if (arg == "--sex") {
+      sex = value();
+      have_body_numbers = true;
+    } else if (arg == "--cutoff") {
+      options.reconstruction.cutoff_hz = OptionNumber(arg, value());
+      if (options.reconstruction.cutoff_hz < 0) throw UsageError{"--cutoff must be >= 0"};
+      options.reconstruction.filter = options.reconstruction.cutoff_hz > 0;
+    } else if (arg == "--no-scale") {
+      options.reconstruction.scale = false;
+    } else if (arg == "--joint") {
+      report.joint = value();
+    } else if (arg == "--bed") {
+      analysis::BedGeometry bed;
+      bed.centre_W = ParseVector(arg, value());
+      bed.source = "option --bed";
+      options.bed = bed;
+    } else if (arg == "--no-force-plates") {
+      options.use_force_plates = false;
+    } else if (arg == "--no-images") {
+      images = false;
+    } else if (arg == "--threads") {
+      options.reconstruction.num_threads = static_cast<int>(OptionNumber(arg, value()));
+    } else if (arg == "--quiet") {
+      quiet = true;
+    } else if (!arg.empty() && arg[0] == '-') {
+      throw UsageError{"unknown option '" + arg + "'"};
+    } else if (trial_path.empty()) {
+      trial_path = arg;
+    } else {
+      throw UsageError{"one TRIAL only, got '" + trial_path + "' and '" + arg + "'"};
+    }
+  }
+  if (trial_path.empty()) throw UsageError{"missing TRIAL"};
+  if (out_dir.empty()) throw UsageError{"missing -o DIR"};
+  if (sex != "f" && sex != "m") throw UsageError{"--sex must be f or m, got '" + sex + "'"};
+  if (!athlete_path.empty() && have_body_numbers)
+    throw UsageError{"--athlete and --height/--mass/--sex exclude each other"};
+  options.reconstruction.markerset = markerset;
+  std::string why;
+  if (!options.IsValid(&why)) throw UsageError{why};
+
+  // Plots need a display: without one, run again under Xvfb when it is installed (before any work).
+  if (images) {
+    std::vector<std::string> argv = {"acrolab", "analyze"};
+    argv.insert(argv.end(), args.begin(), args.end());
+    std::error_code ec;
+    const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
+    if (!ec) argv[0] = self.string();
+    if (const auto command = ui::XvfbRelaunchCommand(argv, ui::DisplayEnvironment::FromProcess())) {
+      if (!quiet) std::fprintf(stderr, "acrolab analyze: no display; running under xvfb-run\n");
+      const std::string failure = ui::ExecCommand(*command);
+      std::fprintf(
+          stderr, "acrolab analyze: %s; the report will have no images\n", failure.c_str());
+    }
+  }
+
+  // Inputs: trial, static trial, athlete.
+  auto say = [quiet](const std::string& line) {
+    if (!quiet) std::fprintf(stderr, "%s\n", line.c_str());
+  };
+  const capture::Trial trial = capture::ReadTrial(trial_path);
+  std::optional<capture::Trial> static_trial;
+  if (!static_path.empty()) static_trial = capture::ReadTrial(static_path);
+  analysis::AthleteBody body;
+  if (!athlete_path.empty()) {
+    body = analysis::MakeAthleteBody(analysis::ReadAthleteProfile(athlete_path));
+  } else {
+    std::fprintf(stderr,
+                 "acrolab analyze: warning: no --athlete file; using a de Leva athlete of "
+                 "%.2f m, %.1f kg, sex %s (segment masses and inertias will be generic)\n",
+                 height,
+                 mass,
+                 sex.c_str());
+    body = analysis::MakeDeLevaBody(
+        height, mass, sex == "f" ? analysis::Sex::kFemale : analysis::Sex::kMale);
+  }
+
+  // The analysis, with one progress line per step and the IK's frames.
+  options.progress = say;
+  if (!quiet) {
+    const bool tty = isatty(fileno(stderr)) != 0;
+    options.reconstruction.progress = [tty](int done, int total) {
+      if (!tty && done < total) return;
+      std::fprintf(stderr, "\rinverse kinematics %d/%d frames", done, total);
+      if (done >= total) std::fputc('\n', stderr);
+      std::fflush(stderr);
+    };
+  }
+  const analysis::TrialAnalysis result =
+      analysis::AnalyzeTrial(trial, static_trial ? &*static_trial : nullptr, body, options);
+
+  // Outputs: the tables, then the report (with plots when rendering works here).
+  const std::filesystem::path dir(out_dir);
+  std::filesystem::create_directories(dir);
+  analysis::WriteAnalysisTables(result, dir);
+  report.trial_path = trial_path;
+  report.athlete =
+      athlete_path.empty() ? "default de Leva athlete (no --athlete file)" : body.model;
+  report.render_images = images;
+  say("report: rendering plots");
+  const ui::AnalysisReportOutcome outcome = ui::WriteAnalysisReport(result, dir, report);
+  if (!outcome.images_rendered) say("report: no plots: " + outcome.reason);
+  std::fputs(result.BriefReport().c_str(), stdout);
+  std::printf("report: %s\n", (dir / "report.html").string().c_str());
+  std::printf("wrote %s/{report.html,jumps.json,angles.mot,torques.sto,residuals.csv}\n",
+              out_dir.c_str());
+  return 0;
+}
+
+}  // namespace acro::app
