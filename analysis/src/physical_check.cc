@@ -266,6 +266,8 @@ PhysicalCheck CheckPhysics(const dynamics::Model<double>& model,
   const double mass = model.total_mass();
   const double g = model.gravity_W().norm();
   const double L_floor = options.momentum_floor_mh2_per_s * mass * height_m * height_m;
+  check.window_force_bw = Eigen::VectorXd::Constant(n, kNaN);
+  check.window_moment_bwh = Eigen::VectorXd::Constant(n, kNaN);
 
   for (size_t k = 0; k < flights.size(); ++k) {
     const Flight& flight = flights[k];
@@ -298,6 +300,8 @@ PhysicalCheck CheckPhysics(const dynamics::Model<double>& model,
       Eigen::Vector3d sum_m = M.leftCols(w).rowwise().sum();
       for (int a = 0;; ++a) {
         const double wf = sum_f.norm() / w, wm = sum_m.norm() / w;
+        check.window_force_bw[fc.first_frame + a + w / 2] = wf;
+        check.window_moment_bwh[fc.first_frame + a + w / 2] = wm;
         if (wf > fc.window_force_bw) {
           fc.window_force_bw = wf;
           fc.window_force_at_s = motion.time_s[fc.first_frame + a];
@@ -525,66 +529,112 @@ void LocalisePhysicsFailure(const dynamics::Model<double>& model,
 
   const std::vector<int> frames = JudgedFrames(check);
 
-  // 2. Timing: the lag of each marker's trajectory behind its model position over the flights.
+  // 2. Timing: markers recorded late. Two markers on one rigid segment keep their distance; if
+  // one of them lags by δ, the distance between a's position at t and b's at t + δ is the one
+  // that stays constant. Each pair's relative lag is the δ that makes their distance steadiest over
+  // the judged frames; the per-marker lags follow by least squares over the pairs.
   if (frames.size() >= 8) {
-    const int max_lag = std::max(2, static_cast<int>(std::ceil(0.05 / dt)));
-    std::vector<std::pair<double, int>> lags;  // (lag s, marker)
-    for (int j = 0; j < nm; ++j) {
-      std::vector<double> cost(static_cast<size_t>(2 * max_lag + 1), 0.0);
-      bool ok = true;
-      for (int lag = -max_lag; lag <= max_lag && ok; ++lag) {
-        double sum = 0.0;
-        int count = 0;
-        for (int i : frames) {
-          const int k = i + lag;
-          if (k < 0 || k >= n || !present(k, j)) continue;
-          sum += (measured(k, j) - predicted(i, j)).squaredNorm();
-          ++count;
+    const double max_lag_s = 0.05;
+    const int steps = static_cast<int>(std::ceil(max_lag_s / dt)) * 4;  // quarter frames
+    // b's position at frame i + δ/dt by linear interpolation (NaN outside or across a gap).
+    auto shifted = [&](int j, int i, double frames_ahead) -> Vector3d {
+      const double x = i + frames_ahead;
+      const int k = static_cast<int>(std::floor(x));
+      if (k < 0 || k + 1 >= n) return Vector3d::Constant(kNaN);
+      const double u = x - k;
+      return (1 - u) * measured(k, j) + u * measured(k + 1, j);
+    };
+    struct PairLag {
+      int a, b;
+      double lag_s;
+    };
+    std::vector<PairLag> pairs;
+    for (int a = 0; a < nm; ++a)
+      for (int b = a + 1; b < nm; ++b) {
+        if (markers[static_cast<size_t>(a)].segment != markers[static_cast<size_t>(b)].segment)
+          continue;
+        // Variance of the distance for every candidate lag.
+        std::vector<double> variance(static_cast<size_t>(2 * steps + 1), kNaN);
+        for (int s = -steps; s <= steps; ++s) {
+          double sum = 0, sum2 = 0;
+          int count = 0;
+          for (int i : frames) {
+            if (!present(i, a)) continue;
+            const Vector3d pb = shifted(b, i, s / 4.0);
+            if (!std::isfinite(pb[0])) continue;
+            const double d = (measured(i, a) - pb).norm();
+            sum += d;
+            sum2 += d * d;
+            ++count;
+          }
+          if (count < static_cast<int>(frames.size()) * 3 / 4) continue;
+          variance[static_cast<size_t>(s + steps)] =
+              std::max(0.0, sum2 / count - (sum / count) * (sum / count));
         }
-        if (count < static_cast<int>(frames.size()) / 2) ok = false;
-        cost[static_cast<size_t>(lag + max_lag)] = sum / std::max(count, 1);
+        int best = -1;
+        for (int s = 0; s <= 2 * steps; ++s)
+          if (std::isfinite(variance[static_cast<size_t>(s)]) &&
+              (best < 0 || variance[static_cast<size_t>(s)] < variance[static_cast<size_t>(best)]))
+            best = s;
+        const double at_zero = variance[static_cast<size_t>(steps)];
+        if (best <= 0 || best >= 2 * steps || !std::isfinite(at_zero)) continue;
+        // Trust a pair whose distance varies by more than marker noise at zero lag and that a lag
+        // makes clearly steadier.
+        if (std::sqrt(at_zero) < 0.002 || at_zero < 2.0 * variance[static_cast<size_t>(best)])
+          continue;
+        const double v0 = variance[static_cast<size_t>(best - 1)],
+                     v1 = variance[static_cast<size_t>(best)],
+                     v2 = variance[static_cast<size_t>(best + 1)];
+        double step = best - steps;
+        if (std::isfinite(v0) && std::isfinite(v2) && v0 - 2 * v1 + v2 > 0)
+          step += 0.5 * (v0 - v2) / (v0 - 2 * v1 + v2);
+        pairs.push_back({a, b, step / 4.0 * dt});
       }
-      if (!ok) continue;
-      const auto best = std::min_element(cost.begin(), cost.end()) - cost.begin();
-      double lag = static_cast<double>(best - max_lag);
-      if (best > 0 && best + 1 < static_cast<Eigen::Index>(cost.size())) {
-        const double c0 = cost[static_cast<size_t>(best - 1)], c1 = cost[static_cast<size_t>(best)],
-                     c2 = cost[static_cast<size_t>(best + 1)];
-        const double denominator = c0 - 2 * c1 + c2;
-        if (denominator > 0) lag += 0.5 * (c0 - c2) / denominator;
+    // Per-marker lags: lag_b − lag_a = pair lag in least squares, their mean pinned to zero.
+    if (pairs.size() >= 2) {
+      Eigen::MatrixXd A = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(pairs.size()) + 1, nm);
+      Eigen::VectorXd rhs = Eigen::VectorXd::Zero(A.rows());
+      std::vector<bool> involved(static_cast<size_t>(nm), false);
+      for (size_t r = 0; r < pairs.size(); ++r) {
+        A(static_cast<Eigen::Index>(r), pairs[r].b) = 1.0;
+        A(static_cast<Eigen::Index>(r), pairs[r].a) = -1.0;
+        rhs[static_cast<Eigen::Index>(r)] = pairs[r].lag_s;
+        involved[static_cast<size_t>(pairs[r].a)] = involved[static_cast<size_t>(pairs[r].b)] =
+            true;
       }
-      lags.emplace_back(lag * dt, j);
-    }
-    std::sort(lags.begin(), lags.end());
-    // The largest gap in the sorted lags splits the markers into two groups.
-    if (lags.size() >= 4) {
-      size_t split = 0;
-      double gap = 0.0;
-      for (size_t i = 1; i < lags.size(); ++i)
-        if (lags[i].first - lags[i - 1].first > gap) {
-          gap = lags[i].first - lags[i - 1].first;
-          split = i;
+      for (int j = 0; j < nm; ++j) A(A.rows() - 1, j) = 1.0;
+      const Eigen::VectorXd lag = A.completeOrthogonalDecomposition().solve(rhs);
+      // The lagging group: markers more than half the spread above the earliest.
+      std::vector<std::pair<double, int>> lags;
+      for (int j = 0; j < nm; ++j)
+        if (involved[static_cast<size_t>(j)]) lags.emplace_back(lag[j], j);
+      std::sort(lags.begin(), lags.end());
+      const double lo = lags.front().first, hi = lags.back().first;
+      if (hi - lo > std::max(0.5 * dt, 0.008)) {
+        Finding finding;
+        finding.kind = Finding::Kind::kTiming;
+        std::vector<double> late, early;
+        for (const auto& [value, j] : lags) {
+          if (value > 0.5 * (lo + hi)) {
+            finding.names.push_back(markers[static_cast<size_t>(j)].name);
+            late.push_back(value);
+          } else {
+            early.push_back(value);
+          }
         }
-      auto median = [&](size_t from, size_t to) {
-        const size_t mid = (from + to) / 2;
-        return (to - from) % 2 ? lags[mid].first : 0.5 * (lags[mid - 1].first + lags[mid].first);
-      };
-      if (split >= 2 && lags.size() - split >= 2) {
-        const double difference = median(split, lags.size()) - median(0, split);
-        if (difference > std::max(dt, 0.008) && gap > 0.5 * difference) {
-          Finding finding;
-          finding.kind = Finding::Kind::kTiming;
-          finding.value = difference;
-          for (size_t i = split; i < lags.size(); ++i)
-            finding.names.push_back(markers[static_cast<size_t>(lags[i].second)].name);
-          std::string list;
-          for (size_t i = 0; i < finding.names.size(); ++i)
-            list += (i ? ", " : "") + finding.names[i];
-          finding.text = "timing: markers " + list +
-                         Format(" lag the others by %.0f ms", 1e3 * difference) +
-                         " (unsynchronised cameras or a time shift in the data)";
-          check.findings.push_back(finding);
-        }
+        auto mean = [](const std::vector<double>& v) {
+          double m = 0;
+          for (double x : v) m += x;
+          return m / static_cast<double>(v.size());
+        };
+        finding.value = mean(late) - mean(early);
+        std::string list;
+        for (size_t i = 0; i < finding.names.size(); ++i)
+          list += (i ? ", " : "") + finding.names[i];
+        finding.text = "timing: markers " + list +
+                       Format(" lag the others by %.0f ms", 1e3 * finding.value) +
+                       " (unsynchronised cameras or a time shift in the data)";
+        check.findings.push_back(finding);
       }
     }
   }
@@ -624,8 +674,9 @@ void LocalisePhysicsFailure(const dynamics::Model<double>& model,
     }
   }
 
-  // 4. Markers that fit worst at the frames of largest residual.
-  if (!frames.empty()) {
+  // 4. When nothing above explains it: the markers that fit worst at the frames of largest
+  // residual.
+  if (!frames.empty() && check.findings.empty()) {
     std::vector<int> peak = frames;
     auto score = [&](int i) {
       return check.frames.force_bw.col(i).norm() / options.max_force_bw +

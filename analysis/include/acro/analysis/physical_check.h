@@ -116,6 +116,10 @@ struct MassSuggestion {
 
 struct PhysicalCheck {
   FrameDynamics frames;
+  /// Per frame, the |residual| averaged over the window centred on it (what the verdict judges),
+  /// NaN outside the judged flight frames.
+  Eigen::VectorXd window_force_bw;
+  Eigen::VectorXd window_moment_bwh;
   std::vector<FlightCheck> flights;  ///< complete flights only
   std::vector<ContactLoad> contacts;
   bool pass = true;
@@ -156,10 +160,13 @@ PhysicalCheck CheckPhysics(const dynamics::Model<double>& model,
                            double cutoff_hz,
                            const PhysicalCheckOptions& options = {});
 
-/// Localises a failed verdict: markers with the largest fit error at the peak-residual frames,
-/// pairs of markers that fit each other's model positions (swaps), markers whose trajectories lag
-/// the model's (timing), and the segment masses suggestion. `marker_positions` are the measured
-/// positions (3 × frames·markers, frame-major, NaN = gap) of `markers` (set order).
+/// Localises a failed verdict, as findings in this order: pairs of markers that fit each other's
+/// model positions (swaps); markers recorded late (timing: pairs of markers on one segment whose
+/// distance is steadiest at a non-zero relative lag, per-marker lags by least squares); segment
+/// masses that fit the flights far better (the mass suggestion); and only when none of these
+/// explains it, the markers with the largest fit error at the peak-residual frames.
+/// `marker_positions` are the measured positions (3 × frames·markers, frame-major, NaN = gap) of
+/// `markers` (set order).
 void LocalisePhysicsFailure(const dynamics::Model<double>& model,
                             const Motion& motion,
                             const Eigen::Matrix3Xd& marker_positions,
