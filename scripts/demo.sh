@@ -1,11 +1,16 @@
 #!/usr/bin/env bash
-# The main job on the bundled sample: installs the dependencies, builds, and runs acrolab on
-# samples/trials/straight_jump/straight_jump.c3d (a trampoline jump made by tools/make_sample_trial).
+# The main job on the bundled sample: installs the dependencies, builds, and runs `acrolab analyze`
+# on samples/trials/trampoline_routine (a six-skill trampoline routine made by
+# tools/make_sample_routine for samples/athletes/sample_athlete.yaml). The report goes to
+# out/trampoline_routine/report.html.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 scripts/build.sh
-sample=samples/trials/straight_jump/straight_jump.c3d
+trial=samples/trials/trampoline_routine/trampoline_routine.c3d
+out=out/trampoline_routine
 echo
-echo "== acrolab info $sample"
-build/bin/acrolab info "$sample"
+echo "== acrolab analyze $trial"
+build/bin/acrolab analyze "$trial" --athlete samples/athletes/sample_athlete.yaml -o "$out"
+echo
+echo "Open $(pwd)/$out/report.html in a browser for the report (plots, per-jump table, verdict)."

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <complex>
 #include <numbers>
+#include <thread>
+#include <vector>
 
 #include "acro/base/demand.h"
 
@@ -88,17 +90,23 @@ void FilterWithGaps(const ButterworthFilter& filter, Eigen::Ref<Eigen::VectorXd>
   }
 }
 
-ResidualAnalysis CalcResidualAnalysis(const Eigen::MatrixXd& signals, double rate_hz, int order) {
+ResidualAnalysis CalcResidualAnalysis(const Eigen::MatrixXd& signals,
+                                      double rate_hz,
+                                      int order,
+                                      int num_threads) {
   ResidualAnalysis r;
   for (double fc = 1.0; fc <= rate_hz / 4.0 + 1e-9; fc += 0.5) r.cutoff_hz.push_back(fc);
   ACRO_DEMAND(r.cutoff_hz.size() >= 4);
-  // R(fc) pooled over all valid samples of all signals.
-  for (double fc : r.cutoff_hz) {
-    const ButterworthFilter filter(order, fc, rate_hz);
+  r.residual.assign(r.cutoff_hz.size(), 0.0);
+  // R(fc) pooled over all valid samples of all signals; the cutoffs are independent, so workers
+  // take every k-th one (each sum is formed in the same order whatever the number of workers).
+  auto residual_at = [&](size_t k) {
+    const ButterworthFilter filter(order, r.cutoff_hz[k], rate_hz);
     double sum = 0.0;
     long count = 0;
+    Eigen::VectorXd x(signals.rows());
     for (Eigen::Index c = 0; c < signals.cols(); ++c) {
-      Eigen::VectorXd x = signals.col(c);
+      x = signals.col(c);
       FilterWithGaps(filter, x);
       for (Eigen::Index i = 0; i < x.size(); ++i) {
         if (std::isnan(x[i])) continue;
@@ -107,8 +115,19 @@ ResidualAnalysis CalcResidualAnalysis(const Eigen::MatrixXd& signals, double rat
         ++count;
       }
     }
-    r.residual.push_back(count > 0 ? std::sqrt(sum / double(count)) : 0.0);
-  }
+    r.residual[k] = count > 0 ? std::sqrt(sum / double(count)) : 0.0;
+  };
+  const int hw = std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  const int workers =
+      std::clamp(num_threads > 0 ? num_threads : hw, 1, static_cast<int>(r.cutoff_hz.size()));
+  std::vector<std::thread> pool;
+  for (int w = 1; w < workers; ++w)
+    pool.emplace_back([&, w] {
+      for (size_t k = static_cast<size_t>(w); k < r.cutoff_hz.size(); k += size_t(workers))
+        residual_at(k);
+    });
+  for (size_t k = 0; k < r.cutoff_hz.size(); k += size_t(workers)) residual_at(k);
+  for (std::thread& t : pool) t.join();
   // Line through the upper half (least squares), its intercept a at fc = 0.
   const size_t start = r.cutoff_hz.size() / 2;
   double sx = 0, sy = 0, sxx = 0, sxy = 0;

@@ -436,19 +436,50 @@ MassSuggestion SuggestSegmentMasses(const dynamics::Model<double>& model,
   const Eigen::VectorXd ones = Eigen::VectorXd::Ones(ns);
   const double rows = static_cast<double>(A.rows());
   out.residual_before = std::sqrt((A * ones).squaredNorm() / rows);
-  // min |A k|² + λ |k − 1|²  subject to  Σ m_s k_s = m (the weighed mass is kept): the KKT system.
-  // λ is a small ridge that keeps segments the flights cannot tell apart at their current mass.
+  // min |A k|² + λ |k − 1|²  subject to  Σ m_s k_s = m (the weighed mass is kept) and
+  // kMinScale ≤ k_s ≤ kMaxScale (a segment is neither massless nor four times its regression): the
+  // KKT system, with an active set for the bounds (a bound that the free solution crosses is held
+  // there and the rest solved again). λ is a small ridge that keeps segments the flights cannot
+  // tell apart at their current mass.
+  constexpr double kMinScale = 0.25, kMaxScale = 4.0;
   const Eigen::MatrixXd AtA = A.transpose() * A;
   const double lambda = 1e-3 * AtA.trace() / ns;
-  Eigen::MatrixXd K = Eigen::MatrixXd::Zero(ns + 1, ns + 1);
-  K.topLeftCorner(ns, ns) = AtA + lambda * Eigen::MatrixXd::Identity(ns, ns);
-  K.block(0, ns, ns, 1) = out.current_kg;
-  K.block(ns, 0, 1, ns) = out.current_kg.transpose();
-  Eigen::VectorXd rhs(ns + 1);
-  rhs.head(ns) = lambda * ones;
-  rhs[ns] = mass;
-  const Eigen::VectorXd solution = K.fullPivLu().solve(rhs);
-  const Eigen::VectorXd k = solution.head(ns);
+  std::vector<double> fixed(static_cast<size_t>(ns), kNaN);  // held scale, or NaN when free
+  Eigen::VectorXd k = ones;
+  for (int pass = 0; pass <= ns; ++pass) {
+    // Unknowns: the free scales and the multiplier; held ones move to the right-hand side.
+    std::vector<int> free_index;
+    for (int s = 0; s < ns; ++s)
+      if (std::isnan(fixed[static_cast<size_t>(s)])) free_index.push_back(s);
+    const int nf = static_cast<int>(free_index.size());
+    Eigen::VectorXd held = Eigen::VectorXd::Zero(ns);
+    for (int s = 0; s < ns; ++s)
+      if (!std::isnan(fixed[static_cast<size_t>(s)])) held[s] = fixed[static_cast<size_t>(s)];
+    Eigen::MatrixXd K = Eigen::MatrixXd::Zero(nf + 1, nf + 1);
+    Eigen::VectorXd rhs(nf + 1);
+    const Eigen::VectorXd coupling = AtA * held;
+    for (int a = 0; a < nf; ++a) {
+      const int sa = free_index[static_cast<size_t>(a)];
+      for (int b = 0; b < nf; ++b) K(a, b) = AtA(sa, free_index[static_cast<size_t>(b)]);
+      K(a, a) += lambda;
+      K(a, nf) = out.current_kg[sa];
+      K(nf, a) = out.current_kg[sa];
+      rhs[a] = lambda - coupling[sa];
+    }
+    rhs[nf] = mass - out.current_kg.dot(held);
+    const Eigen::VectorXd solution = K.fullPivLu().solve(rhs);
+    k = held;
+    bool crossed = false;
+    for (int a = 0; a < nf; ++a) {
+      const int sa = free_index[static_cast<size_t>(a)];
+      k[sa] = solution[a];
+      if (k[sa] < kMinScale || k[sa] > kMaxScale) {
+        fixed[static_cast<size_t>(sa)] = std::clamp(k[sa], kMinScale, kMaxScale);
+        crossed = true;
+      }
+    }
+    if (!crossed) break;
+  }
   out.suggested_kg = k.cwiseProduct(out.current_kg);
   out.residual_after = std::sqrt((A * k).squaredNorm() / rows);
   return out;
@@ -643,7 +674,14 @@ void LocalisePhysicsFailure(const dynamics::Model<double>& model,
   check.mass_suggestion = SuggestSegmentMasses(model, motion, check, check.height_m);
   {
     const MassSuggestion& ms = check.mass_suggestion;
-    if (ms.residual_before > 0 && ms.residual_after < 0.5 * ms.residual_before) {
+    // A suggestion that needs a segment at a bound of its range does not describe a wrong mass
+    // (noise or kinematics the masses cannot explain): not reported as a cause.
+    bool at_bound = false;
+    for (Eigen::Index s = 0; s < ms.current_kg.size(); ++s) {
+      const double scale = ms.suggested_kg[s] / ms.current_kg[s];
+      at_bound = at_bound || scale < 0.25 + 1e-6 || scale > 4.0 - 1e-6;
+    }
+    if (!at_bound && ms.residual_before > 0 && ms.residual_after < 0.5 * ms.residual_before) {
       std::vector<std::pair<double, int>> change;
       for (int s = 0; s < static_cast<int>(ms.segments.size()); ++s)
         change.emplace_back(

@@ -252,7 +252,8 @@ ReconstructionResult Reconstruct(const capture::Trial& trial,
         for (int d = 0; d < 3; ++d) signals(f, 3 * m + d) = P(d, Eigen::Index(f) * M + m);
     double fc = options.cutoff_hz;
     if (fc <= 0) {
-      fc = CalcResidualAnalysis(signals, rate, options.filter_order).chosen_cutoff_hz;
+      fc = CalcResidualAnalysis(signals, rate, options.filter_order, options.num_threads)
+               .chosen_cutoff_hz;
       summary.cutoff_from_residual_analysis = true;
     }
     const ButterworthFilter filter(options.filter_order, fc, rate);

@@ -133,6 +133,10 @@ bool TrialAnalysisOptions::IsValid(std::string* why) const {
   if (!phases.IsValid(why)) return false;
   if (!check.IsValid(why)) return false;
   if (!rotation.IsValid(why)) return false;
+  if (surface_height_m && !std::isfinite(*surface_height_m)) {
+    if (why) *why = "surface_height_m must be a number";
+    return false;
+  }
   if (bed && !(bed->length_m > 0 && bed->width_m > 0 && bed->long_axis_W.norm() > 0.5)) {
     if (why) *why = "bed: length and width must be positive and the long axis a unit vector";
     return false;
@@ -241,9 +245,9 @@ TrialAnalysis AnalyzeTrial(const capture::Trial& trial,
     for (Eigen::Index i = 0; i < fz.size(); ++i)
       t[i] = static_cast<double>(i) / trial.analog_rate_hz;
     out.phases = DetectFlightsFromForce(t, fz, motion.time_s, com_z, phase_options);
-  } else if (out.bed) {
-    out.phases = DetectFlightsFromFeet(
-        motion.time_s, out.feet_z_m, out.bed->centre_W.z(), com_z, phase_options);
+  } else if (out.bed || options.surface_height_m) {
+    const double surface = out.bed ? out.bed->centre_W.z() : *options.surface_height_m;
+    out.phases = DetectFlightsFromFeet(motion.time_s, out.feet_z_m, surface, com_z, phase_options);
   } else {
     out.phases = DetectFlightsFromCom(motion.time_s, com_z, phase_options);
   }
@@ -436,30 +440,32 @@ std::string FormatResidualsCsv(const TrialAnalysis& a) {
   std::string out =
       "time_s,phase,force_x_bw,force_y_bw,force_z_bw,force_bw,moment_x_bwh,moment_y_bwh,"
       "moment_z_bwh,moment_bwh,L_x_kg_m2_per_s,L_y_kg_m2_per_s,L_z_kg_m2_per_s,com_x_m,com_y_m,"
-      "com_z_m\n";
+      "com_z_m,lowest_sole_z_m\n";
   char line[512];
   for (int i = 0; i < m.num_frames(); ++i) {
     const int k = flight_of[static_cast<size_t>(i)];
     const std::string phase = k > 0 ? "flight " + std::to_string(k) : "contact";
-    std::snprintf(line,
-                  sizeof line,
-                  "%.6f,%s,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6f,%.6f,%.6f\n",
-                  m.time_s[i],
-                  phase.c_str(),
-                  f.force_bw(0, i),
-                  f.force_bw(1, i),
-                  f.force_bw(2, i),
-                  f.force_bw.col(i).norm(),
-                  f.moment_bwh(0, i),
-                  f.moment_bwh(1, i),
-                  f.moment_bwh(2, i),
-                  f.moment_bwh.col(i).norm(),
-                  f.angular_momentum(0, i),
-                  f.angular_momentum(1, i),
-                  f.angular_momentum(2, i),
-                  f.com_W(0, i),
-                  f.com_W(1, i),
-                  f.com_W(2, i));
+    std::snprintf(
+        line,
+        sizeof line,
+        "%.6f,%s,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6f,%.6f,%.6f,%.6f\n",
+        m.time_s[i],
+        phase.c_str(),
+        f.force_bw(0, i),
+        f.force_bw(1, i),
+        f.force_bw(2, i),
+        f.force_bw.col(i).norm(),
+        f.moment_bwh(0, i),
+        f.moment_bwh(1, i),
+        f.moment_bwh(2, i),
+        f.moment_bwh.col(i).norm(),
+        f.angular_momentum(0, i),
+        f.angular_momentum(1, i),
+        f.angular_momentum(2, i),
+        f.com_W(0, i),
+        f.com_W(1, i),
+        f.com_W(2, i),
+        a.feet_z_m[i]);
     out += line;
   }
   return out;

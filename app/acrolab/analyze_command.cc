@@ -34,6 +34,9 @@ constexpr const char* kAnalyzeHelp =
     "  --joint NAME         the joint whose angle and torque the report plots\n"
     "                       (default r_hip_flexion)\n"
     "  --bed X,Y,Z          centre of the trampoline bed (m), when the trial has no BED markers\n"
+    "  --surface-height Z   height of the take-off surface (m) when the trial has no BED\n"
+    "                       markers: 1.155 for a FIG trampoline over a floor at z = 0; the\n"
+    "                       phases then come from the soles (default: from the centre of mass)\n"
     "  --no-force-plates    phases from the body's centre of mass even when plates exist\n"
     "  --no-images          the report without plots (no rendering at all)\n"
     "  --threads N          worker threads (default: all cores)\n"
@@ -98,6 +101,8 @@ int RunAnalyze(const std::vector<std::string>& args) {
       bed.centre_W = ParseVector(arg, value());
       bed.source = "option --bed";
       options.bed = bed;
+    } else if (arg == "--surface-height") {
+      options.surface_height_m = OptionNumber(arg, value());
     } else if (arg == "--no-force-plates") {
       options.use_force_plates = false;
     } else if (arg == "--no-images") {

@@ -35,10 +35,10 @@ TEST(RoutinePhases, RealTrampolineRoutineHasItsFiveFlights) {
   options.free_fall_tolerance_m_per_s2 = 6.0;  // video keypoints: the COM's acceleration is noisier
   const PhaseSegmentation phases = DetectFlightsFromCom(motion.time_s, z, options);
   // expected.md: complete flights, defined there as "all keypoints above 1.2 m for more than 0.25
-  // s", at these frames. Each is found once, as one complete flight, and its COM falls with g. Not
-  // asserted yet: the events. On this video-keypoint COM (acceleration noise ±7 m/s² in flight) the
-  // take-off/landing refinement lands 3–16 frames inside these windows, where physically it must
-  // lie outside them; accurate events on video data are open work (issue 6).
+  // s", at these frames. Each is found once, as one complete flight, and its COM falls with g. The
+  // events are not asserted here: on this video-keypoint COM (acceleration noise ±7 m/s² in flight)
+  // the COM's take-off/landing refinement lands 3–16 frames inside these windows. With the bed's
+  // height the soles give them within two frames (trial_analysis_test.cc, S2mLab…).
   const int windows[5][2] = {{126, 321}, {355, 541}, {574, 758}, {791, 971}, {1003, 1177}};
   std::vector<Flight> complete;
   for (const Flight& f : phases.flights) {

@@ -15,6 +15,7 @@
 #include "acro/analysis/athlete_profile.h"
 #include "acro/capture/c3d.h"
 #include "acro/capture/storage.h"
+#include "acro/capture/trial_io.h"
 #include "refdata.h"
 #include "sample_routine.h"
 
@@ -267,6 +268,38 @@ TEST(TrialAnalysis, SampleJump2UsesItsForcePlates) {
   EXPECT_NEAR(j.check->fitted_gravity_m_per_s2, 9.81, 1.0);
   RecordProperty("flight_residual_force_bw", std::to_string(j.check->window_force_bw));
   RecordProperty("flight_residual_moment_bwh", std::to_string(j.check->window_moment_bwh));
+}
+
+// The real trampoline routine of the s2mLab set: 17 video keypoints from 8 cameras at 120 Hz, no
+// athlete file, no bed markers; its README says the floor is at z ≈ 0, so the bed at rest is the
+// FIG norm's 1.155 m. expected.md's complete flights ("all keypoints above 1.2 m for more than
+// 0.25 s") are found, each within two frames at both ends, and every skill gets a code.
+TEST(TrialAnalysis, S2mLabRoutineHasItsFiveFlightsWithinTwoFrames) {
+  const auto path = acro::testing::RefdataFile(
+      "s2mLab-EKF_multicamera-trampoline/inputs/trc/1_partie_0429_002.trc");
+  ACRO_REQUIRE_REFDATA_FILE(path);
+  const capture::Trial trial = capture::ReadTrial(path);
+  TrialAnalysisOptions options;
+  options.surface_height_m = 1.155;
+  const TrialAnalysis a =
+      AnalyzeTrial(trial, nullptr, MakeDeLevaBody(1.70, 60.0, Sex::kFemale), options);
+  EXPECT_EQ(a.phases.method, "feet");
+  const int windows[5][2] = {{126, 321}, {355, 541}, {574, 758}, {791, 971}, {1003, 1177}};
+  std::vector<const JumpMetrics*> complete;
+  for (const JumpMetrics& j : a.jumps)
+    if (!j.partial) complete.push_back(&j);
+  ASSERT_EQ(complete.size(), 5u) << a.BriefReport();
+  const double rate = trial.point_rate_hz;
+  for (int k = 0; k < 5; ++k) {
+    const JumpMetrics& j = *complete[static_cast<size_t>(k)];
+    SCOPED_TRACE("flight " + std::to_string(k + 1) + " " + j.fig_code);
+    EXPECT_NEAR(j.flight.takeoff_s * rate, windows[k][0], 2.0);
+    EXPECT_NEAR(j.flight.landing_s * rate, windows[k][1], 2.0);
+    EXPECT_GE(j.rotation.skill.quarter_somersaults, 4);
+    EXPECT_FALSE(j.fig_code.empty());
+    RecordProperty("flight" + std::to_string(k + 1),
+                   j.fig_code + " ToF " + std::to_string(j.time_of_flight_s));
+  }
 }
 
 }  // namespace

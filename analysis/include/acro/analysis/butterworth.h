@@ -47,7 +47,11 @@ struct ResidualAnalysis {
 /// Winter's residual analysis pooled over signals (columns of `signals`, NaN gaps allowed):
 /// R(fc) = RMS(x − x̂_fc) for fc from 1 Hz to rate/4 in 0.5 Hz steps; a straight line fitted to
 /// the upper half of that range (where only noise is removed) gives the intercept a at fc = 0;
-/// the chosen cutoff is the lowest fc with R(fc) ≤ a.
-ResidualAnalysis CalcResidualAnalysis(const Eigen::MatrixXd& signals, double rate_hz, int order);
+/// the chosen cutoff is the lowest fc with R(fc) ≤ a. The cutoffs are shared out to `num_threads`
+/// workers (0: the hardware's concurrency); the result does not depend on their number.
+ResidualAnalysis CalcResidualAnalysis(const Eigen::MatrixXd& signals,
+                                      double rate_hz,
+                                      int order,
+                                      int num_threads = 0);
 
 }  // namespace acro::analysis

@@ -53,6 +53,10 @@ struct TrialAnalysisOptions {
   bool localise = true;
   /// The bed; empty: found from the trial's markers (FindBed) when it has them.
   std::optional<BedGeometry> bed;
+  /// Without a bed: the height of the surface the athlete takes off from (a trampoline bed at rest,
+  /// 1.155 m above the floor by the FIG norms; the floor), so that the phases come from the soles.
+  /// Empty: the phases come from the COM.
+  std::optional<double> surface_height_m;
   /// One line per step ("reconstruct: …", "phases: …") as the analysis goes.
   std::function<void(const std::string&)> progress;
 
@@ -126,7 +130,8 @@ TrialAnalysis AnalyzeTrial(const capture::Trial& trial,
 std::string FormatJumpsJson(const TrialAnalysis& analysis);
 
 /// Per frame: time, phase (flight k / contact), root residual force (BW) and moment (BW·h) in W
-/// with their norms, angular momentum about the COM (kg·m²/s), COM position (m).
+/// with their norms, angular momentum about the COM (kg·m²/s), COM position (m), the lowest sole's
+/// height (m).
 std::string FormatResidualsCsv(const TrialAnalysis& analysis);
 
 /// The joint torques as an OpenSim .sto table (N·m, one column per joint axis, named by the
