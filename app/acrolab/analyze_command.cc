@@ -1,11 +1,14 @@
 #include <unistd.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <optional>
 
 #include "acro/analysis/athlete_profile.h"
 #include "acro/analysis/de_leva.h"
+#include "acro/analysis/motion.h"
+#include "acro/analysis/standard_human.h"
 #include "acro/analysis/trial_analysis.h"
 #include "acro/capture/trial_io.h"
 #include "acro/ui/analysis_report.h"
@@ -162,6 +165,16 @@ int RunAnalyze(const std::vector<std::string>& args) {
                  sex.c_str());
     body = analysis::MakeDeLevaBody(
         height, mass, sex == "f" ? analysis::Sex::kFemale : analysis::Sex::kMale);
+  }
+
+  // The plotted joint must exist before any work is done (and before any file is written).
+  {
+    const std::vector<std::string> names =
+        analysis::MakeCoordinateNames(analysis::MakeStandardHumanModel(body));
+    if (std::find(names.begin() + 7, names.end(), report.joint) == names.end())
+      throw UsageError{"--joint: '" + report.joint +
+                       "' is not a joint angle (e.g. r_hip_flexion, l_knee_flexion, "
+                       "lumbar_flexion; docs/reconstruction.md)"};
   }
 
   // The analysis, with one progress line per step and the IK's frames.

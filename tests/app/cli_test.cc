@@ -152,6 +152,101 @@ TEST(Cli, BadCommandLinesExitWith2) {
   EXPECT_EQ(Execute(std::string(ACROLAB_EXE) + " --help").status, 0);
 }
 
+// --- acrolab analyze ---
+
+std::string Slurp(const std::filesystem::path& path);
+
+std::filesystem::path RepoFile(const std::string& relative) {
+  return acro::testing::SourceDir() / relative;
+}
+
+std::string AnalyzeSample(const std::filesystem::path& out, const std::string& extra = "") {
+  return std::string(ACROLAB_EXE) + " analyze " +
+         Quote(RepoFile("samples/trials/trampoline_routine/trampoline_routine.c3d")) +
+         " --athlete " + Quote(RepoFile("samples/athletes/sample_athlete.yaml")) + " -o " +
+         Quote(out) + " " + extra;
+}
+
+bool HasFile(const std::filesystem::path& p) {
+  return std::filesystem::exists(p);
+}
+
+TEST(Cli, AnalyzeWritesTheReportAndTablesAndSaysWhere) {
+  const auto out = acro::testing::TempDir() / "analyze_sample";
+  std::filesystem::remove_all(out);
+  const ProcessResult run = Execute(AnalyzeSample(out));
+  ASSERT_EQ(run.status, 0) << run.err;
+  for (const char* f : {"report.html", "jumps.json", "angles.mot", "torques.sto", "residuals.csv"})
+    EXPECT_TRUE(HasFile(out / f)) << f;
+  EXPECT_NE(run.out.find("routine: 6 skills, DD 3.5"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("physical check: pass"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("report: " + (out / "report.html").string()), std::string::npos);
+  // Progress on stderr, one line per step.
+  for (const char* step : {"reconstruct:", "phases:", "check:", "metrics:", "report:"})
+    EXPECT_NE(run.err.find(step), std::string::npos) << step << "\n" << run.err;
+  const std::string html = Slurp(out / "report.html");
+  for (const char* code : {"00", "40o", "40&lt;", "41/", "42/", "800o"})
+    EXPECT_NE(html.find("<b>" + std::string(code) + "</b>"), std::string::npos) << code;
+  // A display (the suite runs under xvfb-run) or xvfb-run to relaunch under: the plots are there.
+  const char* display = std::getenv("DISPLAY");
+  if ((display && *display) || HasFile("/usr/bin/xvfb-run")) {
+    EXPECT_TRUE(HasFile(out / "com_height.png"));
+    EXPECT_TRUE(HasFile(out / "residual_force.png"));
+    EXPECT_NE(html.find("<img src=\"angular_momentum.png\""), std::string::npos);
+  }
+}
+
+TEST(Cli, AnalyzeWithoutAnyDisplayWritesTheReportWithoutImagesAndSaysHow) {
+  const auto out = acro::testing::TempDir() / "analyze_no_display";
+  std::filesystem::remove_all(out);
+  // No display and no xvfb-run on PATH.
+  const ProcessResult run =
+      Execute("env -u DISPLAY PATH=/nonexistent " + AnalyzeSample(out, "--quiet"));
+  ASSERT_EQ(run.status, 0) << run.err;
+  const std::string html = Slurp(out / "report.html");
+  EXPECT_NE(html.find("No plots in this report"), std::string::npos);
+  EXPECT_NE(html.find("xvfb"), std::string::npos);
+  EXPECT_FALSE(HasFile(out / "com_height.png"));
+  EXPECT_TRUE(HasFile(out / "jumps.json"));
+}
+
+TEST(Cli, AnalyzeRefusesBadInputBeforeWritingAnything) {
+  const auto out = acro::testing::TempDir() / "analyze_bad";
+  std::filesystem::remove_all(out);
+  // A joint that does not exist: exit 2, nothing written.
+  ProcessResult run = Execute(AnalyzeSample(out, "--joint r_elbow_twist --no-images"));
+  EXPECT_EQ(run.status, 2);
+  EXPECT_NE(run.err.find("r_elbow_twist"), std::string::npos) << run.err;
+  EXPECT_FALSE(HasFile(out));
+  // A missing athlete file: one line naming it, exit 1, nothing written.
+  run = Execute(std::string(ACROLAB_EXE) + " analyze " +
+                Quote(RepoFile("samples/trials/trampoline_routine/trampoline_routine.c3d")) +
+                " --athlete /nonexistent/athlete.yaml -o " + Quote(out));
+  EXPECT_EQ(run.status, 1);
+  EXPECT_NE(run.err.find("/nonexistent/athlete.yaml"), std::string::npos) << run.err;
+  EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
+  EXPECT_FALSE(HasFile(out));
+  EXPECT_EQ(Execute(std::string(ACROLAB_EXE) + " analyze").status, 2);
+  EXPECT_EQ(Execute(std::string(ACROLAB_EXE) + " analyze a.c3d").status, 2);  // no -o
+}
+
+// Video keypoints (17 COCO) with no athlete file: a default athlete, with a warning.
+TEST(Cli, AnalyzeTakesACocoKeypointTrcWithoutAthlete) {
+  const auto trc = acro::testing::RefdataFile(
+      "s2mLab-EKF_multicamera-trampoline/inputs/trc/1_partie_0429_002.trc");
+  ACRO_REQUIRE_REFDATA_FILE(trc);
+  const auto out = acro::testing::TempDir() / "analyze_keypoints";
+  std::filesystem::remove_all(out);
+  const ProcessResult run = Execute(std::string(ACROLAB_EXE) + " analyze " + Quote(trc) +
+                                    " --height 1.70 --mass 60 --surface-height 1.155 --quiet "
+                                    "--no-images -o " +
+                                    Quote(out));
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_NE(run.err.find("warning: no --athlete file"), std::string::npos) << run.err;
+  EXPECT_NE(run.out.find("routine: 5 skills"), std::string::npos) << run.out;
+  EXPECT_TRUE(HasFile(out / "jumps.json"));
+}
+
 }  // namespace
 
 namespace {
