@@ -92,6 +92,39 @@ TEST(TrialAnalysis, CommittedSampleIsTheGeneratorsOutput) {
   EXPECT_GT(gaps, 0);  // the sample has a few gaps, as a real capture does
 }
 
+// The sample is physics, not an animation: in every flight the angular momentum about the COM is
+// conserved, the COM falls on a parabola with g and keeps its horizontal velocity; the phases join
+// with continuous positions and velocities; the bed pushes with what trampolines do (several body
+// weights) and the codes are the plan's.
+TEST(TrialAnalysis, SampleRoutineIsPhysicallyExact) {
+  const samples::SampleRoutine& r = Truth();
+  ASSERT_EQ(r.flights.size(), 6u);
+  const std::vector<std::string> codes = {"00", "40o", "40<", "41/", "42/", "800o"};
+  for (size_t k = 0; k < r.flights.size(); ++k) {
+    SCOPED_TRACE(r.flights[k].fig_code);
+    EXPECT_EQ(r.flights[k].fig_code, codes[k]);
+    const samples::SampleFlightPhysics p = samples::CheckSampleFlight(r, static_cast<int>(k));
+    EXPECT_GT(p.num_frames, 100);
+    // RK4 at 20 substeps per frame: drift and parabola errors at the integrator's 1e-8 level.
+    EXPECT_LT(p.max_relative_momentum_drift, 1e-6);
+    EXPECT_NEAR(p.fitted_vertical_acceleration_m_per_s2, -9.81, 1e-6);
+    EXPECT_LT(p.parabola_max_error_m, 1e-6);
+    EXPECT_LT(p.max_horizontal_velocity_change_m_per_s, 1e-6);
+    if (k > 0) EXPECT_GT(p.momentum_norm_N_m_s, 20.0);  // the somersaults rotate
+  }
+  EXPECT_LT(r.max_boundary_position_jump_m, 1e-9);
+  EXPECT_LT(r.max_boundary_velocity_jump_m_per_s, 1e-9);
+  EXPECT_LT(r.max_boundary_orientation_jump_rad, 1e-9);
+  EXPECT_LT(r.max_boundary_angular_velocity_jump_rad_per_s, 1e-9);
+  EXPECT_LT(r.max_boundary_joint_rate_jump_rad_per_s, 1e-9);
+  for (const samples::SampleContactTruth& c : r.contacts) {
+    EXPECT_GT(c.peak_force_body_weights, 5.0);
+    EXPECT_LT(c.peak_force_body_weights, 12.0);
+    EXPECT_GT(c.max_depression_m, 0.5);
+    EXPECT_LT(c.max_depression_m, 1.1);
+  }
+}
+
 TEST(TrialAnalysis, SampleRoutineGivesEverySkillWithinAFrameAndPasses) {
   const TrialAnalysis& a = CleanAnalysis();
   const samples::SampleRoutine& truth = Truth();
