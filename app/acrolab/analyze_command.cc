@@ -1,5 +1,3 @@
-#include <unistd.h>
-
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
@@ -63,9 +61,8 @@ Eigen::Vector3d ParseVector(const std::string& option, const std::string& text) 
 
 int RunAnalyze(const std::vector<std::string>& args) {
   // Arguments.
-  std::string trial_path, static_path, athlete_path, markerset, out_dir, sex = "f";
-  double height = 1.75, mass = 65.0;
-  bool have_body_numbers = false, quiet = false, images = true;
+  TrialArguments common;
+  bool images = true;
   analysis::TrialAnalysisOptions options;
   ui::AnalysisReportOptions report;
   for (size_t i = 0; i < args.size(); ++i) {
@@ -74,29 +71,8 @@ int RunAnalyze(const std::vector<std::string>& args) {
     if (arg == "--help" || arg == "-h") {
       std::fputs(kAnalyzeHelp, stdout);
       return 0;
-    } else if (arg == "--static") {
-      static_path = value();
-    } else if (arg == "--athlete") {
-      athlete_path = value();
-    } else if (arg == "--markerset") {
-      markerset = value();
-    } else if (arg == "-o" || arg == "--output") {
-      out_dir = value();
-    } else if (arg == "--height") {
-      height = OptionNumber(arg, value());
-      have_body_numbers = true;
-    } else if (arg == "--mass") {
-      mass = OptionNumber(arg, value());
-      have_body_numbers = true;
-    } else if (arg == "--sex") {
-      sex = value();
-      have_body_numbers = true;
-    } else if (arg == "--cutoff") {
-      options.reconstruction.cutoff_hz = OptionNumber(arg, value());
-      if (options.reconstruction.cutoff_hz < 0) throw UsageError{"--cutoff must be >= 0"};
-      options.reconstruction.filter = options.reconstruction.cutoff_hz > 0;
-    } else if (arg == "--no-scale") {
-      options.reconstruction.scale = false;
+    } else if (common.Take(args, &i, &options.reconstruction)) {
+      continue;
     } else if (arg == "--joint") {
       report.joint = value();
     } else if (arg == "--bed") {
@@ -110,24 +86,12 @@ int RunAnalyze(const std::vector<std::string>& args) {
       options.use_force_plates = false;
     } else if (arg == "--no-images") {
       images = false;
-    } else if (arg == "--threads") {
-      options.reconstruction.num_threads = static_cast<int>(OptionNumber(arg, value()));
-    } else if (arg == "--quiet") {
-      quiet = true;
-    } else if (!arg.empty() && arg[0] == '-') {
-      throw UsageError{"unknown option '" + arg + "'"};
-    } else if (trial_path.empty()) {
-      trial_path = arg;
     } else {
-      throw UsageError{"one TRIAL only, got '" + trial_path + "' and '" + arg + "'"};
+      throw UsageError{"unknown option '" + arg + "'"};
     }
   }
-  if (trial_path.empty()) throw UsageError{"missing TRIAL"};
-  if (out_dir.empty()) throw UsageError{"missing -o DIR"};
-  if (sex != "f" && sex != "m") throw UsageError{"--sex must be f or m, got '" + sex + "'"};
-  if (!athlete_path.empty() && have_body_numbers)
-    throw UsageError{"--athlete and --height/--mass/--sex exclude each other"};
-  options.reconstruction.markerset = markerset;
+  common.Check();
+  const bool quiet = common.quiet;
   std::string why;
   if (!options.IsValid(&why)) throw UsageError{why};
 
@@ -150,22 +114,10 @@ int RunAnalyze(const std::vector<std::string>& args) {
   auto say = [quiet](const std::string& line) {
     if (!quiet) std::fprintf(stderr, "%s\n", line.c_str());
   };
-  const capture::Trial trial = capture::ReadTrial(trial_path);
+  const capture::Trial trial = capture::ReadTrial(common.trial_path);
   std::optional<capture::Trial> static_trial;
-  if (!static_path.empty()) static_trial = capture::ReadTrial(static_path);
-  analysis::AthleteBody body;
-  if (!athlete_path.empty()) {
-    body = analysis::MakeAthleteBody(analysis::ReadAthleteProfile(athlete_path));
-  } else {
-    std::fprintf(stderr,
-                 "acrolab analyze: warning: no --athlete file; using a de Leva athlete of "
-                 "%.2f m, %.1f kg, sex %s (segment masses and inertias will be generic)\n",
-                 height,
-                 mass,
-                 sex.c_str());
-    body = analysis::MakeDeLevaBody(
-        height, mass, sex == "f" ? analysis::Sex::kFemale : analysis::Sex::kMale);
-  }
+  if (!common.static_path.empty()) static_trial = capture::ReadTrial(common.static_path);
+  const analysis::AthleteBody body = common.MakeBody("analyze");
 
   // The plotted joint must exist before any work is done (and before any file is written).
   {
@@ -179,25 +131,17 @@ int RunAnalyze(const std::vector<std::string>& args) {
 
   // The analysis, with one progress line per step and the IK's frames.
   options.progress = say;
-  if (!quiet) {
-    const bool tty = isatty(fileno(stderr)) != 0;
-    options.reconstruction.progress = [tty](int done, int total) {
-      if (!tty && done < total) return;
-      std::fprintf(stderr, "\rinverse kinematics %d/%d frames", done, total);
-      if (done >= total) std::fputc('\n', stderr);
-      std::fflush(stderr);
-    };
-  }
+  if (!quiet) options.reconstruction.progress = MakeFrameProgress();
   const analysis::TrialAnalysis result =
       analysis::AnalyzeTrial(trial, static_trial ? &*static_trial : nullptr, body, options);
 
   // Outputs: the tables, then the report (with plots when rendering works here).
-  const std::filesystem::path dir(out_dir);
+  const std::filesystem::path dir(common.out_dir);
   std::filesystem::create_directories(dir);
   analysis::WriteAnalysisTables(result, dir);
-  report.trial_path = trial_path;
+  report.trial_path = common.trial_path;
   report.athlete =
-      athlete_path.empty() ? "default de Leva athlete (no --athlete file)" : body.model;
+      common.athlete_path.empty() ? "default de Leva athlete (no --athlete file)" : body.model;
   report.render_images = images;
   say("report: rendering plots");
   const ui::AnalysisReportOutcome outcome = ui::WriteAnalysisReport(result, dir, report);
@@ -205,7 +149,7 @@ int RunAnalyze(const std::vector<std::string>& args) {
   std::fputs(result.BriefReport().c_str(), stdout);
   std::printf("report: %s\n", (dir / "report.html").string().c_str());
   std::printf("wrote %s/{report.html,jumps.json,angles.mot,torques.sto,residuals.csv}\n",
-              out_dir.c_str());
+              common.out_dir.c_str());
   return 0;
 }
 

@@ -1,5 +1,3 @@
-#include <unistd.h>
-
 #include <cstdio>
 #include <filesystem>
 #include <optional>
@@ -44,9 +42,8 @@ constexpr const char* kReconstructHelp =
 
 int RunReconstruct(const std::vector<std::string>& args) {
   // Arguments.
-  std::string trial_path, static_path, athlete_path, markerset, out_dir, sex = "f", window;
-  double height = 1.75, mass = 65.0;
-  bool have_body_numbers = false, quiet = false;
+  TrialArguments common;
+  std::string window;
   analysis::ReconstructionOptions options;
   for (size_t i = 0; i < args.size(); ++i) {
     const std::string& arg = args[i];
@@ -54,27 +51,8 @@ int RunReconstruct(const std::vector<std::string>& args) {
     if (arg == "--help" || arg == "-h") {
       std::fputs(kReconstructHelp, stdout);
       return 0;
-    } else if (arg == "--static") {
-      static_path = value();
-    } else if (arg == "--athlete") {
-      athlete_path = value();
-    } else if (arg == "--markerset") {
-      markerset = value();
-    } else if (arg == "-o" || arg == "--output") {
-      out_dir = value();
-    } else if (arg == "--height") {
-      height = OptionNumber(arg, value());
-      have_body_numbers = true;
-    } else if (arg == "--mass") {
-      mass = OptionNumber(arg, value());
-      have_body_numbers = true;
-    } else if (arg == "--sex") {
-      sex = value();
-      have_body_numbers = true;
-    } else if (arg == "--cutoff") {
-      options.cutoff_hz = OptionNumber(arg, value());
-      if (options.cutoff_hz < 0) throw UsageError{"--cutoff must be >= 0"};
-      options.filter = options.cutoff_hz > 0;
+    } else if (common.Take(args, &i, &options)) {
+      continue;
     } else if (arg == "--order") {
       options.filter_order = static_cast<int>(OptionNumber(arg, value()));
     } else if (arg == "--max-gap") {
@@ -85,68 +63,26 @@ int RunReconstruct(const std::vector<std::string>& args) {
       if (colon == std::string::npos) throw UsageError{"--window needs A:B"};
       options.scaling_first_frame = static_cast<int>(OptionNumber(arg, window.substr(0, colon)));
       options.scaling_last_frame = static_cast<int>(OptionNumber(arg, window.substr(colon + 1)));
-    } else if (arg == "--no-scale") {
-      options.scale = false;
     } else if (arg == "--no-swap-repair") {
       options.repair_swaps = false;
-    } else if (arg == "--threads") {
-      options.num_threads = static_cast<int>(OptionNumber(arg, value()));
-    } else if (arg == "--quiet") {
-      quiet = true;
-    } else if (!arg.empty() && arg[0] == '-') {
-      throw UsageError{"unknown option '" + arg + "'"};
-    } else if (trial_path.empty()) {
-      trial_path = arg;
     } else {
-      throw UsageError{"one TRIAL only, got '" + trial_path + "' and '" + arg + "'"};
+      throw UsageError{"unknown option '" + arg + "'"};
     }
   }
-  if (trial_path.empty()) throw UsageError{"missing TRIAL"};
-  if (out_dir.empty()) throw UsageError{"missing -o DIR"};
-  if (sex != "f" && sex != "m") throw UsageError{"--sex must be f or m, got '" + sex + "'"};
-  if (!athlete_path.empty() && have_body_numbers)
-    throw UsageError{"--athlete and --height/--mass/--sex exclude each other"};
+  common.Check();
   std::string why;
   if (!options.IsValid(&why)) throw UsageError{why};
 
   // Inputs: trial, static trial, athlete.
-  const capture::Trial trial = capture::ReadTrial(trial_path);
+  const capture::Trial trial = capture::ReadTrial(common.trial_path);
   std::optional<capture::Trial> static_trial;
-  if (!static_path.empty()) static_trial = capture::ReadTrial(static_path);
-  analysis::AthleteBody body;
-  if (!athlete_path.empty()) {
-    body = analysis::MakeAthleteBody(analysis::ReadAthleteProfile(athlete_path));
-  } else {
-    std::fprintf(stderr,
-                 "acrolab reconstruct: warning: no --athlete file; using a de Leva athlete of "
-                 "%.2f m, %.1f kg, sex %s (segment masses and inertias will be generic)\n",
-                 height,
-                 mass,
-                 sex.c_str());
-    body = analysis::MakeDeLevaBody(
-        height, mass, sex == "f" ? analysis::Sex::kFemale : analysis::Sex::kMale);
-  }
-  options.markerset = markerset;
+  if (!common.static_path.empty()) static_trial = capture::ReadTrial(common.static_path);
+  const analysis::AthleteBody body = common.MakeBody("reconstruct");
+  const std::string& trial_path = common.trial_path;
+  const std::string& out_dir = common.out_dir;
 
   // Reconstruction with a progress bar on stderr.
-  if (!quiet) {
-    // A bar redrawn in place on a terminal; one line at the end otherwise (logs, pipes).
-    const bool tty = isatty(fileno(stderr)) != 0;
-    options.progress = [tty](int done, int total) {
-      if (!tty && done < total) return;
-      const int width = 40;
-      const int filled = total > 0 ? done * width / total : width;
-      std::fprintf(stderr,
-                   "\rinverse kinematics [%s%s] %3d%% (%d/%d frames)",
-                   std::string(size_t(filled), '#').c_str(),
-                   std::string(size_t(width - filled), ' ').c_str(),
-                   total > 0 ? done * 100 / total : 100,
-                   done,
-                   total);
-      if (done >= total) std::fputc('\n', stderr);
-      std::fflush(stderr);
-    };
-  }
+  if (!common.quiet) options.progress = MakeFrameProgress();
   const analysis::ReconstructionResult result =
       analysis::Reconstruct(trial, static_trial ? &*static_trial : nullptr, body, options);
 
