@@ -66,8 +66,11 @@ TEST(AnalysisReport, FiguresShowThePhasesTheJudgedResidualsAndTheChosenJoint) {
   EXPECT_GT(FiniteCount(figures[1].chart.series[1].y), judged / 2);
   EXPECT_DOUBLE_EQ(figures[1].chart.reference_lines[0].y, a.check_options.max_force_bw);
   // The clean sample passes: its judged mean stays below the limit everywhere.
-  for (double v : figures[1].chart.series[1].y)
-    if (std::isfinite(v)) EXPECT_LE(v, a.check_options.max_force_bw);
+  for (double v : figures[1].chart.series[1].y) {
+    if (std::isfinite(v)) {
+      EXPECT_LE(v, a.check_options.max_force_bw);
+    }
+  }
   // The joint: its angle in degrees and its torque.
   EXPECT_NE(figures[4].chart.title.find("l_knee_flexion"), std::string::npos);
   EXPECT_NE(figures[5].chart.title.find("l_knee_flexion"), std::string::npos);
