@@ -106,7 +106,10 @@ std::string MakeSkillResultJson(const SkillDesign& design,
     w.BeginObject();
     w.Key("H_Scm_W_kgm2ps");
     w.Array(std::vector<double>{sim->H_Scm_W.x(), sim->H_Scm_W.y(), sim->H_Scm_W.z()});
+    w.Key("H_mean_W_kgm2ps");
+    w.Array(std::vector<double>{sim->H_mean_W.x(), sim->H_mean_W.y(), sim->H_mean_W.z()});
     w.Field("final_orientation_error_deg", sim->final_orientation_error_rad * kRadToDeg);
+    w.Field("rms_orientation_error_deg", sim->rms_orientation_error_rad * kRadToDeg);
     w.Field("somersault_turns", sim->somersault_turns);
     w.Field("intended_somersault_turns", sim->intended_somersault_turns);
     const Eigen::Vector3d stt = SomersaultTiltTwist(sim->final_orientation) * kRadToDeg;
@@ -289,9 +292,12 @@ std::vector<std::string> WriteSkillOutputs(const std::filesystem::path& dir,
   if (sim != nullptr)
     html << "<h2>Flight simulation</h2>\n<p>The joints follow the optimised motion, the root flies "
             "under gravity "
-            "with the take-off momentum: "
-         << Fixed(sim->somersault_turns, 3) << " somersault turns (designed "
-         << Fixed(sim->intended_somersault_turns, 3) << "); the final orientation is "
+            "with the take-off momentum the design needs ("
+         << Fixed(sim->H_Scm_W.norm(), 1) << " kg·m²/s; the design's mean "
+         << Fixed(sim->H_mean_W.norm(), 1) << "): " << Fixed(sim->somersault_turns, 3)
+         << " somersault turns (designed " << Fixed(sim->intended_somersault_turns, 3)
+         << "); the orientation follows the design within "
+         << Fixed(sim->rms_orientation_error_rad * kRadToDeg, 1) << "° RMS and lands "
          << Fixed(sim->final_orientation_error_rad * kRadToDeg, 1)
          << "° from the last keyframe's.</p>\n";
   html << "<h2>Solver</h2>\n<ul>\n";

@@ -644,22 +644,17 @@ TimingOptimizationResult OptimizeSkillTiming(const SkillDesign& design,
 
 SkillSimulationResult SimulateSkill(const SkillDesign& design,
                                     const SkillTrajectory& trajectory,
-                                    double step_s) {
+                                    double step_s,
+                                    bool fit_momentum) {
   const dynamics::Model<double>& m = design.model();
   const MotionEvaluator motion(design, trajectory, Eigen::Vector3d(0, 0, 1));
   SkillSimulationResult out;
-  // Take-off angular momentum: the mean of the designed motion's H_Scm over the flight.
+  // The designed motion's angular momentum about the COM; its mean over the flight is the
+  // take-off momentum to start from.
   const SkillMotionProfile profile = CalcSkillMotionProfile(design, trajectory, 200);
-  out.H_Scm_W = profile.H_Scm_W.rowwise().mean();
+  out.H_mean_W = profile.H_Scm_W.rowwise().mean();
   const SkillMotionState s0 = motion.Eval(0.0);
   dynamics::Workspace<double> ws(m);
-  const dynamics::Vector6<double> v_root0 = dynamics::CalcRootVelocityFromMomentum(
-      m,
-      ws,
-      s0.q,
-      s0.v,
-      Eigen::Vector3d(design.skill().takeoff_com_velocity_mps),
-      Eigen::Vector3d(out.H_Scm_W));
   dynamics::FlightSimulationOptions fo;
   fo.duration_s = design.flight_time_s();
   fo.step_s = step_s;
@@ -670,8 +665,66 @@ SkillSimulationResult SimulateSkill(const SkillDesign& design,
                                                        dynamics::VectorXRef<double> aj) {
     motion.Joints(t, qj, vj, aj);
   };
-  out.flight =
-      dynamics::SimulateFlight(m, fo, Eigen::Matrix<double, 7, 1>(s0.q.head<7>()), v_root0, joints);
+  auto simulate = [&](const Eigen::Vector3d& H) {
+    const dynamics::Vector6<double> v_root0 = dynamics::CalcRootVelocityFromMomentum(
+        m, ws, s0.q, s0.v, Eigen::Vector3d(design.skill().takeoff_com_velocity_mps), H);
+    return dynamics::SimulateFlight(
+        m, fo, Eigen::Matrix<double, 7, 1>(s0.q.head<7>()), v_root0, joints);
+  };
+  out.H_Scm_W = out.H_mean_W;
+  out.flight = simulate(out.H_Scm_W);
+  // The designed orientation at the simulation's output times.
+  std::vector<Eigen::Quaterniond> designed;
+  for (double t : out.flight.t) {
+    const SkillMotionState s = motion.Eval(t);
+    designed.emplace_back(s.q[3], s.q[4], s.q[5], s.q[6]);
+  }
+  auto misfit = [&](const dynamics::FlightSimulationResult<double>& f, double* r) {
+    for (size_t k = 0; k < designed.size(); ++k) {
+      const Eigen::VectorXd& q = f.q[std::min(k, f.q.size() - 1)];
+      const Eigen::Quaterniond sim(q[3], q[4], q[5], q[6]);
+      const Eigen::AngleAxisd e(designed[k].conjugate() * sim.normalized());
+      const Eigen::Vector3d v = e.axis() * e.angle();
+      for (int c = 0; c < 3; ++c) r[3 * k + c] = v[c];
+    }
+  };
+  // The take-off momentum that the design needs: the H that makes the simulated orientation follow
+  // the designed one best over the whole flight (least squares over the 10 ms samples; Ceres with
+  // central differences, each evaluation one flight simulation), from the mean.
+  if (fit_momentum) {
+    struct Misfit {
+      std::function<void(const double*, double*)> eval;
+      bool operator()(const double* H, double* r) const {
+        eval(H, r);
+        return true;
+      }
+    };
+    const int residuals = 3 * static_cast<int>(designed.size());
+    auto* cost = new ceres::NumericDiffCostFunction<Misfit, ceres::CENTRAL, ceres::DYNAMIC, 3>(
+        new Misfit{[&](const double* H, double* r) {
+          misfit(simulate(Eigen::Vector3d(H[0], H[1], H[2])), r);
+        }},
+        ceres::TAKE_OWNERSHIP,
+        residuals);
+    double H[3] = {out.H_mean_W[0], out.H_mean_W[1], out.H_mean_W[2]};
+    ceres::Problem problem;
+    problem.AddResidualBlock(cost, nullptr, H);
+    ceres::Solver::Options so;
+    so.linear_solver_type = ceres::DENSE_QR;
+    so.max_num_iterations = 20;
+    so.function_tolerance = 1e-8;
+    so.logging_type = ceres::SILENT;
+    ceres::Solver::Summary summary;
+    ceres::Solve(so, &problem, &summary);
+    out.H_Scm_W = Eigen::Vector3d(H[0], H[1], H[2]);
+    out.flight = simulate(out.H_Scm_W);
+  }
+  std::vector<double> r(3 * designed.size());
+  misfit(out.flight, r.data());
+  double sum = 0;
+  for (size_t k = 0; k < designed.size(); ++k)
+    sum += r[3 * k] * r[3 * k] + r[3 * k + 1] * r[3 * k + 1] + r[3 * k + 2] * r[3 * k + 2];
+  out.rms_orientation_error_rad = std::sqrt(sum / static_cast<double>(designed.size()));
   const Eigen::VectorXd& qf = out.flight.q.back();
   out.final_orientation = Eigen::Quaterniond(qf[3], qf[4], qf[5], qf[6]).normalized();
   out.intended_final_orientation = design.keyframe_orientations().back();
@@ -688,12 +741,8 @@ SkillSimulationResult SimulateSkill(const SkillDesign& design,
     }
     return total / (2.0 * std::numbers::pi);
   };
-  std::vector<Eigen::Quaterniond> sim, designed;
+  std::vector<Eigen::Quaterniond> sim;
   for (const Eigen::VectorXd& q : out.flight.q) sim.emplace_back(q[3], q[4], q[5], q[6]);
-  for (double t : out.flight.t) {
-    const SkillMotionState s = motion.Eval(t);
-    designed.emplace_back(s.q[3], s.q[4], s.q[5], s.q[6]);
-  }
   out.somersault_turns = turns(sim);
   out.intended_somersault_turns = turns(designed);
   return out;

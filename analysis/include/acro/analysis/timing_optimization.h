@@ -206,16 +206,21 @@ struct TimingOptimizationResult {
 TimingOptimizationResult OptimizeSkillTiming(const SkillDesign& design,
                                              const TimingOptimizationOptions& options);
 
-/// Flight simulation of a designed motion: the joints follow the trajectory's splines, the root is
-/// integrated under gravity from the take-off COM velocity and the angular momentum H0 (the mean
-/// of the designed motion's H_Scm over the flight, the momentum the athlete must take off with).
+/// Flight simulation of a designed motion: the joints follow the trajectory, the root is
+/// integrated under gravity from the take-off COM velocity and an angular momentum H0 about the
+/// COM. H0 is the momentum the design needs: the one whose simulated orientation follows the
+/// designed orientation best over the flight (least squares on the orientation error every 10 ms,
+/// from the mean of the design's own H_Scm), or that mean itself when `fit_momentum` is false.
 struct SkillSimulationResult {
   dynamics::FlightSimulationResult<double> flight;
-  Eigen::Vector3d H_Scm_W = Eigen::Vector3d::Zero();
+  Eigen::Vector3d H_Scm_W = Eigen::Vector3d::Zero();   ///< the take-off momentum simulated
+  Eigen::Vector3d H_mean_W = Eigen::Vector3d::Zero();  ///< the design's mean H_Scm
   Eigen::Quaterniond final_orientation = Eigen::Quaterniond::Identity();
   Eigen::Quaterniond intended_final_orientation = Eigen::Quaterniond::Identity();
   /// Geodesic angle between the simulated and the intended final root orientation (rad).
   double final_orientation_error_rad = 0.0;
+  /// RMS over the flight of the angle between the simulated and the designed orientation (rad).
+  double rms_orientation_error_rad = 0.0;
   /// Somersault turns (rotation of the trunk's long axis about W's y axis, unwrapped) and
   /// the same for the designed motion.
   double somersault_turns = 0.0;
@@ -223,6 +228,7 @@ struct SkillSimulationResult {
 };
 SkillSimulationResult SimulateSkill(const SkillDesign& design,
                                     const SkillTrajectory& trajectory,
-                                    double step_s = 1e-3);
+                                    double step_s = 1e-3,
+                                    bool fit_momentum = true);
 
 }  // namespace acro::analysis
