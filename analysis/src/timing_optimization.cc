@@ -394,6 +394,9 @@ Eigen::VectorXd Solve(const SkillDesign& design,
   so.gradient_tolerance = options.gradient_tolerance;
   so.parameter_tolerance = options.parameter_tolerance;
   so.num_threads = 1;
+  // The plain projected step at the gap bounds (as Model 1; docs/skill-design.md): Ceres' line
+  // search along the projection costs a Jacobian per trial step.
+  so.max_num_line_search_step_size_iterations = 0;
   so.logging_type = ceres::SILENT;
   so.minimizer_progress_to_stdout = false;
   internal::SkillProgressCallback callback(options.progress, "model 2");
