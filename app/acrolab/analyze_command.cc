@@ -117,7 +117,7 @@ int RunAnalyze(const std::vector<std::string>& args) {
   const capture::Trial trial = capture::ReadTrial(common.trial_path);
   std::optional<capture::Trial> static_trial;
   if (!common.static_path.empty()) static_trial = capture::ReadTrial(common.static_path);
-  const analysis::AthleteBody body = common.MakeBody("analyze");
+  const analysis::AthleteBody body = common.MakeBody("analyze", &report.athlete);
 
   // The plotted joint must exist before any work is done (and before any file is written).
   {
@@ -140,8 +140,6 @@ int RunAnalyze(const std::vector<std::string>& args) {
   std::filesystem::create_directories(dir);
   analysis::WriteAnalysisTables(result, dir);
   report.trial_path = common.trial_path;
-  report.athlete =
-      common.athlete_path.empty() ? "default de Leva athlete (no --athlete file)" : body.model;
   report.render_images = images;
   say("report: rendering plots");
   const ui::AnalysisReportOutcome outcome = ui::WriteAnalysisReport(result, dir, report);

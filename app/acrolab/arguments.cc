@@ -70,9 +70,15 @@ void TrialArguments::Check() const {
     throw UsageError{"--athlete and --height/--mass/--sex exclude each other"};
 }
 
-analysis::AthleteBody TrialArguments::MakeBody(const std::string& command) const {
-  if (!athlete_path.empty())
-    return analysis::MakeAthleteBody(analysis::ReadAthleteProfile(athlete_path));
+analysis::AthleteBody TrialArguments::MakeBody(const std::string& command,
+                                               std::string* athlete_name) const {
+  if (!athlete_path.empty()) {
+    const analysis::AthleteProfile profile = analysis::ReadAthleteProfile(athlete_path);
+    analysis::AthleteBody body = analysis::MakeAthleteBody(profile);
+    if (athlete_name) *athlete_name = profile.name + ", " + body.model;
+    return body;
+  }
+  if (athlete_name) *athlete_name = "default de Leva athlete (no --athlete file)";
   std::fprintf(stderr,
                "acrolab %s: warning: no --athlete file; using a de Leva athlete of %.2f m, %.1f "
                "kg, sex %s (segment masses and inertias will be generic)\n",

@@ -44,8 +44,9 @@ struct TrialArguments {
   /// UsageError for a missing TRIAL or -o, or contradictory athlete options.
   void Check() const;
   /// The athlete profile's body, or a de Leva body of the given numbers with a warning on stderr
-  /// naming `command`.
-  analysis::AthleteBody MakeBody(const std::string& command) const;
+  /// naming `command`; `athlete_name` (when given) gets the profile's name or a description.
+  analysis::AthleteBody MakeBody(const std::string& command,
+                                 std::string* athlete_name = nullptr) const;
 };
 
 /// Inverse-kinematics progress on stderr: a bar redrawn in place on a terminal, one line at the end

@@ -95,8 +95,12 @@ Chart ResidualChart(const analysis::TrialAnalysis& a,
   return c;
 }
 
+// Fixed-point, "–" for a missing value, and no "-0" for a value that rounds to zero.
 std::string Fixed(double v, int digits) {
-  return std::isfinite(v) ? FormatFixed(v, digits) : "–";
+  if (!std::isfinite(v)) return "–";
+  std::string text = FormatFixed(v, digits);
+  if (text[0] == '-' && text.find_first_not_of("-0.") == std::string::npos) text.erase(0, 1);
+  return text;
 }
 
 std::string Html(const std::string& s) {
@@ -256,7 +260,8 @@ std::string FormatAnalysisReportHtml(const analysis::TrialAnalysis& a,
   h << "<h2>Jumps</h2>\n<table><tr><th>#</th><th>take-off (s)</th><th>landing (s)</th><th>ToF "
        "(s)</th><th>apex (m)</th><th>HD (m)</th><th>from centre (m)</th><th>somersault "
        "(°)</th><th>twist (°)</th><th class=\"l\">code</th><th class=\"l\">skill</th><th>DD</th>"
-       "<th>peak |F| (BW)</th><th class=\"l\">verdict</th></tr>\n";
+       "<th>residual |F| (BW, "
+    << Window(a) << " mean)</th><th class=\"l\">verdict</th></tr>\n";
   for (const analysis::JumpMetrics& j : a.jumps) {
     const bool ok = j.verdict == "pass";
     h << "<tr><td>" << j.index << "</td><td>" << Fixed(j.flight.takeoff_s, 3) << "</td><td>"
@@ -268,14 +273,15 @@ std::string FormatAnalysisReportHtml(const analysis::TrialAnalysis& a,
       << Fixed(j.rotation.measured_twist_rad * kRadToDeg, 0) << "</td><td class=\"l\"><b>"
       << Html(j.fig_code) << "</b></td><td class=\"l\">" << Html(j.skill_name) << "</td><td>"
       << (j.partial ? "–" : Fixed(j.difficulty.total(), 1)) << "</td><td>"
-      << (j.check ? Fixed(j.check->peak_force_bw, 3) : "–") << "</td><td class=\"l "
+      << (j.check ? Fixed(j.check->window_force_bw, 3) : "–") << "</td><td class=\"l "
       << (ok ? "pass" : "fail") << "\">" << Html(j.verdict) << "</td></tr>\n";
   }
   h << "</table>\n<p>Apex: centre of mass above the bed at rest"
     << (a.bed ? " (bed from " + Html(a.bed->source) + ")" : " (no bed known: lab height)")
-    << ". HD: horizontal distance of the landing feet from the take-off feet. Somersault and "
-       "twist: "
-       "measured in the air; the code counts the nominal rotation between landing positions.</p>\n";
+    << ". HD: horizontal distance of the landing feet from the take-off feet. Somersault (positive "
+       "forward) and twist: measured in the air; the code counts the nominal rotation between "
+       "landing positions. Residual: the largest mean over "
+    << Window(a) << " of the flight, as the verdict judges it.</p>\n";
   if (!a.check.contacts.empty()) {
     h << "<p>Peak bed (or floor) reaction in the contacts, body weights:";
     for (const analysis::ContactLoad& c : a.check.contacts)
