@@ -343,6 +343,20 @@ ReconstructionResult Reconstruct(const capture::Trial& trial,
         for (size_t k = 0; k < chosen.size(); ++k) seeds.push_back({chosen[k], scaled.poses[k]});
       summary.scaling_report =
           (static_trial ? "static trial, " : "motion window, ") + scaled.BriefReport();
+      // Factors held at a bound of their range mean the fit could not tell the segment's size (a
+      // window of acrobatics and a sparse set: docs/reconstruction.md, limitations).
+      std::string at_bound;
+      for (const auto& [group, factor] : scaled.scale)
+        if (factor <= scaling_options.min_scale + 1e-6 ||
+            factor >= scaling_options.max_scale - 1e-6)
+          at_bound += (at_bound.empty() ? "" : ", ") + group;
+      if (!at_bound.empty())
+        summary.warnings.push_back("scaling: the " + at_bound +
+                                   " factor(s) reached the bound of their range (" +
+                                   std::to_string(scaling_options.min_scale).substr(0, 4) + "–" +
+                                   std::to_string(scaling_options.max_scale).substr(0, 4) +
+                                   "); the fit cannot size these segments" +
+                                   (static_trial ? "" : ": record a static trial (--static)"));
     } else {
       summary.warnings.push_back("no frame with enough markers to scale the model; unscaled");
     }

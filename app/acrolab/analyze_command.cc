@@ -134,6 +134,8 @@ int RunAnalyze(const std::vector<std::string>& args) {
   if (!quiet) options.reconstruction.progress = MakeFrameProgress();
   const analysis::TrialAnalysis result =
       analysis::AnalyzeTrial(trial, static_trial ? &*static_trial : nullptr, body, options);
+  for (const std::string& w : result.warnings)
+    std::fprintf(stderr, "acrolab analyze: warning: %s\n", w.c_str());
 
   // Outputs: the tables, then the report (with plots when rendering works here).
   const std::filesystem::path dir(common.out_dir);

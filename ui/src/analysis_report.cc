@@ -302,9 +302,14 @@ std::string FormatAnalysisReportHtml(const analysis::TrialAnalysis& a,
 
   // How the motion was reconstructed.
   h << "<h2>Reconstruction</h2>\n<pre>" << Html(rs.BriefReport()) << "</pre>\n";
-  if (!a.warnings.empty()) {
+  // Warnings the reconstruction summary above does not already show.
+  const std::string reconstruction = rs.BriefReport();
+  std::vector<std::string> more;
+  for (const std::string& w : a.warnings)
+    if (reconstruction.find(w) == std::string::npos) more.push_back(w);
+  if (!more.empty()) {
     h << "<h2>Warnings</h2>\n<ul>\n";
-    for (const std::string& w : a.warnings) h << "<li>" << Html(w) << "</li>\n";
+    for (const std::string& w : more) h << "<li>" << Html(w) << "</li>\n";
     h << "</ul>\n";
   }
   h << "<p>Files: jumps.json, angles.mot (joint angles, degrees), torques.sto (joint torques, "
