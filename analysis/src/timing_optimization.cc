@@ -36,16 +36,14 @@ Eigen::VectorXd SimpsonWeightsOverT(int intervals) {
 }
 
 // Model 2's one parameter block: the gaps (Model 1 lives in trajectory_optimization.cc).
-std::vector<int> BlockSizes(const SkillDesign& d, int model) {
-  ACRO_DEMAND(model == 2);
-  return {d.num_keyframes() - 1};
+int NumGaps(const SkillDesign& d) {
+  return d.num_keyframes() - 1;
 }
 
 // Everything the residual evaluation needs besides the variables.
 struct ResidualData {
   const SkillDesign* design = nullptr;
   SkillTrajectory base;
-  int model = 2;
   int intervals = 80;
   Eigen::VectorXd sample_t;     // fixed quadrature grid
   Eigen::VectorXd sqrt_weight;  // sqrt of the Simpson weights over T
@@ -191,13 +189,11 @@ using SkillCostFunction = ceres::DynamicAutoDiffCostFunction<SkillCostFunctor, k
 
 ResidualData MakeResidualData(const SkillDesign& design,
                               const SkillTrajectory& base,
-                              int model,
                               int intervals,
                               double scale_weight) {
   ResidualData d;
   d.design = &design;
   d.base = base;
-  d.model = model;
   d.intervals = intervals;
   d.sample_t = Eigen::VectorXd::LinSpaced(intervals + 1, 0.0, design.flight_time_s());
   d.sqrt_weight = SimpsonWeightsOverT(intervals).cwiseSqrt();
@@ -207,19 +203,9 @@ ResidualData MakeResidualData(const SkillDesign& design,
 
 std::unique_ptr<SkillCostFunction> MakeCostFunction(const ResidualData& d) {
   auto cost = std::make_unique<SkillCostFunction>(new SkillCostFunctor(d));
-  for (int size : BlockSizes(*d.design, d.model)) cost->AddParameterBlock(size);
+  cost->AddParameterBlock(NumGaps(*d.design));
   cost->SetNumResiduals(NumResiduals(d));
   return cost;
-}
-
-// Splits x into the parameter blocks' pointers.
-std::vector<double*> BlockPointers(const SkillDesign& design, int model, double* x) {
-  std::vector<double*> out;
-  for (int size : BlockSizes(design, model)) {
-    out.push_back(x);
-    x += size;
-  }
-  return out;
 }
 
 // A double-precision evaluator of the designed motion: Model 2's keyframe splines (built once) or
@@ -231,7 +217,7 @@ class MotionEvaluator {
                   const Eigen::Vector3d& com_start_W)
       : design_(design), trajectory_(trajectory), kit_(design.model()), com_start_W_(com_start_W) {
     if (trajectory.has_knots()) return;
-    ResidualData d = MakeResidualData(design, trajectory, 2, 2, 0.0);
+    ResidualData d = MakeResidualData(design, trajectory, 2, 0.0);
     Eigen::VectorXd gaps(design.num_keyframes() - 1);
     for (int i = 0; i + 1 < design.num_keyframes(); ++i)
       gaps[i] = trajectory.times_s[i + 1] - trajectory.times_s[i];
@@ -371,34 +357,20 @@ Eigen::VectorXd Solve(const SkillDesign& design,
                       TimingOptimizationSummary* summary) {
   const auto start = std::chrono::steady_clock::now();
   // The gap-scale residual pins Σ g = T, a direction J does not see (J depends on the ratios).
-  const int model = 2;
-  ResidualData data = MakeResidualData(design, base, model, intervals, 1e-2);
-  Eigen::VectorXd x = InitialSkillParameters(design, base, model);
-  std::vector<double*> blocks = BlockPointers(design, model, x.data());
+  ResidualData data = MakeResidualData(design, base, intervals, 1e-2);
+  Eigen::VectorXd x = InitialSkillParameters(design, base, 2);
+  double* gaps = x.data();
 
   ceres::Problem::Options problem_options;
   problem_options.cost_function_ownership = ceres::TAKE_OWNERSHIP;
   ceres::Problem problem(problem_options);
-  problem.AddResidualBlock(MakeCostFunction(data).release(), nullptr, blocks);
+  problem.AddResidualBlock(MakeCostFunction(data).release(), nullptr, gaps);
   // Ordering kept by positive gaps: g_j ≥ min_gap_fraction · T/(n − 1).
   const int n = design.num_keyframes();
   const double min_gap = options.min_gap_fraction * design.flight_time_s() / (n - 1);
-  for (int j = 0; j + 1 < n; ++j) problem.SetParameterLowerBound(blocks[0], j, min_gap);
+  for (int j = 0; j + 1 < n; ++j) problem.SetParameterLowerBound(gaps, j, min_gap);
 
-  ceres::Solver::Options so;
-  so.minimizer_type = ceres::TRUST_REGION;
-  so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-  so.linear_solver_type = ceres::DENSE_QR;
-  so.max_num_iterations = options.max_iterations;
-  so.function_tolerance = options.function_tolerance;
-  so.gradient_tolerance = options.gradient_tolerance;
-  so.parameter_tolerance = options.parameter_tolerance;
-  so.num_threads = 1;
-  // The plain projected step at the gap bounds (as Model 1; docs/skill-design.md): Ceres' line
-  // search along the projection costs a Jacobian per trial step.
-  so.max_num_line_search_step_size_iterations = 0;
-  so.logging_type = ceres::SILENT;
-  so.minimizer_progress_to_stdout = false;
+  ceres::Solver::Options so = internal::MakeSkillSolverOptions(options, ceres::DENSE_QR, 1);
   internal::SkillProgressCallback callback(options.progress, "model 2");
   so.callbacks.push_back(&callback);
   ceres::Solver::Summary s;
@@ -513,9 +485,7 @@ SkillMotionProfile CalcSkillMotionProfile(const SkillDesign& design,
 
 int NumSkillParameters(const SkillDesign& design, int model, int knots_per_interval) {
   if (model == 1) return internal::NumModel1Parameters(design, knots_per_interval);
-  int n = 0;
-  for (int s : BlockSizes(design, model)) n += s;
-  return n;
+  return NumGaps(design);
 }
 
 Eigen::VectorXd InitialSkillParameters(const SkillDesign& design,
@@ -549,29 +519,20 @@ double CalcSkillObjective(const SkillDesign& design,
                           Eigen::VectorXd* gradient) {
   if (model == 1) return internal::CalcModel1Objective(design, base, x, intervals, gradient);
   ACRO_DEMAND(x.size() == NumSkillParameters(design, model));
-  const ResidualData data = MakeResidualData(design, base, model, intervals, 0.0);
+  const ResidualData data = MakeResidualData(design, base, intervals, 0.0);
   const std::unique_ptr<SkillCostFunction> cost = MakeCostFunction(data);
-  Eigen::VectorXd xc = x;
-  const std::vector<double*> blocks = BlockPointers(design, model, xc.data());
+  const double* gaps = x.data();
   const int nr = NumResiduals(data);
   Eigen::VectorXd r(nr);
   if (gradient == nullptr) {
-    cost->Evaluate(blocks.data(), r.data(), nullptr);
+    cost->Evaluate(&gaps, r.data(), nullptr);
     return r.squaredNorm();
   }
-  // Row-major Jacobian blocks; ∇J = 2 Jᵀ r.
-  const std::vector<int> sizes = BlockSizes(design, model);
-  std::vector<Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor>> jac;
-  std::vector<double*> jac_ptr;
-  for (int size : sizes) jac.emplace_back(nr, size);
-  for (auto& m : jac) jac_ptr.push_back(m.data());
-  cost->Evaluate(blocks.data(), r.data(), jac_ptr.data());
-  gradient->resize(x.size());
-  int offset = 0;
-  for (size_t b = 0; b < sizes.size(); ++b) {
-    gradient->segment(offset, sizes[b]) = 2.0 * jac[b].transpose() * r;
-    offset += sizes[b];
-  }
+  // Row-major Jacobian; ∇J = 2 Jᵀ r.
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> jac(nr, x.size());
+  double* jac_ptr = jac.data();
+  cost->Evaluate(&gaps, r.data(), &jac_ptr);
+  *gradient = 2.0 * jac.transpose() * r;
   return r.squaredNorm();
 }
 

@@ -129,15 +129,13 @@ struct Model1Data {
   int num_knots() const { return P * (n - 1) + 1; }
 };
 
-// Absolute knot data of knot k from the base and the knot's parameter blocks.
-template <typename T>
+// Absolute joint data of a knot: the base plus the knot's parameter blocks.
 struct KnotValues {
-  T y[kNdof], yd[kNdof], ydd[kNdof];
-  OrientationKnot<T> orientation;
+  double y[kNdof], yd[kNdof], ydd[kNdof];
 };
 
 // The joint data (y, y', y'') of knot k in double.
-void JointKnotData(const Model1Data& d, int k, const double* const* blocks, KnotValues<double>& v) {
+void JointKnotData(const Model1Data& d, int k, const double* const* blocks, KnotValues& v) {
   const SkillTrajectory& b = *d.base;
   for (int j = 0; j < kNdof; ++j) {
     v.y[j] = b.knot_joint_angles_rad(j, k) + blocks[0][j];
@@ -274,7 +272,7 @@ class SampleCost : public ceres::CostFunction {
  public:
   // weights: (keyframe interval i, coefficient c) pairs, W = Σ c h_i / T.
   SampleCost(const Model1Data* d, int knot, double u, std::vector<std::pair<int, double>> weights)
-      : d_(d), knot_(knot), u_(u), interior_(u > 0.0), basis_(u), weights_(std::move(weights)) {
+      : d_(d), knot_(knot), interior_(u > 0.0), basis_(u), weights_(std::move(weights)) {
     set_num_residuals(3);
     mutable_parameter_block_sizes()->push_back(d->n - 1);
     for (int knot_count = 0; knot_count < (interior_ ? 2 : 1); ++knot_count)
@@ -293,7 +291,7 @@ class SampleCost : public ceres::CostFunction {
     const double sW = std::sqrt(W);
 
     // Knot data.
-    KnotValues<double> ka, kb;
+    KnotValues ka, kb;
     JointKnotData(d, knot_, p + 1, ka);
     if (interior_) JointKnotData(d, knot_ + 1, p + 1 + kNumKnotBlocks, kb);
 
@@ -420,7 +418,6 @@ class SampleCost : public ceres::CostFunction {
  private:
   const Model1Data* d_;
   int knot_;
-  double u_;
   bool interior_;
   QuinticHermiteBasis basis_;
   std::vector<std::pair<int, double>> weights_;
@@ -604,24 +601,11 @@ Eigen::VectorXd SolveModel1(const SkillDesign& design,
       problem.SetParameterBlockConstant(k[3]);
     }
 
-  ceres::Solver::Options so;
-  so.minimizer_type = ceres::TRUST_REGION;
-  so.trust_region_strategy_type = ceres::LEVENBERG_MARQUARDT;
-  so.linear_solver_type = ceres::SPARSE_NORMAL_CHOLESKY;
-  so.max_num_iterations = options.max_iterations;
-  so.function_tolerance = options.function_tolerance;
-  so.gradient_tolerance = options.gradient_tolerance;
-  so.parameter_tolerance = options.parameter_tolerance;
-  so.num_threads = options.num_threads > 0
-                       ? options.num_threads
-                       : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-  // With bounds, Ceres' trust region follows a step that leaves the feasible box by a line search
-  // along its projection, at a Jacobian evaluation per trial step. The plain projected step
-  // converges further on the paper's example (J 1.75e-5 against 2.47e-5 with the line search)
-  // with fewer than half the Jacobian evaluations (52 against 125).
-  so.max_num_line_search_step_size_iterations = 0;
-  so.logging_type = ceres::SILENT;
-  so.minimizer_progress_to_stdout = false;
+  const int threads = options.num_threads > 0
+                          ? options.num_threads
+                          : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  ceres::Solver::Options so =
+      MakeSkillSolverOptions(options, ceres::SPARSE_NORMAL_CHOLESKY, threads);
   SkillProgressCallback callback(options.progress, "model 1");
   so.callbacks.push_back(&callback);
   ceres::Solver::Summary s;
