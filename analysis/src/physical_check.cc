@@ -111,6 +111,12 @@ std::vector<int> JudgedFrames(const PhysicalCheck& check) {
 
 }  // namespace
 
+std::string FlightCheck::FailureText() const {
+  std::string text;
+  for (size_t i = 0; i < failures.size(); ++i) text += (i ? ", " : "") + failures[i];
+  return text;
+}
+
 bool PhysicalCheckOptions::IsValid(std::string* why) const {
   auto fail = [&](const std::string& what) {
     if (why) *why = what;
@@ -395,8 +401,7 @@ PhysicalCheck CheckPhysics(const dynamics::Model<double>& model,
     if (fc.pass) continue;
     check.pass = false;
     if (!causes.empty()) causes += "; ";
-    causes += "flight " + std::to_string(fc.flight + 1) + ": ";
-    for (size_t i = 0; i < fc.failures.size(); ++i) causes += (i ? ", " : "") + fc.failures[i];
+    causes += "flight " + std::to_string(fc.flight + 1) + ": " + fc.FailureText();
   }
   if (check.flights.empty())
     check.verdict = "not judged: no complete flight";

@@ -232,10 +232,10 @@ TrialAnalysis AnalyzeTrial(const capture::Trial& trial,
   // is known, else the whole-body COM.
   start = std::chrono::steady_clock::now();
   out.bed = options.bed ? options.bed : FindBed(trial);
-  Eigen::Matrix3Xd sole_r, sole_l;
-  CalcComAndSoles(model, motion, out.com_W, sole_r, sole_l);
+  Eigen::Matrix3Xd com_W, sole_r, sole_l;
+  CalcComAndSoles(model, motion, com_W, sole_r, sole_l);
   out.feet_z_m = sole_r.row(2).cwiseMin(sole_l.row(2)).transpose();
-  const Eigen::VectorXd com_z = out.com_W.row(2).transpose();
+  const Eigen::VectorXd com_z = com_W.row(2).transpose();
   PhaseOptions phase_options = options.phases;
   phase_options.gravity_m_per_s2 = model.gravity_W().norm();
   const Eigen::VectorXd fz =
@@ -292,10 +292,6 @@ TrialAnalysis AnalyzeTrial(const capture::Trial& trial,
     JumpMetrics j;
     j.index = static_cast<int>(k) + 1;
     j.flight = f;
-    j.partial = f.partial;
-    j.time_of_flight_s = f.time_of_flight_s();
-    j.apex_m = f.apex_z_m;
-    j.takeoff_vertical_velocity_m_per_s = f.takeoff_vertical_velocity_m_per_s;
     j.takeoff_feet_W =
         0.5 * (At(sole_r, motion.time_s, f.takeoff_s) + At(sole_l, motion.time_s, f.takeoff_s));
     j.landing_feet_W =
@@ -324,21 +320,19 @@ TrialAnalysis AnalyzeTrial(const capture::Trial& trial,
     // The check of this flight.
     for (const FlightCheck& fc : out.check.flights)
       if (fc.flight == static_cast<int>(k)) j.check = fc;
-    if (j.partial) {
+    if (j.partial()) {
       j.verdict = "not judged: partial flight";
     } else if (!j.check) {
       j.verdict = "not judged";
     } else if (j.check->pass) {
       j.verdict = "pass";
     } else {
-      j.verdict = "fail: ";
-      for (size_t i = 0; i < j.check->failures.size(); ++i)
-        j.verdict += (i ? ", " : "") + j.check->failures[i];
+      j.verdict = "fail: " + j.check->FailureText();
     }
-    if (!j.partial) {
+    if (!j.partial()) {
       ++out.num_scored;
       out.total_difficulty += j.difficulty.total();
-      out.total_time_of_flight_s += j.time_of_flight_s;
+      out.total_time_of_flight_s += j.time_of_flight_s();
     }
     out.jumps.push_back(std::move(j));
   }
@@ -355,10 +349,10 @@ std::string TrialAnalysis::BriefReport() const {
   s << "physical check: " << check.verdict << "\n";
   for (const Finding& f : check.findings) s << "  cause: " << f.text << "\n";
   for (const JumpMetrics& j : jumps) {
-    s << Format("  %2.0f ", j.index) << (j.partial ? "(partial) " : "") << j.fig_code;
+    s << Format("  %2.0f ", j.index) << (j.partial() ? "(partial) " : "") << j.fig_code;
     if (!j.skill_name.empty()) s << " " << j.skill_name;
-    s << Format("  ToF %.3f s  apex %.2f m", j.time_of_flight_s, j.apex_m);
-    if (!j.partial) s << Format("  DD %.1f", j.difficulty.total());
+    s << Format("  ToF %.3f s  apex %.2f m", j.time_of_flight_s(), j.apex_m());
+    if (!j.partial()) s << Format("  DD %.1f", j.difficulty.total());
     s << "  " << j.verdict << "\n";
   }
   return s.str();
@@ -370,15 +364,15 @@ std::string FormatJumpsJson(const TrialAnalysis& a) {
   for (const JumpMetrics& j : a.jumps) {
     w.BeginObject();
     w.Field("index", j.index);
-    w.Field("partial", j.partial);
+    w.Field("partial", j.partial());
     w.Field("takeoff_s", j.flight.takeoff_s);
     w.Field("landing_s", j.flight.landing_s);
     w.Field("takeoff_frame", j.flight.takeoff_frame);
     w.Field("landing_frame", j.flight.landing_frame);
-    w.Field("time_of_flight_s", j.time_of_flight_s);
-    w.Field("apex_m", j.apex_m);
+    w.Field("time_of_flight_s", j.time_of_flight_s());
+    w.Field("apex_m", j.apex_m());
     w.Field("apex_above_bed_m", j.apex_above_bed_m);
-    w.Field("takeoff_vertical_velocity_m_per_s", j.takeoff_vertical_velocity_m_per_s);
+    w.Field("takeoff_vertical_velocity_m_per_s", j.takeoff_vertical_velocity_m_per_s());
     w.Field("fitted_gravity_m_per_s2", j.flight.fitted_gravity_m_per_s2);
     w.Key("takeoff_feet_m");
     w.Array(std::vector<double>(j.takeoff_feet_W.data(), j.takeoff_feet_W.data() + 3));

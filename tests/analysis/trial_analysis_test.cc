@@ -110,7 +110,9 @@ TEST(TrialAnalysis, SampleRoutineIsPhysicallyExact) {
     EXPECT_NEAR(p.fitted_vertical_acceleration_m_per_s2, -9.81, 1e-6);
     EXPECT_LT(p.parabola_max_error_m, 1e-6);
     EXPECT_LT(p.max_horizontal_velocity_change_m_per_s, 1e-6);
-    if (k > 0) EXPECT_GT(p.momentum_norm_N_m_s, 20.0);  // the somersaults rotate
+    if (k > 0) {
+      EXPECT_GT(p.momentum_norm_N_m_s, 20.0);  // the somersaults rotate
+    }
   }
   EXPECT_LT(r.max_boundary_position_jump_m, 1e-9);
   EXPECT_LT(r.max_boundary_velocity_jump_m_per_s, 1e-9);
@@ -140,7 +142,7 @@ TEST(TrialAnalysis, SampleRoutineGivesEverySkillWithinAFrameAndPasses) {
     const samples::SampleFlightTruth& t = truth.flights[k];
     const JumpMetrics& j = a.jumps[k];
     SCOPED_TRACE(t.fig_code + " " + t.name);
-    EXPECT_FALSE(j.partial);
+    EXPECT_FALSE(j.partial());
     EXPECT_EQ(j.fig_code, t.fig_code);
     const double expected_dd = CalcFigDifficulty(ParseFigCode(t.fig_code)).total();
     EXPECT_DOUBLE_EQ(j.difficulty.total(), expected_dd);
@@ -148,11 +150,11 @@ TEST(TrialAnalysis, SampleRoutineGivesEverySkillWithinAFrameAndPasses) {
     tof += t.landing_s - t.takeoff_s;
     EXPECT_NEAR(j.flight.takeoff_s, t.takeoff_s, frame);
     EXPECT_NEAR(j.flight.landing_s, t.landing_s, frame);
-    EXPECT_NEAR(j.time_of_flight_s, t.landing_s - t.takeoff_s, frame);
+    EXPECT_NEAR(j.time_of_flight_s(), t.landing_s - t.takeoff_s, frame);
     // Landing position to the 3 cm of competition devices; the apex of the COM parabola.
     EXPECT_LT((j.landing_feet_W - t.landing_feet_m).head<2>().norm(), 0.03);
-    EXPECT_NEAR(j.apex_m, t.apex_com_z_m, 0.02);
-    EXPECT_NEAR(j.takeoff_vertical_velocity_m_per_s, t.takeoff_vertical_velocity_m_per_s, 0.05);
+    EXPECT_NEAR(j.apex_m(), t.apex_com_z_m, 0.02);
+    EXPECT_NEAR(j.takeoff_vertical_velocity_m_per_s(), t.takeoff_vertical_velocity_m_per_s, 0.05);
     EXPECT_EQ(j.verdict, "pass");
     ASSERT_TRUE(j.check.has_value());
     // Flight physics on reconstructed markers: g and momentum as a torque-free body keeps them.
@@ -286,7 +288,7 @@ TEST(TrialAnalysis, SampleJump2UsesItsForcePlates) {
   EXPECT_EQ(a.phases.method, "force plates");
   std::vector<const JumpMetrics*> complete;
   for (const JumpMetrics& j : a.jumps)
-    if (!j.partial) complete.push_back(&j);
+    if (!j.partial()) complete.push_back(&j);
   ASSERT_EQ(complete.size(), 1u) << a.BriefReport();
   const JumpMetrics& j = *complete[0];
   const double frame = 1.0 / trial.point_rate_hz;
@@ -311,7 +313,7 @@ TEST(TrialAnalysis, SampleJump2UsesItsForcePlates) {
   EXPECT_EQ(k.phases.method, "com");
   const JumpMetrics* kj = nullptr;
   for (const JumpMetrics& x : k.jumps)
-    if (!x.partial) kj = &x;
+    if (!x.partial()) kj = &x;
   ASSERT_NE(kj, nullptr);
   EXPECT_NEAR(kj->flight.takeoff_s, 0.6917, frame);
   EXPECT_NEAR(kj->flight.landing_s, 1.1833, frame);
@@ -334,7 +336,7 @@ TEST(TrialAnalysis, S2mLabRoutineHasItsFiveFlightsWithinTwoFrames) {
   const int windows[5][2] = {{126, 321}, {355, 541}, {574, 758}, {791, 971}, {1003, 1177}};
   std::vector<const JumpMetrics*> complete;
   for (const JumpMetrics& j : a.jumps)
-    if (!j.partial) complete.push_back(&j);
+    if (!j.partial()) complete.push_back(&j);
   ASSERT_EQ(complete.size(), 5u) << a.BriefReport();
   const double rate = trial.point_rate_hz;
   for (int k = 0; k < 5; ++k) {
@@ -345,7 +347,7 @@ TEST(TrialAnalysis, S2mLabRoutineHasItsFiveFlightsWithinTwoFrames) {
     EXPECT_GE(j.rotation.skill.quarter_somersaults, 4);
     EXPECT_FALSE(j.fig_code.empty());
     RecordProperty("flight" + std::to_string(k + 1),
-                   j.fig_code + " ToF " + std::to_string(j.time_of_flight_s));
+                   j.fig_code + " ToF " + std::to_string(j.time_of_flight_s()));
   }
 }
 

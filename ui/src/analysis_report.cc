@@ -118,7 +118,8 @@ std::vector<ReportFigure> MakeAnalysisFigures(const analysis::TrialAnalysis& a,
   // COM height and the lowest sole with the phases.
   {
     Chart c = TimeChart(a, "Centre of mass and feet", "height (m)");
-    c.series.push_back(Series("COM height", t, ToVector(a.com_W.row(2).transpose()), kBlue));
+    c.series.push_back(
+        Series("COM height", t, ToVector(a.check.frames.com_W.row(2).transpose()), kBlue));
     c.series.push_back(Series("lowest sole", t, ToVector(a.feet_z_m), kGreen));
     if (a.bed) {
       ReferenceLine bed;
@@ -265,14 +266,15 @@ std::string FormatAnalysisReportHtml(const analysis::TrialAnalysis& a,
   for (const analysis::JumpMetrics& j : a.jumps) {
     const bool ok = j.verdict == "pass";
     h << "<tr><td>" << j.index << "</td><td>" << Fixed(j.flight.takeoff_s, 3) << "</td><td>"
-      << Fixed(j.flight.landing_s, 3) << "</td><td>" << Fixed(j.time_of_flight_s, 3) << "</td><td>"
-      << Fixed(std::isfinite(j.apex_above_bed_m) ? j.apex_above_bed_m : j.apex_m, 2) << "</td><td>"
-      << Fixed(j.displacement_from_takeoff_m, 2) << "</td><td>"
+      << Fixed(j.flight.landing_s, 3) << "</td><td>" << Fixed(j.time_of_flight_s(), 3)
+      << "</td><td>"
+      << Fixed(std::isfinite(j.apex_above_bed_m) ? j.apex_above_bed_m : j.apex_m(), 2)
+      << "</td><td>" << Fixed(j.displacement_from_takeoff_m, 2) << "</td><td>"
       << Fixed(j.displacement_from_centre_m, 2) << "</td><td>"
       << Fixed(j.rotation.measured_somersault_rad * kRadToDeg, 0) << "</td><td>"
       << Fixed(j.rotation.measured_twist_rad * kRadToDeg, 0) << "</td><td class=\"l\"><b>"
       << Html(j.fig_code) << "</b></td><td class=\"l\">" << Html(j.skill_name) << "</td><td>"
-      << (j.partial ? "–" : Fixed(j.difficulty.total(), 1)) << "</td><td>"
+      << (j.partial() ? "–" : Fixed(j.difficulty.total(), 1)) << "</td><td>"
       << (j.check ? Fixed(j.check->window_force_bw, 3) : "–") << "</td><td class=\"l "
       << (ok ? "pass" : "fail") << "\">" << Html(j.verdict) << "</td></tr>\n";
   }

@@ -94,6 +94,8 @@ struct FlightCheck {
   double max_marker_error_m = 0.0;
   bool pass = true;
   std::vector<std::string> failures;  ///< which criteria failed, with their numbers
+  /// The failures joined by ", " (empty when the flight passes).
+  std::string FailureText() const;
 };
 
 /// Peak bed (or floor) reaction in a contact phase: the root residual there.

@@ -65,14 +65,17 @@ struct TrialAnalysisOptions {
 
 /// The numbers of one flight (one skill).
 struct JumpMetrics {
-  int index = 0;         ///< 1-based, in the order of the flights
-  Flight flight;         ///< events and the COM parabola
-  bool partial = false;  ///< cut by the start or end of the recording: flagged, not scored
-  double time_of_flight_s = 0.0;
-  double apex_m = 0.0;  ///< COM apex height in W (z)
+  int index = 0;  ///< 1-based, in the order of the flights
+  Flight flight;  ///< events and the COM parabola
+  /// Cut by the start or end of the recording: flagged, not scored.
+  bool partial() const { return flight.partial; }
+  double time_of_flight_s() const { return flight.time_of_flight_s(); }
+  double apex_m() const { return flight.apex_z_m; }  ///< COM apex height in W (z)
+  double takeoff_vertical_velocity_m_per_s() const {
+    return flight.takeoff_vertical_velocity_m_per_s;
+  }
   /// COM apex above the bed at rest (when the bed is known, else NaN).
   double apex_above_bed_m = 0.0;
-  double takeoff_vertical_velocity_m_per_s = 0.0;
   /// Midpoint of the soles at take-off and at landing (interpolated at the event times), in W.
   Eigen::Vector3d takeoff_feet_W = Eigen::Vector3d::Zero();
   Eigen::Vector3d landing_feet_W = Eigen::Vector3d::Zero();
@@ -107,8 +110,7 @@ struct TrialAnalysis {
   double total_time_of_flight_s = 0.0;
   double stature_m = 0.0;  ///< the height the moments are normalised by
   double mass_kg = 0.0;
-  /// Whole-body COM per frame (3 × frames) and the lowest sole height per frame.
-  Eigen::Matrix3Xd com_W;
+  /// The lowest sole's height per frame (the COM per frame is check.frames.com_W).
   Eigen::VectorXd feet_z_m;
   std::vector<std::string> warnings;
   /// Wall time of the steps (s).
