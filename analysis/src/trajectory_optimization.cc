@@ -199,9 +199,11 @@ QuaternionSample<T> KnotSample(const OrientationKnot<T>& k) {
 // The normalised moment residual about the COM at one state (q, v, a: root at the origin, at rest
 // in translation) and, when dn != nullptr, its derivatives over the state in the slot order of
 // kStateDim. The configuration's derivatives come from one ConfigJet pass. The residual is linear
-// in a and quadratic in v, so n(a + e_k) − n(a) and (n(v + e_k) − n(v − e_k))/2 are its exact
-// partial derivatives (no truncation error, whatever the step: unit steps keep rounding small),
-// at one double inverse dynamics pass each.
+// in a: its derivatives there are the root rows of the mass matrix M(q) carried to the COM,
+// ∂n/∂a_k = (R M[3:6, k] − p_BoScm_W × M[0:3, k]) / (m g h). It is quadratic in v, so
+// (n(v + e_k) − n(v − e_k))/2 is its exact partial derivative (no truncation error, whatever the
+// step: unit steps keep rounding small), at two double passes that reuse the configuration's
+// poses.
 void SampleResidual(const Model1Data& d,
                     const Eigen::VectorXd& q,
                     const Eigen::VectorXd& v,
@@ -209,14 +211,10 @@ void SampleResidual(const Model1Data& d,
                     double n[3],
                     double (*dn)[kStateDim]) {
   typename WorkspacePool<double>::Lease ws(d.ws_d);
-  const auto moment = [&](const Eigen::VectorXd& qq,
-                          const Eigen::VectorXd& vv,
-                          const Eigen::VectorXd& aa) -> Eigen::Vector3d {
-    dynamics::CalcInverseDynamics(d.model_d, *ws, qq, vv, aa);
-    return dynamics::CalcRootResidual(d.model_d, *ws, d.height).moment_per_weight_height;
-  };
   if (dn == nullptr) {
-    const Eigen::Vector3d m = moment(q, v, a);
+    dynamics::CalcInverseDynamics(d.model_d, *ws, q, v, a);
+    const Eigen::Vector3d m =
+        dynamics::CalcRootResidual(d.model_d, *ws, d.height).moment_per_weight_height;
     for (int c = 0; c < 3; ++c) n[c] = m[c];
     return;
   }
@@ -242,25 +240,35 @@ void SampleResidual(const Model1Data& d,
       for (int j = 0; j < kNdof; ++j) dn[c][kJointAngleSlot + j] = nc.v[4 + j];
     }
   }
-  // Velocities (root angular velocity: slots 4–6; joint rates) and accelerations (7–9; joint
-  // accelerations).
-  const Eigen::Vector3d n0(n[0], n[1], n[2]);
-  Eigen::VectorXd vv = v, aa = a;
-  for (int k = 3; k < d.model_d.nv(); ++k) {
-    const int v_slot = k < 6 ? 4 + (k - 3) : kJointRateSlot + (k - 6);
+  const dynamics::Model<double>& md = d.model_d;
+  const double weight_height = md.total_mass() * md.gravity_W().norm() * d.height;
+  // Accelerations (root angular acceleration: slots 7–9; joint accelerations) from M(q); the
+  // mass matrix pass also leaves the configuration's poses for the velocity passes.
+  const Eigen::MatrixXd& M = dynamics::CalcMassMatrix(md, *ws, q);
+  dynamics::CalcInverseDynamics(md, *ws, q, v, a);
+  dynamics::CalcRootResidual(md, *ws, d.height);
+  const Eigen::Matrix3d R_WB = (*ws).X_PB[0].rotation();
+  const Eigen::Vector3d p_BoScm_W = R_WB * (*ws).mc_Bo_B[0] / md.total_mass();
+  for (int k = 3; k < md.nv(); ++k) {
     const int a_slot = k < 6 ? 7 + (k - 3) : kJointAccelerationSlot + (k - 6);
+    const Eigen::Vector3d dn_da =
+        (R_WB * M.block<3, 1>(3, k) - p_BoScm_W.cross(M.block<3, 1>(0, k))) / weight_height;
+    for (int c = 0; c < 3; ++c) dn[c][a_slot] = dn_da[c];
+  }
+  // Velocities (root angular velocity: slots 4–6; joint rates).
+  const auto moment_at = [&](const Eigen::VectorXd& vv) -> Eigen::Vector3d {
+    dynamics::CalcInverseDynamicsAtSameConfiguration(md, *ws, vv, a);
+    return dynamics::CalcRootResidual(md, *ws, d.height).moment_per_weight_height;
+  };
+  Eigen::VectorXd vv = v;
+  for (int k = 3; k < md.nv(); ++k) {
+    const int v_slot = k < 6 ? 4 + (k - 3) : kJointRateSlot + (k - 6);
     vv[k] = v[k] + 1.0;
-    const Eigen::Vector3d plus = moment(q, vv, a);
+    const Eigen::Vector3d plus = moment_at(vv);
     vv[k] = v[k] - 1.0;
-    const Eigen::Vector3d minus = moment(q, vv, a);
+    const Eigen::Vector3d minus = moment_at(vv);
     vv[k] = v[k];
-    aa[k] = a[k] + 1.0;
-    const Eigen::Vector3d accelerated = moment(q, v, aa);
-    aa[k] = a[k];
-    for (int c = 0; c < 3; ++c) {
-      dn[c][v_slot] = 0.5 * (plus[c] - minus[c]);
-      dn[c][a_slot] = accelerated[c] - n0[c];
-    }
+    for (int c = 0; c < 3; ++c) dn[c][v_slot] = 0.5 * (plus[c] - minus[c]);
   }
 }
 

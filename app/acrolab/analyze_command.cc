@@ -95,21 +95,6 @@ int RunAnalyze(const std::vector<std::string>& args) {
   std::string why;
   if (!options.IsValid(&why)) throw UsageError{why};
 
-  // Plots need a display: without one, run again under Xvfb when it is installed (before any work).
-  if (images) {
-    std::vector<std::string> argv = {"acrolab", "analyze"};
-    argv.insert(argv.end(), args.begin(), args.end());
-    std::error_code ec;
-    const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
-    if (!ec) argv[0] = self.string();
-    if (const auto command = ui::XvfbRelaunchCommand(argv, ui::DisplayEnvironment::FromProcess())) {
-      if (!quiet) std::fprintf(stderr, "acrolab analyze: no display; running under xvfb-run\n");
-      const std::string failure = ui::ExecCommand(*command);
-      std::fprintf(
-          stderr, "acrolab analyze: %s; the report will have no images\n", failure.c_str());
-    }
-  }
-
   // Inputs: trial, static trial, athlete.
   auto say = [quiet](const std::string& line) {
     if (!quiet) std::fprintf(stderr, "%s\n", line.c_str());
@@ -127,6 +112,22 @@ int RunAnalyze(const std::vector<std::string>& args) {
       throw UsageError{"--joint: '" + report.joint +
                        "' is not a joint angle (e.g. r_hip_flexion, l_knee_flexion, "
                        "lumbar_flexion; docs/reconstruction.md)"};
+  }
+
+  // Plots need a display: without one, run again under Xvfb when it is installed (after the inputs
+  // are read, so that a bad one is refused in one line, and before any work).
+  if (images) {
+    std::vector<std::string> argv = {"acrolab", "analyze"};
+    argv.insert(argv.end(), args.begin(), args.end());
+    std::error_code ec;
+    const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
+    if (!ec) argv[0] = self.string();
+    if (const auto command = ui::XvfbRelaunchCommand(argv, ui::DisplayEnvironment::FromProcess())) {
+      if (!quiet) std::fprintf(stderr, "acrolab analyze: no display; running under xvfb-run\n");
+      const std::string failure = ui::ExecCommand(*command);
+      std::fprintf(
+          stderr, "acrolab analyze: %s; the report will have no images\n", failure.c_str());
+    }
   }
 
   // The analysis, with one progress line per step and the IK's frames.

@@ -11,6 +11,11 @@ template const VectorX<double>& CalcInverseDynamics<double>(
     const Eigen::Ref<const VectorX<double>>&,
     const Eigen::Ref<const VectorX<double>>&,
     const std::vector<SpatialForce<double>>*);
+template const VectorX<double>& CalcInverseDynamicsAtSameConfiguration<double>(
+    const Model<double>&,
+    Workspace<double>&,
+    const Eigen::Ref<const VectorX<double>>&,
+    const Eigen::Ref<const VectorX<double>>&);
 template const VectorX<double>& CalcBiasForces<double>(const Model<double>&,
                                                        Workspace<double>&,
                                                        const Eigen::Ref<const VectorX<double>>&,

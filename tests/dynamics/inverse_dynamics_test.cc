@@ -50,6 +50,34 @@ TEST(InverseDynamicsTest, EqualsMassMatrixTimesAccelerationPlusBias) {
   std::printf("ID vs M a + h: worst relative error %.3g\n", worst);
 }
 
+// At the same configuration, inverse dynamics that reuses the poses of the previous pass (after
+// CalcInverseDynamics or CalcMassMatrix) equals a full pass for other velocities and
+// accelerations, and so does the root residual read from it.
+TEST(InverseDynamicsTest, SameConfigurationPassEqualsFullPass) {
+  std::mt19937 rng(11);
+  const Model<double> model = MakeReferenceHuman();
+  Workspace<double> ws(model), ws_full(model);
+  for (int state = 0; state < 5; ++state) {
+    const Eigen::VectorXd q = RandomConfiguration(model, rng);
+    if (state % 2 == 0)
+      CalcInverseDynamics(
+          model, ws, q, RandomVelocity(model, rng, 3.0), RandomVelocity(model, rng, 10.0));
+    else
+      CalcMassMatrix(model, ws, q);
+    for (int k = 0; k < 3; ++k) {
+      const Eigen::VectorXd v = RandomVelocity(model, rng, 3.0);
+      const Eigen::VectorXd a = RandomVelocity(model, rng, 10.0);
+      const Eigen::VectorXd reused = CalcInverseDynamicsAtSameConfiguration(model, ws, v, a);
+      const Eigen::VectorXd full = CalcInverseDynamics(model, ws_full, q, v, a);
+      EXPECT_LE((reused - full).norm(), 1e-12 * full.norm()) << "state " << state;
+      const RootResidual<double> r = CalcRootResidual(model, ws, 1.75);
+      const RootResidual<double> rf = CalcRootResidual(model, ws_full, 1.75);
+      EXPECT_LE((r.F_Scm_W.get_coeffs() - rf.F_Scm_W.get_coeffs()).norm(),
+                1e-12 * rf.F_Scm_W.get_coeffs().norm());
+    }
+  }
+}
+
 // M from the composite-rigid-body algorithm equals Σ_B m_B Jv_Bcmᵀ Jv_Bcm + Jω_Bᵀ I_Bcm Jω_B, the
 // kinetic-energy form built from the segment and point Jacobians (a third, independent path).
 TEST(InverseDynamicsTest, MassMatrixEqualsJacobianEnergyForm) {

@@ -28,6 +28,15 @@ const VectorX<T>& CalcInverseDynamics(const Model<T>& model,
                                       const VectorXcRef<T>& a,
                                       const std::vector<SpatialForce<T>>* F_ext_Bo_W = nullptr);
 
+/// CalcInverseDynamics at the configuration q of the previous inverse dynamics or mass matrix on
+/// ws, reusing its relative poses and joint axes (for derivatives over v and a at a fixed q: a
+/// fifth cheaper on the standard human). Without applied wrenches.
+template <typename T>
+const VectorX<T>& CalcInverseDynamicsAtSameConfiguration(const Model<T>& model,
+                                                         Workspace<T>& ws,
+                                                         const VectorXcRef<T>& v,
+                                                         const VectorXcRef<T>& a);
+
 /// h(q, v) = ID(q, v, 0): Coriolis, centrifugal and gravity forces (nv). Writes ws.h (returned).
 template <typename T>
 const VectorX<T>& CalcBiasForces(const Model<T>& model,
@@ -49,9 +58,10 @@ struct RootResidual {
   Vector3<T> moment_per_weight_height;  ///< moment / (m |g| height), dimensionless
 };
 
-/// Reads the root wrench and poses that CalcInverseDynamics left in ws (and completes the world
-/// poses there if needed). height_m > 0 is the athlete's stature; |g| comes from the model (and
-/// must not be zero).
+/// Reads the root wrench and the relative poses that CalcInverseDynamics left in ws; the centre of
+/// mass comes from the subtrees' mass moments in their own frames (ws.mc_Bo_B), so the world
+/// poses are neither needed nor completed. height_m > 0 is the athlete's stature; |g| comes from
+/// the model (and must not be zero).
 template <typename T>
 RootResidual<T> CalcRootResidual(const Model<T>& model, Workspace<T>& ws, const T& height_m);
 
@@ -84,7 +94,8 @@ namespace internal {
 
 /// RNEA (RBDA Table 5.1) with a = nullptr meaning zero accelerations; writes ws.tau. One fused
 /// forward pass (pose, velocity, acceleration and net force of each segment) and one backward
-/// pass.
+/// pass. With reuse_poses the relative poses and joint axes already in ws are used (q is then
+/// not read).
 template <typename T>
 void Rnea(const Model<T>& model,
           Workspace<T>& ws,
@@ -92,7 +103,8 @@ void Rnea(const Model<T>& model,
           const VectorXcRef<T>& v,
           const T* a,
           const std::vector<SpatialForce<T>>* F_ext_Bo_W,
-          VectorX<T>& tau) {
+          VectorX<T>& tau,
+          bool reuse_poses = false) {
   ACRO_DEMAND(q.size() == model.nq() && v.size() == model.nv() && tau.size() == model.nv());
   ACRO_DEMAND(ws.IsFor(model));
   const int n = model.num_segments();
@@ -111,8 +123,10 @@ void Rnea(const Model<T>& model,
   };
   // Root: pose, velocity, and acceleration with the base accelerating at −g (RBDA ch. 5).
   {
-    CalcJointSinCos(model, ws, q);
-    CalcJointPose(model.segment(0), q, ws, ws.X_PB[0], ws.S_B[0]);
+    if (!reuse_poses) {
+      CalcJointSinCos(model, ws, q);
+      CalcJointPose(model.segment(0), q, ws, ws.X_PB[0], ws.S_B[0]);
+    }
     ws.X_WB[0] = ws.X_PB[0];
     ws.V_WB_B[0] = RootVelocity(ws.X_WB[0], v);
     ws.A_WB_B[0] = RootAcceleration(ws.X_WB[0], ws.V_WB_B[0], a, model.gravity_W());
@@ -123,7 +137,7 @@ void Rnea(const Model<T>& model,
     const Segment<T>& seg = model.segment(i);
     const size_t ui = static_cast<size_t>(i);
     const size_t up = static_cast<size_t>(seg.parent);
-    CalcJointPose(seg, q, ws, ws.X_PB[ui], ws.S_B[ui]);
+    if (!reuse_poses) CalcJointPose(seg, q, ws, ws.X_PB[ui], ws.S_B[ui]);
     // World poses only where applied wrenches need them (CalcRootResidual composes them later).
     if (F_ext_Bo_W != nullptr) ws.X_WB[ui] = ws.X_WB[up] * ws.X_PB[ui];
     PropagateMotion(seg,
@@ -173,6 +187,17 @@ const VectorX<T>& CalcInverseDynamics(const Model<T>& model,
   ACRO_DEMAND(F_ext_Bo_W == nullptr ||
               F_ext_Bo_W->size() == static_cast<size_t>(model.num_segments()));
   internal::Rnea(model, ws, q, v, a.data(), F_ext_Bo_W, ws.tau);
+  return ws.tau;
+}
+
+template <typename T>
+const VectorX<T>& CalcInverseDynamicsAtSameConfiguration(const Model<T>& model,
+                                                         Workspace<T>& ws,
+                                                         const VectorXcRef<T>& v,
+                                                         const VectorXcRef<T>& a) {
+  ACRO_DEMAND(a.size() == model.nv());
+  // q is not read when the poses are reused; sin_q has the configuration's size.
+  internal::Rnea<T>(model, ws, ws.sin_q, v, a.data(), nullptr, ws.tau, true);
   return ws.tau;
 }
 
@@ -253,16 +278,29 @@ void NormalizeByBodyWeight(const SpatialForce<T>& F_Scm_W,
 
 template <typename T>
 RootResidual<T> CalcRootResidual(const Model<T>& model, Workspace<T>& ws, const T& height_m) {
-  if (!ws.world_poses_current) internal::ComposeWorldPoses(model, ws);
-  // The root wrench about Bo in B, re-expressed in W and shifted to the centre of mass:
-  // f_W = R f_B, n_Scm = R n_Bo − (p_WoScm − p_WoBo) × f_W.
-  const RigidTransform<T>& X_WB = ws.X_WB[0];
-  const SpatialForce<T>& F_B = ws.F_Bo_B[0];
-  const Vector3<T> f_W = X_WB.rotation() * F_B.translational();
-  const Vector3<T> n_Bo_W = X_WB.rotation() * F_B.rotational();
-  const Vector3<T> p_BoScm_W = CalcCenterOfMassPosition(model, ws) - X_WB.translation();
+  // The centre of mass in the root frame, p_BoScm_B = h_0 / m, from the subtrees' first mass
+  // moments about their own origins: h_P += m_B p_PoBo_P + R_PB h_B (one rotation per segment
+  // instead of composing every world pose).
+  const int n = model.num_segments();
+  for (int i = 0; i < n; ++i) {
+    const size_t ui = static_cast<size_t>(i);
+    ws.subtree_mass[ui] = model.segment(i).mass;
+    ws.mc_Bo_B[ui] = model.segment(i).mass * model.segment(i).p_BoBcm_B;
+  }
+  for (int i = n - 1; i > 0; --i) {
+    const size_t ui = static_cast<size_t>(i);
+    const size_t up = static_cast<size_t>(model.segment(i).parent);
+    const RigidTransform<T>& X_PB = ws.X_PB[ui];
+    ws.mc_Bo_B[up] += ws.subtree_mass[ui] * X_PB.translation() + X_PB.rotation() * ws.mc_Bo_B[ui];
+    ws.subtree_mass[up] += ws.subtree_mass[ui];
+  }
+  const Vector3<T> p_BoScm_B = ws.mc_Bo_B[0] / model.total_mass();
+  // The root wrench about Bo in B, shifted to the centre of mass and re-expressed in W:
+  // n_Scm = R (n_Bo − p_BoScm × f), f_W = R f_B.
+  const Matrix3<T>& R_WB = ws.X_PB[0].rotation();
+  const SpatialForce<T> F_Scm_B = ws.F_Bo_B[0].Shift(p_BoScm_B);
   RootResidual<T> out;
-  out.F_Scm_W = SpatialForce<T>(n_Bo_W, f_W).Shift(p_BoScm_W);
+  out.F_Scm_W = SpatialForce<T>(R_WB * F_Scm_B.rotational(), R_WB * F_Scm_B.translational());
   NormalizeByBodyWeight(out.F_Scm_W,
                         model.total_mass(),
                         T(model.gravity_W().norm()),
@@ -306,6 +344,11 @@ extern template const VectorX<double>& CalcInverseDynamics<double>(
     const Eigen::Ref<const VectorX<double>>&,
     const Eigen::Ref<const VectorX<double>>&,
     const std::vector<SpatialForce<double>>*);
+extern template const VectorX<double>& CalcInverseDynamicsAtSameConfiguration<double>(
+    const Model<double>&,
+    Workspace<double>&,
+    const Eigen::Ref<const VectorX<double>>&,
+    const Eigen::Ref<const VectorX<double>>&);
 extern template const VectorX<double>& CalcBiasForces<double>(
     const Model<double>&,
     Workspace<double>&,

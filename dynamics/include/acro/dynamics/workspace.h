@@ -21,6 +21,8 @@ struct Workspace {
         A_WB_B(Size(model)),
         F_Bo_B(Size(model)),
         Ic_Bo_B(Size(model)),
+        mc_Bo_B(Size(model)),
+        subtree_mass(Size(model)),
         tau(model.nv()),
         M(model.nv(), model.nv()),
         h(model.nv()),
@@ -60,6 +62,10 @@ struct Workspace {
   std::vector<SpatialForce<T>> F_Bo_B;
   /// Composite inertia of the subtree rooted at B, about Bo in B (RBDA Table 6.2).
   std::vector<SpatialInertia<T>> Ic_Bo_B;
+  /// First mass moment of the subtree rooted at B about Bo in B (Σ m p_BoBcm_B over the subtree),
+  /// and the subtree's mass; from CalcRootResidual.
+  std::vector<Vector3<T>> mc_Bo_B;
+  std::vector<T> subtree_mass;
 
   VectorX<T> tau;  ///< generalised forces from inverse dynamics (nv)
   MatrixX<T> M;    ///< joint-space mass matrix from CalcMassMatrix (nv × nv)
