@@ -40,10 +40,12 @@ constexpr int kJointRateSlot = 10 + kNdof;
 constexpr int kJointAccelerationSlot = 10 + 2 * kNdof;
 // The residual depends nonlinearly only on the configuration: it is linear in the accelerations
 // and quadratic in the velocities (τ = M(q) a + C(q, v) v + g(q), and the shift to the COM depends
-// on q alone). A Jet carries the configuration's 4 + kNdof directions; the velocity and
-// acceleration derivatives come exactly from differences (see SampleResidual).
-constexpr int kConfigDim = 4 + kNdof;
-using ConfigJet = ceres::Jet<double, kConfigDim>;
+// on q alone). Of the configuration, the root orientation only turns the moment into W: about the
+// COM, uniform gravity has no moment, so n_B = R_WBᵀ n_W does not depend on it. A Jet carries the
+// kNdof joint angles; the orientation's derivatives are ∂R/∂Q n_B, and the velocity and
+// acceleration derivatives come exactly from the mass matrix and differences (SampleResidual).
+using ConfigJet = ceres::Jet<double, kNdof>;
+using QuaternionJet = ceres::Jet<double, 4>;
 // The orientation's local inputs: h, then per knot (a, b) δ, w, ẇ.
 constexpr int kOrientationInputs = 19;
 using OrientationJet = ceres::Jet<double, kOrientationInputs>;
@@ -198,7 +200,8 @@ QuaternionSample<T> KnotSample(const OrientationKnot<T>& k) {
 
 // The normalised moment residual about the COM at one state (q, v, a: root at the origin, at rest
 // in translation) and, when dn != nullptr, its derivatives over the state in the slot order of
-// kStateDim. The configuration's derivatives come from one ConfigJet pass. The residual is linear
+// kStateDim. The joint angles' derivatives come from one ConfigJet pass, the orientation's from
+// n_W = R(Q) n_B with n_B independent of Q (above). The residual is linear
 // in a: its derivatives there are the root rows of the mass matrix M(q) carried to the COM,
 // ∂n/∂a_k = (R M[3:6, k] − p_BoScm_W × M[0:3, k]) / (m g h). It is quadratic in v, so
 // (n(v + e_k) − n(v − e_k))/2 is its exact partial derivative (no truncation error, whatever the
@@ -218,7 +221,7 @@ void SampleResidual(const Model1Data& d,
     for (int c = 0; c < 3; ++c) n[c] = m[c];
     return;
   }
-  // Configuration: the quaternion (slots 0–3) and the joint angles.
+  // Configuration: the joint angles, then the quaternion (slots 0–3).
   {
     typename WorkspacePool<ConfigJet>::Lease wsj(d.ws_j);
     const dynamics::Model<ConfigJet>& m = d.model_j;
@@ -228,16 +231,25 @@ void SampleResidual(const Model1Data& d,
       vj[k] = ConfigJet(v[k]);
       aj[k] = ConfigJet(a[k]);
     }
-    for (int k = 0; k < 4; ++k) qj[3 + k].v[k] = 1.0;
-    for (int j = 0; j < kNdof; ++j) qj[7 + j].v[4 + j] = 1.0;
+    for (int j = 0; j < kNdof; ++j) qj[7 + j].v[j] = 1.0;
     dynamics::CalcInverseDynamics(m, *wsj, qj, vj, aj);
     const dynamics::RootResidual<ConfigJet> res =
         dynamics::CalcRootResidual(m, *wsj, ConfigJet(d.height));
+    Eigen::Vector3d n_W;
     for (int c = 0; c < 3; ++c) {
       const ConfigJet& nc = res.moment_per_weight_height[c];
-      n[c] = nc.a;
-      for (int k = 0; k < 4; ++k) dn[c][k] = nc.v[k];
-      for (int j = 0; j < kNdof; ++j) dn[c][kJointAngleSlot + j] = nc.v[4 + j];
+      n_W[c] = nc.a;
+      for (int j = 0; j < kNdof; ++j) dn[c][kJointAngleSlot + j] = nc.v[j];
+    }
+    // ∂n_W/∂Q = ∂R(Q)/∂Q n_B, through the rotation formula the dynamics uses.
+    const QuaternionJet w(q[3], 0), x(q[4], 1), y(q[5], 2), z(q[6], 3);
+    const Eigen::Matrix3d R = dynamics::QuaternionToRotation<double>(q[3], q[4], q[5], q[6]);
+    const Eigen::Vector3d n_B = R.transpose() * n_W;
+    const dynamics::Vector3<QuaternionJet> nq =
+        dynamics::QuaternionToRotation<QuaternionJet>(w, x, y, z) * n_B.cast<QuaternionJet>();
+    for (int c = 0; c < 3; ++c) {
+      n[c] = n_W[c];
+      for (int k = 0; k < 4; ++k) dn[c][k] = nq[c].v[k];
     }
   }
   const dynamics::Model<double>& md = d.model_d;
