@@ -547,6 +547,8 @@ bool TimingOptimizationOptions::IsValid(std::string* why) const {
   if (!(min_gap_fraction > 0.0 && min_gap_fraction < 1.0))
     return fail("min_gap_fraction must lie in (0, 1)");
   if (max_iterations < 0) return fail("max_iterations must be non-negative");
+  if (!(model1_function_tolerance > 0.0 && model1_function_tolerance < 1.0))
+    return fail("model1_function_tolerance must lie in (0, 1)");
   if (model1_samples_per_knot_interval < 2 || model1_samples_per_knot_interval % 2 != 0)
     return fail("model1_samples_per_knot_interval must be even and at least 2");
   if (model1_knots_per_interval < 1) return fail("model1_knots_per_interval must be positive");

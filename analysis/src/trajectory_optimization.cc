@@ -127,8 +127,14 @@ struct Model1Data {
     ACRO_DEMAND(d.num_joint_dofs() == kNdof);
     ACRO_DEMAND(b.has_knots() && b.num_knots() == P * (n - 1) + 1);
     ACRO_DEMAND(M >= 2 && M % 2 == 0);
+    segment_of_velocity.assign(static_cast<size_t>(model_d.nv()), -1);
+    for (int i = 1; i < model_d.num_segments(); ++i)
+      for (int k = 0; k < model_d.segment(i).num_axes; ++k)
+        segment_of_velocity[static_cast<size_t>(model_d.segment(i).v_start + k)] = i;
   }
   int num_knots() const { return P * (n - 1) + 1; }
+  // The segment whose joint each velocity coordinate belongs to (−1 for the root's).
+  std::vector<int> segment_of_velocity;
 };
 
 // Absolute joint data of a knot: the base plus the knot's parameter blocks.
@@ -205,8 +211,8 @@ QuaternionSample<T> KnotSample(const OrientationKnot<T>& k) {
 // in a: its derivatives there are the root rows of the mass matrix M(q) carried to the COM,
 // ∂n/∂a_k = (R M[3:6, k] − p_BoScm_W × M[0:3, k]) / (m g h). It is quadratic in v, so
 // (n(v + e_k) − n(v − e_k))/2 is its exact partial derivative (no truncation error, whatever the
-// step: unit steps keep rounding small), at two double passes that reuse the configuration's
-// poses.
+// step: unit steps keep rounding small): two double passes over the joint's subtree for a joint
+// rate, two full passes at the configuration's poses for the root's angular velocity.
 void SampleResidual(const Model1Data& d,
                     const Eigen::VectorXd& q,
                     const Eigen::VectorXd& v,
@@ -267,20 +273,34 @@ void SampleResidual(const Model1Data& d,
         (R_WB * M.block<3, 1>(3, k) - p_BoScm_W.cross(M.block<3, 1>(0, k))) / weight_height;
     for (int c = 0; c < 3; ++c) dn[c][a_slot] = dn_da[c];
   }
-  // Velocities (root angular velocity: slots 4–6; joint rates).
-  const auto moment_at = [&](const Eigen::VectorXd& vv) -> Eigen::Vector3d {
-    dynamics::CalcInverseDynamicsAtSameConfiguration(md, *ws, vv, a);
-    return dynamics::CalcRootResidual(md, *ws, d.height).moment_per_weight_height;
+  // Velocities (joint rates, then the root angular velocity: slots 4–6): the moment about the
+  // COM of a changed root wrench, n_W = R (n_Bo − p_BoScm × f) / (m g h) with this configuration's
+  // R and COM. A joint rate changes only its segment's subtree; the root's change everything.
+  const Eigen::Vector3d p_BoScm_B = R_WB.transpose() * p_BoScm_W;
+  const auto moment_of = [&](const dynamics::SpatialForce<double>& F_Bo_B) -> Eigen::Vector3d {
+    return R_WB * F_Bo_B.Shift(p_BoScm_B).rotational() / weight_height;
   };
   Eigen::VectorXd vv = v;
-  for (int k = 3; k < md.nv(); ++k) {
-    const int v_slot = k < 6 ? 4 + (k - 3) : kJointRateSlot + (k - 6);
+  for (int k = 6; k < md.nv(); ++k) {
+    const int segment = d.segment_of_velocity[static_cast<size_t>(k)];
     vv[k] = v[k] + 1.0;
-    const Eigen::Vector3d plus = moment_at(vv);
+    const Eigen::Vector3d plus =
+        moment_of(dynamics::CalcRootWrenchWithJointChanged(md, *ws, segment, vv, a));
     vv[k] = v[k] - 1.0;
-    const Eigen::Vector3d minus = moment_at(vv);
+    const Eigen::Vector3d minus =
+        moment_of(dynamics::CalcRootWrenchWithJointChanged(md, *ws, segment, vv, a));
     vv[k] = v[k];
-    for (int c = 0; c < 3; ++c) dn[c][v_slot] = 0.5 * (plus[c] - minus[c]);
+    for (int c = 0; c < 3; ++c) dn[c][kJointRateSlot + (k - 6)] = 0.5 * (plus[c] - minus[c]);
+  }
+  for (int k = 3; k < 6; ++k) {
+    vv[k] = v[k] + 1.0;
+    dynamics::CalcInverseDynamicsAtSameConfiguration(md, *ws, vv, a);
+    const Eigen::Vector3d plus = moment_of((*ws).F_Bo_B[0]);
+    vv[k] = v[k] - 1.0;
+    dynamics::CalcInverseDynamicsAtSameConfiguration(md, *ws, vv, a);
+    const Eigen::Vector3d minus = moment_of((*ws).F_Bo_B[0]);
+    vv[k] = v[k];
+    for (int c = 0; c < 3; ++c) dn[c][4 + (k - 3)] = 0.5 * (plus[c] - minus[c]);
   }
 }
 
@@ -626,6 +646,7 @@ Eigen::VectorXd SolveModel1(const SkillDesign& design,
                           : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   ceres::Solver::Options so =
       MakeSkillSolverOptions(options, ceres::SPARSE_NORMAL_CHOLESKY, threads);
+  so.function_tolerance = options.model1_function_tolerance;
   SkillProgressCallback callback(options.progress, "model 1");
   so.callbacks.push_back(&callback);
   ceres::Solver::Summary s;

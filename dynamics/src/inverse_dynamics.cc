@@ -16,6 +16,12 @@ template const VectorX<double>& CalcInverseDynamicsAtSameConfiguration<double>(
     Workspace<double>&,
     const Eigen::Ref<const VectorX<double>>&,
     const Eigen::Ref<const VectorX<double>>&);
+template SpatialForce<double> CalcRootWrenchWithJointChanged<double>(
+    const Model<double>&,
+    Workspace<double>&,
+    int,
+    const Eigen::Ref<const VectorX<double>>&,
+    const Eigen::Ref<const VectorX<double>>&);
 template const VectorX<double>& CalcBiasForces<double>(const Model<double>&,
                                                        Workspace<double>&,
                                                        const Eigen::Ref<const VectorX<double>>&,

@@ -37,6 +37,19 @@ const VectorX<T>& CalcInverseDynamicsAtSameConfiguration(const Model<T>& model,
                                                          const VectorXcRef<T>& v,
                                                          const VectorXcRef<T>& a);
 
+/// The root wrench (about Bo in B, what ws.F_Bo_B[0] holds after inverse dynamics) that the last
+/// CalcInverseDynamics on ws would give with v and a replaced by v_new and a_new, which differ from
+/// them only in the coordinates of segment `segment`'s joint (segment > 0). Only that segment's
+/// subtree is recomputed; the rest of the last pass is reused and left as it was. For derivatives
+/// of the root residual over one joint rate or acceleration at a time (a tenth of a full pass for
+/// a hand). The last pass must have had no applied wrenches.
+template <typename T>
+SpatialForce<T> CalcRootWrenchWithJointChanged(const Model<T>& model,
+                                               Workspace<T>& ws,
+                                               int segment,
+                                               const VectorXcRef<T>& v_new,
+                                               const VectorXcRef<T>& a_new);
+
 /// h(q, v) = ID(q, v, 0): Coriolis, centrifugal and gravity forces (nv). Writes ws.h (returned).
 template <typename T>
 const VectorX<T>& CalcBiasForces(const Model<T>& model,
@@ -202,6 +215,55 @@ const VectorX<T>& CalcInverseDynamicsAtSameConfiguration(const Model<T>& model,
 }
 
 template <typename T>
+SpatialForce<T> CalcRootWrenchWithJointChanged(const Model<T>& model,
+                                               Workspace<T>& ws,
+                                               int segment,
+                                               const VectorXcRef<T>& v_new,
+                                               const VectorXcRef<T>& a_new) {
+  const int n = model.num_segments();
+  ACRO_DEMAND(segment > 0 && segment < n);
+  ACRO_DEMAND(v_new.size() == model.nv() && a_new.size() == model.nv() && ws.IsFor(model));
+  // The subtree: segments are in topological order, so its members follow `segment`.
+  for (int i = segment; i < n; ++i) {
+    const int p = model.segment(i).parent;
+    ws.in_changed_subtree[static_cast<size_t>(i)] =
+        i == segment || (p >= segment && ws.in_changed_subtree[static_cast<size_t>(p)]) ? 1 : 0;
+  }
+  auto changed = [&](int i) { return ws.in_changed_subtree[static_cast<size_t>(i)] != 0; };
+  // Forward: motion and net force of each subtree segment from its parent's (the last pass's
+  // outside the subtree), as in Rnea.
+  for (int i = segment; i < n; ++i) {
+    if (!changed(i)) continue;
+    const Segment<T>& seg = model.segment(i);
+    const size_t ui = static_cast<size_t>(i);
+    const size_t up = static_cast<size_t>(seg.parent);
+    const bool parent_changed = i != segment;
+    internal::PropagateMotion(seg,
+                              ws.X_PB[ui],
+                              ws.S_B[ui],
+                              parent_changed ? ws.V_changed[up] : ws.V_WB_B[up],
+                              parent_changed ? ws.A_changed[up] : ws.A_WB_B[up],
+                              v_new,
+                              a_new.data(),
+                              ws.V_changed[ui],
+                              ws.A_changed[ui]);
+    const SpatialInertia<T>& I = seg.M_Bo_B;
+    const SpatialMotion<T>& V = ws.V_changed[ui];
+    ws.F_changed[ui] = I * ws.A_changed[ui] + V.CrossForce(I * V);
+  }
+  // Backward inside the subtree, then the change of the subtree's wrench carried to the root.
+  for (int i = n - 1; i > segment; --i)
+    if (changed(i))
+      ws.F_changed[static_cast<size_t>(model.segment(i).parent)] +=
+          ws.X_PB[static_cast<size_t>(i)].Apply(ws.F_changed[static_cast<size_t>(i)]);
+  const size_t us = static_cast<size_t>(segment);
+  SpatialForce<T> dF = ws.F_changed[us] - ws.F_Bo_B[us];
+  for (int j = segment; model.segment(j).parent >= 0; j = model.segment(j).parent)
+    dF = ws.X_PB[static_cast<size_t>(j)].Apply(dF);
+  return ws.F_Bo_B[0] + dF;
+}
+
+template <typename T>
 const VectorX<T>& CalcBiasForces(const Model<T>& model,
                                  Workspace<T>& ws,
                                  const VectorXcRef<T>& q,
@@ -347,6 +409,12 @@ extern template const VectorX<double>& CalcInverseDynamics<double>(
 extern template const VectorX<double>& CalcInverseDynamicsAtSameConfiguration<double>(
     const Model<double>&,
     Workspace<double>&,
+    const Eigen::Ref<const VectorX<double>>&,
+    const Eigen::Ref<const VectorX<double>>&);
+extern template SpatialForce<double> CalcRootWrenchWithJointChanged<double>(
+    const Model<double>&,
+    Workspace<double>&,
+    int,
     const Eigen::Ref<const VectorX<double>>&,
     const Eigen::Ref<const VectorX<double>>&);
 extern template const VectorX<double>& CalcBiasForces<double>(

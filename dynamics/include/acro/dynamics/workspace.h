@@ -23,6 +23,10 @@ struct Workspace {
         Ic_Bo_B(Size(model)),
         mc_Bo_B(Size(model)),
         subtree_mass(Size(model)),
+        V_changed(Size(model)),
+        A_changed(Size(model)),
+        F_changed(Size(model)),
+        in_changed_subtree(Size(model), 0),
         tau(model.nv()),
         M(model.nv(), model.nv()),
         h(model.nv()),
@@ -66,6 +70,11 @@ struct Workspace {
   /// and the subtree's mass; from CalcRootResidual.
   std::vector<Vector3<T>> mc_Bo_B;
   std::vector<T> subtree_mass;
+  /// Scratch of CalcRootWrenchWithJointChanged: the changed subtree's motion and wrenches.
+  std::vector<SpatialMotion<T>> V_changed;
+  std::vector<SpatialMotion<T>> A_changed;
+  std::vector<SpatialForce<T>> F_changed;
+  std::vector<unsigned char> in_changed_subtree;
 
   VectorX<T> tau;  ///< generalised forces from inverse dynamics (nv)
   MatrixX<T> M;    ///< joint-space mass matrix from CalcMassMatrix (nv × nv)
