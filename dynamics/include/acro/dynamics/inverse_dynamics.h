@@ -29,8 +29,8 @@ const VectorX<T>& CalcInverseDynamics(const Model<T>& model,
                                       const std::vector<SpatialForce<T>>* F_ext_Bo_W = nullptr);
 
 /// CalcInverseDynamics at the configuration q of the previous inverse dynamics or mass matrix on
-/// ws, reusing its relative poses and joint axes (for derivatives over v and a at a fixed q: a
-/// fifth cheaper on the standard human). Without applied wrenches.
+/// ws, reusing its relative poses and joint axes (for derivatives over v and a at a fixed q: no
+/// sines, cosines or joint rotations). Without applied wrenches.
 template <typename T>
 const VectorX<T>& CalcInverseDynamicsAtSameConfiguration(const Model<T>& model,
                                                          Workspace<T>& ws,
@@ -41,8 +41,9 @@ const VectorX<T>& CalcInverseDynamicsAtSameConfiguration(const Model<T>& model,
 /// CalcInverseDynamics on ws would give with v and a replaced by v_new and a_new, which differ from
 /// them only in the coordinates of segment `segment`'s joint (segment > 0). Only that segment's
 /// subtree is recomputed; the rest of the last pass is reused and left as it was. For derivatives
-/// of the root residual over one joint rate or acceleration at a time (a tenth of a full pass for
-/// a hand). The last pass must have had no applied wrenches.
+/// of the root residual over one joint rate or acceleration at a time (for a hand, the motion and
+/// force of one segment instead of all fifteen of the standard human, and four transforms up to the
+/// root). The last pass must have had no applied wrenches.
 template <typename T>
 SpatialForce<T> CalcRootWrenchWithJointChanged(const Model<T>& model,
                                                Workspace<T>& ws,
