@@ -112,6 +112,10 @@ std::string MakeSkillResultJson(const SkillDesign& design,
     w.Field("rms_orientation_error_deg", sim->rms_orientation_error_rad * kRadToDeg);
     w.Field("somersault_turns", sim->somersault_turns);
     w.Field("intended_somersault_turns", sim->intended_somersault_turns);
+    w.Field("twist_turns", sim->twist_turns);
+    w.Field("intended_twist_turns", sim->intended_twist_turns);
+    w.Key("warnings");
+    w.Array(sim->warnings);
     const Eigen::Vector3d stt = SomersaultTiltTwist(sim->final_orientation) * kRadToDeg;
     w.Key("final_somersault_tilt_twist_deg");
     w.Array(std::vector<double>{stt.x(), stt.y(), stt.z()});
@@ -299,7 +303,13 @@ std::vector<std::string> WriteSkillOutputs(const std::filesystem::path& dir,
          << "); the orientation follows the design within "
          << Fixed(sim->rms_orientation_error_rad * kRadToDeg, 1) << "° RMS and lands "
          << Fixed(sim->final_orientation_error_rad * kRadToDeg, 1)
-         << "° from the last keyframe's.</p>\n";
+         << "° from the last keyframe's; twist turns " << Fixed(sim->twist_turns, 2)
+         << " (designed " << Fixed(sim->intended_twist_turns, 2) << ").</p>\n";
+  if (sim != nullptr && !sim->warnings.empty()) {
+    html << "<p class=\"warning\"><b>The design does not fly as drawn:</b></p>\n<ul>\n";
+    for (const std::string& line : sim->warnings) html << "<li>" << Html(line) << "</li>\n";
+    html << "</ul>\n";
+  }
   html << "<h2>Solver</h2>\n<ul>\n";
   for (const TimingOptimizationSummary& s : r.stages)
     html << "<li>" << Html(s.BriefReport()) << "</li>\n";

@@ -14,6 +14,7 @@
 #include "acro/analysis/keyframe_spline.h"
 #include "acro/analysis/quaternion_spline.h"
 #include "acro/analysis/standard_human.h"
+#include "acro/base/text_format.h"
 #include "acro/dynamics/inverse_dynamics.h"
 #include "acro/dynamics/kinematics.h"
 #include "skill_solver.h"
@@ -707,11 +708,58 @@ SkillSimulationResult SimulateSkill(const SkillDesign& design,
     }
     return total / (2.0 * std::numbers::pi);
   };
+  // Twist: the angle about the pelvis' long axis in R_y(somersault) R_x(tilt) R_z(twist), from row
+  // y of R = (cos t sin w, cos t cos w, −sin t), unwrapped.
+  auto twist_turns = [](const std::vector<Eigen::Quaterniond>& qs) {
+    double total = 0.0, prev = 0.0;
+    for (size_t i = 0; i < qs.size(); ++i) {
+      const Eigen::Matrix3d R = qs[i].normalized().toRotationMatrix();
+      const double w = std::atan2(R(1, 0), R(1, 1));
+      if (i > 0) total += std::remainder(w - prev, 2.0 * std::numbers::pi);
+      prev = w;
+    }
+    return total / (2.0 * std::numbers::pi);
+  };
   std::vector<Eigen::Quaterniond> sim;
   for (const Eigen::VectorXd& q : out.flight.q) sim.emplace_back(q[3], q[4], q[5], q[6]);
   out.somersault_turns = turns(sim);
   out.intended_somersault_turns = turns(designed);
+  out.twist_turns = twist_turns(sim);
+  out.intended_twist_turns = twist_turns(designed);
+  out.warnings = SkillSimulationWarnings(out);
   return out;
+}
+
+std::vector<std::string> SkillSimulationWarnings(const SkillSimulationResult& sim) {
+  constexpr double kDeg = std::numbers::pi / 180.0;
+  constexpr double kLimit = 15.0 * kDeg;
+  std::vector<std::string> w;
+  auto deg = [](double rad) { return FormatFixed(rad / kDeg, 1) + "°"; };
+  auto turns = [](double t) { return FormatFixed(t, 2); };
+  if (sim.flight.summary.status != dynamics::FlightSimulationStatus::kSuccess)
+    w.push_back("the flight simulation did not finish: " + sim.flight.summary.BriefReport());
+  if (sim.final_orientation_error_rad > kLimit || sim.rms_orientation_error_rad > kLimit)
+    w.push_back("the simulated flight lands " + deg(sim.final_orientation_error_rad) +
+                " from the last keyframe and follows the design within " +
+                deg(sim.rms_orientation_error_rad) +
+                " RMS: the keyframes ask for a rotation this body does not make in the air");
+  const double somersault_error = sim.somersault_turns - sim.intended_somersault_turns;
+  if (std::abs(somersault_error) * 2.0 * std::numbers::pi > kLimit)
+    w.push_back("the simulation somersaults " + turns(sim.somersault_turns) +
+                " turns, the design " + turns(sim.intended_somersault_turns) +
+                ": more or less time in a compact shape (tuck, pike) changes the somersault rate");
+  const double designed = sim.intended_twist_turns, simulated = sim.twist_turns;
+  if (std::abs(designed) >= 0.25 && simulated * designed < 0.0)
+    w.push_back("the design twists " + turns(designed) + " turns but the simulation " +
+                turns(simulated) +
+                ": in the air the twist's direction follows the tilt and the arm action; if "
+                "Model 1 cannot reconcile them, reverse the twist or the tilt");
+  else if (std::abs(simulated - designed) > 0.25)
+    w.push_back("the simulation twists " + turns(simulated) + " turns, the design " +
+                turns(designed) +
+                ": the tilt during the twist (or how tightly the arms wrap) is too small or too "
+                "large for this twist in this time");
+  return w;
 }
 
 }  // namespace acro::analysis

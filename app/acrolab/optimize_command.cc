@@ -113,6 +113,9 @@ int RunOptimize(const std::vector<std::string>& args) {
         sim->somersault_turns,
         sim->intended_somersault_turns,
         sim->final_orientation_error_rad * 180.0 / 3.14159265358979323846);
+  if (sim)
+    for (const std::string& line : sim->warnings)
+      std::fprintf(stderr, "acrolab optimize: warning: %s\n", line.c_str());
   std::printf("  wrote %zu files to %s\n", files.size(), out_dir.c_str());
   return 0;
 }

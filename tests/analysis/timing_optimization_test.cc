@@ -255,9 +255,51 @@ TEST(TimingOptimization, Model1DesignsLandAsDesigned) {
     EXPECT_EQ(sim.flight.summary.status, dynamics::FlightSimulationStatus::kSuccess);
     EXPECT_LT(sim.final_orientation_error_rad, 15 * kDeg) << name;
     EXPECT_NEAR(sim.somersault_turns, sim.intended_somersault_turns, 15.0 / 360.0) << name;
+    EXPECT_NEAR(sim.twist_turns, sim.intended_twist_turns, 0.05) << name;
+    EXPECT_TRUE(sim.warnings.empty()) << name << ": " << sim.warnings.front();
     // The fitted momentum stays close to the design's own mean (the design is consistent).
     EXPECT_LT((sim.H_Scm_W - sim.H_mean_W).norm(), 0.1 * sim.H_mean_W.norm()) << name;
   }
+}
+
+// The full with its twist reversed (positive, with the same negative tilt and arms) does not fly as
+// drawn, and the simulation says so: it twists the other way.
+TEST(TimingOptimization, SimulationWarnsWhenTheTwistGoesAgainstTheTilt) {
+  Skill skill = ReadSkill(SkillPath("full.yaml"));
+  for (SkillKeyframe& k : skill.keyframes) k.twist_rad = -k.twist_rad;
+  const SkillDesign d(skill);
+  const TimingOptimizationResult r = OptimizeSkillTiming(d, TimingOptimizationOptions{});
+  const SkillSimulationResult sim = SimulateSkill(d, r.optimized);
+  EXPECT_NEAR(sim.intended_twist_turns, 1.0, 0.01);
+  EXPECT_LT(sim.twist_turns, 0.0);
+  ASSERT_FALSE(sim.warnings.empty());
+  bool direction = false;
+  for (const std::string& w : sim.warnings)
+    direction = direction || w.find("reverse the twist or the tilt") != std::string::npos;
+  EXPECT_TRUE(direction) << sim.warnings.front();
+}
+
+// Each warning from its own condition, on made-up results.
+TEST(TimingOptimization, SimulationWarningsNameWhatDiffers) {
+  SkillSimulationResult sim;
+  sim.flight.summary.status = dynamics::FlightSimulationStatus::kSuccess;
+  sim.somersault_turns = sim.intended_somersault_turns = -0.9;
+  sim.twist_turns = sim.intended_twist_turns = 1.0;
+  EXPECT_TRUE(SkillSimulationWarnings(sim).empty());
+  sim.final_orientation_error_rad = 20 * kDeg;
+  ASSERT_EQ(SkillSimulationWarnings(sim).size(), 1u);
+  EXPECT_NE(SkillSimulationWarnings(sim)[0].find("lands 20.0°"), std::string::npos);
+  sim.final_orientation_error_rad = 0.0;
+  sim.somersault_turns = -0.8;  // 36° short
+  ASSERT_EQ(SkillSimulationWarnings(sim).size(), 1u);
+  EXPECT_NE(SkillSimulationWarnings(sim)[0].find("somersaults -0.80 turns"), std::string::npos);
+  sim.somersault_turns = -0.9;
+  sim.twist_turns = 0.6;  // the right way, 0.4 turn short
+  ASSERT_EQ(SkillSimulationWarnings(sim).size(), 1u);
+  EXPECT_NE(SkillSimulationWarnings(sim)[0].find("twists 0.60 turns"), std::string::npos);
+  sim.twist_turns = -0.3;  // the other way
+  ASSERT_EQ(SkillSimulationWarnings(sim).size(), 1u);
+  EXPECT_NE(SkillSimulationWarnings(sim)[0].find("reverse the twist"), std::string::npos);
 }
 
 }  // namespace

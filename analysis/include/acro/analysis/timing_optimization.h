@@ -230,7 +230,20 @@ struct SkillSimulationResult {
   /// the same for the designed motion.
   double somersault_turns = 0.0;
   double intended_somersault_turns = 0.0;
+  /// Twist turns (the twist angle of R_WB = R_y(somersault) R_x(tilt) R_z(twist), unwrapped) of
+  /// the simulated and the designed motion.
+  double twist_turns = 0.0;
+  double intended_twist_turns = 0.0;
+  /// Where the simulated flight departs from the design, in plain words (empty when it follows
+  /// it): see SkillSimulationWarnings.
+  std::vector<std::string> warnings;
 };
+/// The warnings SimulateSkill attaches: the simulated landing or the flight's RMS orientation more
+/// than 15° from the design's, the somersaults short or long by more than 15°, a twist the other
+/// way or short or long by more than a quarter turn — each says what the numbers are and what in
+/// the keyframes usually causes it.
+std::vector<std::string> SkillSimulationWarnings(const SkillSimulationResult& sim);
+
 SkillSimulationResult SimulateSkill(const SkillDesign& design,
                                     const SkillTrajectory& trajectory,
                                     double step_s = 1e-3,
