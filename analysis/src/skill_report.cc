@@ -269,7 +269,7 @@ std::vector<std::string> WriteSkillOutputs(const std::filesystem::path& dir,
        << Html(design.skill().name)
        << "</title><style>body{font-family:sans-serif;max-width:900px;margin:2em auto}"
           "table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:2px "
-          "8px;text-align:right}"
+          "8px;text-align:right}.warning{color:#a40}"
           "</style></head><body>\n";
   html << "<h1>" << Html(design.skill().name)
        << "</h1>\n<p>Athlete: " << Html(design.skill().athlete.name) << ". Flight time "

@@ -111,6 +111,8 @@ struct Model1Data {
   // One workspace per concurrent evaluation (Ceres evaluates residual blocks on several threads).
   mutable WorkspacePool<double> ws_d;
   mutable WorkspacePool<ConfigJet> ws_j;
+  // The segment whose joint each velocity coordinate belongs to (−1 for the root's).
+  std::vector<int> segment_of_velocity;
 
   Model1Data(const SkillDesign& d, const SkillTrajectory& b, int samples)
       : design(&d),
@@ -133,8 +135,6 @@ struct Model1Data {
         segment_of_velocity[static_cast<size_t>(model_d.segment(i).v_start + k)] = i;
   }
   int num_knots() const { return P * (n - 1) + 1; }
-  // The segment whose joint each velocity coordinate belongs to (−1 for the root's).
-  std::vector<int> segment_of_velocity;
 };
 
 // Absolute joint data of a knot: the base plus the knot's parameter blocks.
@@ -261,9 +261,10 @@ void SampleResidual(const Model1Data& d,
   const dynamics::Model<double>& md = d.model_d;
   const double weight_height = md.total_mass() * md.gravity_W().norm() * d.height;
   // Accelerations (root angular acceleration: slots 7–9; joint accelerations) from M(q); the
-  // mass matrix pass also leaves the configuration's poses for the velocity passes.
+  // mass matrix pass leaves the configuration's poses for the passes at (v, a) that follow, and
+  // CalcRootResidual is called for the COM it leaves in mc_Bo_B.
   const Eigen::MatrixXd& M = dynamics::CalcMassMatrix(md, *ws, q);
-  dynamics::CalcInverseDynamics(md, *ws, q, v, a);
+  dynamics::CalcInverseDynamicsAtSameConfiguration(md, *ws, v, a);
   dynamics::CalcRootResidual(md, *ws, d.height);
   const Eigen::Matrix3d R_WB = (*ws).X_PB[0].rotation();
   const Eigen::Vector3d p_BoScm_W = R_WB * (*ws).mc_Bo_B[0] / md.total_mass();

@@ -115,7 +115,8 @@ int RunAnalyze(const std::vector<std::string>& args) {
   }
 
   // Plots need a display: without one, run again under Xvfb when it is installed (after the inputs
-  // are read, so that a bad one is refused in one line, and before any work).
+  // are read, so that a bad one is refused in one line, and before the analysis; the relaunched
+  // process reads them again, a few milliseconds).
   if (images) {
     std::vector<std::string> argv = {"acrolab", "analyze"};
     argv.insert(argv.end(), args.begin(), args.end());

@@ -128,19 +128,24 @@ TEST(TimingOptimization, TheMotionPassesThroughTheKeyframes) {
 // residual blocks and their chain-rule Jacobians, against central differences of J, on a coarse
 // grid (2 Simpson intervals per knot interval) to keep the 2·(n_x) evaluations cheap.
 TEST(TimingOptimization, Model1GradientMatchesCentralDifferences) {
-  const SkillDesign& d = BackTuck();
-  const SkillTrajectory base = MakeKnotTrajectory(MakeKeyframeTrajectory(d, d.EvenTimes()), 2);
-  Eigen::VectorXd x = InitialSkillParameters(d, base, 1);
-  ASSERT_EQ(x.size(), NumSkillParameters(d, 1, 2));
-  // An uneven point with non-zero offsets everywhere (orientation offsets included, so that the
-  // right Jacobian is away from the identity).
-  for (int i = 0; i < x.size(); ++i)
-    x[i] += (i < d.num_keyframes() - 1 ? 0.01 : 0.02) * std::sin(0.7 * i);
-  Eigen::VectorXd g;
-  CalcSkillObjective(d, base, 1, x, 2, &g);
-  const Eigen::VectorXd fd = CentralDifferences(d, base, 1, x, 2, 1e-6);
-  EXPECT_LT((g - fd).norm(), 1e-6 * g.norm());
-  EXPECT_LT((g - fd).cwiseAbs().maxCoeff(), 1e-6 * g.cwiseAbs().maxCoeff());
+  // The back tuck, and the full: twisting and tilted, with asymmetric arms, so that every joint's
+  // subtree and the orientation's derivative ∂R/∂Q n_B are exercised away from symmetry.
+  const SkillDesign full(ReadSkill(SkillPath("full.yaml")));
+  for (const SkillDesign* design : {&BackTuck(), &full}) {
+    const SkillDesign& d = *design;
+    const SkillTrajectory base = MakeKnotTrajectory(MakeKeyframeTrajectory(d, d.EvenTimes()), 2);
+    Eigen::VectorXd x = InitialSkillParameters(d, base, 1);
+    ASSERT_EQ(x.size(), NumSkillParameters(d, 1, 2));
+    // An uneven point with non-zero offsets everywhere (orientation offsets included, so that the
+    // right Jacobian is away from the identity).
+    for (int i = 0; i < x.size(); ++i)
+      x[i] += (i < d.num_keyframes() - 1 ? 0.01 : 0.02) * std::sin(0.7 * i);
+    Eigen::VectorXd g;
+    CalcSkillObjective(d, base, 1, x, 2, &g);
+    const Eigen::VectorXd fd = CentralDifferences(d, base, 1, x, 2, 1e-6);
+    EXPECT_LT((g - fd).norm(), 1e-6 * g.norm()) << d.skill().name;
+    EXPECT_LT((g - fd).cwiseAbs().maxCoeff(), 1e-6 * g.cwiseAbs().maxCoeff()) << d.skill().name;
+  }
 }
 
 // Model 1's local form: the keyframe splines read at the knots give the same keyframe poses, the

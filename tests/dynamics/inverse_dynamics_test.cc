@@ -332,6 +332,20 @@ TEST(InverseDynamicsTest, RejectsMismatchedWorkspaceAndSizes) {
   Workspace<double> ws(human);
   EXPECT_THROW(CalcInverseDynamics(human, ws, q, v, Eigen::VectorXd::Zero(3)), std::logic_error);
   EXPECT_NO_THROW(CalcInverseDynamics(human, ws, q, v, v));
+  // The passes that build on an earlier one refuse a workspace without it.
+  Workspace<double> fresh(human);
+  EXPECT_THROW(CalcInverseDynamicsAtSameConfiguration(human, fresh, v, v), std::logic_error);
+  EXPECT_THROW(CalcRootWrenchWithJointChanged(human, fresh, 1, v, v), std::logic_error);
+  CalcForwardKinematics(human, fresh, q);
+  EXPECT_NO_THROW(CalcInverseDynamicsAtSameConfiguration(human, fresh, v, v));
+  CalcForwardKinematics(human, fresh, q);  // V, A and F are no longer a pass's
+  EXPECT_THROW(CalcRootWrenchWithJointChanged(human, fresh, 1, v, v), std::logic_error);
+  std::vector<SpatialForce<double>> F_ext(static_cast<size_t>(human.num_segments()),
+                                          SpatialForce<double>::Zero());
+  CalcInverseDynamics(human, fresh, q, v, v, &F_ext);  // applied wrenches
+  EXPECT_THROW(CalcRootWrenchWithJointChanged(human, fresh, 1, v, v), std::logic_error);
+  CalcInverseDynamics(human, fresh, q, v, v);
+  EXPECT_NO_THROW(CalcRootWrenchWithJointChanged(human, fresh, 1, v, v));
   // A scaled quaternion describes the same orientation.
   std::mt19937 rng2(4);
   const Eigen::VectorXd qr = RandomConfiguration(human, rng2);

@@ -58,6 +58,8 @@ void RunFrame(const Model<double>& model,
               double& sink) {
   sink += CalcInverseDynamics(model, ws, q, v, a)[0];
   sink += CalcRootResidual(model, ws, 1.75).force_per_weight[2];
+  sink += CalcRootWrenchWithJointChanged(model, ws, model.num_segments() - 1, v, a).rotational()[0];
+  sink += CalcInverseDynamicsAtSameConfiguration(model, ws, v, a)[0];
   sink += CalcInverseDynamics(model, ws, q, v, a, &F_ext)[6];
   sink += CalcBiasForces(model, ws, q, v)[1];
   sink += CalcMassMatrix(model, ws, q)(0, 0);

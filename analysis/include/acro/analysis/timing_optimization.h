@@ -238,10 +238,11 @@ struct SkillSimulationResult {
   /// it): see SkillSimulationWarnings.
   std::vector<std::string> warnings;
 };
+
 /// The warnings SimulateSkill attaches: the simulated landing or the flight's RMS orientation more
 /// than 15° from the design's, the somersaults short or long by more than 15°, a twist the other
-/// way or short or long by more than a quarter turn — each says what the numbers are and what in
-/// the keyframes usually causes it.
+/// way or short or long by more than a quarter turn — each with its numbers and, for the rotations,
+/// what in the keyframes usually causes it.
 std::vector<std::string> SkillSimulationWarnings(const SkillSimulationResult& sim);
 
 SkillSimulationResult SimulateSkill(const SkillDesign& design,

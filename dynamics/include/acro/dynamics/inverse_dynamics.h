@@ -28,9 +28,10 @@ const VectorX<T>& CalcInverseDynamics(const Model<T>& model,
                                       const VectorXcRef<T>& a,
                                       const std::vector<SpatialForce<T>>* F_ext_Bo_W = nullptr);
 
-/// CalcInverseDynamics at the configuration q of the previous inverse dynamics or mass matrix on
-/// ws, reusing its relative poses and joint axes (for derivatives over v and a at a fixed q: no
-/// sines, cosines or joint rotations). Without applied wrenches.
+/// CalcInverseDynamics at the configuration q of the previous pose pass on ws (inverse dynamics,
+/// mass matrix, forward kinematics: ws.poses_current), reusing its relative poses and joint axes
+/// (for derivatives over v and a at a fixed q: no sines, cosines or joint rotations). Without
+/// applied wrenches.
 template <typename T>
 const VectorX<T>& CalcInverseDynamicsAtSameConfiguration(const Model<T>& model,
                                                          Workspace<T>& ws,
@@ -38,12 +39,14 @@ const VectorX<T>& CalcInverseDynamicsAtSameConfiguration(const Model<T>& model,
                                                          const VectorXcRef<T>& a);
 
 /// The root wrench (about Bo in B, what ws.F_Bo_B[0] holds after inverse dynamics) that the last
-/// CalcInverseDynamics on ws would give with v and a replaced by v_new and a_new, which differ from
-/// them only in the coordinates of segment `segment`'s joint (segment > 0). Only that segment's
-/// subtree is recomputed; the rest of the last pass is reused and left as it was. For derivatives
-/// of the root residual over one joint rate or acceleration at a time (for a hand, the motion and
-/// force of one segment instead of all fifteen of the standard human, and four transforms up to the
-/// root). The last pass must have had no applied wrenches.
+/// inverse dynamics pass on ws (CalcInverseDynamics, CalcBiasForces or the same-configuration
+/// pass, without applied wrenches and not followed by forward kinematics:
+/// ws.plain_inverse_dynamics_current) would give with v and a replaced by v_new and a_new, which
+/// differ from them only in the coordinates of segment `segment`'s joint (segment > 0). Only that
+/// segment's subtree is recomputed; the rest of the last pass is reused and left as it was. For
+/// derivatives of the root residual over one joint rate or acceleration at a time (for a hand, the
+/// motion and force of one segment instead of all fifteen of the standard human, and four
+/// transforms up to the root).
 template <typename T>
 SpatialForce<T> CalcRootWrenchWithJointChanged(const Model<T>& model,
                                                Workspace<T>& ws,
@@ -121,6 +124,7 @@ void Rnea(const Model<T>& model,
           bool reuse_poses = false) {
   ACRO_DEMAND(q.size() == model.nq() && v.size() == model.nv() && tau.size() == model.nv());
   ACRO_DEMAND(ws.IsFor(model));
+  ACRO_DEMAND(!reuse_poses || ws.poses_current);
   const int n = model.num_segments();
   // Net force on segment i, f_B = I A + V ×* I V − f_ext (RBDA Table 5.1).
   auto net_force = [&](int i) {
@@ -152,7 +156,8 @@ void Rnea(const Model<T>& model,
     const size_t ui = static_cast<size_t>(i);
     const size_t up = static_cast<size_t>(seg.parent);
     if (!reuse_poses) CalcJointPose(seg, q, ws, ws.X_PB[ui], ws.S_B[ui]);
-    // World poses only where applied wrenches need them (CalcRootResidual composes them later).
+    // World poses only where applied wrenches need them (CalcForwardKinematics composes them for
+    // the callers that want them).
     if (F_ext_Bo_W != nullptr) ws.X_WB[ui] = ws.X_WB[up] * ws.X_PB[ui];
     PropagateMotion(seg,
                     ws.X_PB[ui],
@@ -178,6 +183,8 @@ void Rnea(const Model<T>& model,
   tau.template head<3>() = ws.X_WB[0].rotation() * ws.F_Bo_B[0].translational();
   tau.template segment<3>(3) = ws.F_Bo_B[0].rotational();
   ws.world_poses_current = F_ext_Bo_W != nullptr;
+  ws.poses_current = true;
+  ws.plain_inverse_dynamics_current = F_ext_Bo_W == nullptr;
 }
 
 /// Column k of the root's motion subspace in B: v_WBo_W e_k ↦ [0; R_WBᵀ e_k], w_WB_B e_k ↦ [e_k;
@@ -224,6 +231,7 @@ SpatialForce<T> CalcRootWrenchWithJointChanged(const Model<T>& model,
   const int n = model.num_segments();
   ACRO_DEMAND(segment > 0 && segment < n);
   ACRO_DEMAND(v_new.size() == model.nv() && a_new.size() == model.nv() && ws.IsFor(model));
+  ACRO_DEMAND(ws.plain_inverse_dynamics_current);
   // The subtree: segments are in topological order, so its members follow `segment`.
   for (int i = segment; i < n; ++i) {
     const int p = model.segment(i).parent;

@@ -182,6 +182,8 @@ inline void ComposeWorldPoses(const Model<T>& model, Workspace<T>& ws) {
     ws.X_WB[ui] = ws.X_WB[static_cast<size_t>(model.segment(i).parent)] * ws.X_PB[ui];
   }
   ws.world_poses_current = true;
+  ws.poses_current = true;
+  ws.plain_inverse_dynamics_current = false;
 }
 
 /// Root spatial acceleration about Bo in B with the base accelerating at −g_extra (RBDA ch. 5's
@@ -268,6 +270,8 @@ void CalcForwardKinematics(const Model<T>& model, Workspace<T>& ws, const Vector
     ws.X_WB[ui] = ws.X_WB[static_cast<size_t>(model.segment(i).parent)] * ws.X_PB[ui];
   }
   ws.world_poses_current = true;
+  ws.poses_current = true;
+  ws.plain_inverse_dynamics_current = false;
 }
 
 template <typename T>

@@ -50,6 +50,13 @@ struct Workspace {
   /// False after an inverse dynamics without applied wrenches, which computes only X_WB[0]
   /// (the rest is not needed there); CalcForwardKinematics makes all current again.
   bool world_poses_current = false;
+  /// True once a pose pass (inverse dynamics, forward kinematics) has filled X_PB and S_B, which
+  /// CalcInverseDynamicsAtSameConfiguration reuses.
+  bool poses_current = false;
+  /// True while V_WB_B, A_WB_B and F_Bo_B are those of an inverse dynamics pass without applied
+  /// wrenches at the poses in X_PB (what CalcRootWrenchWithJointChanged builds on); forward
+  /// kinematics and a pass with applied wrenches make it false.
+  bool plain_inverse_dynamics_current = false;
   /// Joint axes as angular-velocity directions in B: column k of the motion subspace of B's
   /// inboard Euler joint is [S_B[B][k]; 0] (RBDA ch. 4, joint models).
   std::vector<std::array<Vector3<T>, 3>> S_B;
