@@ -6,10 +6,12 @@
 #include <ceres/ceres.h>
 #include <ceres/dynamic_autodiff_cost_function.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <numbers>
 #include <sstream>
+#include <thread>
 
 #include "acro/analysis/keyframe_spline.h"
 #include "acro/analysis/quaternion_spline.h"
@@ -49,10 +51,15 @@ struct ResidualData {
   Eigen::VectorXd sample_t;     // fixed quadrature grid
   Eigen::VectorXd sqrt_weight;  // sqrt of the Simpson weights over T
   double scale_weight = 0.0;    // weight of the gap-scale residual (0: none)
+  // The grid samples this residual block evaluates: first_sample … last_sample (all by default;
+  // Model 2's solve splits them between blocks so that Ceres evaluates them on several threads).
+  int first_sample = 0;
+  int last_sample = -1;  // −1: intervals
+  int end_sample() const { return (last_sample < 0 ? intervals : last_sample) + 1; }
 };
 
 int NumResiduals(const ResidualData& d) {
-  return 3 * (d.intervals + 1) + (d.scale_weight > 0.0 ? 1 : 0);
+  return 3 * (d.end_sample() - d.first_sample) + (d.scale_weight > 0.0 ? 1 : 0);
 }
 
 // Keyframe times from the gaps: t_i = T Σ_{j<i} g_j / Σ g_j, with t_0 = 0 and t_n = T exact.
@@ -144,22 +151,24 @@ struct ScalarKit {
   SkillSplines<T> splines;
 };
 
-// r_k = sqrt(w_k/T) · n_Scm(t_k)/(m g h) for every grid sample, then the gap-scale residual.
+// r_k = sqrt(w_k/T) · n_Scm(t_k)/(m g h) for the block's grid samples, then the gap-scale
+// residual when the block carries it.
 template <typename T>
 void EvalResiduals(const ResidualData& d, ScalarKit<T>& kit, const T* const* params, T* residuals) {
   BuildSplines(d, params, kit.splines);
   const T height(d.design->height_m());
-  for (int k = 0; k <= d.intervals; ++k) {
+  const int end = d.end_sample();
+  for (int k = d.first_sample; k < end; ++k) {
     SampleState(kit.splines, d.sample_t[k], kit.q, kit.v, kit.a);
     dynamics::CalcInverseDynamics(kit.model, kit.ws, kit.q, kit.v, kit.a);
     const dynamics::RootResidual<T> r = dynamics::CalcRootResidual(kit.model, kit.ws, height);
-    for (int c = 0; c < 3; ++c)
-      residuals[3 * k + c] = T(d.sqrt_weight[k]) * r.moment_per_weight_height[c];
+    T* rk = residuals + 3 * (k - d.first_sample);
+    for (int c = 0; c < 3; ++c) rk[c] = T(d.sqrt_weight[k]) * r.moment_per_weight_height[c];
   }
   if (d.scale_weight > 0.0) {
     T sum(0.0);
     for (int j = 0; j + 1 < d.design->num_keyframes(); ++j) sum += params[0][j];
-    residuals[3 * (d.intervals + 1)] =
+    residuals[3 * (end - d.first_sample)] =
         T(d.scale_weight) * (sum / T(d.design->flight_time_s()) - T(1.0));
   }
 }
@@ -365,13 +374,25 @@ Eigen::VectorXd Solve(const SkillDesign& design,
   ceres::Problem::Options problem_options;
   problem_options.cost_function_ownership = ceres::TAKE_OWNERSHIP;
   ceres::Problem problem(problem_options);
-  problem.AddResidualBlock(MakeCostFunction(data).release(), nullptr, gaps);
+  // The grid in one block per thread (each block builds the splines once and owns its workspaces),
+  // the gap-scale residual in the last; Ceres evaluates the blocks concurrently.
+  const int threads = options.num_threads > 0
+                          ? options.num_threads
+                          : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  const int blocks = std::clamp(threads, 1, intervals + 1);
+  for (int b = 0; b < blocks; ++b) {
+    ResidualData part = data;
+    part.first_sample = (intervals + 1) * b / blocks;
+    part.last_sample = (intervals + 1) * (b + 1) / blocks - 1;
+    if (b + 1 < blocks) part.scale_weight = 0.0;
+    problem.AddResidualBlock(MakeCostFunction(part).release(), nullptr, gaps);
+  }
   // Ordering kept by positive gaps: g_j ≥ min_gap_fraction · T/(n − 1).
   const int n = design.num_keyframes();
   const double min_gap = options.min_gap_fraction * design.flight_time_s() / (n - 1);
   for (int j = 0; j + 1 < n; ++j) problem.SetParameterLowerBound(gaps, j, min_gap);
 
-  ceres::Solver::Options so = internal::MakeSkillSolverOptions(options, ceres::DENSE_QR, 1);
+  ceres::Solver::Options so = internal::MakeSkillSolverOptions(options, ceres::DENSE_QR, blocks);
   internal::SkillProgressCallback callback(options.progress, "model 2");
   so.callbacks.push_back(&callback);
   ceres::Solver::Summary s;
