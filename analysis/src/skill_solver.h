@@ -5,10 +5,12 @@
 
 #include <ceres/ceres.h>
 
+#include <algorithm>
 #include <chrono>
 #include <functional>
 #include <sstream>
 #include <string>
+#include <thread>
 
 #include "acro/analysis/timing_optimization.h"
 
@@ -55,6 +57,13 @@ inline ceres::Solver::Options MakeSkillSolverOptions(const TimingOptimizationOpt
   so.logging_type = ceres::SILENT;
   so.minimizer_progress_to_stdout = false;
   return so;
+}
+
+/// Threads for the residual blocks: the options' num_threads, or the hardware's concurrency.
+inline int SkillSolverThreads(const TimingOptimizationOptions& options) {
+  return options.num_threads > 0
+             ? options.num_threads
+             : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
 }
 
 /// The stage's summary from Ceres' and the wall time since `start`.

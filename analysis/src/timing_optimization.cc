@@ -376,10 +376,7 @@ Eigen::VectorXd Solve(const SkillDesign& design,
   ceres::Problem problem(problem_options);
   // The grid in one block per thread (each block builds the splines once and owns its workspaces),
   // the gap-scale residual in the last; Ceres evaluates the blocks concurrently.
-  const int threads = options.num_threads > 0
-                          ? options.num_threads
-                          : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
-  const int blocks = std::clamp(threads, 1, intervals + 1);
+  const int blocks = std::clamp(internal::SkillSolverThreads(options), 1, intervals + 1);
   for (int b = 0; b < blocks; ++b) {
     ResidualData part = data;
     part.first_sample = (intervals + 1) * b / blocks;

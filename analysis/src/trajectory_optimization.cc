@@ -642,9 +642,7 @@ Eigen::VectorXd SolveModel1(const SkillDesign& design,
       problem.SetParameterBlockConstant(k[3]);
     }
 
-  const int threads = options.num_threads > 0
-                          ? options.num_threads
-                          : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
+  const int threads = SkillSolverThreads(options);
   ceres::Solver::Options so =
       MakeSkillSolverOptions(options, ceres::SPARSE_NORMAL_CHOLESKY, threads);
   so.function_tolerance = options.model1_function_tolerance;
