@@ -11,7 +11,6 @@
 #include <cmath>
 #include <numbers>
 #include <sstream>
-#include <thread>
 
 #include "acro/analysis/keyframe_spline.h"
 #include "acro/analysis/quaternion_spline.h"

@@ -14,7 +14,6 @@
 #include <memory>
 #include <mutex>
 #include <sstream>
-#include <thread>
 
 #include "acro/analysis/standard_human.h"
 #include "acro/dynamics/inverse_dynamics.h"
