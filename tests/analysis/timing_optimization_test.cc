@@ -109,10 +109,8 @@ const SkillDesign& BackTuck() {
   return design;
 }
 
-// The designed motion passes through every keyframe pose at its time.
-TEST(TimingOptimization, TheMotionPassesThroughTheKeyframes) {
-  const SkillDesign& d = FrontExample();
-  const SkillTrajectory t = MakeKeyframeTrajectory(d, d.EvenTimes());
+// The motion t of design d is at every keyframe's pose at that keyframe's time.
+void ExpectKeyframePosesAtTheirTimes(const SkillDesign& d, const SkillTrajectory& t) {
   for (int i = 0; i < d.num_keyframes(); ++i) {
     const SkillMotionState s = EvalSkillMotion(d, t, t.times_s[i]);
     const Eigen::Quaterniond q(s.q[3], s.q[4], s.q[5], s.q[6]);
@@ -121,6 +119,13 @@ TEST(TimingOptimization, TheMotionPassesThroughTheKeyframes) {
         (s.q.tail(d.num_joint_dofs()) - d.keyframe_joint_angles_rad().col(i)).cwiseAbs().maxCoeff(),
         1e-12);
   }
+}
+
+// The designed motion passes through every keyframe pose at its time.
+TEST(TimingOptimization, TheMotionPassesThroughTheKeyframes) {
+  const SkillDesign& d = FrontExample();
+  const SkillTrajectory t = MakeKeyframeTrajectory(d, d.EvenTimes());
+  ExpectKeyframePosesAtTheirTimes(d, t);
 }
 
 // Model 1's gradient (gaps, and per knot the offsets of joint angles, orientation, joint rates and
@@ -155,14 +160,7 @@ TEST(TimingOptimization, Model1LocalFormIsConsistentWithItsDerivatives) {
   const SkillDesign& d = FrontExample();
   const SkillTrajectory t = MakeKnotTrajectory(MakeKeyframeTrajectory(d, d.EvenTimes()), 2);
   ASSERT_EQ(t.num_knots(), 23);
-  for (int i = 0; i < d.num_keyframes(); ++i) {
-    const SkillMotionState s = EvalSkillMotion(d, t, t.times_s[i]);
-    const Eigen::Quaterniond q(s.q[3], s.q[4], s.q[5], s.q[6]);
-    EXPECT_LT(q.angularDistance(d.keyframe_orientations()[static_cast<size_t>(i)]), 1e-7) << i;
-    EXPECT_LT(
-        (s.q.tail(d.num_joint_dofs()) - d.keyframe_joint_angles_rad().col(i)).cwiseAbs().maxCoeff(),
-        1e-12);
-  }
+  ExpectKeyframePosesAtTheirTimes(d, t);
   // h = 1e-5 s: truncation (h² × third derivatives of order 1e3 rad/s³) and rounding (ε/h) both
   // near 1e-7.
   const double h = 1e-5;
