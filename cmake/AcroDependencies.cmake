@@ -5,12 +5,21 @@ find_package(Eigen3 3.4 REQUIRED NO_MODULE)
 find_package(Threads REQUIRED)
 find_package(PkgConfig REQUIRED)
 
+# Formatting, YAML, JSON and the command line (Debian's libfmt-dev, libyaml-cpp-dev,
+# nlohmann-json3-dev, libcli11-dev).
+find_package(fmt REQUIRED)
+find_package(yaml-cpp REQUIRED)
+find_package(nlohmann_json 3.10 REQUIRED)
+find_package(CLI11 REQUIRED)
+
+# Cairo: every chart of every report, PNG and SVG, with no display (ui/report only).
+pkg_check_modules(CAIRO REQUIRED IMPORTED_TARGET cairo cairo-svg cairo-png)
+
 # FFmpeg (capture/src only).
 pkg_check_modules(FFMPEG REQUIRED IMPORTED_TARGET libavformat libavcodec libswscale libavutil)
 
-# Ceres, OpenCV, OpenMesh (analysis/src only).
+# Ceres and OpenMesh (analysis/*/src only).
 find_package(Ceres 2.1 REQUIRED)
-find_package(OpenCV 4 REQUIRED COMPONENTS core imgproc imgcodecs calib3d)
 find_package(OpenMesh QUIET CONFIG)
 if(NOT TARGET OpenMeshCore)
   # Debian's libopenmesh-dev ships headers and libraries without a usable CMake config in some versions.
@@ -21,7 +30,7 @@ if(NOT TARGET OpenMeshCore)
                                                 INTERFACE_INCLUDE_DIRECTORIES "${OPENMESH_INCLUDE_DIR}")
 endif()
 
-# VTK and Qt (ui/ only). Debian's VTK 9.1 config refers to MPI::MPI_C and JsonCpp::JsonCpp without
+# VTK and Qt (ui/views and ui/studio, the 3D views and the window; nothing else needs them). Debian's VTK 9.1 config refers to MPI::MPI_C and JsonCpp::JsonCpp without
 # creating them; without both targets CMake reports an error and does not regenerate correctly
 # (../shared/SETUP-NOTES.md). Provide them before find_package(VTK).
 if(ACRO_BUILD_UI)

@@ -5,8 +5,9 @@
 # out/trampoline_routine/report.html.
 set -euo pipefail
 cd "$(dirname "$0")/.."
-scripts/install-deps.sh
-scripts/build.sh
+# Only what the main job needs: the acrolab program, without tests, benchmarks, VTK or Qt.
+scripts/install-deps.sh --main
+ACRO_TARGETS=acrolab scripts/build.sh -DACRO_BUILD_TESTS=OFF -DACRO_BUILD_BENCHMARKS=OFF -DACRO_BUILD_UI=OFF
 trial=samples/trials/trampoline_routine/trampoline_routine.c3d
 out=out/trampoline_routine
 echo

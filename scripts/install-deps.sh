@@ -1,18 +1,32 @@
 #!/usr/bin/env bash
-# Installs Acrolab's build and test dependencies from Debian 12's packages (nothing else is
-# downloaded). Works as root and through sudo; does nothing when everything is already installed.
+# Installs Acrolab's dependencies from Debian 12's packages (nothing else is downloaded). Works as
+# root and through sudo; does nothing when everything is already installed.
+# Usage: scripts/install-deps.sh [--main]
+#   --main   only what `acrolab` itself needs (the README's first command): no test, benchmark,
+#            VTK, Qt or X packages.
 set -euo pipefail
 
-packages=(
+# What the acrolab program needs to build: compiler, Eigen, Ceres, OpenMesh, FFmpeg's libraries,
+# YAML, JSON, formatting, argument parsing, and Cairo for the report's charts.
+main_packages=(
   build-essential cmake pkg-config git ccache
-  libeigen3-dev libceres-dev libopencv-dev
+  libeigen3-dev libceres-dev libopenmesh-dev
+  libavformat-dev libavcodec-dev libswscale-dev libavutil-dev
+  libyaml-cpp-dev nlohmann-json3-dev libfmt-dev libcli11-dev libcairo2-dev
+)
+# Everything else: cameras (OpenCV), the 3D views and the window (VTK, Qt, Xvfb), the tests and
+# their oracles (GoogleTest, Simbody, the ffmpeg command), the benchmarks, the trial library.
+full_packages=(
+  libopencv-dev
   libvtk9-dev libvtk9-qt-dev qtbase5-dev libjsoncpp-dev
-  libopenmesh-dev
-  libavformat-dev libavcodec-dev libswscale-dev libavutil-dev ffmpeg
+  ffmpeg
   libgtest-dev libgmock-dev libbenchmark-dev
   libsqlite3-dev libsimbody-dev
   xvfb xauth
 )
+
+packages=("${main_packages[@]}")
+if [ "${1:-}" != "--main" ]; then packages+=("${full_packages[@]}"); fi
 
 missing=()
 for p in "${packages[@]}"; do

@@ -5,7 +5,7 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
-scripts/build.sh
+scripts/build.sh -DACRO_BUILD_TESTS=ON -DACRO_BUILD_BENCHMARKS=ON -DACRO_BUILD_UI=ON
 cd build
 # Rendering tests need a display: run under a virtual X server when one is not already there.
 runner=()

@@ -11,7 +11,7 @@
 
 #include "acro/base/input_error.h"
 #include "acro/capture/c3d.h"
-#include "acro/capture/file_io.h"
+#include "acro/base/file_io.h"
 #include "sample_routine.h"
 
 int main(int argc, char** argv) {
@@ -27,10 +27,10 @@ int main(int argc, char** argv) {
     const acro::samples::SampleRoutine routine = acro::samples::MakeSampleRoutine(athlete, label);
     std::filesystem::create_directories(dir);
     const std::vector<std::uint8_t> c3d = acro::capture::WriteC3dToMemory(routine.trial);
-    acro::capture::WriteFileAtomically(
+    acro::WriteFileAtomically(
         dir / "trampoline_routine.c3d",
         std::string_view(reinterpret_cast<const char*>(c3d.data()), c3d.size()));
-    acro::capture::WriteFileAtomically(dir / "truth.json", routine.TruthJson());
+    acro::WriteFileAtomically(dir / "truth.json", routine.TruthJson());
     std::printf("wrote %s: %d frames at %g Hz, %d points, %zu bytes\n",
                 (dir / "trampoline_routine.c3d").string().c_str(),
                 routine.trial.num_frames,

@@ -10,10 +10,10 @@
 
 #include <Eigen/Geometry>
 
-#include "acro/analysis/athlete_profile.h"
-#include "acro/analysis/markerset.h"
-#include "acro/analysis/skill_file.h"
-#include "acro/analysis/standard_human.h"
+#include "acro/athlete/athlete_profile.h"
+#include "acro/reconstruct/markerset.h"
+#include "acro/design/skill_file.h"
+#include "acro/athlete/standard_human.h"
 #include "acro/base/demand.h"
 #include "acro/base/json_writer.h"
 #include "acro/dynamics/configuration.h"

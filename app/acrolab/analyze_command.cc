@@ -3,14 +3,13 @@
 #include <filesystem>
 #include <optional>
 
-#include "acro/analysis/athlete_profile.h"
-#include "acro/analysis/de_leva.h"
-#include "acro/analysis/motion.h"
-#include "acro/analysis/standard_human.h"
-#include "acro/analysis/trial_analysis.h"
+#include "acro/athlete/athlete_profile.h"
+#include "acro/athlete/de_leva.h"
+#include "acro/athlete/motion.h"
+#include "acro/athlete/standard_human.h"
+#include "acro/assess/trial_analysis.h"
 #include "acro/capture/trial_io.h"
-#include "acro/ui/analysis_report.h"
-#include "acro/ui/offscreen.h"
+#include "acro/report/analysis_report.h"
 #include "commands.h"
 
 namespace acro::app {
@@ -112,23 +111,6 @@ int RunAnalyze(const std::vector<std::string>& args) {
       throw UsageError{"--joint: '" + report.joint +
                        "' is not a joint angle (e.g. r_hip_flexion, l_knee_flexion, "
                        "lumbar_flexion; docs/reconstruction.md)"};
-  }
-
-  // Plots need a display: without one, run again under Xvfb when it is installed (after the inputs
-  // are read, so that a bad one is refused in one line, and before the analysis; the relaunched
-  // process reads them again, a few milliseconds).
-  if (images) {
-    std::vector<std::string> argv = {"acrolab", "analyze"};
-    argv.insert(argv.end(), args.begin(), args.end());
-    std::error_code ec;
-    const std::filesystem::path self = std::filesystem::read_symlink("/proc/self/exe", ec);
-    if (!ec) argv[0] = self.string();
-    if (const auto command = ui::XvfbRelaunchCommand(argv, ui::DisplayEnvironment::FromProcess())) {
-      if (!quiet) std::fprintf(stderr, "acrolab analyze: no display; running under xvfb-run\n");
-      const std::string failure = ui::ExecCommand(*command);
-      std::fprintf(
-          stderr, "acrolab analyze: %s; the report will have no images\n", failure.c_str());
-    }
   }
 
   // The analysis, with one progress line per step and the IK's frames.

@@ -3,9 +3,9 @@
 
 #include <cstdio>
 
-#include "acro/analysis/athlete_profile.h"
-#include "acro/analysis/de_leva.h"
-#include "acro/analysis/yaml.h"
+#include "acro/athlete/athlete_profile.h"
+#include "acro/athlete/de_leva.h"
+#include "acro/athlete/yaml.h"
 #include "commands.h"
 
 namespace acro::app {

@@ -2,10 +2,10 @@
 #include <memory>
 #include <optional>
 
-#include "acro/analysis/athlete_profile.h"
-#include "acro/analysis/body_mesh.h"
-#include "acro/analysis/body_report.h"
-#include "acro/analysis/yaml.h"
+#include "acro/athlete/athlete_profile.h"
+#include "acro/athlete/body_mesh.h"
+#include "acro/report/body_report.h"
+#include "acro/athlete/yaml.h"
 #include "commands.h"
 
 namespace acro::app {
@@ -109,8 +109,8 @@ int RunBody(const std::vector<std::string>& args) {
   const analysis::AthleteBody posed = analysis::PoseAthleteBody(
       rest, analysis::ParseBodyPose(pose_spec.empty() ? "straight" : pose_spec));
   const analysis::ShapeInertias shapes = analysis::CalcShapeInertias(rest, posed);
-  const std::string report = json ? analysis::FormatBodyReportJson(posed, shapes, pose_spec)
-                                  : analysis::FormatBodyReportText(posed, shapes, pose_spec);
+  const std::string report = json ? ui::FormatBodyReportJson(posed, shapes, pose_spec)
+                                  : ui::FormatBodyReportText(posed, shapes, pose_spec);
   std::fputs(report.c_str(), stdout);
 
   // Mesh: Yeadon's solids, or inertia-equivalent ellipsoids for de Leva; skinned to the pose.

@@ -5,8 +5,8 @@
 #include <string>
 #include <vector>
 
-#include "acro/analysis/athlete_body.h"
-#include "acro/analysis/reconstruction.h"
+#include "acro/athlete/athlete_body.h"
+#include "acro/reconstruct/reconstruction.h"
 
 namespace acro::app {
 

@@ -40,15 +40,7 @@ int main(int argc, char** argv) {
     if (command == "body") return acro::app::RunBody(args);
     if (command == "reconstruct") return acro::app::RunReconstruct(args);
     if (command == "optimize") return acro::app::RunOptimize(args);
-#ifdef ACRO_NO_UI
-    if (command == "analyze") {
-      std::fprintf(
-          stderr, "acrolab: analyze needs the ui layer; this build has none (ACRO_BUILD_UI=OFF)\n");
-      return 2;
-    }
-#else
     if (command == "analyze") return acro::app::RunAnalyze(args);
-#endif
     if (command == "--version") {
       std::puts("acrolab 0.1.0");
       return 0;

@@ -2,8 +2,8 @@
 #include <optional>
 #include <string>
 
-#include "acro/analysis/skill_report.h"
-#include "acro/analysis/timing_optimization.h"
+#include "acro/report/skill_report.h"
+#include "acro/design/timing_optimization.h"
 #include "commands.h"
 
 namespace acro::app {
@@ -89,7 +89,7 @@ int RunOptimize(const std::vector<std::string>& args) {
     sim = analysis::SimulateSkill(design, result.optimized);
   }
   const std::vector<std::string> files =
-      analysis::WriteSkillOutputs(out_dir, design, result, sim ? &*sim : nullptr);
+      ui::WriteSkillOutputs(out_dir, design, result, sim ? &*sim : nullptr);
 
   // Summary.
   std::printf("%s (model %d)\n", skill.name.c_str(), result.model);

@@ -2,11 +2,11 @@
 #include <filesystem>
 #include <optional>
 
-#include "acro/analysis/athlete_profile.h"
-#include "acro/analysis/de_leva.h"
-#include "acro/analysis/motion_export.h"
-#include "acro/analysis/reconstruction.h"
-#include "acro/capture/file_io.h"
+#include "acro/athlete/athlete_profile.h"
+#include "acro/athlete/de_leva.h"
+#include "acro/reconstruct/motion_export.h"
+#include "acro/reconstruct/reconstruction.h"
+#include "acro/base/file_io.h"
 #include "acro/capture/trial_io.h"
 #include "commands.h"
 
@@ -93,13 +93,13 @@ int RunReconstruct(const std::vector<std::string>& args) {
   analysis::WriteMotionMot(result.motion, dir / (stem + ".mot"));
   analysis::WriteMotionCsv(result.motion, dir / (stem + "_angles.csv"));
   analysis::WriteMotionC3d(result, trial, dir / (stem + "_model.c3d"));
-  capture::WriteFileAtomically(dir / (stem + "_residuals.csv"),
+  WriteFileAtomically(dir / (stem + "_residuals.csv"),
                                analysis::FormatMarkerResidualsCsv(result.motion));
   const std::string summary = "trial " + trial_path + " (" + std::to_string(trial.num_frames) +
                               " frames at " + std::to_string(trial.point_rate_hz) + " Hz)\n" +
                               "athlete " + body.model + ", " + std::to_string(body.height_m) +
                               " m\n" + result.summary.BriefReport();
-  capture::WriteFileAtomically(dir / (stem + "_summary.txt"), summary);
+  WriteFileAtomically(dir / (stem + "_summary.txt"), summary);
   std::fputs(summary.c_str(), stdout);
   std::fprintf(stdout,
                "wrote %s/%s{.mot,_angles.csv,_model.c3d,_residuals.csv,_summary.txt}\n",

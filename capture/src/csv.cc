@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "acro/base/input_error.h"
-#include "acro/capture/file_io.h"
+#include "acro/base/file_io.h"
 #include "internal/text.h"
 
 namespace acro::capture {

@@ -3,7 +3,7 @@
 #include <algorithm>
 
 #include "acro/base/input_error.h"
-#include "acro/capture/file_io.h"
+#include "acro/base/file_io.h"
 #include "internal/text.h"
 
 namespace acro::capture {

@@ -3,7 +3,7 @@
 #include "acro/base/input_error.h"
 #include "acro/capture/c3d.h"
 #include "acro/capture/csv.h"
-#include "acro/capture/file_io.h"
+#include "acro/base/file_io.h"
 #include "acro/capture/trc.h"
 
 namespace acro::capture {

@@ -11,15 +11,14 @@
 #include <filesystem>
 #include <random>
 
-#include "acro/analysis/athlete_profile.h"
-#include "acro/analysis/markerset.h"
-#include "acro/analysis/trial_analysis.h"
+#include "acro/athlete/athlete_profile.h"
+#include "acro/reconstruct/markerset.h"
+#include "acro/assess/trial_analysis.h"
 #include "acro/capture/c3d.h"
 #include "acro/dynamics/configuration.h"
 #include "acro/dynamics/kinematics.h"
 #include "acro/dynamics/workspace.h"
-#include "acro/ui/analysis_report.h"
-#include "acro/ui/offscreen.h"
+#include "acro/report/analysis_report.h"
 #include "refdata.h"
 #include "sample_routine.h"
 
@@ -116,11 +115,6 @@ BENCHMARK(BM_AnalyzeNumbers)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 void BM_AnalyzeWithReport(benchmark::State& state) {
   const Scene& s = GetScene();
-  const acro::ui::RenderingStatus status = acro::ui::OffscreenRenderingStatus();
-  if (!status.available) {
-    state.SkipWithError(("no rendering here: " + status.reason).c_str());
-    return;
-  }
   const fs::path dir = fs::temp_directory_path() / "acrolab_analyze_bench";
   fs::create_directories(dir);
   for (auto _ : state) {

@@ -7,7 +7,7 @@
 
 #include <filesystem>
 
-#include "acro/analysis/timing_optimization.h"
+#include "acro/design/timing_optimization.h"
 
 namespace acro::analysis {
 namespace {

@@ -8,10 +8,10 @@
 #include <numbers>
 #include <random>
 
-#include "acro/analysis/de_leva.h"
-#include "acro/analysis/inverse_kinematics.h"
-#include "acro/analysis/markerset.h"
-#include "acro/analysis/standard_human.h"
+#include "acro/athlete/de_leva.h"
+#include "acro/reconstruct/inverse_kinematics.h"
+#include "acro/reconstruct/markerset.h"
+#include "acro/athlete/standard_human.h"
 #include "acro/dynamics/configuration.h"
 #include "acro/dynamics/kinematics.h"
 

@@ -1,17 +1,16 @@
 // Report rendering: one 900 × 360 px chart of two 2000-point series (one with a NaN gap), three
-// shaded phases and a reference line, rendered offscreen by VTK and encoded as PNG in memory.
+// shaded phases and a reference line, drawn by Cairo and encoded as PNG or SVG in memory.
 // Needs a display: run under xvfb-run -a (docs/performance.md).
 #include <benchmark/benchmark.h>
 
 #include <cmath>
 #include <limits>
 
-#include "acro/ui/chart.h"
+#include "acro/report/chart.h"
 
 namespace {
 
 using acro::ui::Chart;
-using acro::ui::ChartRenderer;
 
 // 10 s at 200 Hz: a COM-height-like bounce and a residual-like noise, three flight bands.
 Chart MakeReportChart() {
@@ -37,18 +36,12 @@ Chart MakeReportChart() {
   return chart;
 }
 
-// The report's case: one renderer (window and OpenGL context) reused for every chart.
+// One report chart as PNG (Cairo: draw, then libpng's deflate) and as SVG.
 void BM_RenderChartPng_900x360_2x2000(benchmark::State& state) {
-  const acro::ui::RenderingStatus status = acro::ui::OffscreenRenderingStatus();
-  if (!status.available) {
-    state.SkipWithError(status.reason.c_str());
-    return;
-  }
   const Chart chart = MakeReportChart();
-  ChartRenderer renderer;
   std::size_t bytes = 0;
   for (auto _ : state) {
-    const std::vector<std::uint8_t> png = renderer.RenderPngBytes(chart);
+    const std::vector<std::uint8_t> png = acro::ui::RenderChartPng(chart);
     bytes = png.size();
     benchmark::DoNotOptimize(png.data());
   }
@@ -56,20 +49,17 @@ void BM_RenderChartPng_900x360_2x2000(benchmark::State& state) {
 }
 BENCHMARK(BM_RenderChartPng_900x360_2x2000)->Unit(benchmark::kMillisecond)->UseRealTime();
 
-// A one-off chart: a fresh renderer each time, so window and context creation are included.
-void BM_RenderChartPng_FreshRenderer(benchmark::State& state) {
-  const acro::ui::RenderingStatus status = acro::ui::OffscreenRenderingStatus();
-  if (!status.available) {
-    state.SkipWithError(status.reason.c_str());
-    return;
-  }
+void BM_RenderChartSvg_900x360_2x2000(benchmark::State& state) {
   const Chart chart = MakeReportChart();
+  std::size_t bytes = 0;
   for (auto _ : state) {
-    ChartRenderer renderer;
-    benchmark::DoNotOptimize(renderer.RenderPngBytes(chart).data());
+    const std::string svg = acro::ui::RenderChartSvg(chart);
+    bytes = svg.size();
+    benchmark::DoNotOptimize(svg.data());
   }
+  state.counters["svg_kB"] = static_cast<double>(bytes) / 1000.0;
 }
-BENCHMARK(BM_RenderChartPng_FreshRenderer)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_RenderChartSvg_900x360_2x2000)->Unit(benchmark::kMillisecond)->UseRealTime();
 
 }  // namespace
 

@@ -1,0 +1,78 @@
+#pragma once
+
+// Somersault, twist and shape of one flight from the root orientation and the hip and knee angles:
+// what the FIG numeric code counts.
+
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+
+#include "acro/assess/fig_skill.h"
+
+namespace acro::analysis {
+
+/// Somersault, tilt and twist angles of a body relative to a somersault frame S whose y axis is the
+/// horizontal somersault axis and z is up (Yeadon 1990, J. Biomech. 23(1):59–66: orientation as
+/// somersault about a fixed lateral axis, then tilt, then twist about the body's long axis):
+/// R_SB = R_y(somersault) · R_x(tilt) · R_z(twist), unwrapped over time. Body axes as in the
+/// standard human's reference pose: x forward, y left, z up the trunk. Positive somersault is
+/// forward (the head moves to the front).
+struct RotationAngles {
+  Eigen::VectorXd somersault_rad;
+  Eigen::VectorXd tilt_rad;
+  Eigen::VectorXd twist_rad;
+};
+
+/// Angles for the orientations R_WB (one per frame) about the somersault axis `lateral_W`
+/// (projected onto the horizontal plane).
+RotationAngles CalcRotationAngles(const std::vector<Eigen::Quaterniond>& q_WB,
+                                  const Eigen::Vector3d& lateral_W);
+
+/// Body position at a take-off or a landing, in somersault quarters from upright.
+enum class BodyPosition { kFeet = 0, kFront = 1, kBack = -1 };
+
+struct JumpRotationOptions {
+  /// A body whose long axis leans less than this from vertical is upright (feet or seat).
+  double upright_max_lean_deg = 55.0;
+  /// Somersault done on the bed (take-off plus landing) between upright positions, in quarters: the
+  /// in-air rotation of a feet-to-feet skill falls short of the nominal by about this (a double
+  /// shows ~1¾ turns in the air, a single ¾–⅞; DESIGN.md, "Trampoline facts").
+  double bed_rotation_quarters = 1.0;
+  /// Shape from the anatomical hip and knee flexion at the most flexed instant of the flight.
+  double pike_min_hip_flexion_deg = 60.0;   ///< hips closed at least this much: tuck or pike
+  double tuck_min_knee_flexion_deg = 70.0;  ///< knees bent at least this much: tuck (else pike)
+
+  bool IsValid(std::string* why) const;
+};
+
+/// What one flight's rotation amounts to.
+struct JumpRotation {
+  FigSkill skill;  ///< quarters, half twists per somersault, shape, direction
+  double measured_somersault_rad =
+      0;                          ///< in the air, take-off to landing (signed, forward positive)
+  double measured_twist_rad = 0;  ///< in the air (signed)
+  BodyPosition takeoff_position = BodyPosition::kFeet;
+  BodyPosition landing_position = BodyPosition::kFeet;
+  double max_hip_flexion_deg = 0;  ///< anatomical, mean of both sides, at the most flexed instant
+  double knee_flexion_at_max_hip_deg = 0;
+};
+
+/// Counts the rotation of a flight between `takeoff_frame` and `landing_frame` (inclusive). The
+/// somersault axis is the normal of the plane the root's long axis sweeps (twist does not move it),
+/// made horizontal; for jumps, the root's lateral axis at take-off. The nominal quarter
+/// count is resolved against the take-off and landing positions: the nearest count congruent to the
+/// position change (mod 4) to the in-air rotation plus the rotation done on the bed. Twists are
+/// assigned to somersaults by the nominal somersault angle (half the bed rotation before take-off);
+/// the twist of a last, incomplete somersault belongs to it. `hip_flexion_rad` and
+/// `knee_flexion_rad` are anatomical flexion (positive when flexed) per frame, either may be empty
+/// (shape then straight).
+JumpRotation CountJumpRotation(const std::vector<Eigen::Quaterniond>& q_WB,
+                               int takeoff_frame,
+                               int landing_frame,
+                               const Eigen::VectorXd& hip_flexion_rad,
+                               const Eigen::VectorXd& knee_flexion_rad,
+                               const JumpRotationOptions& options = {});
+
+}  // namespace acro::analysis

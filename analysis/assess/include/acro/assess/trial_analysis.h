@@ -1,0 +1,146 @@
+#pragma once
+
+// The main job: a recorded trial → the athlete's motion → a verdict on the data → the numbers of
+// every jump (docs/metrics.md, docs/physical-check.md). Steps, each reported in the result:
+// reconstruction (reconstruction.h), flight and contact phases (phases.h: from force plates when
+// the trial has them, otherwise from the whole-body COM), the physical-correctness check with its
+// localisation (physical_check.h), and per flight the jump metrics — time of flight, apex, take-off
+// velocity, horizontal displacement, somersaults, twists, shape, FIG code and difficulty.
+
+#include <filesystem>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "acro/athlete/athlete_body.h"
+#include "acro/assess/fig_skill.h"
+#include "acro/assess/jump_rotation.h"
+#include "acro/assess/phases.h"
+#include "acro/assess/physical_check.h"
+#include "acro/reconstruct/reconstruction.h"
+#include "acro/capture/storage.h"
+#include "acro/capture/trial.h"
+
+namespace acro::analysis {
+
+/// The trampoline bed as the trial shows it: the centre of the woven bed at rest (the cross), its
+/// long axis (horizontal, unit) and size.
+struct BedGeometry {
+  Eigen::Vector3d centre_W = Eigen::Vector3d::Zero();
+  Eigen::Vector3d long_axis_W = Eigen::Vector3d::UnitX();
+  double length_m = 4.28;  ///< FIG norms: the woven bed is about 4.28 m × 2.14 m
+  double width_m = 2.14;
+  std::string source;  ///< "markers BED_C1–BED_C4", "option"
+};
+
+/// The bed from four static markers at the corners of the woven bed: points whose labels start
+/// with "BED" (any case) and that are present in at least half of the frames. Centre = the mean of
+/// their median positions; long axis along the longer pair of opposite sides. Nothing when fewer
+/// than four such markers exist.
+std::optional<BedGeometry> FindBed(const capture::Trial& trial);
+
+struct TrialAnalysisOptions {
+  ReconstructionOptions reconstruction;
+  PhaseOptions phases;
+  /// Use the trial's force plates for the phases when it has any (else the whole-body COM).
+  bool use_force_plates = true;
+  PhysicalCheckOptions check;
+  JumpRotationOptions rotation;
+  /// Localise a failed verdict (swaps, timing, segment masses, worst markers).
+  bool localise = true;
+  /// The bed; empty: found from the trial's markers (FindBed) when it has them.
+  std::optional<BedGeometry> bed;
+  /// Without a bed: the height of the surface the athlete takes off from (a trampoline bed at rest,
+  /// 1.155 m above the floor by the FIG norms; the floor), so that the phases come from the soles.
+  /// Empty: the phases come from the COM.
+  std::optional<double> surface_height_m;
+  /// One line per step ("reconstruct: …", "phases: …") as the analysis goes.
+  std::function<void(const std::string&)> progress;
+
+  bool IsValid(std::string* why) const;
+};
+
+/// The numbers of one flight (one skill).
+struct JumpMetrics {
+  int index = 0;  ///< 1-based, in the order of the flights
+  Flight flight;  ///< events and the COM parabola
+  /// Cut by the start or end of the recording: flagged, not scored.
+  bool partial() const { return flight.partial; }
+  double time_of_flight_s() const { return flight.time_of_flight_s(); }
+  double apex_m() const { return flight.apex_z_m; }  ///< COM apex height in W (z)
+  double takeoff_vertical_velocity_m_per_s() const {
+    return flight.takeoff_vertical_velocity_m_per_s;
+  }
+  /// COM apex above the bed at rest (when the bed is known, else NaN).
+  double apex_above_bed_m = 0.0;
+  /// Midpoint of the soles at take-off and at landing (interpolated at the event times), in W.
+  Eigen::Vector3d takeoff_feet_W = Eigen::Vector3d::Zero();
+  Eigen::Vector3d landing_feet_W = Eigen::Vector3d::Zero();
+  /// Horizontal distance of the landing from the take-off (m).
+  double displacement_from_takeoff_m = 0.0;
+  /// Horizontal distance of the landing from the bed's centre, and the landing in the bed's axes
+  /// (along the long axis, across it), when the bed is known (else NaN).
+  double displacement_from_centre_m = 0.0;
+  Eigen::Vector2d landing_in_bed_m = Eigen::Vector2d::Zero();
+  /// Whether the landing lies in the FIG zone A (2.15 m × 1.08 m about the centre), when known.
+  std::optional<bool> landing_in_zone_a;
+  JumpRotation rotation;
+  std::string fig_code;
+  std::string skill_name;  ///< the usual name ("barani"), or empty
+  FigDifficulty difficulty;
+  /// The physical check of this flight (when judged), else nothing.
+  std::optional<FlightCheck> check;
+  std::string verdict;  ///< "pass", "fail: …", or "not judged: …"
+};
+
+struct TrialAnalysis {
+  std::string trial_name;
+  ReconstructionResult reconstruction;
+  PhaseSegmentation phases;
+  PhysicalCheck check;
+  PhysicalCheckOptions check_options;  ///< the thresholds the check used
+  std::optional<BedGeometry> bed;
+  std::vector<JumpMetrics> jumps;
+  /// Routine totals over the complete (scored) skills: DD and the time of flight the judges sum.
+  int num_scored = 0;
+  double total_difficulty = 0.0;
+  double total_time_of_flight_s = 0.0;
+  double stature_m = 0.0;  ///< the height the moments are normalised by
+  double mass_kg = 0.0;
+  /// The lowest sole's height per frame (the COM per frame is check.frames.com_W).
+  Eigen::VectorXd feet_z_m;
+  std::vector<std::string> warnings;
+  /// Wall time of the steps (s).
+  double reconstruct_s = 0.0;
+  double check_s = 0.0;
+  double metrics_s = 0.0;
+  /// A few lines: routine summary, verdict, per-jump codes.
+  std::string BriefReport() const;
+};
+
+/// Runs the whole analysis. `static_trial` (optional) scales the model. Throws acro::InputError
+/// for invalid options or when no marker set matches the trial.
+TrialAnalysis AnalyzeTrial(const capture::Trial& trial,
+                           const capture::Trial* static_trial,
+                           const AthleteBody& body,
+                           const TrialAnalysisOptions& options = {});
+
+/// The jumps as a JSON array, one object per flight (docs/cli.md, "acrolab analyze").
+std::string FormatJumpsJson(const TrialAnalysis& analysis);
+
+/// Per frame: time, phase (flight k / contact), root residual force (BW) and moment (BW·h) in W
+/// with their norms, angular momentum about the COM (kg·m²/s), COM position (m), the lowest sole's
+/// height (m).
+std::string FormatResidualsCsv(const TrialAnalysis& analysis);
+
+/// The joint torques as an OpenSim .sto table (N·m, one column per joint axis, named by the
+/// coordinates: `r_hip_flexion_moment`, …).
+capture::Storage MakeTorqueStorage(const TrialAnalysis& analysis);
+
+/// Writes DIR/jumps.json, DIR/angles.mot, DIR/torques.sto and DIR/residuals.csv (each atomically).
+void WriteAnalysisTables(const TrialAnalysis& analysis, const std::filesystem::path& dir);
+
+}  // namespace acro::analysis

@@ -1,0 +1,182 @@
+#include "acro/assess/jump_rotation.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include <Eigen/Eigenvalues>
+
+#include "acro/base/demand.h"
+
+namespace acro::analysis {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDeg = kPi / 180.0;
+
+// Unwraps angle jumps larger than π between consecutive samples.
+void Unwrap(Eigen::VectorXd* angles) {
+  for (Eigen::Index i = 1; i < angles->size(); ++i) {
+    double d = (*angles)[i] - (*angles)[i - 1];
+    while (d > kPi) {
+      (*angles)[i] -= 2 * kPi;
+      d -= 2 * kPi;
+    }
+    while (d < -kPi) {
+      (*angles)[i] += 2 * kPi;
+      d += 2 * kPi;
+    }
+  }
+}
+
+// Upright when the long axis leans less than the limit; otherwise front (facing down) or back.
+BodyPosition ClassifyPosition(const Eigen::Quaterniond& q_WB, double max_lean_deg) {
+  const Eigen::Matrix3d R = q_WB.toRotationMatrix();
+  const double lean = std::acos(std::clamp(R(2, 2), -1.0, 1.0));
+  if (lean < max_lean_deg * kDeg || lean > kPi - max_lean_deg * kDeg) return BodyPosition::kFeet;
+  return R(2, 0) < 0 ? BodyPosition::kFront
+                     : BodyPosition::kBack;  // body x (front) pointing down: prone
+}
+
+// The somersault axis of a flight. The body's long axis z_B sweeps the plane perpendicular to it
+// whatever the twist, so it is the normal of the best-fit plane through the z_B(t) (the eigenvector
+// of Σ z zᵀ with the smallest eigenvalue), signed like the lateral axis at take-off. When the long
+// axis hardly moves (a jump), the lateral axis at take-off is used.
+Eigen::Vector3d SomersaultAxis(const std::vector<Eigen::Quaterniond>& flight) {
+  const Eigen::Vector3d lateral0 = flight.front().normalized() * Eigen::Vector3d::UnitY();
+  Eigen::Matrix3d scatter = Eigen::Matrix3d::Zero();
+  for (const Eigen::Quaterniond& q : flight) {
+    const Eigen::Vector3d z = q.normalized() * Eigen::Vector3d::UnitZ();
+    scatter += z * z.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(scatter / double(flight.size()));
+  // Eigenvalues ascending: the sweep is planar and wide when the middle one is not small (a long
+  // axis that turns through 60° or more spreads at least 0.1 of its weight off its mean direction).
+  if (eigen.eigenvalues()[1] < 0.05) return lateral0;
+  Eigen::Vector3d axis = eigen.eigenvectors().col(0);
+  if (axis.dot(lateral0) < 0) axis = -axis;
+  return axis;
+}
+
+// The integer nearest to `target` that is congruent to `residue` modulo 4.
+int NearestCongruent(double target, int residue) {
+  const int r = ((residue % 4) + 4) % 4;
+  const int base = static_cast<int>(std::floor((target - r) / 4.0)) * 4 + r;
+  return (std::abs(base - target) <= std::abs(base + 4 - target)) ? base : base + 4;
+}
+
+}  // namespace
+
+bool JumpRotationOptions::IsValid(std::string* why) const {
+  auto fail = [&](const char* what) {
+    if (why) *why = what;
+    return false;
+  };
+  if (!(upright_max_lean_deg > 0 && upright_max_lean_deg < 90))
+    return fail("upright_max_lean_deg must be in (0, 90)");
+  if (!(bed_rotation_quarters >= 0 && bed_rotation_quarters < 2))
+    return fail("bed_rotation_quarters must be in [0, 2)");
+  if (!(pike_min_hip_flexion_deg > 0)) return fail("pike_min_hip_flexion_deg must be positive");
+  if (!(tuck_min_knee_flexion_deg > 0)) return fail("tuck_min_knee_flexion_deg must be positive");
+  return true;
+}
+
+RotationAngles CalcRotationAngles(const std::vector<Eigen::Quaterniond>& q_WB,
+                                  const Eigen::Vector3d& lateral_W) {
+  // The somersault frame S: y the horizontal lateral axis, z up, x = y × z.
+  Eigen::Vector3d y_S(lateral_W.x(), lateral_W.y(), 0.0);
+  ACRO_DEMAND(y_S.norm() > 1e-9);
+  y_S.normalize();
+  const Eigen::Vector3d z_S = Eigen::Vector3d::UnitZ();
+  Eigen::Matrix3d R_WS;
+  R_WS << y_S.cross(z_S), y_S, z_S;
+  const int n = static_cast<int>(q_WB.size());
+  RotationAngles out;
+  out.somersault_rad.resize(n);
+  out.tilt_rad.resize(n);
+  out.twist_rad.resize(n);
+  for (int i = 0; i < n; ++i) {
+    const Eigen::Matrix3d R =
+        R_WS.transpose() * q_WB[static_cast<std::size_t>(i)].normalized().toRotationMatrix();
+    // R = R_y(φ) R_x(θ) R_z(ψ): row 1 is [cθ sψ, cθ cψ, −sθ], column 2 is [sφ cθ, −sθ, cφ cθ].
+    out.tilt_rad[i] = std::asin(std::clamp(-R(1, 2), -1.0, 1.0));
+    out.twist_rad[i] = std::atan2(R(1, 0), R(1, 1));
+    out.somersault_rad[i] = std::atan2(R(0, 2), R(2, 2));
+  }
+  Unwrap(&out.somersault_rad);
+  Unwrap(&out.twist_rad);
+  return out;
+}
+
+JumpRotation CountJumpRotation(const std::vector<Eigen::Quaterniond>& q_WB,
+                               int takeoff_frame,
+                               int landing_frame,
+                               const Eigen::VectorXd& hip_flexion_rad,
+                               const Eigen::VectorXd& knee_flexion_rad,
+                               const JumpRotationOptions& options) {
+  std::string why;
+  ACRO_DEMAND(options.IsValid(&why));
+  ACRO_DEMAND(takeoff_frame >= 0 && landing_frame > takeoff_frame &&
+              landing_frame < static_cast<int>(q_WB.size()));
+  JumpRotation out;
+  const std::vector<Eigen::Quaterniond> flight(q_WB.begin() + takeoff_frame,
+                                               q_WB.begin() + landing_frame + 1);
+  const Eigen::Vector3d lateral_W = SomersaultAxis(flight);
+  const RotationAngles angles = CalcRotationAngles(flight, lateral_W);
+  const int n = static_cast<int>(flight.size());
+  out.measured_somersault_rad = angles.somersault_rad[n - 1] - angles.somersault_rad[0];
+  out.measured_twist_rad = angles.twist_rad[n - 1] - angles.twist_rad[0];
+  out.takeoff_position = ClassifyPosition(flight.front(), options.upright_max_lean_deg);
+  out.landing_position = ClassifyPosition(flight.back(), options.upright_max_lean_deg);
+
+  // Nominal quarters: congruent to the change of position, nearest to the in-air rotation plus what
+  // happens on the bed (in the direction of rotation).
+  const double measured_quarters = out.measured_somersault_rad / (kPi / 2);
+  const bool both_upright =
+      out.takeoff_position == BodyPosition::kFeet && out.landing_position == BodyPosition::kFeet;
+  const double bed = (both_upright ? 1.0 : 0.5) * options.bed_rotation_quarters;
+  const double direction_sign = measured_quarters >= 0 ? 1.0 : -1.0;
+  const int residue =
+      static_cast<int>(out.landing_position) - static_cast<int>(out.takeoff_position);
+  const int signed_quarters = NearestCongruent(measured_quarters + direction_sign * bed, residue);
+  FigSkill& skill = out.skill;
+  skill.quarter_somersaults = std::abs(signed_quarters);
+  skill.direction = skill.quarter_somersaults == 0 ? SomersaultDirection::kNone
+                    : signed_quarters > 0          ? SomersaultDirection::kForward
+                                                   : SomersaultDirection::kBackward;
+
+  // Twists per somersault: the nominal somersault angle runs from the bed rotation done before
+  // take-off (half the shortfall) to the nominal total; each full turn is one somersault.
+  const int slots = FigSkill::SomersaultSlots(skill.quarter_somersaults);
+  const double before_takeoff =
+      std::max(0.0, (skill.quarter_somersaults - std::abs(measured_quarters)) / 2) * kPi / 2;
+  std::vector<double> twist_in_slot(static_cast<std::size_t>(slots), 0.0);
+  for (int i = 1; i < n; ++i) {
+    const double progress =
+        before_takeoff + 0.5 * std::abs((angles.somersault_rad[i] + angles.somersault_rad[i - 1]) -
+                                        2 * angles.somersault_rad[0]);
+    const int slot = std::clamp(static_cast<int>(progress / (2 * kPi)), 0, slots - 1);
+    twist_in_slot[static_cast<std::size_t>(slot)] += angles.twist_rad[i] - angles.twist_rad[i - 1];
+  }
+  for (double twist : twist_in_slot)
+    skill.half_twists.push_back(static_cast<int>(std::lround(std::abs(twist) / kPi)));
+
+  // Shape at the most flexed instant of the flight.
+  skill.shape = SkillShape::kStraight;
+  if (hip_flexion_rad.size() > landing_frame) {
+    int best = takeoff_frame;
+    for (int i = takeoff_frame; i <= landing_frame; ++i) {
+      if (hip_flexion_rad[i] > hip_flexion_rad[best]) best = i;
+    }
+    out.max_hip_flexion_deg = hip_flexion_rad[best] / kDeg;
+    out.knee_flexion_at_max_hip_deg =
+        knee_flexion_rad.size() > best ? knee_flexion_rad[best] / kDeg : 0.0;
+    if (out.max_hip_flexion_deg >= options.pike_min_hip_flexion_deg) {
+      skill.shape = out.knee_flexion_at_max_hip_deg >= options.tuck_min_knee_flexion_deg
+                        ? SkillShape::kTuck
+                        : SkillShape::kPike;
+    }
+  }
+  return out;
+}
+
+}  // namespace acro::analysis

@@ -1,0 +1,770 @@
+#include "acro/assess/physical_check.h"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include <Eigen/Dense>
+#include <Eigen/Geometry>
+
+#include "acro/base/demand.h"
+#include "acro/dynamics/configuration.h"
+#include "acro/dynamics/inverse_dynamics.h"
+#include "acro/dynamics/kinematics.h"
+#include "acro/dynamics/workspace.h"
+
+namespace acro::analysis {
+namespace {
+
+using Eigen::Matrix3d;
+using Eigen::Quaterniond;
+using Eigen::Vector3d;
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+double FrameStep(const Motion& motion) {
+  const int n = motion.num_frames();
+  ACRO_DEMAND(n >= 2);
+  return (motion.time_s[n - 1] - motion.time_s[0]) / (n - 1);
+}
+
+/// Rotation vector of R (axis × angle, angle in [0, π]).
+Vector3d RotationVector(const Matrix3d& R) {
+  const Eigen::AngleAxisd aa(R);
+  return aa.axis() * aa.angle();
+}
+
+/// Derivative at sample i of a series given by `at(k)` (k = −2 … 2 relative to i, where they
+/// exist among n samples): the five-point central stencil (truncation O(dt⁴); a body somersaulting
+/// at 15 rad/s needs it — the three-point stencil's error of dt²/12·ω⁴·r is 0.03 m/s² at 200 Hz),
+/// three-point or one-sided nearer the ends.
+template <typename Value, typename Series>
+Value FirstDerivative(int i, int n, double dt, const Series& at) {
+  if (i >= 2 && i + 2 < n) return (at(-2) - 8.0 * at(-1) + 8.0 * at(1) - at(2)) / (12.0 * dt);
+  const int lo = i > 0 ? -1 : 0;
+  const int hi = i + 1 < n ? 1 : 0;
+  return (at(hi) - at(lo)) / (static_cast<double>(hi - lo) * dt);
+}
+
+template <typename Value, typename Series>
+Value SecondDerivative(int i, int n, double dt, const Series& at) {
+  if (i >= 2 && i + 2 < n)
+    return (-at(-2) + 16.0 * at(-1) - 30.0 * at(0) + 16.0 * at(1) - at(2)) / (12.0 * dt * dt);
+  const int c = std::clamp(i, 1, n - 2) - i;  // the nearest three-point stencil
+  return (at(c + 1) - 2.0 * at(c) + at(c - 1)) / (dt * dt);
+}
+
+/// First and second derivatives of the rows of x.
+void Differentiate(const Eigen::MatrixXd& x, double dt, Eigen::MatrixXd& dx, Eigen::MatrixXd& ddx) {
+  const int n = static_cast<int>(x.cols());
+  dx.resize(x.rows(), n);
+  ddx.resize(x.rows(), n);
+  for (int i = 0; i < n; ++i) {
+    const auto at = [&](int k) -> Eigen::VectorXd { return x.col(i + k); };
+    dx.col(i) = FirstDerivative<Eigen::VectorXd>(i, n, dt, at);
+    ddx.col(i) = SecondDerivative<Eigen::VectorXd>(i, n, dt, at);
+  }
+}
+
+/// Angular velocities (and, when `wdot` is given, accelerations) of a sequence of orientations by
+/// the five-point stencils on the rotation vectors relative to sample i: φ_k = Log(R_iᵀ R_k) in
+/// the frame of sample i. With φ(t_i) = 0, φ̇ = J_r⁻¹(φ) ω_B gives φ̇(t_i) = ω_B, and since
+/// J_r⁻¹(φ) = I + ½[φ]× + O(φ²), φ̈(t_i) = ½ ω_B × ω_B + ω̇_B = ω̇_B: both come from the same
+/// samples, so the acceleration needs no second differencing of differenced velocities (which
+/// would reach four frames instead of two). Returned in the moving frame (body = true) or in W.
+Eigen::Matrix3Xd AngularVelocities(const std::vector<Matrix3d>& R,
+                                   double dt,
+                                   bool body,
+                                   Eigen::Matrix3Xd* wdot = nullptr) {
+  const int n = static_cast<int>(R.size());
+  Eigen::Matrix3Xd w(3, n);
+  if (wdot != nullptr) wdot->resize(3, n);
+  for (int i = 0; i < n; ++i) {
+    const Matrix3d& Ri = R[static_cast<size_t>(i)];
+    const auto at = [&](int k) -> Vector3d {
+      return k == 0 ? Vector3d::Zero()
+                    : RotationVector(Ri.transpose() * R[static_cast<size_t>(i + k)]);
+    };
+    const Vector3d w_B = FirstDerivative<Vector3d>(i, n, dt, at);
+    w.col(i) = body ? w_B : Vector3d(Ri * w_B);
+    if (wdot != nullptr) {
+      const Vector3d wdot_B = SecondDerivative<Vector3d>(i, n, dt, at);
+      wdot->col(i) = body ? wdot_B : Vector3d(Ri * wdot_B);
+    }
+  }
+  return w;
+}
+
+std::string Format(const char* fmt, double a, double b = 0.0, double c = 0.0) {
+  char buffer[256];
+  std::snprintf(buffer, sizeof buffer, fmt, a, b, c);
+  return buffer;
+}
+
+/// Frames of the complete flights that the check judged.
+std::vector<int> JudgedFrames(const PhysicalCheck& check) {
+  std::vector<int> frames;
+  for (const FlightCheck& f : check.flights)
+    for (int i = f.first_frame; i <= f.last_frame; ++i) frames.push_back(i);
+  return frames;
+}
+
+}  // namespace
+
+std::string FlightCheck::FailureText() const {
+  std::string text;
+  for (size_t i = 0; i < failures.size(); ++i) text += (i ? ", " : "") + failures[i];
+  return text;
+}
+
+bool PhysicalCheckOptions::IsValid(std::string* why) const {
+  auto fail = [&](const std::string& what) {
+    if (why) *why = what;
+    return false;
+  };
+  if (!(max_force_bw > 0)) return fail("max_force_bw must be positive");
+  if (!(max_moment_bwh > 0)) return fail("max_moment_bwh must be positive");
+  if (!(max_momentum_variation > 0)) return fail("max_momentum_variation must be positive");
+  if (!(momentum_floor_mh2_per_s > 0)) return fail("momentum_floor_mh2_per_s must be positive");
+  if (!(max_gravity_error > 0)) return fail("max_gravity_error must be positive");
+  if (!(max_marker_error_m > 0)) return fail("max_marker_error_m must be positive");
+  if (std::isnan(edge_margin_s)) return fail("edge_margin_s is not a number");
+  if (!(residual_window_s >= 0)) return fail("residual_window_s must be non-negative");
+  return true;
+}
+
+void CalcMotionDerivatives(const dynamics::Model<double>& model,
+                           const Motion& motion,
+                           Eigen::MatrixXd& v,
+                           Eigen::MatrixXd& a) {
+  ACRO_DEMAND(motion.nq() == model.nq());
+  const int n = motion.num_frames();
+  const int nj = model.num_joint_dofs();
+  const double dt = FrameStep(motion);
+  v.setZero(model.nv(), n);
+  a.setZero(model.nv(), n);
+
+  // Root position and joint angles: plain central differences.
+  Eigen::MatrixXd x(3 + nj, n);
+  x.topRows(3) = motion.q.topRows(3);
+  x.bottomRows(nj) = motion.q.bottomRows(nj);
+  Eigen::MatrixXd dx, ddx;
+  Differentiate(x, dt, dx, ddx);
+  v.topRows(3) = dx.topRows(3);
+  a.topRows(3) = ddx.topRows(3);
+  v.bottomRows(nj) = dx.bottomRows(nj);
+  a.bottomRows(nj) = ddx.bottomRows(nj);
+
+  // Root angular velocity in B and its rate.
+  std::vector<Matrix3d> R(static_cast<size_t>(n));
+  for (int i = 0; i < n; ++i)
+    R[static_cast<size_t>(i)] =
+        dynamics::GetRootQuaternion(motion.q.col(i)).normalized().toRotationMatrix();
+  Eigen::Matrix3Xd wdot;
+  v.middleRows(3, 3) = AngularVelocities(R, dt, /*body=*/true, &wdot);
+  a.middleRows(3, 3) = wdot;
+}
+
+FrameDynamics CalcFrameDynamics(const dynamics::Model<double>& model,
+                                const Motion& motion,
+                                double height_m) {
+  ACRO_DEMAND(height_m > 0);
+  FrameDynamics out;
+  CalcMotionDerivatives(model, motion, out.v, out.a);
+  const int n = motion.num_frames();
+  out.joint_torque_Nm.resize(model.num_joint_dofs(), n);
+  out.force_bw.resize(3, n);
+  out.moment_bwh.resize(3, n);
+  out.com_W.resize(3, n);
+  out.angular_momentum.resize(3, n);
+  dynamics::Workspace<double> ws(model);
+  Eigen::VectorXd q(model.nq()), v(model.nv()), a(model.nv());
+  for (int i = 0; i < n; ++i) {
+    q = motion.q.col(i);
+    v = out.v.col(i);
+    a = out.a.col(i);
+    const Eigen::VectorXd& tau = dynamics::CalcInverseDynamics(model, ws, q, v, a);
+    out.joint_torque_Nm.col(i) = tau.tail(model.num_joint_dofs());
+    const dynamics::RootResidual<double> r = dynamics::CalcRootResidual(model, ws, height_m);
+    out.force_bw.col(i) = r.force_per_weight;
+    out.moment_bwh.col(i) = r.moment_per_weight_height;
+    dynamics::CalcForwardKinematics(model, ws, q, v);
+    out.com_W.col(i) = dynamics::CalcCenterOfMassPosition(model, ws);
+    out.angular_momentum.col(i) = dynamics::CalcCentroidalMomentum(model, ws).rotational();
+  }
+  return out;
+}
+
+Eigen::MatrixXd CalcSegmentWrenches(const dynamics::Model<double>& model,
+                                    const Motion& motion,
+                                    const Vector3d& p_WoP_W) {
+  const int n = motion.num_frames();
+  const int ns = model.num_segments();
+  const double dt = FrameStep(motion);
+  // Segment centres of mass and orientations on every frame.
+  Eigen::Matrix3Xd c(3, static_cast<Eigen::Index>(n) * ns);
+  std::vector<Matrix3d> R(static_cast<size_t>(n) * static_cast<size_t>(ns));
+  dynamics::Workspace<double> ws(model);
+  Eigen::VectorXd q(model.nq());
+  for (int i = 0; i < n; ++i) {
+    q = motion.q.col(i);
+    dynamics::CalcForwardKinematics(model, ws, q);
+    for (int s = 0; s < ns; ++s) {
+      const auto& X = ws.X_WB[static_cast<size_t>(s)];
+      c.col(static_cast<Eigen::Index>(i) * ns + s) =
+          X.rotation() * model.segment(s).p_BoBcm_B + X.translation();
+      R[static_cast<size_t>(i * ns + s)] = X.rotation();
+    }
+  }
+  // Angular velocities and accelerations in W (ω̇_W = R ω̇_B, as Ṙ ω_B = R [ω_B]× ω_B = 0).
+  Eigen::Matrix3Xd w(3, static_cast<Eigen::Index>(n) * ns);
+  Eigen::Matrix3Xd wdot(3, static_cast<Eigen::Index>(n) * ns);
+  for (int s = 0; s < ns; ++s) {
+    std::vector<Matrix3d> Rs(static_cast<size_t>(n));
+    for (int i = 0; i < n; ++i) Rs[static_cast<size_t>(i)] = R[static_cast<size_t>(i * ns + s)];
+    Eigen::Matrix3Xd wdot_W;
+    const Eigen::Matrix3Xd w_W = AngularVelocities(Rs, dt, /*body=*/false, &wdot_W);
+    for (int i = 0; i < n; ++i) {
+      w.col(static_cast<Eigen::Index>(i) * ns + s) = w_W.col(i);
+      wdot.col(static_cast<Eigen::Index>(i) * ns + s) = wdot_W.col(i);
+    }
+  }
+  const Vector3d& g = model.gravity_W();
+  Eigen::MatrixXd out = Eigen::MatrixXd::Zero(6 * ns, n);
+  for (int i = 2; i + 2 < n; ++i) {
+    for (int s = 0; s < ns; ++s) {
+      const auto col = [&](int frame) { return static_cast<Eigen::Index>(frame) * ns + s; };
+      const dynamics::Segment<double>& seg = model.segment(s);
+      const Vector3d acc = SecondDerivative<Vector3d>(
+          i, n, dt, [&](int k) -> Vector3d { return c.col(col(i + k)); });
+      const Vector3d omega = w.col(col(i));
+      const Vector3d alpha = wdot.col(col(i));
+      const Matrix3d& Rs = R[static_cast<size_t>(i * ns + s)];
+      const Matrix3d I_W = Rs * seg.I_BBcm_B * Rs.transpose();
+      const Vector3d f = seg.mass * (acc - g);
+      const Vector3d n_P =
+          I_W * alpha + omega.cross(I_W * omega) + (c.col(col(i)) - p_WoP_W).cross(f);
+      out.block<3, 1>(6 * s, i) = n_P;
+      out.block<3, 1>(6 * s + 3, i) = f;
+    }
+  }
+  return out;
+}
+
+PhysicalCheck CheckPhysics(const dynamics::Model<double>& model,
+                           const Motion& motion,
+                           const std::vector<Flight>& flights,
+                           double height_m,
+                           double cutoff_hz,
+                           const PhysicalCheckOptions& options) {
+  std::string why;
+  ACRO_DEMAND(options.IsValid(&why));
+  PhysicalCheck check;
+  check.frames = CalcFrameDynamics(model, motion, height_m);
+  const int n = motion.num_frames();
+  const double dt = FrameStep(motion);
+  const double margin_s = options.edge_margin_s >= 0
+                              ? options.edge_margin_s
+                              : std::max(2.0 * dt, cutoff_hz > 0 ? 0.5 / cutoff_hz : 0.0);
+  check.edge_margin_s = margin_s;
+  check.height_m = height_m;
+  const int margin = static_cast<int>(std::ceil(margin_s / dt - 1e-9));
+  const double mass = model.total_mass();
+  const double g = model.gravity_W().norm();
+  const double L_floor = options.momentum_floor_mh2_per_s * mass * height_m * height_m;
+  check.window_force_bw = Eigen::VectorXd::Constant(n, kNaN);
+  check.window_moment_bwh = Eigen::VectorXd::Constant(n, kNaN);
+
+  for (size_t k = 0; k < flights.size(); ++k) {
+    const Flight& flight = flights[k];
+    if (flight.partial) continue;
+    FlightCheck fc;
+    fc.flight = static_cast<int>(k);
+    fc.first_frame = std::max(flight.takeoff_frame + margin, 0);
+    fc.last_frame = std::min(flight.landing_frame - 1 - margin, n - 1);
+    if (fc.last_frame - fc.first_frame < 4) {
+      fc.pass = false;
+      fc.failures.push_back("too short to judge once " + Format("%.0f ms", 1e3 * margin_s) +
+                            " are left out at each end");
+      check.flights.push_back(fc);
+      continue;
+    }
+    const int m = fc.last_frame - fc.first_frame + 1;
+    const auto force = check.frames.force_bw.middleCols(fc.first_frame, m).colwise().norm();
+    const auto moment = check.frames.moment_bwh.middleCols(fc.first_frame, m).colwise().norm();
+    fc.peak_force_bw = force.maxCoeff();
+    fc.rms_force_bw = std::sqrt(force.array().square().mean());
+    fc.peak_moment_bwh = moment.maxCoeff();
+    fc.rms_moment_bwh = std::sqrt(moment.array().square().mean());
+    // The judged residual: the mean over every window of residual_window_s inside the judged
+    // frames (the whole judged span when it is shorter).
+    {
+      const int w = std::clamp(static_cast<int>(std::lround(options.residual_window_s / dt)), 1, m);
+      const Eigen::Matrix3Xd F = check.frames.force_bw.middleCols(fc.first_frame, m);
+      const Eigen::Matrix3Xd M = check.frames.moment_bwh.middleCols(fc.first_frame, m);
+      Eigen::Vector3d sum_f = F.leftCols(w).rowwise().sum();
+      Eigen::Vector3d sum_m = M.leftCols(w).rowwise().sum();
+      for (int a = 0;; ++a) {
+        const double wf = sum_f.norm() / w, wm = sum_m.norm() / w;
+        check.window_force_bw[fc.first_frame + a + w / 2] = wf;
+        check.window_moment_bwh[fc.first_frame + a + w / 2] = wm;
+        if (wf > fc.window_force_bw) {
+          fc.window_force_bw = wf;
+          fc.window_force_at_s = motion.time_s[fc.first_frame + a];
+        }
+        if (wm > fc.window_moment_bwh) {
+          fc.window_moment_bwh = wm;
+          fc.window_moment_at_s = motion.time_s[fc.first_frame + a];
+        }
+        if (a + w >= m) break;
+        sum_f += F.col(a + w) - F.col(a);
+        sum_m += M.col(a + w) - M.col(a);
+      }
+    }
+
+    const Eigen::Matrix3Xd L = check.frames.angular_momentum.middleCols(fc.first_frame, m);
+    fc.mean_angular_momentum = L.rowwise().mean().norm();
+    double spread = 0.0;
+    for (int i = 0; i < m; ++i)
+      for (int j = i + 1; j < m; ++j) spread = std::max(spread, (L.col(i) - L.col(j)).norm());
+    fc.momentum_variation = spread / std::max(fc.mean_angular_momentum, L_floor);
+
+    // z(t) = c0 + c1 t + c2 t² over the judged frames: g_fit = −2 c2.
+    Eigen::MatrixXd A(m, 3);
+    Eigen::VectorXd z(m);
+    const double t0 = motion.time_s[fc.first_frame];
+    for (int i = 0; i < m; ++i) {
+      const double t = motion.time_s[fc.first_frame + i] - t0;
+      A.row(i) << 1.0, t, t * t;
+      z[i] = check.frames.com_W(2, fc.first_frame + i);
+    }
+    fc.fitted_gravity_m_per_s2 = -2.0 * A.colPivHouseholderQr().solve(z)[2];
+
+    for (int i = fc.first_frame; i <= fc.last_frame; ++i) {
+      const FrameFit& fit = motion.fit[static_cast<size_t>(i)];
+      if (fit.valid) fc.max_marker_error_m = std::max(fc.max_marker_error_m, fit.max_m);
+    }
+
+    const std::string over =
+        options.residual_window_s > 0 ? Format(" over %.2f s", options.residual_window_s) : "";
+    if (fc.window_force_bw > options.max_force_bw)
+      fc.failures.push_back(Format("residual force %.3f BW > %.3f at %.2f s",
+                                   fc.window_force_bw,
+                                   options.max_force_bw,
+                                   fc.window_force_at_s) +
+                            over);
+    if (fc.window_moment_bwh > options.max_moment_bwh)
+      fc.failures.push_back(Format("residual moment %.4f BW·h > %.4f at %.2f s",
+                                   fc.window_moment_bwh,
+                                   options.max_moment_bwh,
+                                   fc.window_moment_at_s) +
+                            over);
+    if (fc.momentum_variation > options.max_momentum_variation)
+      fc.failures.push_back(Format("angular momentum varies %.0f %% > %.0f %%",
+                                   100 * fc.momentum_variation,
+                                   100 * options.max_momentum_variation));
+    if (std::abs(fc.fitted_gravity_m_per_s2 - g) > options.max_gravity_error * g)
+      fc.failures.push_back(
+          Format("COM falls with %.2f m/s² instead of %.2f", fc.fitted_gravity_m_per_s2, g));
+    if (fc.max_marker_error_m > options.max_marker_error_m)
+      fc.failures.push_back(Format("marker error %.1f cm > %.1f cm",
+                                   100 * fc.max_marker_error_m,
+                                   100 * options.max_marker_error_m));
+    fc.pass = fc.failures.empty();
+    check.flights.push_back(fc);
+  }
+
+  // Contact phases: the frames between flights (partial ones included).
+  int start = 0;
+  auto add_contact = [&](int first, int last) {
+    first = std::max(first, 0);
+    last = std::min(last, n - 1);
+    if (last < first) return;
+    ContactLoad c;
+    c.first_frame = first;
+    c.last_frame = last;
+    Eigen::Index peak = 0;
+    c.peak_force_bw =
+        check.frames.force_bw.middleCols(first, last - first + 1).colwise().norm().maxCoeff(&peak);
+    c.peak_s = motion.time_s[first + static_cast<int>(peak)];
+    check.contacts.push_back(c);
+  };
+  for (const Flight& flight : flights) {
+    add_contact(start, flight.takeoff_frame - 1);
+    start = flight.landing_frame;
+  }
+  add_contact(start, n - 1);
+
+  check.pass = true;
+  std::string causes;
+  for (const FlightCheck& fc : check.flights) {
+    if (fc.pass) continue;
+    check.pass = false;
+    if (!causes.empty()) causes += "; ";
+    causes += "flight " + std::to_string(fc.flight + 1) + ": " + fc.FailureText();
+  }
+  if (check.flights.empty())
+    check.verdict = "not judged: no complete flight";
+  else
+    check.verdict = check.pass ? "pass" : "fail: " + causes;
+  return check;
+}
+
+MassSuggestion SuggestSegmentMasses(const dynamics::Model<double>& model,
+                                    const Motion& motion,
+                                    const PhysicalCheck& check,
+                                    double height_m) {
+  MassSuggestion out;
+  const int ns = model.num_segments();
+  out.current_kg.resize(ns);
+  for (int s = 0; s < ns; ++s) {
+    out.segments.push_back(model.segment(s).name);
+    out.current_kg[s] = model.segment(s).mass;
+  }
+  out.suggested_kg = out.current_kg;
+  const std::vector<int> frames = JudgedFrames(check);
+  if (frames.size() < 8) return out;
+  Vector3d P = Vector3d::Zero();
+  for (int i : frames) P += check.frames.com_W.col(i);
+  P /= static_cast<double>(frames.size());
+  const Eigen::MatrixXd W = CalcSegmentWrenches(model, motion, P);
+  const double mass = model.total_mass();
+  const double weight = mass * model.gravity_W().norm();
+  // A k = the normalised residual of the judged frames for segment mass scale factors k.
+  Eigen::MatrixXd A(6 * static_cast<Eigen::Index>(frames.size()), ns);
+  for (size_t r = 0; r < frames.size(); ++r)
+    for (int s = 0; s < ns; ++s) {
+      const auto wrench = W.block<6, 1>(6 * s, frames[r]);
+      A.block<3, 1>(6 * static_cast<Eigen::Index>(r), s) = wrench.head<3>() / (weight * height_m);
+      A.block<3, 1>(6 * static_cast<Eigen::Index>(r) + 3, s) = wrench.tail<3>() / weight;
+    }
+  const Eigen::VectorXd ones = Eigen::VectorXd::Ones(ns);
+  const double rows = static_cast<double>(A.rows());
+  out.residual_before = std::sqrt((A * ones).squaredNorm() / rows);
+  // min |A k|² + λ |k − 1|²  subject to  Σ m_s k_s = m (the weighed mass is kept) and
+  // kMinScale ≤ k_s ≤ kMaxScale (a segment is neither massless nor four times its regression): the
+  // KKT system, with an active set for the bounds (a bound that the free solution crosses is held
+  // there and the rest solved again). λ is a small ridge that keeps segments the flights cannot
+  // tell apart at their current mass.
+  constexpr double kMinScale = 0.25, kMaxScale = 4.0;
+  const Eigen::MatrixXd AtA = A.transpose() * A;
+  const double lambda = 1e-3 * AtA.trace() / ns;
+  std::vector<double> fixed(static_cast<size_t>(ns), kNaN);  // held scale, or NaN when free
+  Eigen::VectorXd k = ones;
+  for (int pass = 0; pass <= ns; ++pass) {
+    // Unknowns: the free scales and the multiplier; held ones move to the right-hand side.
+    std::vector<int> free_index;
+    for (int s = 0; s < ns; ++s)
+      if (std::isnan(fixed[static_cast<size_t>(s)])) free_index.push_back(s);
+    const int nf = static_cast<int>(free_index.size());
+    Eigen::VectorXd held = Eigen::VectorXd::Zero(ns);
+    for (int s = 0; s < ns; ++s)
+      if (!std::isnan(fixed[static_cast<size_t>(s)])) held[s] = fixed[static_cast<size_t>(s)];
+    Eigen::MatrixXd K = Eigen::MatrixXd::Zero(nf + 1, nf + 1);
+    Eigen::VectorXd rhs(nf + 1);
+    const Eigen::VectorXd coupling = AtA * held;
+    for (int a = 0; a < nf; ++a) {
+      const int sa = free_index[static_cast<size_t>(a)];
+      for (int b = 0; b < nf; ++b) K(a, b) = AtA(sa, free_index[static_cast<size_t>(b)]);
+      K(a, a) += lambda;
+      K(a, nf) = out.current_kg[sa];
+      K(nf, a) = out.current_kg[sa];
+      rhs[a] = lambda - coupling[sa];
+    }
+    rhs[nf] = mass - out.current_kg.dot(held);
+    const Eigen::VectorXd solution = K.fullPivLu().solve(rhs);
+    k = held;
+    bool crossed = false;
+    for (int a = 0; a < nf; ++a) {
+      const int sa = free_index[static_cast<size_t>(a)];
+      k[sa] = solution[a];
+      if (k[sa] < kMinScale || k[sa] > kMaxScale) {
+        fixed[static_cast<size_t>(sa)] = std::clamp(k[sa], kMinScale, kMaxScale);
+        crossed = true;
+      }
+    }
+    if (!crossed) break;
+  }
+  out.suggested_kg = k.cwiseProduct(out.current_kg);
+  out.residual_after = std::sqrt((A * k).squaredNorm() / rows);
+  return out;
+}
+
+void LocalisePhysicsFailure(const dynamics::Model<double>& model,
+                            const Motion& motion,
+                            const Eigen::Matrix3Xd& marker_positions,
+                            const std::vector<ModelMarker>& markers,
+                            const PhysicalCheckOptions& options,
+                            PhysicalCheck& check) {
+  const int n = motion.num_frames();
+  const int nm = static_cast<int>(markers.size());
+  ACRO_DEMAND(marker_positions.cols() == static_cast<Eigen::Index>(n) * nm);
+  const double dt = FrameStep(motion);
+  check.findings.clear();
+
+  // Model marker positions on every frame.
+  Eigen::Matrix3Xd model_positions(3, static_cast<Eigen::Index>(n) * nm);
+  {
+    dynamics::Workspace<double> ws(model);
+    Eigen::VectorXd q(model.nq());
+    for (int i = 0; i < n; ++i) {
+      q = motion.q.col(i);
+      dynamics::CalcForwardKinematics(model, ws, q);
+      for (int j = 0; j < nm; ++j) {
+        const auto& X = ws.X_WB[static_cast<size_t>(markers[static_cast<size_t>(j)].segment)];
+        model_positions.col(static_cast<Eigen::Index>(i) * nm + j) =
+            X.rotation() * markers[static_cast<size_t>(j)].p_BoM_B + X.translation();
+      }
+    }
+  }
+  auto measured = [&](int frame, int j) {
+    return marker_positions.col(static_cast<Eigen::Index>(frame) * nm + j);
+  };
+  auto predicted = [&](int frame, int j) {
+    return model_positions.col(static_cast<Eigen::Index>(frame) * nm + j);
+  };
+  auto present = [&](int frame, int j) { return std::isfinite(measured(frame, j)[0]); };
+  auto error = [&](int frame, int j) {
+    return present(frame, j) ? (measured(frame, j) - predicted(frame, j)).norm() : kNaN;
+  };
+  const double threshold = options.max_marker_error_m;
+  std::vector<bool> named(static_cast<size_t>(nm), false);
+
+  // 1. Swaps: two markers far from their own model positions and each close to the other's.
+  {
+    std::vector<std::vector<int>> swap_frames(static_cast<size_t>(nm) * nm);
+    for (int i = 0; i < n; ++i) {
+      std::vector<int> bad;
+      for (int j = 0; j < nm; ++j)
+        if (error(i, j) > threshold) bad.push_back(j);
+      for (size_t x = 0; x < bad.size(); ++x)
+        for (size_t y = x + 1; y < bad.size(); ++y) {
+          const int a = bad[x], b = bad[y];
+          if ((measured(i, a) - predicted(i, b)).norm() < threshold &&
+              (measured(i, b) - predicted(i, a)).norm() < threshold)
+            swap_frames[static_cast<size_t>(a * nm + b)].push_back(i);
+        }
+    }
+    for (int a = 0; a < nm; ++a)
+      for (int b = a + 1; b < nm; ++b) {
+        const std::vector<int>& f = swap_frames[static_cast<size_t>(a * nm + b)];
+        if (f.size() < 3) continue;
+        Finding finding;
+        finding.kind = Finding::Kind::kSwap;
+        finding.names = {markers[static_cast<size_t>(a)].name,
+                         markers[static_cast<size_t>(b)].name};
+        finding.value = static_cast<double>(f.size());
+        finding.text = "markers " + finding.names[0] + " and " + finding.names[1] +
+                       " are swapped in " + std::to_string(f.size()) + " frames (" +
+                       Format("%.3f–%.3f s", motion.time_s[f.front()], motion.time_s[f.back()]) +
+                       "): relabel them";
+        named[static_cast<size_t>(a)] = named[static_cast<size_t>(b)] = true;
+        check.findings.push_back(finding);
+      }
+  }
+
+  const std::vector<int> frames = JudgedFrames(check);
+
+  // 2. Timing: markers recorded late. Two markers on one rigid segment keep their distance; if
+  // one of them lags by δ, the distance between a's position at t and b's at t + δ is the one
+  // that stays constant. Each pair's relative lag is the δ that makes their distance steadiest over
+  // the judged frames; the per-marker lags follow by least squares over the pairs.
+  if (frames.size() >= 8) {
+    const double max_lag_s = 0.05;
+    const int steps = static_cast<int>(std::ceil(max_lag_s / dt)) * 4;  // quarter frames
+    // b's position at frame i + δ/dt by linear interpolation (NaN outside or across a gap).
+    auto shifted = [&](int j, int i, double frames_ahead) -> Vector3d {
+      const double x = i + frames_ahead;
+      const int k = static_cast<int>(std::floor(x));
+      if (k < 0 || k + 1 >= n) return Vector3d::Constant(kNaN);
+      const double u = x - k;
+      return (1 - u) * measured(k, j) + u * measured(k + 1, j);
+    };
+    struct PairLag {
+      int a, b;
+      double lag_s;
+    };
+    std::vector<PairLag> pairs;
+    for (int a = 0; a < nm; ++a)
+      for (int b = a + 1; b < nm; ++b) {
+        if (markers[static_cast<size_t>(a)].segment != markers[static_cast<size_t>(b)].segment)
+          continue;
+        // Variance of the distance for every candidate lag.
+        std::vector<double> variance(static_cast<size_t>(2 * steps + 1), kNaN);
+        for (int s = -steps; s <= steps; ++s) {
+          double sum = 0, sum2 = 0;
+          int count = 0;
+          for (int i : frames) {
+            if (!present(i, a)) continue;
+            const Vector3d pb = shifted(b, i, s / 4.0);
+            if (!std::isfinite(pb[0])) continue;
+            const double d = (measured(i, a) - pb).norm();
+            sum += d;
+            sum2 += d * d;
+            ++count;
+          }
+          if (count < static_cast<int>(frames.size()) * 3 / 4) continue;
+          variance[static_cast<size_t>(s + steps)] =
+              std::max(0.0, sum2 / count - (sum / count) * (sum / count));
+        }
+        int best = -1;
+        for (int s = 0; s <= 2 * steps; ++s)
+          if (std::isfinite(variance[static_cast<size_t>(s)]) &&
+              (best < 0 || variance[static_cast<size_t>(s)] < variance[static_cast<size_t>(best)]))
+            best = s;
+        const double at_zero = variance[static_cast<size_t>(steps)];
+        if (best <= 0 || best >= 2 * steps || !std::isfinite(at_zero)) continue;
+        // Trust a pair whose distance varies by more than marker noise at zero lag and that a lag
+        // makes clearly steadier.
+        if (std::sqrt(at_zero) < 0.002 || at_zero < 2.0 * variance[static_cast<size_t>(best)])
+          continue;
+        const double v0 = variance[static_cast<size_t>(best - 1)],
+                     v1 = variance[static_cast<size_t>(best)],
+                     v2 = variance[static_cast<size_t>(best + 1)];
+        double step = best - steps;
+        if (std::isfinite(v0) && std::isfinite(v2) && v0 - 2 * v1 + v2 > 0)
+          step += 0.5 * (v0 - v2) / (v0 - 2 * v1 + v2);
+        pairs.push_back({a, b, step / 4.0 * dt});
+      }
+    // Per-marker lags: lag_b − lag_a = pair lag in least squares, their mean pinned to zero.
+    if (pairs.size() >= 2) {
+      Eigen::MatrixXd A = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(pairs.size()) + 1, nm);
+      Eigen::VectorXd rhs = Eigen::VectorXd::Zero(A.rows());
+      std::vector<bool> involved(static_cast<size_t>(nm), false);
+      for (size_t r = 0; r < pairs.size(); ++r) {
+        A(static_cast<Eigen::Index>(r), pairs[r].b) = 1.0;
+        A(static_cast<Eigen::Index>(r), pairs[r].a) = -1.0;
+        rhs[static_cast<Eigen::Index>(r)] = pairs[r].lag_s;
+        involved[static_cast<size_t>(pairs[r].a)] = involved[static_cast<size_t>(pairs[r].b)] =
+            true;
+      }
+      for (int j = 0; j < nm; ++j) A(A.rows() - 1, j) = 1.0;
+      const Eigen::VectorXd lag = A.completeOrthogonalDecomposition().solve(rhs);
+      // The lagging group: markers more than half the spread above the earliest.
+      std::vector<std::pair<double, int>> lags;
+      for (int j = 0; j < nm; ++j)
+        if (involved[static_cast<size_t>(j)]) lags.emplace_back(lag[j], j);
+      std::sort(lags.begin(), lags.end());
+      const double lo = lags.front().first, hi = lags.back().first;
+      if (hi - lo > std::max(0.5 * dt, 0.008)) {
+        Finding finding;
+        finding.kind = Finding::Kind::kTiming;
+        std::vector<double> late, early;
+        for (const auto& [value, j] : lags) {
+          if (value > 0.5 * (lo + hi)) {
+            finding.names.push_back(markers[static_cast<size_t>(j)].name);
+            late.push_back(value);
+          } else {
+            early.push_back(value);
+          }
+        }
+        auto mean = [](const std::vector<double>& v) {
+          double m = 0;
+          for (double x : v) m += x;
+          return m / static_cast<double>(v.size());
+        };
+        finding.value = mean(late) - mean(early);
+        std::string list;
+        for (size_t i = 0; i < finding.names.size(); ++i)
+          list += (i ? ", " : "") + finding.names[i];
+        finding.text = "timing: markers " + list +
+                       Format(" lag the others by %.0f ms", 1e3 * finding.value) +
+                       " (unsynchronised cameras or a time shift in the data)";
+        check.findings.push_back(finding);
+      }
+    }
+  }
+
+  // 3. Segment masses that best zero the flight residuals.
+  check.mass_suggestion = SuggestSegmentMasses(model, motion, check, check.height_m);
+  {
+    const MassSuggestion& ms = check.mass_suggestion;
+    // A suggestion that needs a segment at a bound of its range does not describe a wrong mass
+    // (noise or kinematics the masses cannot explain): not reported as a cause.
+    bool at_bound = false;
+    for (Eigen::Index s = 0; s < ms.current_kg.size(); ++s) {
+      const double scale = ms.suggested_kg[s] / ms.current_kg[s];
+      at_bound = at_bound || scale < 0.25 + 1e-6 || scale > 4.0 - 1e-6;
+    }
+    if (!at_bound && ms.residual_before > 0 && ms.residual_after < 0.5 * ms.residual_before) {
+      std::vector<std::pair<double, int>> change;
+      for (int s = 0; s < static_cast<int>(ms.segments.size()); ++s)
+        change.emplace_back(
+            std::abs(std::log(std::max(ms.suggested_kg[s], 1e-6) / ms.current_kg[s])), s);
+      std::sort(change.rbegin(), change.rend());
+      if (!change.empty() && change[0].first > std::log(1.25)) {
+        Finding finding;
+        finding.kind = Finding::Kind::kSegmentMass;
+        std::string text = "segment mass: ";
+        for (size_t i = 0; i < change.size() && i < 2; ++i) {
+          if (i > 0 && change[i].first < 0.5 * change[0].first) break;
+          const int s = change[i].second;
+          finding.names.push_back(ms.segments[static_cast<size_t>(s)]);
+          if (i) text += ", ";
+          text += ms.segments[static_cast<size_t>(s)] +
+                  Format(" %.1f kg in the model, %.1f kg fits the flights",
+                         ms.current_kg[s],
+                         ms.suggested_kg[s]);
+        }
+        const int s0 = change[0].second;
+        finding.value = ms.suggested_kg[s0] / ms.current_kg[s0];
+        text += Format(" (residual %.3f → %.3f; check the athlete file)",
+                       ms.residual_before,
+                       ms.residual_after);
+        finding.text = text;
+        check.findings.push_back(finding);
+      }
+    }
+  }
+
+  // 4. When nothing above explains it: the markers that fit worst at the frames of largest
+  // residual.
+  if (!frames.empty() && check.findings.empty()) {
+    std::vector<int> peak = frames;
+    auto score = [&](int i) {
+      return check.frames.force_bw.col(i).norm() / options.max_force_bw +
+             check.frames.moment_bwh.col(i).norm() / options.max_moment_bwh;
+    };
+    const size_t top = std::min<size_t>(5, peak.size());
+    std::partial_sort(
+        peak.begin(), peak.begin() + static_cast<long>(top), peak.end(), [&](int x, int y) {
+          return score(x) > score(y);
+        });
+    peak.resize(top);
+    std::vector<std::pair<double, int>> worst;
+    for (int j = 0; j < nm; ++j) {
+      if (named[static_cast<size_t>(j)]) continue;
+      std::vector<double> all;
+      for (int i = 0; i < n; ++i)
+        if (present(i, j)) all.push_back(error(i, j));
+      if (all.empty()) continue;
+      std::nth_element(all.begin(), all.begin() + static_cast<long>(all.size() / 2), all.end());
+      const double median = all[all.size() / 2];
+      double at_peak = 0.0;
+      int count = 0;
+      for (int i : peak)
+        if (present(i, j)) {
+          at_peak += error(i, j);
+          ++count;
+        }
+      if (count == 0) continue;
+      at_peak /= count;
+      if (at_peak > 0.01 && at_peak > 3.0 * median) worst.emplace_back(at_peak, j);
+    }
+    std::sort(worst.rbegin(), worst.rend());
+    if (!worst.empty()) {
+      Finding finding;
+      finding.kind = Finding::Kind::kMarkers;
+      std::string text = "markers fitting worst at the peak-residual frames: ";
+      for (size_t i = 0; i < worst.size() && i < 3; ++i) {
+        finding.names.push_back(markers[static_cast<size_t>(worst[i].second)].name);
+        text += (i ? ", " : "") + finding.names.back() + Format(" %.1f cm", 100 * worst[i].first);
+      }
+      finding.value = worst[0].first;
+      finding.text = text;
+      check.findings.push_back(finding);
+    }
+  }
+}
+
+}  // namespace acro::analysis

@@ -1,0 +1,487 @@
+#include "acro/assess/trial_analysis.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <numbers>
+#include <sstream>
+
+#include "acro/reconstruct/motion_export.h"
+#include "acro/base/demand.h"
+#include "acro/base/input_error.h"
+#include "acro/base/json_writer.h"
+#include "acro/base/file_io.h"
+#include "acro/capture/storage.h"
+#include "acro/dynamics/kinematics.h"
+#include "acro/dynamics/workspace.h"
+
+namespace acro::analysis {
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+constexpr double kDeg = std::numbers::pi / 180.0;
+// FIG zone A: a 2.15 m × 1.08 m rectangle centred on the bed (DESIGN.md, "Trampoline facts").
+constexpr double kZoneALength_m = 2.15;
+constexpr double kZoneAWidth_m = 1.08;
+
+double Seconds(std::chrono::steady_clock::time_point since) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+}
+
+std::string Format(const char* fmt, double a, double b = 0.0, double c = 0.0) {
+  char buffer[256];
+  std::snprintf(buffer, sizeof buffer, fmt, a, b, c);
+  return buffer;
+}
+
+// Sole centre of each foot in its segment frame: the midpoint of the toe tip and the point below
+// the ankle at toe height (the foot frame is parallel to H in the reference pose).
+struct Soles {
+  int segment[2] = {-1, -1};
+  Eigen::Vector3d p_FoS_F[2];
+};
+
+Soles FindSoles(const dynamics::Model<double>& model) {
+  Soles soles;
+  const char* sides[2] = {"r", "l"};
+  for (int s = 0; s < 2; ++s) {
+    const int toe = model.FindPoint(std::string(sides[s]) + "_toe");
+    ACRO_DEMAND(toe >= 0);
+    const auto& p = model.point(toe);
+    soles.segment[s] = p.segment;
+    const Eigen::Vector3d toe_F = p.p_BoP_B;
+    soles.p_FoS_F[s] = 0.5 * (toe_F + Eigen::Vector3d(0.0, 0.0, toe_F.z()));
+  }
+  return soles;
+}
+
+// Whole-body COM and the two sole centres on every frame.
+void CalcComAndSoles(const dynamics::Model<double>& model,
+                     const Motion& motion,
+                     Eigen::Matrix3Xd& com,
+                     Eigen::Matrix3Xd& soles_r,
+                     Eigen::Matrix3Xd& soles_l) {
+  const Soles soles = FindSoles(model);
+  const int n = motion.num_frames();
+  com.resize(3, n);
+  soles_r.resize(3, n);
+  soles_l.resize(3, n);
+  dynamics::Workspace<double> ws(model);
+  Eigen::VectorXd q(model.nq());
+  for (int i = 0; i < n; ++i) {
+    q = motion.q.col(i);
+    dynamics::CalcForwardKinematics(model, ws, q);
+    com.col(i) = dynamics::CalcCenterOfMassPosition(model, ws);
+    for (int s = 0; s < 2; ++s) {
+      const auto& X = ws.X_WB[static_cast<size_t>(soles.segment[s])];
+      (s == 0 ? soles_r : soles_l).col(i) = X.rotation() * soles.p_FoS_F[s] + X.translation();
+    }
+  }
+}
+
+// Linear interpolation of the columns of x (sampled at `time_s`) at time t.
+Eigen::Vector3d At(const Eigen::Matrix3Xd& x, const Eigen::VectorXd& time_s, double t) {
+  const int n = static_cast<int>(time_s.size());
+  if (t <= time_s[0]) return x.col(0);
+  if (t >= time_s[n - 1]) return x.col(n - 1);
+  const int i =
+      static_cast<int>(std::upper_bound(time_s.data(), time_s.data() + n, t) - time_s.data()) - 1;
+  const double u = (t - time_s[i]) / (time_s[i + 1] - time_s[i]);
+  return (1.0 - u) * x.col(i) + u * x.col(i + 1);
+}
+
+// Total vertical ground reaction of all plates with outputs, per analog sample (empty if none).
+Eigen::VectorXd TotalVerticalForce(const capture::Trial& trial) {
+  Eigen::VectorXd fz;
+  for (const capture::ForcePlate& p : trial.force_plates) {
+    if (p.force_W_N.cols() == 0) continue;
+    if (fz.size() == 0) fz = Eigen::VectorXd::Zero(p.force_W_N.cols());
+    if (p.force_W_N.cols() != fz.size()) continue;
+    fz += p.force_W_N.row(2).transpose();
+  }
+  return fz;
+}
+
+const char* DirectionName(SomersaultDirection d) {
+  switch (d) {
+    case SomersaultDirection::kForward:
+      return "forward";
+    case SomersaultDirection::kBackward:
+      return "backward";
+    default:
+      return "none";
+  }
+}
+
+const char* ShapeName(SkillShape s) {
+  switch (s) {
+    case SkillShape::kTuck:
+      return "tuck";
+    case SkillShape::kPike:
+      return "pike";
+    default:
+      return "straight";
+  }
+}
+
+}  // namespace
+
+bool TrialAnalysisOptions::IsValid(std::string* why) const {
+  if (!reconstruction.IsValid(why)) return false;
+  if (!phases.IsValid(why)) return false;
+  if (!check.IsValid(why)) return false;
+  if (!rotation.IsValid(why)) return false;
+  if (surface_height_m && !std::isfinite(*surface_height_m)) {
+    if (why) *why = "surface_height_m must be a number";
+    return false;
+  }
+  if (bed && !(bed->length_m > 0 && bed->width_m > 0 && bed->long_axis_W.norm() > 0.5)) {
+    if (why) *why = "bed: length and width must be positive and the long axis a unit vector";
+    return false;
+  }
+  return true;
+}
+
+std::optional<BedGeometry> FindBed(const capture::Trial& trial) {
+  // Static markers named BED…: their median positions.
+  std::vector<Eigen::Vector3d> corners;
+  std::vector<std::string> names;
+  for (int p = 0; p < trial.num_points(); ++p) {
+    const std::string& label = trial.points[static_cast<size_t>(p)].label;
+    if (label.size() < 3) continue;
+    std::string head = label.substr(0, 3);
+    std::transform(head.begin(), head.end(), head.begin(), [](unsigned char c) {
+      return static_cast<char>(std::toupper(c));
+    });
+    if (head != "BED" || trial.points[static_cast<size_t>(p)].type != capture::PointType::kMarker)
+      continue;
+    std::vector<double> xyz[3];
+    for (int f = 0; f < trial.num_frames; ++f) {
+      const auto c = trial.positions.col(static_cast<Eigen::Index>(f) * trial.num_points() + p);
+      if (!std::isfinite(c[0])) continue;
+      for (int k = 0; k < 3; ++k) xyz[k].push_back(c[k]);
+    }
+    if (2 * static_cast<int>(xyz[0].size()) < trial.num_frames) continue;
+    Eigen::Vector3d median;
+    for (int k = 0; k < 3; ++k) {
+      auto mid = xyz[k].begin() + static_cast<long>(xyz[k].size() / 2);
+      std::nth_element(xyz[k].begin(), mid, xyz[k].end());
+      median[k] = *mid;
+    }
+    corners.push_back(median);
+    names.push_back(label);
+  }
+  if (corners.size() != 4) return std::nullopt;
+  BedGeometry bed;
+  for (const Eigen::Vector3d& c : corners) bed.centre_W += 0.25 * c;
+  // Order the corners by angle about the centre, so that 0–1–2–3 go round the rectangle.
+  std::vector<int> order = {0, 1, 2, 3};
+  std::sort(order.begin(), order.end(), [&](int a, int b) {
+    const Eigen::Vector3d da = corners[static_cast<size_t>(a)] - bed.centre_W;
+    const Eigen::Vector3d db = corners[static_cast<size_t>(b)] - bed.centre_W;
+    return std::atan2(da.y(), da.x()) < std::atan2(db.y(), db.x());
+  });
+  auto corner = [&](int k) { return corners[static_cast<size_t>(order[static_cast<size_t>(k)])]; };
+  // Opposite sides averaged: side a from corner 0 to 1 (and 3 to 2), side b from 1 to 2 (0 to 3).
+  Eigen::Vector3d a = 0.5 * ((corner(1) - corner(0)) + (corner(2) - corner(3)));
+  Eigen::Vector3d b = 0.5 * ((corner(2) - corner(1)) + (corner(3) - corner(0)));
+  a.z() = 0.0;
+  b.z() = 0.0;
+  if (a.norm() < b.norm()) std::swap(a, b);
+  if (b.norm() < 0.3) return std::nullopt;  // not a bed: the markers are not spread out
+  bed.length_m = a.norm();
+  bed.width_m = b.norm();
+  bed.long_axis_W = a / a.norm();
+  std::sort(names.begin(), names.end());
+  bed.source = "markers " + names.front() + "–" + names.back();
+  return bed;
+}
+
+TrialAnalysis AnalyzeTrial(const capture::Trial& trial,
+                           const capture::Trial* static_trial,
+                           const AthleteBody& body,
+                           const TrialAnalysisOptions& options) {
+  std::string why;
+  if (!options.IsValid(&why)) throw InputError("", "analysis options", why);
+  auto progress = [&](const std::string& line) {
+    if (options.progress) options.progress(line);
+  };
+  TrialAnalysis out;
+  out.trial_name = std::filesystem::path(trial.source.path).filename().string();
+  out.stature_m = body.height_m;
+
+  // 1. Reconstruction.
+  auto start = std::chrono::steady_clock::now();
+  progress("reconstruct: " + std::to_string(trial.num_frames) + " frames at " +
+           Format("%g Hz", trial.point_rate_hz));
+  out.reconstruction = Reconstruct(trial, static_trial, body, options.reconstruction);
+  const ReconstructionResult& rec = out.reconstruction;
+  const Motion& motion = rec.motion;
+  const dynamics::Model<double>& model = rec.model;
+  out.mass_kg = model.total_mass();
+  for (const std::string& w : rec.summary.warnings) out.warnings.push_back(w);
+  progress(Format("reconstruct: marker RMS median %.1f mm, p95 %.1f mm (%.2f s)",
+                  1e3 * rec.summary.median_rms_m,
+                  1e3 * rec.summary.p95_rms_m,
+                  Seconds(start)));
+  out.reconstruct_s = Seconds(start);
+
+  // 2. Phases: force plates when the trial has them, else the soles against the bed when the bed
+  // is known, else the whole-body COM.
+  start = std::chrono::steady_clock::now();
+  out.bed = options.bed ? options.bed : FindBed(trial);
+  Eigen::Matrix3Xd com_W, sole_r, sole_l;
+  CalcComAndSoles(model, motion, com_W, sole_r, sole_l);
+  out.feet_z_m = sole_r.row(2).cwiseMin(sole_l.row(2)).transpose();
+  const Eigen::VectorXd com_z = com_W.row(2).transpose();
+  PhaseOptions phase_options = options.phases;
+  phase_options.gravity_m_per_s2 = model.gravity_W().norm();
+  const Eigen::VectorXd fz =
+      options.use_force_plates ? TotalVerticalForce(trial) : Eigen::VectorXd();
+  if (fz.size() > 0 && trial.analog_rate_hz > 0) {
+    Eigen::VectorXd t(fz.size());
+    for (Eigen::Index i = 0; i < fz.size(); ++i)
+      t[i] = static_cast<double>(i) / trial.analog_rate_hz;
+    out.phases = DetectFlightsFromForce(t, fz, motion.time_s, com_z, phase_options);
+  } else if (out.bed || options.surface_height_m) {
+    const double surface = out.bed ? out.bed->centre_W.z() : *options.surface_height_m;
+    out.phases = DetectFlightsFromFeet(motion.time_s, out.feet_z_m, surface, com_z, phase_options);
+  } else {
+    out.phases = DetectFlightsFromCom(motion.time_s, com_z, phase_options);
+  }
+  int complete = 0;
+  for (const Flight& f : out.phases.flights) complete += f.partial ? 0 : 1;
+  progress("phases: " + std::to_string(out.phases.flights.size()) + " flights (" +
+           std::to_string(complete) + " complete) from the " + out.phases.method);
+
+  // 3. Physical check, localised when it fails.
+  out.check_options = options.check;
+  out.check = CheckPhysics(
+      model, motion, out.phases.flights, out.stature_m, rec.summary.cutoff_hz, options.check);
+  if (!out.check.pass && options.localise && rec.marker_positions.cols() > 0)
+    LocalisePhysicsFailure(
+        model, motion, rec.marker_positions, rec.markers, options.check, out.check);
+  progress("check: " + out.check.verdict);
+  out.check_s = Seconds(start);
+
+  // 4. Jump metrics per flight.
+  start = std::chrono::steady_clock::now();
+  const int n = motion.num_frames();
+  std::vector<Eigen::Quaterniond> q_WB(static_cast<size_t>(n));
+  Eigen::VectorXd hip(n), knee(n);
+  const std::vector<std::string>& names = motion.coordinate_names;
+  auto column = [&](const std::string& name) {
+    const auto it = std::find(names.begin(), names.end(), name);
+    return it == names.end() ? -1 : static_cast<int>(it - names.begin());
+  };
+  const int rh = column("r_hip_flexion"), lh = column("l_hip_flexion");
+  const int rk = column("r_knee_flexion"), lk = column("l_knee_flexion");
+  for (int i = 0; i < n; ++i) {
+    q_WB[static_cast<size_t>(i)] =
+        Eigen::Quaterniond(motion.q(3, i), motion.q(4, i), motion.q(5, i), motion.q(6, i))
+            .normalized();
+    // Anatomical flexion, mean of both sides: the model's hip flexion is a negative angle about y,
+    // its knee flexion positive (docs/reconstruction.md).
+    hip[i] = rh >= 0 && lh >= 0 ? -0.5 * (motion.q(rh, i) + motion.q(lh, i)) : 0.0;
+    knee[i] = rk >= 0 && lk >= 0 ? 0.5 * (motion.q(rk, i) + motion.q(lk, i)) : 0.0;
+  }
+  for (size_t k = 0; k < out.phases.flights.size(); ++k) {
+    const Flight& f = out.phases.flights[k];
+    JumpMetrics j;
+    j.index = static_cast<int>(k) + 1;
+    j.flight = f;
+    j.takeoff_feet_W =
+        0.5 * (At(sole_r, motion.time_s, f.takeoff_s) + At(sole_l, motion.time_s, f.takeoff_s));
+    j.landing_feet_W =
+        0.5 * (At(sole_r, motion.time_s, f.landing_s) + At(sole_l, motion.time_s, f.landing_s));
+    j.displacement_from_takeoff_m = (j.landing_feet_W - j.takeoff_feet_W).head<2>().norm();
+    j.apex_above_bed_m = kNaN;
+    j.displacement_from_centre_m = kNaN;
+    j.landing_in_bed_m.setConstant(kNaN);
+    if (out.bed) {
+      const BedGeometry& bed = *out.bed;
+      j.apex_above_bed_m = f.apex_z_m - bed.centre_W.z();
+      const Eigen::Vector3d d = j.landing_feet_W - bed.centre_W;
+      const Eigen::Vector3d across = Eigen::Vector3d::UnitZ().cross(bed.long_axis_W);
+      j.landing_in_bed_m = Eigen::Vector2d(d.dot(bed.long_axis_W), d.dot(across));
+      j.displacement_from_centre_m = j.landing_in_bed_m.norm();
+      j.landing_in_zone_a = std::abs(j.landing_in_bed_m.x()) <= 0.5 * kZoneALength_m &&
+                            std::abs(j.landing_in_bed_m.y()) <= 0.5 * kZoneAWidth_m;
+    }
+    // Rotation over the frames that enclose the flight.
+    const int first = std::clamp(f.takeoff_frame - 1, 0, n - 2);
+    const int last = std::clamp(f.landing_frame, first + 1, n - 1);
+    j.rotation = CountJumpRotation(q_WB, first, last, hip, knee, options.rotation);
+    j.fig_code = FormatFigCode(j.rotation.skill);
+    j.skill_name = FigSkillName(j.rotation.skill);
+    j.difficulty = CalcFigDifficulty(j.rotation.skill);
+    // The check of this flight.
+    for (const FlightCheck& fc : out.check.flights)
+      if (fc.flight == static_cast<int>(k)) j.check = fc;
+    if (j.partial()) {
+      j.verdict = "not judged: partial flight";
+    } else if (!j.check) {
+      j.verdict = "not judged";
+    } else if (j.check->pass) {
+      j.verdict = "pass";
+    } else {
+      j.verdict = "fail: " + j.check->FailureText();
+    }
+    if (!j.partial()) {
+      ++out.num_scored;
+      out.total_difficulty += j.difficulty.total();
+      out.total_time_of_flight_s += j.time_of_flight_s();
+    }
+    out.jumps.push_back(std::move(j));
+  }
+  out.metrics_s = Seconds(start);
+  progress("metrics: " + std::to_string(out.num_scored) + " skills, DD " +
+           Format("%.1f, time of flight %.3f s", out.total_difficulty, out.total_time_of_flight_s));
+  return out;
+}
+
+std::string TrialAnalysis::BriefReport() const {
+  std::ostringstream s;
+  s << "routine: " << num_scored << " skills, DD " << Format("%.1f", total_difficulty)
+    << ", time of flight " << Format("%.3f s", total_time_of_flight_s) << "\n";
+  s << "physical check: " << check.verdict << "\n";
+  for (const Finding& f : check.findings) s << "  cause: " << f.text << "\n";
+  for (const JumpMetrics& j : jumps) {
+    s << Format("  %2.0f ", j.index) << (j.partial() ? "(partial) " : "") << j.fig_code;
+    if (!j.skill_name.empty()) s << " " << j.skill_name;
+    s << Format("  ToF %.3f s  apex %.2f m", j.time_of_flight_s(), j.apex_m());
+    if (!j.partial()) s << Format("  DD %.1f", j.difficulty.total());
+    s << "  " << j.verdict << "\n";
+  }
+  return s.str();
+}
+
+std::string FormatJumpsJson(const TrialAnalysis& a) {
+  JsonWriter w;
+  w.BeginArray();
+  for (const JumpMetrics& j : a.jumps) {
+    w.BeginObject();
+    w.Field("index", j.index);
+    w.Field("partial", j.partial());
+    w.Field("takeoff_s", j.flight.takeoff_s);
+    w.Field("landing_s", j.flight.landing_s);
+    w.Field("takeoff_frame", j.flight.takeoff_frame);
+    w.Field("landing_frame", j.flight.landing_frame);
+    w.Field("time_of_flight_s", j.time_of_flight_s());
+    w.Field("apex_m", j.apex_m());
+    w.Field("apex_above_bed_m", j.apex_above_bed_m);
+    w.Field("takeoff_vertical_velocity_m_per_s", j.takeoff_vertical_velocity_m_per_s());
+    w.Field("fitted_gravity_m_per_s2", j.flight.fitted_gravity_m_per_s2);
+    w.Key("takeoff_feet_m");
+    w.Array(std::vector<double>(j.takeoff_feet_W.data(), j.takeoff_feet_W.data() + 3));
+    w.Key("landing_feet_m");
+    w.Array(std::vector<double>(j.landing_feet_W.data(), j.landing_feet_W.data() + 3));
+    w.Field("displacement_from_takeoff_m", j.displacement_from_takeoff_m);
+    w.Field("displacement_from_centre_m", j.displacement_from_centre_m);
+    w.Key("landing_in_bed_m");
+    w.Array(std::vector<double>{j.landing_in_bed_m.x(), j.landing_in_bed_m.y()});
+    w.Key("landing_in_zone_a");
+    if (j.landing_in_zone_a)
+      w.Value(*j.landing_in_zone_a);
+    else
+      w.Null();
+    const FigSkill& skill = j.rotation.skill;
+    w.Field("somersault_quarters", skill.quarter_somersaults);
+    w.Field("direction", DirectionName(skill.direction));
+    w.Key("twist_halves");
+    w.Array(skill.half_twists);
+    w.Field("shape", ShapeName(skill.shape));
+    w.Field("fig_code", j.fig_code);
+    w.Field("skill_name", j.skill_name);
+    w.Field("difficulty", j.difficulty.total());
+    w.Field("difficulty_explained", j.difficulty.Explain());
+    w.Field("measured_somersault_deg", j.rotation.measured_somersault_rad / kDeg);
+    w.Field("measured_twist_deg", j.rotation.measured_twist_rad / kDeg);
+    w.Field("max_hip_flexion_deg", j.rotation.max_hip_flexion_deg);
+    w.Field("knee_flexion_at_max_hip_deg", j.rotation.knee_flexion_at_max_hip_deg);
+    w.Field("verdict", j.verdict);
+    if (j.check) {
+      w.Key("check");
+      w.BeginObject();
+      w.Field("peak_force_bw", j.check->peak_force_bw);
+      w.Field("rms_force_bw", j.check->rms_force_bw);
+      w.Field("peak_moment_bwh", j.check->peak_moment_bwh);
+      w.Field("rms_moment_bwh", j.check->rms_moment_bwh);
+      w.Field("angular_momentum_kg_m2_per_s", j.check->mean_angular_momentum);
+      w.Field("momentum_variation", j.check->momentum_variation);
+      w.Field("fitted_gravity_m_per_s2", j.check->fitted_gravity_m_per_s2);
+      w.Field("max_marker_error_m", j.check->max_marker_error_m);
+      w.EndObject();
+    }
+    w.EndObject();
+  }
+  w.EndArray();
+  return w.str() + "\n";
+}
+
+std::string FormatResidualsCsv(const TrialAnalysis& a) {
+  const Motion& m = a.reconstruction.motion;
+  const FrameDynamics& f = a.check.frames;
+  // Phase label per frame: "flight k" between take-off and landing frames, else "contact".
+  std::vector<int> flight_of(static_cast<size_t>(m.num_frames()), 0);
+  for (size_t k = 0; k < a.phases.flights.size(); ++k)
+    for (int i = std::max(0, a.phases.flights[k].takeoff_frame);
+         i < std::min(m.num_frames(), a.phases.flights[k].landing_frame);
+         ++i)
+      flight_of[static_cast<size_t>(i)] = static_cast<int>(k) + 1;
+  std::string out =
+      "time_s,phase,force_x_bw,force_y_bw,force_z_bw,force_bw,moment_x_bwh,moment_y_bwh,"
+      "moment_z_bwh,moment_bwh,L_x_kg_m2_per_s,L_y_kg_m2_per_s,L_z_kg_m2_per_s,com_x_m,com_y_m,"
+      "com_z_m,lowest_sole_z_m\n";
+  char line[512];
+  for (int i = 0; i < m.num_frames(); ++i) {
+    const int k = flight_of[static_cast<size_t>(i)];
+    const std::string phase = k > 0 ? "flight " + std::to_string(k) : "contact";
+    std::snprintf(
+        line,
+        sizeof line,
+        "%.6f,%s,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6f,%.6f,%.6f,%.6f\n",
+        m.time_s[i],
+        phase.c_str(),
+        f.force_bw(0, i),
+        f.force_bw(1, i),
+        f.force_bw(2, i),
+        f.force_bw.col(i).norm(),
+        f.moment_bwh(0, i),
+        f.moment_bwh(1, i),
+        f.moment_bwh(2, i),
+        f.moment_bwh.col(i).norm(),
+        f.angular_momentum(0, i),
+        f.angular_momentum(1, i),
+        f.angular_momentum(2, i),
+        f.com_W(0, i),
+        f.com_W(1, i),
+        f.com_W(2, i),
+        a.feet_z_m[i]);
+    out += line;
+  }
+  return out;
+}
+
+capture::Storage MakeTorqueStorage(const TrialAnalysis& a) {
+  const Motion& m = a.reconstruction.motion;
+  capture::Storage s;
+  s.name = "joint torques (inverse dynamics, N·m)";
+  s.in_degrees = false;
+  s.time_s = m.time_s;
+  for (size_t c = 7; c < m.coordinate_names.size(); ++c)
+    s.labels.push_back(m.coordinate_names[c] + "_moment");
+  s.data = a.check.frames.joint_torque_Nm.transpose();
+  return s;
+}
+
+void WriteAnalysisTables(const TrialAnalysis& a, const std::filesystem::path& dir) {
+  WriteFileAtomically(dir / "jumps.json", FormatJumpsJson(a));
+  WriteMotionMot(a.reconstruction.motion, dir / "angles.mot");
+  capture::WriteStorage(MakeTorqueStorage(a), dir / "torques.sto", capture::StorageFlavor::kSto);
+  WriteFileAtomically(dir / "residuals.csv", FormatResidualsCsv(a));
+}
+
+}  // namespace acro::analysis

@@ -1,0 +1,204 @@
+#include "acro/design/skill_file.h"
+
+#include <cmath>
+#include <numbers>
+
+#include "acro/athlete/standard_human.h"
+#include "acro/base/input_error.h"
+
+namespace acro::analysis {
+namespace {
+
+constexpr double kDegToRad = std::numbers::pi / 180.0;
+
+// Segments that exist on both sides: an unsided key ("thigh") sets both, mirrored.
+constexpr std::string_view kSidedSegments[] = {
+    "upper_arm", "forearm", "hand", "thigh", "shank", "foot"};
+
+// Writes a joint's angles (degrees) for `segment`; `mirror` negates the angles about x and z
+// (the mirror image in the sagittal plane keeps rotations about y and reverses the others).
+void SetJoint(const YamlNode& node, std::string_view segment, bool mirror, Eigen::VectorXd& q) {
+  const std::vector<double> deg = node.AsDoubleList();
+  int count = 0;
+  for (const StandardJoint& j : kStandardJoints) {
+    if (j.segment != segment) continue;
+    if (deg.size() > j.axis_sequence.size())
+      node.Fail("joint " + std::string(segment) + " has " + std::to_string(j.axis_sequence.size()) +
+                " axes (" + std::string(j.axis_sequence) + "), got " + std::to_string(deg.size()) +
+                " angles");
+    for (size_t k = 0; k < deg.size(); ++k) {
+      if (!std::isfinite(deg[k])) node.Fail("angle is not finite");
+      const bool flip = mirror && j.axis_sequence[k] != 'y';
+      q[StandardJointDofIndex(segment, static_cast<int>(k))] =
+          (flip ? -deg[k] : deg[k]) * kDegToRad;
+    }
+    ++count;
+  }
+  if (count == 0) node.Fail("unknown joint (a standard segment name such as r_thigh or thigh)");
+}
+
+double AngleDeg(const YamlNode& map, std::string_view key) {
+  const YamlNode* n = map.Find(key);
+  if (n == nullptr) return 0.0;
+  const double v = n->AsDouble();
+  if (!std::isfinite(v)) n->Fail("angle is not finite");
+  return v * kDegToRad;
+}
+
+}  // namespace
+
+int StandardJointDofCount() {
+  int n = 0;
+  for (const StandardJoint& j : kStandardJoints) n += static_cast<int>(j.axis_sequence.size());
+  return n;
+}
+
+int StandardJointDofIndex(std::string_view segment, int axis) {
+  int first = 0;
+  for (const StandardJoint& j : kStandardJoints) {
+    const int n = static_cast<int>(j.axis_sequence.size());
+    if (j.segment == segment) return axis >= 0 && axis < n ? first + axis : -1;
+    first += n;
+  }
+  return -1;
+}
+
+std::vector<std::string> StandardJointDofNames() {
+  std::vector<std::string> out;
+  for (const StandardJoint& j : kStandardJoints)
+    for (char axis : j.axis_sequence) out.push_back(std::string(j.segment) + ":" + axis);
+  return out;
+}
+
+Eigen::Quaterniond KeyframeOrientation(const SkillKeyframe& k) {
+  return Eigen::AngleAxisd(k.somersault_rad, Eigen::Vector3d::UnitY()) *
+         Eigen::AngleAxisd(k.tilt_rad, Eigen::Vector3d::UnitX()) *
+         Eigen::AngleAxisd(k.twist_rad, Eigen::Vector3d::UnitZ());
+}
+
+Skill SkillFromYaml(const YamlNode& root, const std::filesystem::path& base_dir) {
+  Skill skill;
+  skill.source = root.file();
+  if (!root.IsMap()) throw InputError(root.file(), root.Where(), "a skill file is a map");
+  root.RequireKnownKeys({"name", "fig_code", "athlete", "takeoff", "tolerances", "keyframes"});
+  skill.name = root.At("name").AsString();
+  if (const YamlNode* n = root.Find("fig_code")) skill.fig_code = n->AsString();
+
+  // Athlete profile, relative to the skill's folder.
+  const YamlNode& athlete = root.At("athlete");
+  skill.athlete_path = athlete.AsString();
+  if (skill.athlete_path.is_relative()) skill.athlete_path = base_dir / skill.athlete_path;
+  skill.athlete = ReadAthleteProfile(skill.athlete_path);
+
+  // Take-off: the COM velocity, or the flight time (then the take-off is vertical).
+  const YamlNode& takeoff = root.At("takeoff");
+  takeoff.RequireKnownKeys({"com_velocity_mps", "flight_time_s"});
+  const YamlNode* vel = takeoff.Find("com_velocity_mps");
+  const YamlNode* tof = takeoff.Find("flight_time_s");
+  if ((vel == nullptr) == (tof == nullptr))
+    takeoff.Fail("give exactly one of com_velocity_mps and flight_time_s");
+  if (vel != nullptr) {
+    const std::vector<double> v = vel->AsDoubleList();
+    if (v.size() != 3) vel->Fail("expected [vx, vy, vz]");
+    skill.takeoff_com_velocity_mps = Eigen::Vector3d(v[0], v[1], v[2]);
+    if (!skill.takeoff_com_velocity_mps.allFinite() || !(v[2] > 0.0))
+      vel->Fail("the vertical take-off velocity must be positive");
+  } else {
+    const double T = tof->AsDouble();
+    if (!(T > 0.0)) tof->Fail("must be positive");
+    skill.takeoff_com_velocity_mps = Eigen::Vector3d(0.0, 0.0, 0.5 * skill.gravity_mps2 * T);
+  }
+  skill.flight_time_s = 2.0 * skill.takeoff_com_velocity_mps.z() / skill.gravity_mps2;
+
+  // Default tolerances.
+  double tol_pos_m = 0.05;
+  double tol_angle_rad = 5.0 * kDegToRad;
+  if (const YamlNode* t = root.Find("tolerances")) {
+    t->RequireKnownKeys({"position_m", "angle_deg"});
+    if (const YamlNode* n = t->Find("position_m")) tol_pos_m = n->AsDouble();
+    if (const YamlNode* n = t->Find("angle_deg")) tol_angle_rad = n->AsDouble() * kDegToRad;
+    if (!(tol_pos_m >= 0.0) || !(tol_angle_rad >= 0.0)) t->Fail("tolerances must be non-negative");
+  }
+
+  // Keyframes.
+  const YamlNode& keyframes = root.At("keyframes");
+  if (!keyframes.IsSequence() || keyframes.items().size() < 3)
+    keyframes.Fail("expected a sequence of at least 3 keyframes");
+  const int ndof = StandardJointDofCount();
+  for (const YamlNode& item : keyframes.items()) {
+    if (!item.IsMap()) item.Fail("a keyframe is a map");
+    item.RequireKnownKeys({"name",
+                           "time_s",
+                           "somersault_deg",
+                           "tilt_deg",
+                           "twist_deg",
+                           "joints_deg",
+                           "tolerance_position_m",
+                           "tolerance_angle_deg"});
+    SkillKeyframe k;
+    k.line = item.line();
+    k.name = item.At("name").AsString();
+    k.somersault_rad = AngleDeg(item, "somersault_deg");
+    k.tilt_rad = AngleDeg(item, "tilt_deg");
+    k.twist_rad = AngleDeg(item, "twist_deg");
+    k.joint_angles_rad = Eigen::VectorXd::Zero(ndof);
+    if (const YamlNode* joints = item.Find("joints_deg")) {
+      if (!joints->IsMap()) joints->Fail("expected a map of joint names to angle lists");
+      for (const auto& [key, value] : joints->entries()) {
+        bool sided = false;
+        for (std::string_view s : kSidedSegments) sided = sided || key == s;
+        if (sided) {
+          SetJoint(value, "r_" + key, false, k.joint_angles_rad);
+          SetJoint(value, "l_" + key, true, k.joint_angles_rad);
+        } else {
+          SetJoint(value, key, false, k.joint_angles_rad);
+        }
+      }
+    }
+    if (const YamlNode* n = item.Find("time_s")) k.time_s = n->AsDouble();
+    k.tolerance_position_m = tol_pos_m;
+    k.tolerance_angle_rad = tol_angle_rad;
+    if (const YamlNode* n = item.Find("tolerance_position_m"))
+      k.tolerance_position_m = n->AsDouble();
+    if (const YamlNode* n = item.Find("tolerance_angle_deg"))
+      k.tolerance_angle_rad = n->AsDouble() * kDegToRad;
+    if (!(k.tolerance_position_m >= 0.0) || !(k.tolerance_angle_rad >= 0.0))
+      item.Fail("tolerances must be non-negative");
+    skill.keyframes.push_back(std::move(k));
+  }
+
+  // Times, when given, must run from 0 to T in increasing order.
+  const size_t n = skill.keyframes.size();
+  for (size_t i = 0; i < n; ++i) {
+    const SkillKeyframe& k = skill.keyframes[i];
+    if (!k.time_s) continue;
+    const std::string where = "line " + std::to_string(k.line);
+    if (i == 0 && std::abs(*k.time_s) > 1e-9)
+      throw InputError(skill.source, where, "time_s: the first keyframe is at take-off, 0 s");
+    if (i + 1 == n && std::abs(*k.time_s - skill.flight_time_s) > 1e-3)
+      throw InputError(
+          skill.source,
+          where,
+          "time_s: the last keyframe is at landing, " + std::to_string(skill.flight_time_s) + " s");
+    if (i > 0 && skill.keyframes[i - 1].time_s && !(*k.time_s > *skill.keyframes[i - 1].time_s))
+      throw InputError(skill.source, where, "time_s: keyframe times must increase");
+  }
+
+  // Consecutive orientations less than 180° apart (the quaternion spline's log branch).
+  for (size_t i = 1; i < n; ++i) {
+    const double angle = KeyframeOrientation(skill.keyframes[i - 1])
+                             .angularDistance(KeyframeOrientation(skill.keyframes[i]));
+    if (angle > 170.0 * kDegToRad)
+      throw InputError(skill.source,
+                       "line " + std::to_string(skill.keyframes[i].line),
+                       "orientation turns " + std::to_string(angle / kDegToRad) +
+                           "° from the previous keyframe; insert a keyframe (at most 170° apart)");
+  }
+  return skill;
+}
+
+Skill ReadSkill(const std::filesystem::path& path) {
+  return SkillFromYaml(ReadYamlFile(path), path.parent_path());
+}
+
+}  // namespace acro::analysis

@@ -1,0 +1,47 @@
+#pragma once
+
+// Model (1) in its local form (docs/skill-design.md, "Model (1): local form"): one Ceres residual
+// block per quadrature sample, depending only on the gaps and on the data of the two knots around
+// it, with derivatives by the chain rule through the sample's state (one ceres::Jet pass through
+// the inverse dynamics per sample). Internal to analysis: timing_optimization.cc calls it.
+
+#include <Eigen/Core>
+
+#include "acro/design/timing_optimization.h"
+
+namespace acro::analysis::internal {
+
+/// Size of Model 1's x for a design with `knots_per_interval` knots per keyframe interval.
+int NumModel1Parameters(const SkillDesign& design, int knots_per_interval);
+
+/// The trajectory that Model 1's x describes about a base with knots.
+SkillTrajectory Model1TrajectoryFromParameters(const SkillDesign& design,
+                                               const SkillTrajectory& base,
+                                               const Eigen::VectorXd& x);
+
+/// J(x) (Simpson's rule, `samples_per_knot_interval` even intervals per knot interval) and ∂J/∂x
+/// when gradient != nullptr, from the solver's own residual blocks.
+double CalcModel1Objective(const SkillDesign& design,
+                           const SkillTrajectory& base,
+                           const Eigen::VectorXd& x,
+                           int samples_per_knot_interval,
+                           Eigen::VectorXd* gradient);
+
+/// One Ceres solve of Model 1 from `base` (which has knots); returns the optimised x.
+Eigen::VectorXd SolveModel1(const SkillDesign& design,
+                            const SkillTrajectory& base,
+                            const TimingOptimizationOptions& options,
+                            TimingOptimizationSummary* summary);
+
+/// Joint angles, rates, accelerations and the root orientation, body angular velocity and
+/// acceleration of a trajectory with knots at time t (double).
+void EvalKnotTrajectory(const SkillTrajectory& trajectory,
+                        double t,
+                        Eigen::Ref<Eigen::VectorXd> qj,
+                        Eigen::Ref<Eigen::VectorXd> vj,
+                        Eigen::Ref<Eigen::VectorXd> aj,
+                        Eigen::Quaterniond* q_WB,
+                        Eigen::Vector3d* w_WB_B,
+                        Eigen::Vector3d* wdot_WB_B);
+
+}  // namespace acro::analysis::internal

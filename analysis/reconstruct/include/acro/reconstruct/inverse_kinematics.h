@@ -1,0 +1,109 @@
+#pragma once
+
+// Per-frame inverse kinematics: the configuration q of the standard human (root position, root
+// quaternion on its manifold, Euler joint angles) that minimises the weighted squared distances
+// between model markers and measured ones,
+//   min_q  Σ_m ρ(w_m² |p_WM(q) − p̂_m|²) + Σ_j k² (max(0, θ_j − hi_j)² + min(0, θ_j − lo_j)²),
+// with ρ a robust loss (Huber) so that a mislabelled or flying marker does not drag the fit, and
+// soft anatomical joint limits. Solved by Ceres (Levenberg–Marquardt, dense normal equations) with
+// analytic Jacobians from the dynamics layer's point Jacobians; warm-started from the previous
+// frame. One InverseKinematics object per thread (it holds a Ceres problem and a workspace).
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "acro/reconstruct/markerset.h"
+#include "acro/dynamics/model.h"
+
+namespace acro::analysis {
+
+/// Soft limits of one joint angle (radians).
+struct JointLimit {
+  double lower_rad = -1e9;
+  double upper_rad = 1e9;
+};
+
+/// Anatomical ranges of the standard human's 32 joint angles (kStandardJoints order, axis by
+/// axis), wide enough for acrobatics (arms overhead, pike, tuck, straddle); docs/reconstruction.md.
+std::vector<JointLimit> StandardJointLimits(const dynamics::Model<double>& model);
+
+struct InverseKinematicsOptions {
+  /// Iterations of a warm-started frame, and of a cold start (no previous frame).
+  int max_iterations = 10;
+  int cold_start_iterations = 200;
+  double function_tolerance = 1e-6;
+  double gradient_tolerance = 1e-12;
+  double parameter_tolerance = 1e-7;
+  /// Huber loss scale on a marker's weighted distance (m); 0 disables the robust loss.
+  double robust_scale_m = 0.04;
+  /// Residual per radian beyond a joint limit (m/rad): 0.2 makes 5° past a limit cost like a
+  /// 1.7 cm marker error.
+  double joint_limit_stiffness_m_per_rad = 0.2;
+  /// Optional prior pulling joint angles towards zero (the reference pose): residual w_j θ_j
+  /// (m/rad), one weight per joint angle, or empty. For angles the markers cannot see (video
+  /// keypoints: pelvis tilt against lumbar flexion, forearm pronation, wrists, ankles), so that
+  /// they rest at the reference pose instead of drifting along the null space.
+  std::vector<double> joint_prior_m_per_rad;
+  /// Warm-started frames by a Levenberg–Marquardt that assembles the normal equations marker by
+  /// marker on the columns each marker depends on (the root's six and its chain's joint axes; a
+  /// dense JᵀJ of all 3M rows × 38 columns is what dominates Ceres's time here), with the root
+  /// orientation in a chart q0 ⊗ exp(φ) around the previous frame's. Same objective (robust
+  /// transform, limits, prior) as the ceres::Problem, which cold starts always use and warm starts
+  /// use when this is false.
+  bool structured_warm_start = true;
+  /// Dense normal equations (Cholesky) rather than dense QR (ceres::Problem path).
+  bool normal_cholesky = true;
+  bool IsValid(std::string* why) const;
+};
+
+/// Fit of one frame.
+struct IkFrameResult {
+  double rms_m = 0.0;  ///< root mean square marker distance over the markers present
+  double max_m = 0.0;  ///< largest marker distance
+  int num_markers = 0;
+  int iterations = 0;
+  bool converged = false;
+  double final_cost = 0.0;
+};
+
+class InverseKinematics {
+ public:
+  InverseKinematics(const dynamics::Model<double>& model,
+                    std::vector<ModelMarker> markers,
+                    std::vector<JointLimit> limits,
+                    const InverseKinematicsOptions& options = {});
+  ~InverseKinematics();
+  InverseKinematics(const InverseKinematics&) = delete;
+  InverseKinematics& operator=(const InverseKinematics&) = delete;
+
+  int num_markers() const;
+  const std::vector<ModelMarker>& markers() const;
+
+  /// Solves one frame: `observed` is 3 × num_markers in W (NaN columns = missing); q is the warm
+  /// start on entry and the solution on exit. `cold` first places the root on the markers
+  /// (InitializeRoot), then fits with the root alone and then with all coordinates, using
+  /// cold_start_iterations.
+  IkFrameResult Solve(const Eigen::Matrix3Xd& observed, Eigen::VectorXd& q, bool cold = false);
+
+  /// Places the root (position and orientation) so that the markers of the pelvis and thorax
+  /// (and markers at the origins of their child segments) match `observed` best with the joint
+  /// angles of q (Kabsch/Horn least-squares rotation). False when fewer than three are present.
+  bool InitializeRoot(const Eigen::Matrix3Xd& observed, Eigen::VectorXd& q);
+
+  /// Model marker positions p_WM at q (3 × num_markers).
+  void CalcMarkerPositions(const Eigen::VectorXd& q, Eigen::Matrix3Xd& p_WM);
+
+  /// Distances |p_WM(q) − observed| per marker (NaN where missing) and the frame's RMS/max.
+  IkFrameResult Evaluate(const Eigen::Matrix3Xd& observed,
+                         const Eigen::VectorXd& q,
+                         Eigen::VectorXd* distances_m);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace acro::analysis

@@ -1,0 +1,130 @@
+#pragma once
+
+// Reconstruction: a Trial of markers or video keypoints → the athlete's Motion. Steps, each
+// reported in the summary: marker set (given or detected from the labels), gap filling, zero-lag
+// low-pass filtering (cutoff by residual analysis unless given), scaling of the standard human to a
+// static trial or to a window of the motion, per-frame inverse kinematics warm-started from the
+// previous frame with left/right swap repair, run in parallel over independent chunks of frames.
+
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "acro/athlete/athlete_body.h"
+#include "acro/reconstruct/butterworth.h"
+#include "acro/reconstruct/gap_filling.h"
+#include "acro/reconstruct/inverse_kinematics.h"
+#include "acro/reconstruct/markerset.h"
+#include "acro/athlete/motion.h"
+#include "acro/reconstruct/scaling.h"
+#include "acro/capture/trial.h"
+#include "acro/dynamics/model.h"
+
+namespace acro::analysis {
+
+struct ReconstructionOptions {
+  /// Marker set: a shipped name or a .yaml file; empty = detect from the labels.
+  std::string markerset;
+  bool fill_gaps = true;
+  GapFillingOptions gaps;
+  /// Whether inverse kinematics fits gap-filled samples. By default it does not: filled samples
+  /// keep the filter's runs continuous and complete the exported trajectories, but the fit uses
+  /// only recorded samples (a spline through a 20-frame gap of a hand in a twist is off by
+  /// centimetres, which the joint angles would follow).
+  bool fit_filled_samples = false;
+  bool filter = true;
+  int filter_order = 2;
+  /// Cutoff of the zero-lag filter; 0 = Winter's residual analysis.
+  double cutoff_hz = 0.0;
+  bool scale = true;
+  ScalingOptions scaling;
+  /// Offset prior (ScalingOptions::offset_prior) for keypoint sets: video keypoints are meant to
+  /// be joint centres and landmarks, so their offsets are held far more firmly than skin markers'.
+  double keypoint_offset_prior = 2.0;
+  /// For keypoint sets without ik.joint_prior_m_per_rad: the prior weight (m/rad) on the angles
+  /// 17 keypoints cannot see — lumbar (pelvis tilt trades against it), forearm pronation, wrists
+  /// and ankles (docs/reconstruction.md).
+  double keypoint_unseen_angle_prior_m_per_rad = 0.05;
+  /// Frames of the motion used for scaling without a static trial (evenly spread over the window).
+  int scaling_window_frames = 20;
+  /// Window for scaling without a static trial, in frames of the trial (−1: the whole trial).
+  int scaling_first_frame = -1;
+  int scaling_last_frame = -1;
+  InverseKinematicsOptions ik;
+  /// Repair left/right swaps: in the raw data of marker sets (not keypoints), a mirror pair whose
+  /// exchange brings both markers closer to their positions in the previous frame; before each
+  /// warm-started frame, a pair whose exchange fits the model's predicted positions better.
+  bool repair_swaps = true;
+  /// A swap is repaired when exchanging the pair reduces the pair's distance (to the previous
+  /// frame, or to the prediction) below this factor and by at least swap_min_gain_m.
+  double swap_ratio = 0.3;
+  double swap_min_gain_m = 0.08;
+  /// Worker threads (0: hardware concurrency); frames are cut into this many chunks.
+  int num_threads = 0;
+  /// Chunks shorter than this many frames are not split off.
+  int min_chunk_frames = 100;
+  /// Called with (frames done, total frames) from the worker threads (serialised).
+  std::function<void(int, int)> progress;
+  bool IsValid(std::string* why) const;
+};
+
+/// A flight phase found in the motion (no marker near the lowest level), with its fit quality.
+struct FlightFit {
+  int first_frame = 0;
+  int last_frame = 0;
+  double median_rms_m = 0.0;
+  double p95_rms_m = 0.0;
+  double max_m = 0.0;
+};
+
+struct ReconstructionSummary {
+  std::string markerset;  ///< the set's name
+  std::string markerset_report;
+  GapFillingSummary gaps;
+  bool filtered = false;
+  int filter_order = 0;
+  double cutoff_hz = 0.0;
+  bool cutoff_from_residual_analysis = false;
+  std::string scaling_report;  ///< empty when not scaled
+  int frames = 0;
+  int frames_fitted = 0;
+  int swaps_repaired = 0;
+  int chunks = 0;
+  int chunks_resolved =
+      0;  ///< chunks re-solved sequentially after a branch mismatch at their start
+  double median_rms_m = 0.0;
+  double p95_rms_m = 0.0;
+  double max_m = 0.0;
+  std::vector<FlightFit> flights;
+  std::vector<std::string> warnings;
+  std::string BriefReport() const;
+};
+
+struct ReconstructionResult {
+  dynamics::Model<double> model;  ///< the (scaled) standard human
+  MarkerSet markerset;
+  std::vector<ModelMarker> markers;  ///< on `model`, in marker-set order
+  /// The processed marker trajectories (set order, 3 × frames·markers, frame-major, NaN = gap).
+  Eigen::Matrix3Xd marker_positions;
+  Motion motion;
+  ReconstructionSummary summary;
+};
+
+/// Reconstructs `trial`. `static_trial` (optional) scales the model; without it the model is
+/// scaled to a window of the motion when options.scale is set. Throws acro::InputError when no
+/// marker set matches or the options are invalid.
+ReconstructionResult Reconstruct(const capture::Trial& trial,
+                                 const capture::Trial* static_trial,
+                                 const AthleteBody& body,
+                                 const ReconstructionOptions& options = {});
+
+/// Flight phases: runs of frames in which no marker is within `clearance_m` of the lowest level
+/// (the 2nd percentile of the per-frame lowest marker height), at least `min_duration_s` long.
+std::vector<std::pair<int, int>> FindFlights(const Eigen::Matrix3Xd& positions,
+                                             int num_markers,
+                                             double rate_hz,
+                                             double clearance_m = 0.25,
+                                             double min_duration_s = 0.3);
+
+}  // namespace acro::analysis

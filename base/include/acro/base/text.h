@@ -1,0 +1,74 @@
+#pragma once
+
+// Text helpers every reader of a text format needs: line splitting that accepts every line end,
+// trimming and field splitting, all without copying.
+
+#include <string>
+#include <string_view>
+#include <vector>
+
+namespace acro {
+
+/// Splits text into lines without copying; accepts \n, \r\n and lone \r line ends.
+class LineCursor {
+ public:
+  explicit LineCursor(std::string_view text) : text_(text) {}
+  bool Next(std::string_view* line) {
+    if (pos_ >= text_.size()) return false;
+    std::size_t end = pos_;
+    while (end < text_.size() && text_[end] != '\n' && text_[end] != '\r') ++end;
+    *line = text_.substr(pos_, end - pos_);
+    if (end < text_.size() && text_[end] == '\r') {
+      ++end;
+      if (end < text_.size() && text_[end] == '\n') ++end;  // \r\n
+    } else if (end < text_.size()) {
+      ++end;  // \n
+    }
+    pos_ = end;
+    ++line_number_;
+    return true;
+  }
+  int line_number() const { return line_number_; }
+
+ private:
+  std::string_view text_;
+  std::size_t pos_ = 0;
+  int line_number_ = 0;
+};
+
+inline std::string_view Trim(std::string_view s) {
+  while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r'))
+    s.remove_prefix(1);
+  while (!s.empty() && (s.back() == ' ' || s.back() == '\t' || s.back() == '\r'))
+    s.remove_suffix(1);
+  return s;
+}
+
+/// Splits on one delimiter, keeping empty fields.
+inline void Split(std::string_view line, char delimiter, std::vector<std::string_view>* fields) {
+  fields->clear();
+  std::size_t start = 0;
+  while (true) {
+    const std::size_t end = line.find(delimiter, start);
+    if (end == std::string_view::npos) {
+      fields->push_back(line.substr(start));
+      return;
+    }
+    fields->push_back(line.substr(start, end - start));
+    start = end + 1;
+  }
+}
+
+/// Splits on runs of blanks (for space-separated files).
+inline void SplitWhitespace(std::string_view line, std::vector<std::string_view>* fields) {
+  fields->clear();
+  std::size_t i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && (line[i] == ' ' || line[i] == '\t')) ++i;
+    const std::size_t start = i;
+    while (i < line.size() && line[i] != ' ' && line[i] != '\t') ++i;
+    if (i > start) fields->push_back(line.substr(start, i - start));
+  }
+}
+
+}  // namespace acro

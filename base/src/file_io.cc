@@ -1,0 +1,77 @@
+#include "acro/base/file_io.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <cstdio>
+#include <cstring>
+#include <fstream>
+#include <random>
+#include <system_error>
+
+#include "acro/base/input_error.h"
+
+namespace acro {
+
+std::vector<std::uint8_t> ReadFileBytes(const std::filesystem::path& path, std::int64_t max_bytes) {
+  const std::string name = path.string();
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec))
+    throw InputError(name, "", "is a directory, not a file");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(name, "", std::string("cannot open: ") + std::strerror(errno));
+  in.seekg(0, std::ios::end);
+  const std::streamoff size = in.tellg();
+  if (size < 0) throw InputError(name, "", "cannot determine the file size");
+  if (size > max_bytes) {
+    throw InputError(name,
+                     "",
+                     "file of " + std::to_string(size) + " bytes exceeds the limit of " +
+                         std::to_string(max_bytes) + " bytes");
+  }
+  in.seekg(0, std::ios::beg);
+  std::vector<std::uint8_t> bytes(static_cast<std::size_t>(size));
+  if (size > 0 && !in.read(reinterpret_cast<char*>(bytes.data()), size)) {
+    throw InputError(name, AtByte(in.gcount()), "read failed before the end of the file");
+  }
+  return bytes;
+}
+
+void WriteFileAtomically(const std::filesystem::path& path, std::string_view bytes) {
+  // A unique temporary name in the same directory, so that the rename stays on one file system.
+  std::random_device seed;
+  const std::filesystem::path temp = path.parent_path() / ("." + path.filename().string() + ".tmp" +
+                                                           std::to_string(seed() % 1000000));
+  {
+    std::ofstream out(temp, std::ios::binary | std::ios::trunc);
+    if (!out) {
+      throw InputError(
+          path.string(), "", std::string("cannot create output: ") + std::strerror(errno));
+    }
+    out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+    out.flush();
+    if (!out) {
+      out.close();
+      std::filesystem::remove(temp);
+      throw InputError(path.string(), "", "write failed (disk full?)");
+    }
+  }
+  std::error_code ec;
+  std::filesystem::rename(temp, path, ec);
+  if (ec) {
+    std::filesystem::remove(temp);
+    throw InputError(
+        path.string(), "", "cannot rename the finished output into place: " + ec.message());
+  }
+}
+
+std::string LowerExtension(const std::filesystem::path& path) {
+  std::string ext = path.extension().string();
+  if (!ext.empty() && ext[0] == '.') ext.erase(0, 1);
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) {
+    return static_cast<char>(std::tolower(c));
+  });
+  return ext;
+}
+
+}  // namespace acro

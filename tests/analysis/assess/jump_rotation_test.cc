@@ -1,0 +1,206 @@
+// Somersault/twist counting against synthetic flights whose nominal skill is known: the root turns
+// about a horizontal lateral axis (any heading), leans at take-off and landing as on a real bed (a
+// quarter of the nominal rotation happens on the bed), tilts a little, and twists within chosen
+// somersaults.
+#include "acro/assess/jump_rotation.h"
+
+#include <cmath>
+
+#include <gtest/gtest.h>
+
+namespace acro::analysis {
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+constexpr double kDeg = kPi / 180;
+
+struct Synthetic {
+  std::vector<Eigen::Quaterniond> q_WB;
+  Eigen::VectorXd hip, knee;
+};
+
+// `quarters` nominal (signed: forward positive), half twists per somersault, heading of the lateral
+// axis, and the shape's hip/knee flexion at mid-flight.
+Synthetic MakeFlight(int quarters,
+                     const std::vector<int>& half_twists,
+                     double heading_deg,
+                     double hip_deg,
+                     double knee_deg) {
+  const int n = 300;
+  const double s = quarters >= 0 ? 1 : -1;
+  // On the bed: half a quarter before take-off and half a quarter after landing (feet to feet).
+  const double phi0 = quarters == 0 ? 0.0 : s * 45 * kDeg;
+  const double phi1 = quarters == 0 ? 0.0 : (quarters * 90 - s * 45) * kDeg;
+  const Eigen::Matrix3d R_WS =
+      Eigen::AngleAxisd(heading_deg * kDeg, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  Synthetic out;
+  out.hip.resize(n);
+  out.knee.resize(n);
+  const int slots = static_cast<int>(half_twists.size());
+  for (int i = 0; i < n; ++i) {
+    const double u = double(i) / (n - 1);
+    const double phi = phi0 + u * (phi1 - phi0);
+    // Nominal progress in turns; each somersault twists in the middle 80 % of its in-air part (the
+    // twist starts after take-off and ends before landing).
+    const double bed = quarters == 0 ? 0.0 : 45 * kDeg;
+    const double progress = (std::abs(phi) + bed) / (2 * kPi);
+    const double p0 = bed / (2 * kPi), p1 = (std::abs(phi1) + bed) / (2 * kPi);
+    double psi = 0;
+    for (int k = 0; k < slots; ++k) {
+      const double from = quarters == 0 ? 0.0 : std::max<double>(k, p0);
+      const double to = quarters == 0 ? 1.0 : std::min<double>(k + 1, p1);
+      const double local =
+          quarters == 0 ? u : std::clamp((progress - from) / (to - from), 0.0, 1.0);
+      psi += half_twists[static_cast<std::size_t>(k)] * kPi *
+             std::clamp((local - 0.1) / 0.8, 0.0, 1.0);
+    }
+    const double tilt = 8 * kDeg * std::sin(2 * kPi * u);
+    const Eigen::Matrix3d R_SB = (Eigen::AngleAxisd(phi, Eigen::Vector3d::UnitY()) *
+                                  Eigen::AngleAxisd(tilt, Eigen::Vector3d::UnitX()) *
+                                  Eigen::AngleAxisd(psi, Eigen::Vector3d::UnitZ()))
+                                     .toRotationMatrix();
+    out.q_WB.emplace_back(R_WS * R_SB);
+    const double shape = std::sin(kPi * u);  // open at take-off and landing, most flexed mid-flight
+    out.hip[i] = hip_deg * kDeg * shape;
+    out.knee[i] = knee_deg * kDeg * shape;
+  }
+  return out;
+}
+
+struct Case {
+  const char* code;
+  int signed_quarters;
+  std::vector<int> half_twists;
+  double hip_deg, knee_deg;
+};
+
+TEST(JumpRotation, RecoversTheNominalSkillFromTheFlight) {
+  const Case cases[] = {
+      {"00", 0, {0}, 5, 5},
+      {"01", 0, {1}, 5, 5},
+      {"40o", -4, {0}, 120, 130},
+      {"40<", -4, {0}, 110, 10},
+      {"41/", 4, {1}, 10, 5},
+      {"42/", -4, {2}, 10, 5},
+      {"43/", 4, {3}, 10, 5},
+      {"800o", -8, {0, 0}, 125, 130},
+      {"822o", -8, {2, 2}, 120, 120},
+      {"825<", 8, {2, 5}, 100, 15},
+      {"803o", 8, {0, 3}, 120, 120},
+      {"12222o", -12, {2, 2, 2}, 125, 125},
+      {"161003o", -16, {1, 0, 0, 3}, 130, 130},
+  };
+  for (double heading : {0.0, 37.0, -120.0}) {
+    for (const Case& c : cases) {
+      SCOPED_TRACE(std::string(c.code) + " heading " + std::to_string(heading));
+      const Synthetic flight =
+          MakeFlight(c.signed_quarters, c.half_twists, heading, c.hip_deg, c.knee_deg);
+      const JumpRotation r = CountJumpRotation(
+          flight.q_WB, 0, static_cast<int>(flight.q_WB.size()) - 1, flight.hip, flight.knee);
+      EXPECT_EQ(FormatFigCode(r.skill), c.code)
+          << "measured " << r.measured_somersault_rad / kDeg << " deg";
+      EXPECT_EQ(r.takeoff_position, BodyPosition::kFeet);
+      EXPECT_EQ(r.landing_position, BodyPosition::kFeet);
+      if (c.signed_quarters != 0) {
+        EXPECT_EQ(
+            r.skill.direction,
+            c.signed_quarters > 0 ? SomersaultDirection::kForward : SomersaultDirection::kBackward);
+        // In the air: one quarter short of the nominal (the synthetic bed's share), to the accuracy
+        // of the fitted somersault plane.
+        EXPECT_NEAR(std::abs(r.measured_somersault_rad),
+                    (std::abs(c.signed_quarters) - 1) * kPi / 2,
+                    2 * kDeg);  // the ±8° tilt oscillation moves the fitted plane: 0.4° measured
+      }
+    }
+  }
+}
+
+TEST(JumpRotation, AnglesRoundTripThroughTheDecomposition) {
+  std::vector<Eigen::Quaterniond> q;
+  std::vector<double> phi, theta, psi;
+  for (int i = 0; i < 200; ++i) {
+    phi.push_back(-0.05 * i);  // 10 rad of back somersault: unwrapping across ±π
+    theta.push_back(0.3 * std::sin(0.1 * i));
+    psi.push_back(0.07 * i);
+    q.emplace_back(Eigen::AngleAxisd(phi.back(), Eigen::Vector3d::UnitY()) *
+                   Eigen::AngleAxisd(theta.back(), Eigen::Vector3d::UnitX()) *
+                   Eigen::AngleAxisd(psi.back(), Eigen::Vector3d::UnitZ()));
+  }
+  const RotationAngles a = CalcRotationAngles(q, Eigen::Vector3d::UnitY());
+  for (int i = 0; i < 200; ++i) {
+    EXPECT_NEAR(a.somersault_rad[i], phi[static_cast<std::size_t>(i)], 1e-12);
+    EXPECT_NEAR(a.tilt_rad[i], theta[static_cast<std::size_t>(i)], 1e-12);
+    EXPECT_NEAR(a.twist_rad[i], psi[static_cast<std::size_t>(i)], 1e-12);
+  }
+}
+
+TEST(JumpRotation, DropPositionsChangeTheNominalCount) {
+  // Feet to back drop: the body ends horizontal facing up after a quarter of back rotation.
+  std::vector<Eigen::Quaterniond> q;
+  for (int i = 0; i < 100; ++i)
+    q.emplace_back(Eigen::AngleAxisd(-i / 99.0 * 80 * kDeg, Eigen::Vector3d::UnitY()));
+  const JumpRotation r = CountJumpRotation(q, 0, 99, Eigen::VectorXd(), Eigen::VectorXd());
+  EXPECT_EQ(r.landing_position, BodyPosition::kBack);
+  EXPECT_EQ(r.skill.quarter_somersaults, 1);
+  EXPECT_EQ(r.skill.direction, SomersaultDirection::kBackward);
+}
+
+}  // namespace
+}  // namespace acro::analysis
+
+namespace acro::analysis {
+namespace {
+
+// Orientation from cumulative somersault and twist curves (turns), sampled linearly between points.
+std::vector<Eigen::Quaterniond> FromCurves(const std::vector<double>& somersault_turns,
+                                           const std::vector<double>& twist_turns) {
+  std::vector<Eigen::Quaterniond> q;
+  const int per_segment = 50;
+  for (std::size_t k = 0; k + 1 < somersault_turns.size(); ++k) {
+    for (int i = 0; i < per_segment + (k + 2 == somersault_turns.size() ? 1 : 0); ++i) {
+      const double u = double(i) / per_segment;
+      const double phi =
+          2 * kPi * (somersault_turns[k] + u * (somersault_turns[k + 1] - somersault_turns[k]));
+      const double psi = 2 * kPi * (twist_turns[k] + u * (twist_turns[k + 1] - twist_turns[k]));
+      q.emplace_back(Eigen::AngleAxisd(phi, Eigen::Vector3d::UnitY()) *
+                     Eigen::AngleAxisd(psi, Eigen::Vector3d::UnitZ()));
+    }
+  }
+  return q;
+}
+
+TEST(JumpRotation, PublicCountingRulesOfTheTrampolineSuite) {
+  // ../shared/refdata/s2mLab-EKF_multicamera-trampoline/expected.md: cumulative rotation curves in
+  // turns.
+  const auto a = FromCurves({0.0, -0.60, -1.05, -1.70, -2.02}, {0.0, 0.60, 1.52, 1.80, 2.01});
+  const JumpRotation ra =
+      CountJumpRotation(a, 0, static_cast<int>(a.size()) - 1, Eigen::VectorXd(), Eigen::VectorXd());
+  EXPECT_EQ(ra.skill.quarter_somersaults, 8);
+  EXPECT_EQ(ra.skill.half_twists, (std::vector<int>{3, 1}));  // code 831
+  EXPECT_EQ(ra.skill.direction, SomersaultDirection::kBackward);
+  const auto b = FromCurves({0.0, 0.55, 1.02, 1.55, 1.94}, {0.0, 0.45, 1.02, 1.32, 1.53});
+  const JumpRotation rb =
+      CountJumpRotation(b, 0, static_cast<int>(b.size()) - 1, Eigen::VectorXd(), Eigen::VectorXd());
+  EXPECT_EQ(rb.skill.quarter_somersaults, 8);
+  EXPECT_EQ(rb.skill.half_twists, (std::vector<int>{2, 1}));  // code 821
+  EXPECT_EQ(rb.skill.direction, SomersaultDirection::kForward);
+}
+
+TEST(JumpRotation, ShapeRulesOfTheTrampolineSuite) {
+  // Hip 80° with knee 85° is tucked; hip 85–90° with knee 5–15° is piked; open hips are straight.
+  std::vector<Eigen::Quaterniond> q;
+  for (int i = 0; i < 100; ++i)
+    q.emplace_back(Eigen::AngleAxisd(-i / 99.0 * 3 * kPi / 2, Eigen::Vector3d::UnitY()));
+  auto shape = [&](double hip_deg, double knee_deg) {
+    const Eigen::VectorXd hip = Eigen::VectorXd::Constant(100, hip_deg * kDeg);
+    const Eigen::VectorXd knee = Eigen::VectorXd::Constant(100, knee_deg * kDeg);
+    return CountJumpRotation(q, 0, 99, hip, knee).skill.shape;
+  };
+  EXPECT_EQ(shape(80, 85), SkillShape::kTuck);
+  EXPECT_EQ(shape(85, 5), SkillShape::kPike);
+  EXPECT_EQ(shape(90, 15), SkillShape::kPike);
+  EXPECT_EQ(shape(20, 10), SkillShape::kStraight);
+}
+
+}  // namespace
+}  // namespace acro::analysis

@@ -1,0 +1,355 @@
+// The main job against its ground truth: the committed sample routine (made by
+// tools/sample_routine, which the test runs again for the exact truth) must give every skill's FIG
+// code and difficulty, events within one frame, landing positions within the 3 cm competition
+// devices achieve, and a passing verdict; copies corrupted the three ways a capture goes wrong —
+// two markers swapped, cameras out of sync, a wrong segment mass in the athlete file — must fail it
+// and name the cause. Then real data: Sample_Jump2's force plates.
+
+#include "acro/assess/trial_analysis.h"
+
+#include <cmath>
+#include <fstream>
+
+#include <gtest/gtest.h>
+
+#include "acro/athlete/athlete_profile.h"
+#include "acro/capture/c3d.h"
+#include "acro/capture/storage.h"
+#include "acro/capture/trial_io.h"
+#include "refdata.h"
+#include "sample_routine.h"
+
+namespace acro::analysis {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path SamplePath(const std::string& relative) {
+  return acro::testing::SourceDir() / relative;
+}
+
+const samples::SampleRoutine& Truth() {
+  static const samples::SampleRoutine routine = samples::MakeSampleRoutine(
+      SamplePath("samples/athletes/sample_athlete.yaml"), "samples/athletes/sample_athlete.yaml");
+  return routine;
+}
+
+const capture::Trial& SampleTrial() {
+  static const capture::Trial trial =
+      capture::ReadC3d(SamplePath("samples/trials/trampoline_routine/trampoline_routine.c3d"));
+  return trial;
+}
+
+AthleteProfile SampleProfile() {
+  return ReadAthleteProfile(SamplePath("samples/athletes/sample_athlete.yaml"));
+}
+
+const TrialAnalysis& CleanAnalysis() {
+  static const TrialAnalysis a =
+      AnalyzeTrial(SampleTrial(), nullptr, MakeAthleteBody(SampleProfile()));
+  return a;
+}
+
+int PointIndex(const capture::Trial& trial, const std::string& label) {
+  for (int p = 0; p < trial.num_points(); ++p)
+    if (trial.points[static_cast<size_t>(p)].label == label) return p;
+  ADD_FAILURE() << "no point " << label;
+  return 0;
+}
+
+bool HasFinding(const TrialAnalysis& a, Finding::Kind kind, const std::string& name) {
+  for (const Finding& f : a.check.findings)
+    if (f.kind == kind && std::find(f.names.begin(), f.names.end(), name) != f.names.end())
+      return true;
+  return false;
+}
+
+std::string Findings(const TrialAnalysis& a) {
+  std::string out = a.check.verdict;
+  for (const Finding& f : a.check.findings) out += "\n  " + f.text;
+  return out;
+}
+
+// The committed file is what the generator makes (float32 storage: 5e-7 m at 5 m).
+TEST(TrialAnalysis, CommittedSampleIsTheGeneratorsOutput) {
+  const capture::Trial& committed = SampleTrial();
+  const capture::Trial& made = Truth().trial;
+  ASSERT_EQ(committed.num_frames, made.num_frames);
+  ASSERT_EQ(committed.num_points(), made.num_points());
+  EXPECT_EQ(committed.point_rate_hz, made.point_rate_hz);
+  double worst = 0.0;
+  int gaps = 0;
+  for (Eigen::Index c = 0; c < made.positions.cols(); ++c) {
+    const bool gap = std::isnan(made.positions(0, c));
+    ASSERT_EQ(gap, std::isnan(committed.positions(0, c))) << "sample " << c;
+    if (gap) {
+      ++gaps;
+      continue;
+    }
+    worst = std::max(worst, (made.positions.col(c) - committed.positions.col(c)).norm());
+  }
+  EXPECT_LT(worst, 1e-6);
+  EXPECT_GT(gaps, 0);  // the sample has a few gaps, as a real capture does
+}
+
+// The sample is physics, not an animation: in every flight the angular momentum about the COM is
+// conserved, the COM falls on a parabola with g and keeps its horizontal velocity; the phases join
+// with continuous positions and velocities; the bed pushes with what trampolines do (several body
+// weights) and the codes are the plan's.
+TEST(TrialAnalysis, SampleRoutineIsPhysicallyExact) {
+  const samples::SampleRoutine& r = Truth();
+  ASSERT_EQ(r.flights.size(), 6u);
+  const std::vector<std::string> codes = {"00", "40o", "40<", "41/", "42/", "800o"};
+  for (size_t k = 0; k < r.flights.size(); ++k) {
+    SCOPED_TRACE(r.flights[k].fig_code);
+    EXPECT_EQ(r.flights[k].fig_code, codes[k]);
+    const samples::SampleFlightPhysics p = samples::CheckSampleFlight(r, static_cast<int>(k));
+    EXPECT_GT(p.num_frames, 100);
+    // RK4 at 20 substeps per frame: drift and parabola errors at the integrator's 1e-8 level.
+    EXPECT_LT(p.max_relative_momentum_drift, 1e-6);
+    EXPECT_NEAR(p.fitted_vertical_acceleration_m_per_s2, -9.81, 1e-6);
+    EXPECT_LT(p.parabola_max_error_m, 1e-6);
+    EXPECT_LT(p.max_horizontal_velocity_change_m_per_s, 1e-6);
+    if (k > 0) {
+      EXPECT_GT(p.momentum_norm_N_m_s, 20.0);  // the somersaults rotate
+    }
+  }
+  EXPECT_LT(r.max_boundary_position_jump_m, 1e-9);
+  EXPECT_LT(r.max_boundary_velocity_jump_m_per_s, 1e-9);
+  EXPECT_LT(r.max_boundary_orientation_jump_rad, 1e-9);
+  EXPECT_LT(r.max_boundary_angular_velocity_jump_rad_per_s, 1e-9);
+  EXPECT_LT(r.max_boundary_joint_rate_jump_rad_per_s, 1e-9);
+  for (const samples::SampleContactTruth& c : r.contacts) {
+    EXPECT_GT(c.peak_force_body_weights, 5.0);
+    EXPECT_LT(c.peak_force_body_weights, 12.0);
+    EXPECT_GT(c.max_depression_m, 0.5);
+    EXPECT_LT(c.max_depression_m, 1.1);
+  }
+}
+
+TEST(TrialAnalysis, SampleRoutineGivesEverySkillWithinAFrameAndPasses) {
+  const TrialAnalysis& a = CleanAnalysis();
+  const samples::SampleRoutine& truth = Truth();
+  const double frame = 1.0 / SampleTrial().point_rate_hz;
+  ASSERT_EQ(a.jumps.size(), truth.flights.size()) << a.BriefReport();
+  EXPECT_EQ(a.phases.method, "feet");
+  ASSERT_TRUE(a.bed.has_value());
+  EXPECT_NEAR((a.bed->centre_W - truth.options.bed_centre_m).norm(), 0.0, 0.002);
+  EXPECT_NEAR(a.bed->length_m, truth.options.bed_length_m, 0.005);
+  EXPECT_NEAR(a.bed->width_m, truth.options.bed_width_m, 0.005);
+  double dd = 0.0, tof = 0.0;
+  for (size_t k = 0; k < truth.flights.size(); ++k) {
+    const samples::SampleFlightTruth& t = truth.flights[k];
+    const JumpMetrics& j = a.jumps[k];
+    SCOPED_TRACE(t.fig_code + " " + t.name);
+    EXPECT_FALSE(j.partial());
+    EXPECT_EQ(j.fig_code, t.fig_code);
+    const double expected_dd = CalcFigDifficulty(ParseFigCode(t.fig_code)).total();
+    EXPECT_DOUBLE_EQ(j.difficulty.total(), expected_dd);
+    dd += expected_dd;
+    tof += t.landing_s - t.takeoff_s;
+    EXPECT_NEAR(j.flight.takeoff_s, t.takeoff_s, frame);
+    EXPECT_NEAR(j.flight.landing_s, t.landing_s, frame);
+    EXPECT_NEAR(j.time_of_flight_s(), t.landing_s - t.takeoff_s, frame);
+    // Landing position to the 3 cm of competition devices; the apex of the COM parabola.
+    EXPECT_LT((j.landing_feet_W - t.landing_feet_m).head<2>().norm(), 0.03);
+    EXPECT_NEAR(j.apex_m(), t.apex_com_z_m, 0.02);
+    EXPECT_NEAR(j.takeoff_vertical_velocity_m_per_s(), t.takeoff_vertical_velocity_m_per_s, 0.05);
+    EXPECT_EQ(j.verdict, "pass");
+    ASSERT_TRUE(j.check.has_value());
+    // Flight physics on reconstructed markers: g and momentum as a torque-free body keeps them.
+    EXPECT_NEAR(j.check->fitted_gravity_m_per_s2, 9.81, 0.2);
+    EXPECT_LT(j.check->momentum_variation, 0.1);
+  }
+  EXPECT_TRUE(a.check.pass) << Findings(a);
+  EXPECT_NEAR(a.total_difficulty, dd, 1e-9);
+  EXPECT_NEAR(a.total_time_of_flight_s, tof, 6 * frame);
+  EXPECT_EQ(a.num_scored, 6);
+  // Bed reaction in the contacts: the simulation's peaks are 7–9.6 body weights.
+  ASSERT_GE(a.check.contacts.size(), 5u);
+  for (size_t c = 1; c + 1 < a.check.contacts.size(); ++c)
+    EXPECT_NEAR(a.check.contacts[c].peak_force_bw, truth.contacts[c].peak_force_body_weights, 1.0);
+}
+
+TEST(TrialAnalysis, SwappedMarkersFailTheVerdictAndAreNamed) {
+  // RTHI and RKNE exchanged for 30 frames of the back tuck's flight (not a left/right pair, which
+  // the reconstruction would repair).
+  capture::Trial trial = SampleTrial();
+  const int a = PointIndex(trial, "RTHI"), b = PointIndex(trial, "RKNE");
+  const int P = trial.num_points();
+  for (int f = 250; f < 280; ++f)
+    trial.positions.col(static_cast<Eigen::Index>(f) * P + a)
+        .swap(trial.positions.col(static_cast<Eigen::Index>(f) * P + b));
+  const TrialAnalysis r = AnalyzeTrial(trial, nullptr, MakeAthleteBody(SampleProfile()));
+  EXPECT_FALSE(r.check.pass);
+  EXPECT_TRUE(HasFinding(r, Finding::Kind::kSwap, "RTHI") &&
+              HasFinding(r, Finding::Kind::kSwap, "RKNE"))
+      << Findings(r);
+}
+
+TEST(TrialAnalysis, TimeShiftedMarkersFailTheVerdictAndTheTimingIsNamed) {
+  // The athlete's left-side markers (22 of 48: the cameras on that side) recorded 20 ms late.
+  capture::Trial trial = SampleTrial();
+  const int P = trial.num_points(), n = trial.num_frames;
+  const double lag_frames = 0.020 * trial.point_rate_hz;
+  const Eigen::Matrix3Xd original = trial.positions;
+  int shifted = 0;
+  for (int p = 0; p < P; ++p) {
+    if (trial.points[static_cast<size_t>(p)].label[0] != 'L') continue;
+    ++shifted;
+    for (int f = 0; f < n; ++f) {
+      const double x = f - lag_frames;
+      const int k = static_cast<int>(std::floor(x));
+      const double u = x - k;
+      auto at = [&](int g) { return original.col(static_cast<Eigen::Index>(g) * P + p); };
+      trial.positions.col(static_cast<Eigen::Index>(f) * P + p) =
+          k < 0 ? Eigen::Vector3d::Constant(NAN) : Eigen::Vector3d((1 - u) * at(k) + u * at(k + 1));
+    }
+  }
+  ASSERT_EQ(shifted, 22);
+  const TrialAnalysis r = AnalyzeTrial(trial, nullptr, MakeAthleteBody(SampleProfile()));
+  EXPECT_FALSE(r.check.pass);
+  const Finding* timing = nullptr;
+  for (const Finding& f : r.check.findings)
+    if (f.kind == Finding::Kind::kTiming) timing = &f;
+  ASSERT_NE(timing, nullptr) << Findings(r);
+  // Every marker it names is a shifted one, and the lag is the shift's.
+  for (const std::string& name : timing->names) EXPECT_EQ(name[0], 'L') << name;
+  EXPECT_GE(timing->names.size(), 4u);
+  EXPECT_NEAR(timing->value, 0.020, 0.005);
+}
+
+TEST(TrialAnalysis, DoubledSegmentMassFailsTheVerdictAndTheSegmentIsNamed) {
+  AthleteProfile profile = SampleProfile();
+  const AthleteBody body = MakeAthleteBody(profile);
+  const double thigh = body.segments[static_cast<size_t>(body.Find("r_thigh"))].in_H.mass_kg;
+  profile.segment_masses_kg["r_thigh"] = 2.0 * thigh;
+  const TrialAnalysis r = AnalyzeTrial(SampleTrial(), nullptr, MakeAthleteBody(profile));
+  EXPECT_FALSE(r.check.pass);
+  const Finding* mass = nullptr;
+  for (const Finding& f : r.check.findings)
+    if (f.kind == Finding::Kind::kSegmentMass) mass = &f;
+  ASSERT_NE(mass, nullptr) << Findings(r);
+  ASSERT_FALSE(mass->names.empty());
+  EXPECT_EQ(mass->names[0], "r_thigh") << mass->text;
+  // The suggestion takes the thigh most of the way back to its true mass.
+  const MassSuggestion& s = r.check.mass_suggestion;
+  const auto it = std::find(s.segments.begin(), s.segments.end(), "r_thigh");
+  ASSERT_NE(it, s.segments.end());
+  EXPECT_NEAR(s.suggested_kg[it - s.segments.begin()], thigh, 0.3 * thigh);
+  // The metrics do not depend on the masses: the soles find the same flights and codes.
+  ASSERT_EQ(r.jumps.size(), CleanAnalysis().jumps.size());
+  for (size_t k = 0; k < r.jumps.size(); ++k)
+    EXPECT_EQ(r.jumps[k].fig_code, CleanAnalysis().jumps[k].fig_code);
+}
+
+TEST(TrialAnalysis, TablesAreWrittenAndReadBack) {
+  const TrialAnalysis& a = CleanAnalysis();
+  const fs::path dir = acro::testing::TempDir() / "trial_analysis_tables";
+  fs::create_directories(dir);
+  WriteAnalysisTables(a, dir);
+  for (const char* f : {"jumps.json", "angles.mot", "torques.sto", "residuals.csv"})
+    EXPECT_TRUE(fs::exists(dir / f)) << f;
+  const capture::Storage torques = capture::ReadStorage(dir / "torques.sto");
+  EXPECT_EQ(torques.time_s.size(), a.reconstruction.motion.num_frames());
+  EXPECT_GE(torques.FindColumn("r_hip_flexion_moment"), 0);
+  const capture::Storage angles = capture::ReadStorage(dir / "angles.mot");
+  EXPECT_TRUE(angles.in_degrees);
+  const std::string json = FormatJumpsJson(a);
+  for (const char* key : {"\"takeoff_s\"",
+                          "\"landing_s\"",
+                          "\"time_of_flight_s\"",
+                          "\"apex_m\"",
+                          "\"somersault_quarters\"",
+                          "\"direction\"",
+                          "\"twist_halves\"",
+                          "\"shape\"",
+                          "\"fig_code\"",
+                          "\"difficulty\"",
+                          "\"verdict\""})
+    EXPECT_NE(json.find(key), std::string::npos) << key;
+  EXPECT_NE(json.find("\"fig_code\": \"800o\""), std::string::npos);
+  // residuals.csv: a header and one line per frame.
+  std::ifstream csv(dir / "residuals.csv");
+  int lines = 0;
+  for (std::string line; std::getline(csv, line);) ++lines;
+  EXPECT_EQ(lines, a.reconstruction.motion.num_frames() + 1);
+}
+
+// Sample_Jump2 (c3dio sample_00): a real jump on two force plates. The phases come from the plates;
+// the flight's residuals are reported. The file's events are Take-Off 0.6917 s and Landing
+// 1.1833 s.
+TEST(TrialAnalysis, SampleJump2UsesItsForcePlates) {
+  const auto path = acro::testing::RefdataFile(
+      "c3dio-c3d_org_samples/sample_00/Motion Analysis Corporation/Sample_Jump2.c3d");
+  ACRO_REQUIRE_REFDATA_FILE(path);
+  const capture::Trial trial = capture::ReadC3d(path);
+  const TrialAnalysis a = AnalyzeTrial(trial, nullptr, MakeDeLevaBody(1.75, 80.0, Sex::kMale));
+  EXPECT_EQ(a.phases.method, "force plates");
+  std::vector<const JumpMetrics*> complete;
+  for (const JumpMetrics& j : a.jumps)
+    if (!j.partial()) complete.push_back(&j);
+  ASSERT_EQ(complete.size(), 1u) << a.BriefReport();
+  const JumpMetrics& j = *complete[0];
+  const double frame = 1.0 / trial.point_rate_hz;
+  EXPECT_NEAR(j.flight.landing_s, 1.1833, frame);
+  // The plates unload 1.7 frames after the file's Take-Off event (they still carry 220 N at it;
+  // tests/analysis/phases_test.cc): our take-off is the unloading, within two frames.
+  EXPECT_NEAR(j.flight.takeoff_s, 0.6917, 2 * frame);
+  EXPECT_EQ(j.fig_code, "00");
+  ASSERT_TRUE(j.check.has_value());
+  EXPECT_GT(j.check->last_frame - j.check->first_frame, 30);
+  EXPECT_TRUE(std::isfinite(j.check->window_force_bw));
+  EXPECT_NEAR(j.check->fitted_gravity_m_per_s2, 9.81, 1.0);
+  RecordProperty("flight_residual_force_bw", std::to_string(j.check->window_force_bw));
+  RecordProperty("flight_residual_moment_bwh", std::to_string(j.check->window_moment_bwh));
+  // The file's events are frame-quantised crossings of about 230 N (the plates carry 220 N at
+  // Take-Off and 255 N at Landing, 415 N and 25 N a frame before). The kinematic route, from the
+  // COM alone, independently lands within one frame of both.
+  TrialAnalysisOptions kinematic;
+  kinematic.use_force_plates = false;
+  const TrialAnalysis k =
+      AnalyzeTrial(trial, nullptr, MakeDeLevaBody(1.75, 80.0, Sex::kMale), kinematic);
+  EXPECT_EQ(k.phases.method, "com");
+  const JumpMetrics* kj = nullptr;
+  for (const JumpMetrics& x : k.jumps)
+    if (!x.partial()) kj = &x;
+  ASSERT_NE(kj, nullptr);
+  EXPECT_NEAR(kj->flight.takeoff_s, 0.6917, frame);
+  EXPECT_NEAR(kj->flight.landing_s, 1.1833, frame);
+}
+
+// The real trampoline routine of the s2mLab set: 17 video keypoints from 8 cameras at 120 Hz, no
+// athlete file, no bed markers; its README says the floor is at z ≈ 0, so the bed at rest is the
+// FIG norm's 1.155 m. expected.md's complete flights ("all keypoints above 1.2 m for more than
+// 0.25 s") are found, each within two frames at both ends, and every skill gets a code.
+TEST(TrialAnalysis, S2mLabRoutineHasItsFiveFlightsWithinTwoFrames) {
+  const auto path = acro::testing::RefdataFile(
+      "s2mLab-EKF_multicamera-trampoline/inputs/trc/1_partie_0429_002.trc");
+  ACRO_REQUIRE_REFDATA_FILE(path);
+  const capture::Trial trial = capture::ReadTrial(path);
+  TrialAnalysisOptions options;
+  options.surface_height_m = 1.155;
+  const TrialAnalysis a =
+      AnalyzeTrial(trial, nullptr, MakeDeLevaBody(1.70, 60.0, Sex::kFemale), options);
+  EXPECT_EQ(a.phases.method, "feet");
+  const int windows[5][2] = {{126, 321}, {355, 541}, {574, 758}, {791, 971}, {1003, 1177}};
+  std::vector<const JumpMetrics*> complete;
+  for (const JumpMetrics& j : a.jumps)
+    if (!j.partial()) complete.push_back(&j);
+  ASSERT_EQ(complete.size(), 5u) << a.BriefReport();
+  const double rate = trial.point_rate_hz;
+  for (int k = 0; k < 5; ++k) {
+    const JumpMetrics& j = *complete[static_cast<size_t>(k)];
+    SCOPED_TRACE("flight " + std::to_string(k + 1) + " " + j.fig_code);
+    EXPECT_NEAR(j.flight.takeoff_s * rate, windows[k][0], 2.0);
+    EXPECT_NEAR(j.flight.landing_s * rate, windows[k][1], 2.0);
+    EXPECT_GE(j.rotation.skill.quarter_somersaults, 4);
+    EXPECT_FALSE(j.fig_code.empty());
+    RecordProperty("flight" + std::to_string(k + 1),
+                   j.fig_code + " ToF " + std::to_string(j.time_of_flight_s()));
+  }
+}
+
+}  // namespace
+}  // namespace acro::analysis

@@ -1,0 +1,139 @@
+// The report of `acrolab analyze`: what its figures show is checked as data (no display needed),
+// the page says what a coach must read, and with a display the PNGs are written and linked.
+#include "acro/report/analysis_report.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "acro/athlete/athlete_profile.h"
+#include "acro/base/input_error.h"
+#include "acro/base/text_format.h"
+#include "acro/capture/c3d.h"
+#include <cstdlib>
+#include "refdata.h"
+
+namespace acro::ui {
+namespace {
+
+namespace fs = std::filesystem;
+
+const analysis::TrialAnalysis& Sample() {
+  static const analysis::TrialAnalysis a = [] {
+    const fs::path root = acro::testing::SourceDir();
+    const capture::Trial trial =
+        capture::ReadC3d(root / "samples/trials/trampoline_routine/trampoline_routine.c3d");
+    const analysis::AthleteBody body = analysis::MakeAthleteBody(
+        analysis::ReadAthleteProfile(root / "samples/athletes/sample_athlete.yaml"));
+    return analysis::AnalyzeTrial(trial, nullptr, body);
+  }();
+  return a;
+}
+
+int FiniteCount(const std::vector<double>& y) {
+  return static_cast<int>(
+      std::count_if(y.begin(), y.end(), [](double v) { return std::isfinite(v); }));
+}
+
+TEST(AnalysisReport, FiguresShowThePhasesTheJudgedResidualsAndTheChosenJoint) {
+  const analysis::TrialAnalysis& a = Sample();
+  AnalysisReportOptions options;
+  options.joint = "l_knee_flexion";
+  const std::vector<ReportFigure> figures = MakeAnalysisFigures(a, options);
+  ASSERT_EQ(figures.size(), 6u);
+  const int frames = a.reconstruction.motion.num_frames();
+  int judged = 0;
+  for (const analysis::FlightCheck& f : a.check.flights) judged += f.last_frame - f.first_frame + 1;
+  for (const ReportFigure& f : figures) {
+    SCOPED_TRACE(f.file);
+    std::string why;
+    EXPECT_TRUE(f.chart.IsValid(&why)) << why;
+    // Every chart shades the six flights and spans the whole trial.
+    EXPECT_EQ(f.chart.bands.size(), a.phases.flights.size());
+    for (const LineSeries& s : f.chart.series) EXPECT_EQ(static_cast<int>(s.x.size()), frames);
+    EXPECT_FALSE(f.caption.empty());
+  }
+  // COM height: the COM and the lowest sole, and the bed line at the bed's height.
+  EXPECT_EQ(figures[0].file, "com_height.png");
+  ASSERT_EQ(figures[0].chart.reference_lines.size(), 1u);
+  EXPECT_DOUBLE_EQ(figures[0].chart.reference_lines[0].y, a.bed->centre_W.z());
+  // Residual force: per frame over the judged frames only, the judged mean, the limit.
+  EXPECT_EQ(figures[1].file, "residual_force.png");
+  ASSERT_EQ(figures[1].chart.series.size(), 2u);
+  EXPECT_EQ(FiniteCount(figures[1].chart.series[0].y), judged);
+  EXPECT_GT(FiniteCount(figures[1].chart.series[1].y), judged / 2);
+  EXPECT_DOUBLE_EQ(figures[1].chart.reference_lines[0].y, a.check_options.max_force_bw);
+  // The clean sample passes: its judged mean stays below the limit everywhere.
+  for (double v : figures[1].chart.series[1].y) {
+    if (std::isfinite(v)) {
+      EXPECT_LE(v, a.check_options.max_force_bw);
+    }
+  }
+  // The joint: its angle in degrees and its torque.
+  EXPECT_NE(figures[4].chart.title.find("l_knee_flexion"), std::string::npos);
+  EXPECT_NE(figures[5].chart.title.find("l_knee_flexion"), std::string::npos);
+  double max_knee_deg = 0;
+  for (double v : figures[4].chart.series[0].y) max_knee_deg = std::max(max_knee_deg, v);
+  EXPECT_GT(max_knee_deg, 90.0);  // the tucks bend the knees well past a right angle
+}
+
+TEST(AnalysisReport, AnUnknownJointIsAnInputError) {
+  AnalysisReportOptions options;
+  options.joint = "r_tail_wag";
+  EXPECT_THROW(MakeAnalysisFigures(Sample(), options), acro::InputError);
+}
+
+TEST(AnalysisReport, ThePageCarriesTheRoutineTheVerdictAndEveryJump) {
+  const analysis::TrialAnalysis& a = Sample();
+  const AnalysisReportOptions options;
+  const std::vector<ReportFigure> figures = MakeAnalysisFigures(a, options);
+  AnalysisReportOutcome none;
+  none.reason = "no display: test";
+  const std::string html = FormatAnalysisReportHtml(a, figures, options, none);
+  EXPECT_NE(html.find("6 skills"), std::string::npos);
+  EXPECT_NE(html.find("<b>3.5</b>"), std::string::npos);  // the routine's DD
+  EXPECT_NE(html.find("class=\"pass\"><b>pass</b>"), std::string::npos);
+  for (const analysis::JumpMetrics& j : a.jumps)
+    EXPECT_NE(html.find("<b>" + acro::HtmlEscape(j.fig_code) + "</b>"), std::string::npos)
+        << j.fig_code;
+  EXPECT_NE(html.find("No plots in this report: no display: test"), std::string::npos);
+  EXPECT_EQ(html.find("<img"), std::string::npos);
+  AnalysisReportOutcome rendered;
+  rendered.images_rendered = true;
+  const std::string with = FormatAnalysisReportHtml(a, figures, options, rendered);
+  for (const ReportFigure& f : figures)
+    EXPECT_NE(with.find("<img src=\"" + f.file + "\""), std::string::npos) << f.file;
+}
+
+TEST(AnalysisReport, PngAndSvgAreWrittenAndLinkedWithNoDisplay) {
+  // Charts are drawn by Cairo in memory: DISPLAY plays no part.
+  const char* display = std::getenv("DISPLAY");
+  const std::string saved = display ? display : "";
+  unsetenv("DISPLAY");
+  const fs::path dir = acro::testing::TempDir() / "analysis_report";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const AnalysisReportOutcome outcome = WriteAnalysisReport(Sample(), dir, {});
+  if (display) setenv("DISPLAY", saved.c_str(), 1);
+  ASSERT_TRUE(outcome.images_rendered) << outcome.reason;
+  ASSERT_EQ(outcome.images.size(), 12u);  // six figures, PNG and SVG each
+  for (const fs::path& p : outcome.images) {
+    std::ifstream in(p, std::ios::binary);
+    std::string head(5, '\0');
+    in.read(head.data(), 5);
+    if (p.extension() == ".png") {
+      EXPECT_EQ(head.substr(1, 3), "PNG") << p;
+    } else {
+      EXPECT_EQ(head, "<?xml") << p;
+    }
+  }
+  std::ifstream page(dir / "report.html");
+  const std::string html(std::istreambuf_iterator<char>(page), {});
+  EXPECT_NE(html.find("<img src=\"com_height.png\""), std::string::npos);
+  EXPECT_NE(html.find("<a href=\"com_height.svg\">SVG</a>"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace acro::ui

@@ -1,0 +1,42 @@
+#pragma once
+
+// What `acrolab optimize` writes for a designed skill: result.json, the timing table (CSV) and plot
+// (initial vs optimised keyframe times), the angular-momentum plot, the motion as C3D virtual
+// markers and as an OpenSim .mot, and an HTML report page that shows them. Every file is written
+// atomically.
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "acro/design/timing_optimization.h"
+#include "acro/capture/storage.h"
+#include "acro/capture/trial.h"
+
+namespace acro::ui {
+
+/// result.json's text (keyframe_names, keyframe_times_initial_s, keyframe_times_s,
+/// objective_initial, objective, angular_momentum_variation(_initial), model, solver, simulation).
+std::string MakeSkillResultJson(const analysis::SkillDesign& design,
+                                const analysis::TimingOptimizationResult& result,
+                                const analysis::SkillSimulationResult* simulation);
+
+/// The designed motion sampled at `rate_hz`: the standard human's named points as virtual markers.
+capture::Trial MakeSkillMarkerTrial(const analysis::SkillDesign& design,
+                                    const analysis::SkillTrajectory& trajectory,
+                                    double rate_hz = 100.0);
+
+/// The designed motion sampled at `rate_hz`: root position (m), root orientation as somersault,
+/// tilt, twist unwrapped (deg) and every joint angle (deg).
+capture::Storage MakeSkillMotionTable(const analysis::SkillDesign& design,
+                                      const analysis::SkillTrajectory& trajectory,
+                                      double rate_hz = 100.0);
+
+/// Writes result.json, timing.csv, timing.svg/.png, angular_momentum.svg/.png, motion.c3d,
+/// motion.mot and report.html into `dir` (created if needed). Returns the file names written.
+std::vector<std::string> WriteSkillOutputs(const std::filesystem::path& dir,
+                                           const analysis::SkillDesign& design,
+                                           const analysis::TimingOptimizationResult& result,
+                                           const analysis::SkillSimulationResult* simulation);
+
+}  // namespace acro::ui

@@ -1,0 +1,357 @@
+#include "acro/report/analysis_report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <sstream>
+
+#include "acro/base/input_error.h"
+#include "acro/base/text_format.h"
+#include "acro/base/file_io.h"
+
+namespace acro::ui {
+namespace {
+
+constexpr double kRadToDeg = 180.0 / std::numbers::pi;
+constexpr Rgb kBlue{0.12, 0.47, 0.71};
+constexpr Rgb kOrange{1.0, 0.5, 0.05};
+constexpr Rgb kGreen{0.17, 0.63, 0.17};
+constexpr Rgb kRed{0.84, 0.15, 0.16};
+constexpr Rgb kGrey{0.4, 0.4, 0.4};
+constexpr Rgb kFlightBand{0.3, 0.6, 1.0};
+
+std::vector<double> ToVector(const Eigen::VectorXd& v) {
+  return std::vector<double>(v.data(), v.data() + v.size());
+}
+
+// A chart over the trial's time axis with the flights shaded.
+Chart TimeChart(const analysis::TrialAnalysis& a, std::string title, std::string y_label) {
+  Chart c;
+  c.title = std::move(title);
+  c.x_label = "time (s)";
+  c.y_label = std::move(y_label);
+  for (const analysis::Flight& f : a.phases.flights) {
+    ShadedInterval band;
+    band.x0 = f.takeoff_s;
+    band.x1 = f.landing_s;
+    band.color = kFlightBand;
+    band.alpha = f.partial ? 0.08 : 0.18;
+    band.label = "flight";
+    c.bands.push_back(band);
+  }
+  return c;
+}
+
+LineSeries Series(std::string name, std::vector<double> x, std::vector<double> y, Rgb color) {
+  LineSeries s;
+  s.name = std::move(name);
+  s.x = std::move(x);
+  s.y = std::move(y);
+  s.color = color;
+  return s;
+}
+
+// The values of a per-frame row only in the judged flight frames (NaN elsewhere), so a plot of
+// flight residuals is not dominated by the bed's reaction.
+std::vector<double> InFlights(const analysis::TrialAnalysis& a, const Eigen::VectorXd& row) {
+  std::vector<double> out(static_cast<size_t>(row.size()),
+                          std::numeric_limits<double>::quiet_NaN());
+  for (const analysis::FlightCheck& f : a.check.flights)
+    for (int i = f.first_frame; i <= f.last_frame && i < row.size(); ++i)
+      out[static_cast<size_t>(i)] = row[i];
+  return out;
+}
+
+// "0.20 s" for the residual's averaging window.
+std::string Window(const analysis::TrialAnalysis& a) {
+  return FormatFixed(a.check_options.residual_window_s, 2) + " s";
+}
+
+// A residual over time: single frames (thin), the judged window means (bold) and the limit.
+Chart ResidualChart(const analysis::TrialAnalysis& a,
+                    std::string title,
+                    std::string y_label,
+                    const std::string& symbol,
+                    std::vector<double> per_frame,
+                    const Eigen::VectorXd& window_mean,
+                    double limit) {
+  Chart c = TimeChart(a, std::move(title), std::move(y_label));
+  LineSeries frames = Series(symbol + " per frame",
+                             ToVector(a.reconstruction.motion.time_s),
+                             std::move(per_frame),
+                             {0.95, 0.6, 0.6});
+  frames.width_px = 1.0;
+  c.series.push_back(frames);
+  c.series.push_back(Series(symbol + ", " + Window(a) + " mean (judged)",
+                            ToVector(a.reconstruction.motion.time_s),
+                            ToVector(window_mean),
+                            kRed));
+  ReferenceLine line;
+  line.y = limit;
+  line.label = "limit";
+  c.reference_lines.push_back(line);
+  return c;
+}
+
+// Fixed-point, "–" for a missing value, and no "-0" for a value that rounds to zero.
+std::string Fixed(double v, int digits) {
+  if (!std::isfinite(v)) return "–";
+  std::string text = FormatFixed(v, digits);
+  if (text[0] == '-' && text.find_first_not_of("-0.") == std::string::npos) text.erase(0, 1);
+  return text;
+}
+
+// "com_height.svg" for "com_height.png".
+std::string SvgName(const std::string& png) {
+  return std::filesystem::path(png).replace_extension(".svg").string();
+}
+
+std::string Html(const std::string& s) {
+  return HtmlEscape(s);
+}
+
+}  // namespace
+
+std::vector<ReportFigure> MakeAnalysisFigures(const analysis::TrialAnalysis& a,
+                                              const AnalysisReportOptions& options) {
+  const analysis::Motion& m = a.reconstruction.motion;
+  const std::vector<double> t = ToVector(m.time_s);
+  std::vector<ReportFigure> out;
+
+  // COM height and the lowest sole with the phases.
+  {
+    Chart c = TimeChart(a, "Centre of mass and feet", "height (m)");
+    c.series.push_back(
+        Series("COM height", t, ToVector(a.check.frames.com_W.row(2).transpose()), kBlue));
+    c.series.push_back(Series("lowest sole", t, ToVector(a.feet_z_m), kGreen));
+    if (a.bed) {
+      ReferenceLine bed;
+      bed.y = a.bed->centre_W.z();
+      bed.label = "bed at rest";
+      c.reference_lines.push_back(bed);
+    }
+    out.push_back(
+        {"com_height.png", "Whole-body centre of mass and the lowest sole; flights shaded.", c});
+  }
+
+  // Root residuals in flight against their thresholds.
+  const analysis::FrameDynamics& f = a.check.frames;
+  const Eigen::VectorXd force = f.force_bw.colwise().norm().transpose();
+  const Eigen::VectorXd moment = f.moment_bwh.colwise().norm().transpose();
+  out.push_back({"residual_force.png",
+                 "Residual force at the COM over the judged flight frames, in body weights: per "
+                 "frame and averaged over the window the verdict judges. Gravity is the only "
+                 "external force in flight, so it should be zero.",
+                 ResidualChart(a,
+                               "Root residual force in flight",
+                               "|F| / body weight",
+                               "|F|",
+                               InFlights(a, force),
+                               a.check.window_force_bw,
+                               a.check_options.max_force_bw)});
+  out.push_back({"residual_moment.png",
+                 "Residual moment about the COM over the judged flight frames, in body weight × "
+                 "stature, per frame and averaged as judged.",
+                 ResidualChart(a,
+                               "Root residual moment in flight",
+                               "|M| / (body weight × height)",
+                               "|M|",
+                               InFlights(a, moment),
+                               a.check.window_moment_bwh,
+                               a.check_options.max_moment_bwh)});
+  {
+    Chart c = TimeChart(a, "Angular momentum about the centre of mass", "kg·m²/s");
+    const Eigen::Matrix3Xd& L = f.angular_momentum;
+    c.series.push_back(Series("|L|", t, InFlights(a, L.colwise().norm().transpose()), kBlue));
+    c.series.push_back(Series("L_x", t, InFlights(a, L.row(0).transpose()), kOrange));
+    c.series.push_back(Series("L_y", t, InFlights(a, L.row(1).transpose()), kGreen));
+    c.series.push_back(Series("L_z", t, InFlights(a, L.row(2).transpose()), kGrey));
+    out.push_back({"angular_momentum.png",
+                   "Angular momentum about the COM in the lab frame over the judged flight frames: "
+                   "constant in each flight for a physically consistent capture.",
+                   c});
+  }
+
+  // The chosen joint: angle and torque over the whole trial.
+  const auto it = std::find(m.coordinate_names.begin(), m.coordinate_names.end(), options.joint);
+  const int row =
+      it == m.coordinate_names.end() ? -1 : static_cast<int>(it - m.coordinate_names.begin());
+  if (row < 7) {
+    std::string names;
+    for (size_t k = 7; k < m.coordinate_names.size() && k < 12; ++k)
+      names += (k > 7 ? ", " : "") + m.coordinate_names[k];
+    throw InputError("",
+                     "--joint",
+                     "'" + options.joint + "' is not a joint coordinate (e.g. " + names +
+                         ", …; docs/reconstruction.md)");
+  }
+  {
+    Chart c = TimeChart(a, "Joint angle: " + options.joint, "degrees");
+    std::vector<double> y(t.size());
+    for (size_t i = 0; i < t.size(); ++i) y[i] = m.q(row, static_cast<Eigen::Index>(i)) * kRadToDeg;
+    c.series.push_back(Series(options.joint, t, y, kBlue));
+    out.push_back(
+        {"joint_angle.png", "Angle of " + options.joint + " (model sign convention).", c});
+  }
+  {
+    Chart c = TimeChart(a, "Joint torque: " + options.joint, "N·m");
+    c.series.push_back(Series(options.joint + " torque",
+                              t,
+                              ToVector(f.joint_torque_Nm.row(row - 7).transpose()),
+                              kOrange));
+    out.push_back({"joint_torque.png",
+                   "Net torque about the " + options.joint + " axis from inverse dynamics.",
+                   c});
+  }
+  return out;
+}
+
+std::string FormatAnalysisReportHtml(const analysis::TrialAnalysis& a,
+                                     const std::vector<ReportFigure>& figures,
+                                     const AnalysisReportOptions& options,
+                                     const AnalysisReportOutcome& outcome) {
+  const analysis::ReconstructionSummary& rs = a.reconstruction.summary;
+  std::ostringstream h;
+  h << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>Acrolab: " << Html(a.trial_name)
+    << "</title><style>body{font-family:sans-serif;max-width:1000px;margin:2em auto;color:#222}"
+       "table{border-collapse:collapse;margin:0.5em 0}td,th{border:1px solid #ccc;padding:2px 6px;"
+       "text-align:right}td.l,th.l{text-align:left}.pass{color:#1a7f37}.fail{color:#c62828}"
+       ".note{background:#fff8e1;padding:0.5em}img{max-width:100%}</style></head><body>\n";
+  h << "<h1>" << Html(a.trial_name) << "</h1>\n<p>Trial <code>" << Html(options.trial_path)
+    << "</code>; athlete: " << Html(options.athlete) << " (" << Fixed(a.stature_m, 2) << " m, "
+    << Fixed(a.mass_kg, 1) << " kg).</p>\n";
+
+  // Routine summary and verdict.
+  h << "<h2>Routine</h2>\n<p><b>" << a.num_scored << " skills</b>, difficulty (DD) <b>"
+    << Fixed(a.total_difficulty, 1) << "</b>, time of flight <b>"
+    << Fixed(a.total_time_of_flight_s, 3) << " s</b> (the sum the judges use).";
+  const int partial = static_cast<int>(a.jumps.size()) - a.num_scored;
+  if (partial > 0)
+    h << " " << partial << " partial flight(s) at the ends are shown but not scored.";
+  h << "</p>\n";
+  h << "<h2>Physical check</h2>\n<p class=\"" << (a.check.pass ? "pass" : "fail") << "\"><b>"
+    << Html(a.check.verdict) << "</b></p>\n";
+  if (!a.check.findings.empty()) {
+    h << "<p>What drives it:</p><ul>\n";
+    for (const analysis::Finding& f : a.check.findings) h << "<li>" << Html(f.text) << "</li>\n";
+    h << "</ul>\n";
+  }
+  const analysis::MassSuggestion& ms = a.check.mass_suggestion;
+  if (!a.check.pass && ms.segments.size() > 0 && ms.residual_before > 0) {
+    h << "<p>Segment masses that best zero the flight residuals (least squares, total mass kept; "
+         "reported, not applied): RMS residual "
+      << Fixed(ms.residual_before, 4) << " → " << Fixed(ms.residual_after, 4)
+      << ".</p>\n<table><tr><th class=\"l\">segment</th><th>model (kg)</th><th>suggested "
+         "(kg)</th></tr>\n";
+    for (size_t s = 0; s < ms.segments.size(); ++s)
+      h << "<tr><td class=\"l\">" << Html(ms.segments[s]) << "</td><td>"
+        << Fixed(ms.current_kg[static_cast<Eigen::Index>(s)], 2) << "</td><td>"
+        << Fixed(ms.suggested_kg[static_cast<Eigen::Index>(s)], 2) << "</td></tr>\n";
+    h << "</table>\n";
+  }
+  const analysis::PhysicalCheckOptions& co = a.check_options;
+  h << "<p>Thresholds per flight (docs/physical-check.md): residual force ≤ "
+    << Fixed(co.max_force_bw, 3) << " body weight, moment about the COM ≤ "
+    << Fixed(co.max_moment_bwh, 4)
+    << " body weight × stature (OpenSim's residual guidelines with gravity as the external "
+       "force), angular momentum within "
+    << Fixed(100 * co.max_momentum_variation, 0) << " %, fitted gravity within "
+    << Fixed(100 * co.max_gravity_error, 0) << " %, marker error ≤ "
+    << Fixed(100 * co.max_marker_error_m, 1) << " cm. Frames within "
+    << Fixed(1e3 * a.check.edge_margin_s, 0) << " ms of take-off and landing are not judged.</p>\n";
+
+  // Per-jump table.
+  h << "<h2>Jumps</h2>\n<table><tr><th>#</th><th>take-off (s)</th><th>landing (s)</th><th>ToF "
+       "(s)</th><th>apex (m)</th><th>HD (m)</th><th>from centre (m)</th><th>somersault "
+       "(°)</th><th>twist (°)</th><th class=\"l\">code</th><th class=\"l\">skill</th><th>DD</th>"
+       "<th>residual |F| (BW, "
+    << Window(a) << " mean)</th><th class=\"l\">verdict</th></tr>\n";
+  for (const analysis::JumpMetrics& j : a.jumps) {
+    const bool ok = j.verdict == "pass";
+    h << "<tr><td>" << j.index << "</td><td>" << Fixed(j.flight.takeoff_s, 3) << "</td><td>"
+      << Fixed(j.flight.landing_s, 3) << "</td><td>" << Fixed(j.time_of_flight_s(), 3)
+      << "</td><td>"
+      << Fixed(std::isfinite(j.apex_above_bed_m) ? j.apex_above_bed_m : j.apex_m(), 2)
+      << "</td><td>" << Fixed(j.displacement_from_takeoff_m, 2) << "</td><td>"
+      << Fixed(j.displacement_from_centre_m, 2) << "</td><td>"
+      << Fixed(j.rotation.measured_somersault_rad * kRadToDeg, 0) << "</td><td>"
+      << Fixed(j.rotation.measured_twist_rad * kRadToDeg, 0) << "</td><td class=\"l\"><b>"
+      << Html(j.fig_code) << "</b></td><td class=\"l\">" << Html(j.skill_name) << "</td><td>"
+      << (j.partial() ? "–" : Fixed(j.difficulty.total(), 1)) << "</td><td>"
+      << (j.check ? Fixed(j.check->window_force_bw, 3) : "–") << "</td><td class=\"l "
+      << (ok ? "pass" : "fail") << "\">" << Html(j.verdict) << "</td></tr>\n";
+  }
+  h << "</table>\n<p>Apex: centre of mass above the bed at rest"
+    << (a.bed ? " (bed from " + Html(a.bed->source) + ")" : " (no bed known: lab height)")
+    << ". HD: horizontal distance of the landing feet from the take-off feet. Somersault (positive "
+       "forward) and twist: measured in the air; the code counts the nominal rotation between "
+       "landing positions. Residual: the largest mean over "
+    << Window(a) << " of the flight, as the verdict judges it.</p>\n";
+  if (!a.check.contacts.empty()) {
+    h << "<p>Peak bed (or floor) reaction in the contacts, body weights:";
+    for (const analysis::ContactLoad& c : a.check.contacts)
+      h << " " << Fixed(c.peak_force_bw, 2) << " at " << Fixed(c.peak_s, 2) << " s;";
+    h << "</p>\n";
+  }
+
+  // Plots.
+  h << "<h2>Plots</h2>\n";
+  if (outcome.images_rendered) {
+    for (const ReportFigure& f : figures)
+      h << "<figure><a href=\"" << Html(SvgName(f.file)) << "\"><img src=\"" << Html(f.file)
+        << "\" alt=\"" << Html(f.chart.title) << "\"></a><figcaption>" << Html(f.caption)
+        << " (<a href=\"" << Html(SvgName(f.file)) << "\">SVG</a>)</figcaption></figure>\n";
+  } else {
+    h << "<p class=\"note\">No plots in this report: " << Html(outcome.reason)
+      << ". The tables residuals.csv, angles.mot and torques.sto hold the same data.</p>\n";
+  }
+
+  // How the motion was reconstructed.
+  h << "<h2>Reconstruction</h2>\n<pre>" << Html(rs.BriefReport()) << "</pre>\n";
+  // Warnings the reconstruction summary above does not already show.
+  const std::string reconstruction = rs.BriefReport();
+  std::vector<std::string> more;
+  for (const std::string& w : a.warnings)
+    if (reconstruction.find(w) == std::string::npos) more.push_back(w);
+  if (!more.empty()) {
+    h << "<h2>Warnings</h2>\n<ul>\n";
+    for (const std::string& w : more) h << "<li>" << Html(w) << "</li>\n";
+    h << "</ul>\n";
+  }
+  h << "<p>Files: jumps.json, angles.mot (joint angles, degrees), torques.sto (joint torques, "
+       "N·m), residuals.csv (root residuals, angular momentum and COM per frame).</p>\n"
+       "</body></html>\n";
+  return h.str();
+}
+
+AnalysisReportOutcome WriteAnalysisReport(const analysis::TrialAnalysis& a,
+                                          const std::filesystem::path& dir,
+                                          const AnalysisReportOptions& options) {
+  const std::vector<ReportFigure> figures = MakeAnalysisFigures(a, options);
+  AnalysisReportOutcome outcome;
+  if (!options.render_images) {
+    outcome.reason = "plots were not asked for (--no-images)";
+  } else {
+    // Each figure as PNG (for the page) and SVG (for papers), from the same drawing.
+    try {
+      for (const ReportFigure& f : figures) {
+        const std::filesystem::path png = dir / f.file;
+        std::filesystem::path svg = png;
+        svg.replace_extension(".svg");
+        WriteChart(f.chart, png);
+        WriteChart(f.chart, svg);
+        outcome.images.push_back(png);
+        outcome.images.push_back(svg);
+      }
+      outcome.images_rendered = true;
+    } catch (const std::exception& e) {
+      outcome.reason = std::string("rendering failed: ") + e.what();
+    }
+  }
+  WriteFileAtomically(dir / "report.html",
+                               FormatAnalysisReportHtml(a, figures, options, outcome));
+  return outcome;
+}
+
+}  // namespace acro::ui

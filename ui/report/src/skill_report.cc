@@ -1,0 +1,329 @@
+#include "acro/report/skill_report.h"
+
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <sstream>
+
+#include "acro/report/chart.h"
+#include "acro/base/json_writer.h"
+#include "acro/base/text_format.h"
+#include "acro/capture/c3d.h"
+#include "acro/base/file_io.h"
+#include "acro/dynamics/kinematics.h"
+
+namespace acro::ui {
+
+// The analysis types this report presents.
+using namespace acro::analysis;  // NOLINT(build/namespaces)
+namespace {
+
+constexpr double kRadToDeg = 180.0 / std::numbers::pi;
+
+std::vector<double> ToStd(const Eigen::VectorXd& v) {
+  return std::vector<double>(v.data(), v.data() + v.size());
+}
+
+// Samples of [0, T] at `rate_hz`, the last one at T.
+std::vector<double> SampleTimes(double T, double rate_hz) {
+  std::vector<double> t;
+  const int n = static_cast<int>(std::floor(T * rate_hz + 1e-9));
+  for (int k = 0; k <= n; ++k) t.push_back(k / rate_hz);
+  if (T - t.back() > 1e-9) t.push_back(T);
+  return t;
+}
+
+// Somersault, tilt, twist of R = R_y(s) R_x(t) R_z(w): z_B = (cos t sin s, −sin t, cos t cos s),
+// row y of R = (cos t sin w, cos t cos w, −sin t).
+Eigen::Vector3d SomersaultTiltTwist(const Eigen::Quaterniond& q) {
+  const Eigen::Matrix3d R = q.toRotationMatrix();
+  return Eigen::Vector3d(std::atan2(R(0, 2), R(2, 2)),
+                         std::asin(std::clamp(-R(1, 2), -1.0, 1.0)),
+                         std::atan2(R(1, 0), R(1, 1)));
+}
+
+std::string Fixed(double v, int digits) {
+  return FormatFixed(v, digits);
+}
+
+std::string Html(const std::string& s) {
+  return HtmlEscape(s);
+}
+
+}  // namespace
+
+std::string MakeSkillResultJson(const SkillDesign& design,
+                                const TimingOptimizationResult& r,
+                                const SkillSimulationResult* sim) {
+  JsonWriter w;
+  w.BeginObject();
+  w.Field("skill", design.skill().name);
+  w.Field("fig_code", design.skill().fig_code);
+  w.Field("athlete", design.skill().athlete.name);
+  w.Field("model", r.model);
+  w.Field("flight_time_s", design.flight_time_s());
+  std::vector<std::string> names;
+  for (const SkillKeyframe& k : design.skill().keyframes) names.push_back(k.name);
+  w.Key("keyframe_names");
+  w.Array(names);
+  w.Key("keyframe_times_initial_s");
+  w.Array(ToStd(r.times_initial_s));
+  w.Key("keyframe_times_s");
+  w.Array(ToStd(r.optimized.times_s));
+  w.Field("objective_initial", r.objective_initial);
+  w.Field("objective", r.objective);
+  w.Field("objective_ratio", r.objective_initial / r.objective);
+  w.Field("angular_momentum_variation_initial", r.angular_momentum_variation_initial);
+  w.Field("angular_momentum_variation", r.angular_momentum_variation);
+  w.Field("max_joint_deviation_deg", r.max_joint_deviation_rad * kRadToDeg);
+  w.Field("max_orientation_deviation_deg", r.max_orientation_deviation_rad * kRadToDeg);
+  // Every keyframe's joint angles and orientation within its e₂ (rounding: 1e-9 rad).
+  bool within = true;
+  for (int i = 0; i < design.num_keyframes(); ++i) {
+    const double e2 = design.skill().keyframes[static_cast<size_t>(i)].tolerance_angle_rad + 1e-9;
+    within = within &&
+             (r.optimized.joint_angles_rad.col(i) - design.keyframe_joint_angles_rad().col(i))
+                     .cwiseAbs()
+                     .maxCoeff() <= e2 &&
+             r.optimized.keyframe_orientations[static_cast<size_t>(i)].angularDistance(
+                 design.keyframe_orientations()[static_cast<size_t>(i)]) <= e2;
+  }
+  w.Field("keyframes_within_tolerance", within);
+  w.Key("solver");
+  w.BeginArray();
+  for (size_t i = 0; i < r.stages.size(); ++i) {
+    const TimingOptimizationSummary& s = r.stages[i];
+    w.BeginObject();
+    w.Field("stage", i == 0 ? std::string("model 2") : std::string("model 1"));
+    w.Field("success", s.success);
+    w.Field("iterations", s.iterations);
+    w.Field("initial_cost", s.initial_cost);
+    w.Field("final_cost", s.final_cost);
+    w.Field("time_s", s.time_s);
+    w.Field("message", s.message);
+    w.EndObject();
+  }
+  w.EndArray();
+  if (sim != nullptr) {
+    w.Key("simulation");
+    w.BeginObject();
+    w.Key("H_Scm_W_kgm2ps");
+    w.Array(std::vector<double>{sim->H_Scm_W.x(), sim->H_Scm_W.y(), sim->H_Scm_W.z()});
+    w.Key("H_mean_W_kgm2ps");
+    w.Array(std::vector<double>{sim->H_mean_W.x(), sim->H_mean_W.y(), sim->H_mean_W.z()});
+    w.Field("final_orientation_error_deg", sim->final_orientation_error_rad * kRadToDeg);
+    w.Field("rms_orientation_error_deg", sim->rms_orientation_error_rad * kRadToDeg);
+    w.Field("somersault_turns", sim->somersault_turns);
+    w.Field("intended_somersault_turns", sim->intended_somersault_turns);
+    w.Field("twist_turns", sim->twist_turns);
+    w.Field("intended_twist_turns", sim->intended_twist_turns);
+    w.Key("warnings");
+    w.Array(sim->warnings);
+    const Eigen::Vector3d stt = SomersaultTiltTwist(sim->final_orientation) * kRadToDeg;
+    w.Key("final_somersault_tilt_twist_deg");
+    w.Array(std::vector<double>{stt.x(), stt.y(), stt.z()});
+    w.Field("status", sim->flight.summary.BriefReport());
+    w.EndObject();
+  }
+  w.EndObject();
+  return w.str() + "\n";
+}
+
+capture::Trial MakeSkillMarkerTrial(const SkillDesign& design,
+                                    const SkillTrajectory& trajectory,
+                                    double rate_hz) {
+  const dynamics::Model<double>& m = design.model();
+  dynamics::Workspace<double> ws(m);
+  const std::vector<double> times = SampleTimes(design.flight_time_s(), rate_hz);
+  capture::Trial t;
+  t.source.format = "generated";
+  t.point_rate_hz = rate_hz;
+  t.num_frames = static_cast<int>(times.size());
+  t.subject_name = design.skill().athlete.name;
+  for (const dynamics::Point<double>& p : m.points())
+    t.points.push_back({p.name, "virtual marker", capture::PointType::kMarker, "m"});
+  t.positions.resize(3, std::int64_t(t.num_frames) * m.num_points());
+  for (int f = 0; f < t.num_frames; ++f) {
+    const SkillMotionState s = EvalSkillMotion(design, trajectory, times[static_cast<size_t>(f)]);
+    dynamics::CalcForwardKinematics(m, ws, s.q);
+    for (int p = 0; p < m.num_points(); ++p)
+      t.position(f, p) = dynamics::CalcPointPosition(m, ws, p);
+  }
+  t.events.push_back({"Take-off", "General", "designed skill", t.subject_name, 0.0});
+  t.events.push_back(
+      {"Landing", "General", "designed skill", t.subject_name, design.flight_time_s()});
+  return t;
+}
+
+capture::Storage MakeSkillMotionTable(const SkillDesign& design,
+                                      const SkillTrajectory& trajectory,
+                                      double rate_hz) {
+  const std::vector<double> times = SampleTimes(design.flight_time_s(), rate_hz);
+  capture::Storage s;
+  s.name = design.skill().name;
+  s.in_degrees = true;
+  s.labels = {"pelvis_tx", "pelvis_ty", "pelvis_tz", "somersault", "tilt", "twist"};
+  for (const std::string& n : StandardJointDofNames()) s.labels.push_back(n);
+  s.time_s =
+      Eigen::Map<const Eigen::VectorXd>(times.data(), static_cast<Eigen::Index>(times.size()));
+  s.data.resize(static_cast<Eigen::Index>(times.size()),
+                static_cast<Eigen::Index>(s.labels.size()));
+  Eigen::Vector3d prev = Eigen::Vector3d::Zero(), unwrapped = Eigen::Vector3d::Zero();
+  for (size_t k = 0; k < times.size(); ++k) {
+    const SkillMotionState st = EvalSkillMotion(design, trajectory, times[k]);
+    const Eigen::Vector3d a =
+        SomersaultTiltTwist(Eigen::Quaterniond(st.q[3], st.q[4], st.q[5], st.q[6]));
+    // Unwrap somersault and twist so that several turns read as such.
+    for (int c = 0; c < 3; ++c)
+      unwrapped[c] =
+          k == 0 ? a[c] : unwrapped[c] + std::remainder(a[c] - prev[c], 2.0 * std::numbers::pi);
+    prev = a;
+    const Eigen::Index row = static_cast<Eigen::Index>(k);
+    s.data.block<1, 3>(row, 0) = st.q.head<3>().transpose();
+    s.data.block<1, 3>(row, 3) = unwrapped.transpose() * kRadToDeg;
+    s.data.row(row).tail(st.q.size() - 7) = st.q.tail(st.q.size() - 7).transpose() * kRadToDeg;
+  }
+  return s;
+}
+
+std::vector<std::string> WriteSkillOutputs(const std::filesystem::path& dir,
+                                           const SkillDesign& design,
+                                           const TimingOptimizationResult& r,
+                                           const SkillSimulationResult* sim) {
+  std::filesystem::create_directories(dir);
+  std::vector<std::string> written;
+  auto write = [&](const std::string& name, std::string_view bytes) {
+    WriteFileAtomically(dir / name, bytes);
+    written.push_back(name);
+  };
+  // A chart as PNG and SVG from the same drawing.
+  auto write_plot = [&](const std::string& stem, const ui::Chart& chart) {
+    for (const char* ext : {".png", ".svg"}) {
+      ui::WriteChart(chart, dir / (stem + ext));
+      written.push_back(stem + ext);
+    }
+  };
+  const int n = design.num_keyframes();
+
+  write("result.json", MakeSkillResultJson(design, r, sim));
+
+  // Timing table and plot (keyframe number against time, as the paper's Figure 7).
+  std::ostringstream csv;
+  csv << "keyframe,name,time_initial_s,time_s,interval_initial_s,interval_s\n";
+  for (int i = 0; i < n; ++i) {
+    csv << i + 1 << ",\"" << design.skill().keyframes[static_cast<size_t>(i)].name << "\","
+        << Fixed(r.times_initial_s[i], 4) << "," << Fixed(r.optimized.times_s[i], 4) << ",";
+    if (i > 0)
+      csv << Fixed(r.times_initial_s[i] - r.times_initial_s[i - 1], 4) << ","
+          << Fixed(r.optimized.times_s[i] - r.optimized.times_s[i - 1], 4);
+    else
+      csv << ",";
+    csv << "\n";
+  }
+  write("timing.csv", csv.str());
+  constexpr ui::Rgb kInitialGrey{0.5, 0.5, 0.5};
+  constexpr ui::Rgb kOptimisedRed{0.84, 0.15, 0.16};
+  ui::Chart timing;
+  timing.title = "Keyframe timing: " + design.skill().name;
+  timing.x_label = "keyframe";
+  timing.y_label = "time (s)";
+  ui::LineSeries even{.name = "initial (even)",
+                      .y = ToStd(r.times_initial_s),
+                      .color = kInitialGrey,
+                      .dashed = true,
+                      .markers = true};
+  ui::LineSeries opt{.name = "optimised (model " + std::to_string(r.model) + ")",
+                     .y = ToStd(r.optimized.times_s),
+                     .color = kOptimisedRed,
+                     .markers = true};
+  for (int i = 0; i < n; ++i) {
+    even.x.push_back(i + 1);
+    opt.x.push_back(i + 1);
+  }
+  timing.series = {even, opt};
+  write_plot("timing", timing);
+
+  // Angular momentum about the COM, initial and optimised.
+  const SkillMotionProfile p0 = CalcSkillMotionProfile(design, r.initial, 320);
+  const SkillMotionProfile p1 = CalcSkillMotionProfile(design, r.optimized, 320);
+  ui::Chart h;
+  h.title = "Angular momentum about the centre of mass";
+  h.x_label = "time (s)";
+  h.y_label = "|H| (kg·m²/s)";
+  ui::LineSeries h0{
+      .name = "initial timing", .x = ToStd(p0.t_s), .color = kInitialGrey, .dashed = true};
+  ui::LineSeries h1{.name = "optimised (model " + std::to_string(r.model) + ")",
+                    .x = ToStd(p1.t_s),
+                    .color = kOptimisedRed};
+  for (int k = 0; k < p0.t_s.size(); ++k) {
+    h0.y.push_back(p0.H_Scm_W.col(k).norm());
+    h1.y.push_back(p1.H_Scm_W.col(k).norm());
+  }
+  h.series = {h0, h1};
+  write_plot("angular_momentum", h);
+
+  // The motion.
+  const std::vector<std::uint8_t> c3d =
+      capture::WriteC3dToMemory(MakeSkillMarkerTrial(design, r.optimized));
+  write("motion.c3d", std::string_view(reinterpret_cast<const char*>(c3d.data()), c3d.size()));
+  write("motion.mot",
+        capture::WriteStorageToString(MakeSkillMotionTable(design, r.optimized),
+                                      capture::StorageFlavor::kMot));
+
+  // Report page.
+  std::ostringstream html;
+  html << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>"
+       << Html(design.skill().name)
+       << "</title><style>body{font-family:sans-serif;max-width:900px;margin:2em auto}"
+          "table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:2px "
+          "8px;text-align:right}.warning{color:#a40}"
+          "</style></head><body>\n";
+  html << "<h1>" << Html(design.skill().name)
+       << "</h1>\n<p>Athlete: " << Html(design.skill().athlete.name) << ". Flight time "
+       << Fixed(design.flight_time_s(), 3) << " s. Model (" << r.model << ").</p>\n";
+  html << "<table><tr><th></th><th>initial timing</th><th>optimised</th></tr>\n"
+       << "<tr><td>J = T⁻¹∫|L̇/(m g h)|² dt</td><td>" << r.objective_initial << "</td><td>"
+       << r.objective << "</td></tr>\n<tr><td>angular momentum variation</td><td>"
+       << Fixed(100 * r.angular_momentum_variation_initial, 2) << " %</td><td>"
+       << Fixed(100 * r.angular_momentum_variation, 2) << " %</td></tr></table>\n";
+  if (r.model == 1)
+    html << "<p>Largest keyframe deviation: joint angles "
+         << Fixed(r.max_joint_deviation_rad * kRadToDeg, 2) << "°, root orientation "
+         << Fixed(r.max_orientation_deviation_rad * kRadToDeg, 2) << "°.</p>\n";
+  html << "<h2>Keyframe timing</h2>\n<img src=\"timing.svg\" "
+          "alt=\"timing\">\n<table><tr><th>#</th><th>keyframe"
+          "</th><th>initial (s)</th><th>optimised (s)</th></tr>\n";
+  for (int i = 0; i < n; ++i)
+    html << "<tr><td>" << i + 1 << "</td><td style=\"text-align:left\">"
+         << Html(design.skill().keyframes[static_cast<size_t>(i)].name) << "</td><td>"
+         << Fixed(r.times_initial_s[i], 3) << "</td><td>" << Fixed(r.optimized.times_s[i], 3)
+         << "</td></tr>\n";
+  html << "</table>\n<h2>Angular momentum</h2>\n<img src=\"angular_momentum.svg\" alt=\"angular "
+          "momentum\">\n";
+  if (sim != nullptr)
+    html << "<h2>Flight simulation</h2>\n<p>The joints follow the optimised motion, the root flies "
+            "under gravity "
+            "with the take-off momentum the design needs ("
+         << Fixed(sim->H_Scm_W.norm(), 1) << " kg·m²/s; the design's mean "
+         << Fixed(sim->H_mean_W.norm(), 1) << "): " << Fixed(sim->somersault_turns, 3)
+         << " somersault turns (designed " << Fixed(sim->intended_somersault_turns, 3)
+         << "); the orientation follows the design within "
+         << Fixed(sim->rms_orientation_error_rad * kRadToDeg, 1) << "° RMS and lands "
+         << Fixed(sim->final_orientation_error_rad * kRadToDeg, 1)
+         << "° from the last keyframe's; twist turns " << Fixed(sim->twist_turns, 2)
+         << " (designed " << Fixed(sim->intended_twist_turns, 2) << ").</p>\n";
+  if (sim != nullptr && !sim->warnings.empty()) {
+    html << "<p class=\"warning\"><b>The design does not fly as drawn:</b></p>\n<ul>\n";
+    for (const std::string& line : sim->warnings) html << "<li>" << Html(line) << "</li>\n";
+    html << "</ul>\n";
+  }
+  html << "<h2>Solver</h2>\n<ul>\n";
+  for (const TimingOptimizationSummary& s : r.stages)
+    html << "<li>" << Html(s.BriefReport()) << "</li>\n";
+  html << "</ul>\n<p>Files: result.json, timing.csv, motion.c3d (virtual markers), "
+          "motion.mot.</p>\n</body></html>\n";
+  write("report.html", html.str());
+  return written;
+}
+
+}  // namespace acro::ui
