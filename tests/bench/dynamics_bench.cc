@@ -7,7 +7,7 @@
 #include <random>
 
 #include "acro/dynamics/inverse_dynamics.h"
-#include "acro/dynamics/reference_human.h"
+#include "standard_human_fixture.h"
 
 namespace acro::dynamics {
 namespace {
@@ -15,7 +15,7 @@ namespace {
 // A fixed random state: root anywhere, random orientation, joint angles in (−1, 1) rad, velocities
 // in (−2, 2), accelerations in (−10, 10).
 struct HumanState {
-  Model<double> model = MakeReferenceHuman();
+  Model<double> model = acro::dynamics::testing::MakeStandardHuman();
   Eigen::VectorXd q, v, a;
   HumanState() {
     std::mt19937 rng(1);

@@ -5,7 +5,7 @@
 #include <cmath>
 #include <cstdio>
 
-#include "acro/dynamics/reference_human.h"
+#include "standard_human_fixture.h"
 #include "test_models.h"
 
 namespace acro::dynamics {
@@ -94,7 +94,7 @@ Vector6<double> TakeOff(const Model<double>& model,
 
 class FlightSimulationTest : public ::testing::Test {
  protected:
-  Model<double> human_ = MakeReferenceHuman();
+  Model<double> human_ = testing::MakeStandardHuman();
   Eigen::Matrix<double, 7, 1> q_root_ =
       (Eigen::Matrix<double, 7, 1>() << 0, 0, 1.1, 1, 0, 0, 0).finished();
 };

@@ -7,7 +7,7 @@
 #include <limits>
 #include <random>
 
-#include "acro/dynamics/reference_human.h"
+#include "standard_human_fixture.h"
 #include "test_models.h"
 
 namespace acro::dynamics {
@@ -55,7 +55,7 @@ TEST(InverseDynamicsTest, EqualsMassMatrixTimesAccelerationPlusBias) {
 // accelerations, and so does the root residual read from it.
 TEST(InverseDynamicsTest, SameConfigurationPassEqualsFullPass) {
   std::mt19937 rng(11);
-  const Model<double> model = MakeReferenceHuman();
+  const Model<double> model = testing::MakeStandardHuman();
   Workspace<double> ws(model), ws_full(model);
   for (int state = 0; state < 5; ++state) {
     const Eigen::VectorXd q = RandomConfiguration(model, rng);
@@ -85,7 +85,7 @@ TEST(InverseDynamicsTest, RootWrenchWithOneJointChangedEqualsFullPass) {
   std::mt19937 rng(5);
   for (int tree = 0; tree < 6; ++tree) {
     const Model<double> model =
-        tree < 5 ? MakeRandomTree(rng, 4 + 3 * tree, tree) : MakeReferenceHuman();
+        tree < 5 ? MakeRandomTree(rng, 4 + 3 * tree, tree) : testing::MakeStandardHuman();
     Workspace<double> ws(model), ws_full(model);
     const Eigen::VectorXd q = RandomConfiguration(model, rng);
     const Eigen::VectorXd v = RandomVelocity(model, rng, 3.0);
@@ -118,7 +118,7 @@ TEST(InverseDynamicsTest, RootWrenchWithOneJointChangedEqualsFullPass) {
 TEST(InverseDynamicsTest, MassMatrixEqualsJacobianEnergyForm) {
   std::mt19937 rng(7);
   for (int tree = 0; tree < 4; ++tree) {
-    const Model<double> model = tree < 3 ? MakeRandomTree(rng, 20, 7 * tree) : MakeReferenceHuman();
+    const Model<double> model = tree < 3 ? MakeRandomTree(rng, 20, 7 * tree) : testing::MakeStandardHuman();
     Workspace<double> ws(model);
     const Eigen::VectorXd q = RandomConfiguration(model, rng);
     const Eigen::MatrixXd M = CalcMassMatrix(model, ws, q);
@@ -146,7 +146,7 @@ TEST(InverseDynamicsTest, BallisticRigidBodyHasZeroRootResidual) {
   std::mt19937 rng(5);
   ModelBuilder b("body", testing::RandomMass(rng));
   b.SetGravity(Eigen::Vector3d(0.0, 0.0, -9.81));
-  std::vector<Model<double>> models = {b.Build(), MakeReferenceHuman()};
+  std::vector<Model<double>> models = {b.Build(), testing::MakeStandardHuman()};
   for (const Model<double>& model : models) {
     Workspace<double> ws(model);
     Eigen::VectorXd q = RandomConfiguration(model, rng);
@@ -202,7 +202,7 @@ TEST(InverseDynamicsTest, BallisticRigidBodyHasZeroRootResidual) {
 // gravity: F = m (a_Scm − g), M_Scm = dH_Scm/dt (Newton–Euler equations of the whole system).
 TEST(InverseDynamicsTest, RootResidualIsMomentumRateAtCenterOfMass) {
   std::mt19937 rng(9);
-  const Model<double> model = MakeReferenceHuman();
+  const Model<double> model = testing::MakeStandardHuman();
   Workspace<double> ws(model);
   for (int trial = 0; trial < 5; ++trial) {
     const Eigen::VectorXd q = RandomConfiguration(model, rng);
@@ -241,7 +241,7 @@ TEST(InverseDynamicsTest, ExternalWrenchesEnterThroughJacobianTranspose) {
   std::mt19937 rng(13);
   for (int tree = 0; tree < 3; ++tree) {
     const Model<double> model =
-        tree < 2 ? MakeRandomTree(rng, 15, 11 * tree) : MakeReferenceHuman();
+        tree < 2 ? MakeRandomTree(rng, 15, 11 * tree) : testing::MakeStandardHuman();
     Workspace<double> ws(model);
     const Eigen::VectorXd q = RandomConfiguration(model, rng);
     const Eigen::VectorXd v = RandomVelocity(model, rng, 2.0);
@@ -266,7 +266,7 @@ TEST(InverseDynamicsTest, ExternalWrenchesEnterThroughJacobianTranspose) {
 TEST(InverseDynamicsTest, KineticEnergyRateIsPowerOfNonGravityForces) {
   std::mt19937 rng(21);
   for (int tree = 0; tree < 4; ++tree) {
-    const Model<double> model = tree < 3 ? MakeRandomTree(rng, 20, 6 * tree) : MakeReferenceHuman();
+    const Model<double> model = tree < 3 ? MakeRandomTree(rng, 20, 6 * tree) : testing::MakeStandardHuman();
     Workspace<double> ws(model);
     const Eigen::VectorXd q = RandomConfiguration(model, rng);
     const Eigen::VectorXd v = RandomVelocity(model, rng, 2.0);
@@ -298,7 +298,7 @@ TEST(InverseDynamicsTest, KineticEnergyRateIsPowerOfNonGravityForces) {
 // The flight root acceleration leaves no root residual, and the centre of mass then falls at g.
 TEST(InverseDynamicsTest, FlightRootAccelerationCancelsResidual) {
   std::mt19937 rng(17);
-  const Model<double> model = MakeReferenceHuman();
+  const Model<double> model = testing::MakeStandardHuman();
   Workspace<double> ws(model);
   for (int trial = 0; trial < 5; ++trial) {
     const Eigen::VectorXd q = RandomConfiguration(model, rng);
@@ -322,7 +322,7 @@ namespace {
 // ACRO_DEMAND reports instead of reading out of bounds.
 TEST(InverseDynamicsTest, RejectsMismatchedWorkspaceAndSizes) {
   std::mt19937 rng(3);
-  const Model<double> human = MakeReferenceHuman();
+  const Model<double> human = testing::MakeStandardHuman();
   const Model<double> tree = MakeRandomTree(rng, 5, 0);
   Workspace<double> ws_tree(tree);
   const Eigen::VectorXd q = MakeNeutralConfiguration(human);

@@ -9,7 +9,7 @@
 #include <random>
 
 #include "acro/dynamics/flight_simulation.h"
-#include "acro/dynamics/reference_human.h"
+#include "standard_human_fixture.h"
 #include "test_models.h"
 
 namespace acro::dynamics {
@@ -35,7 +35,7 @@ Eigen::VectorXd Values(const VectorX<Jet>& x) {
 class JetTest : public ::testing::Test {
  protected:
   std::mt19937 rng_{77};
-  Model<double> model_ = MakeReferenceHuman();
+  Model<double> model_ = testing::MakeStandardHuman();
   Model<Jet> jet_model_ = model_.Cast<Jet>();
   Eigen::VectorXd q_ = testing::RandomConfiguration(model_, rng_);
   Eigen::VectorXd v_ = testing::RandomVelocity(model_, rng_, 2.0);
@@ -105,7 +105,7 @@ TEST_F(JetTest, KinematicsAndMomentumInstantiate) {
   Matrix3X<double> J(3, model_.nv());
   VectorX<Jet> q(model_.nq());
   const VectorX<Jet> q0 = Seed(q_, 0, 0);
-  const int point = model_.FindPoint("r_fingertip");
+  const int point = model_.FindPoint("r_hand_end");
   CalcPointJacobian(model_, ws, point, J);
   for (int first = 0; first < model_.nv(); first += kChunk) {
     const int count = std::min(kChunk, model_.nv() - first);

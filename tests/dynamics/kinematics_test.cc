@@ -5,7 +5,7 @@
 #include <cstdio>
 #include <random>
 
-#include "acro/dynamics/reference_human.h"
+#include "standard_human_fixture.h"
 #include "test_models.h"
 
 namespace acro::dynamics {
@@ -30,7 +30,7 @@ class KinematicsTest : public ::testing::Test {
     // Random trees of up to 20 segments; offsets rotate which joint gets which sequence so that
     // all 21 sequences and fixed joints appear.
     for (int k = 0; k < 4; ++k) models.push_back(MakeRandomTree(rng_, 20, 5 * k));
-    models.push_back(MakeReferenceHuman());
+    models.push_back(testing::MakeStandardHuman());
     return models;
   }
 };
@@ -180,7 +180,7 @@ TEST_F(KinematicsTest, CentroidalMomentumIsMassTimesComVelocityAndJacobianSum) {
 
 TEST(ConfigurationTest, QuaternionRatesAndIntegration) {
   std::mt19937 rng(11);
-  const Model<double> model = MakeReferenceHuman();
+  const Model<double> model = testing::MakeStandardHuman();
   const Eigen::VectorXd q = RandomConfiguration(model, rng);
   const Eigen::VectorXd v = RandomVelocity(model, rng, 3.0);
   Eigen::VectorXd qdot(model.nq()), v_back(model.nv());

@@ -11,7 +11,7 @@
 #include <random>
 
 #include "acro/dynamics/inverse_dynamics.h"
-#include "acro/dynamics/reference_human.h"
+#include "standard_human_fixture.h"
 #include "test_models.h"
 
 #ifndef EIGEN_RUNTIME_NO_MALLOC
@@ -88,7 +88,7 @@ void RunFrame(const Model<double>& model,
 
 TEST(NoMallocTest, PerFrameLoopsDoNotAllocate) {
   std::mt19937 rng(1);
-  std::vector<Model<double>> models = {MakeReferenceHuman(), testing::MakeRandomTree(rng, 20, 3)};
+  std::vector<Model<double>> models = {testing::MakeStandardHuman(), testing::MakeRandomTree(rng, 20, 3)};
   for (const Model<double>& model : models) {
     // Everything the loop needs, allocated up front.
     Workspace<double> ws(model);

@@ -9,7 +9,7 @@
 #include <random>
 
 #include "acro/dynamics/inverse_dynamics.h"
-#include "acro/dynamics/reference_human.h"
+#include "standard_human_fixture.h"
 #include "test_models.h"
 
 #if ACRO_HAVE_SIMBODY
@@ -209,18 +209,18 @@ Agreement Compare(const Model<double>& model,
   return worst;
 }
 
-TEST(SimbodyOracleTest, ReferenceHumanRootWrenchAndJointTorques) {
+TEST(SimbodyOracleTest, StandardHumanRootWrenchAndJointTorques) {
   std::mt19937 rng(2026);
-  const Agreement a = Compare(MakeReferenceHuman(), rng, 50, false);
+  const Agreement a = Compare(testing::MakeStandardHuman(), rng, 50, false);
   std::printf(
       "human vs Simbody: root wrench %.3g, joint torques %.3g (relative)\n", a.root, a.joints);
   EXPECT_LE(a.root, 1e-8);
   EXPECT_LE(a.joints, 1e-8);
 }
 
-TEST(SimbodyOracleTest, ReferenceHumanWithAppliedWrenches) {
+TEST(SimbodyOracleTest, StandardHumanWithAppliedWrenches) {
   std::mt19937 rng(2027);
-  const Agreement a = Compare(MakeReferenceHuman(), rng, 20, true);
+  const Agreement a = Compare(testing::MakeStandardHuman(), rng, 20, true);
   std::printf(
       "human + wrenches vs Simbody: root wrench %.3g, joint torques %.3g\n", a.root, a.joints);
   EXPECT_LE(a.root, 1e-8);
@@ -246,7 +246,7 @@ TEST(SimbodyOracleTest, MassMatrixOfHumanAndRandomTrees) {
   double worst = 0.0;
   for (int m = 0; m < 4; ++m) {
     const Model<double> model =
-        m == 0 ? MakeReferenceHuman() : testing::MakeRandomTree(rng, 20, 7 * m);
+        m == 0 ? testing::MakeStandardHuman() : testing::MakeRandomTree(rng, 20, 7 * m);
     SimbodyModel oracle(model);
     Workspace<double> ws(model);
     for (int trial = 0; trial < 5; ++trial) {
@@ -262,7 +262,7 @@ TEST(SimbodyOracleTest, MassMatrixOfHumanAndRandomTrees) {
 
 #else
 
-TEST(SimbodyOracleTest, ReferenceHumanRootWrenchAndJointTorques) {
+TEST(SimbodyOracleTest, StandardHumanRootWrenchAndJointTorques) {
   GTEST_SKIP() << "Simbody not found at configure time (libsimbody-dev): oracle comparison skipped";
 }
 

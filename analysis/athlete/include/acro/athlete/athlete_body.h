@@ -20,7 +20,7 @@
 
 namespace acro::analysis {
 
-/// Segment names and order of the standard human (the same as dynamics::MakeReferenceHuman's).
+/// Segment names and order of the standard human: the one list of them (MakeStandardHumanModel).
 inline constexpr std::array<std::string_view, 15> kStandardSegmentNames = {"pelvis",
                                                                            "thorax",
                                                                            "head",

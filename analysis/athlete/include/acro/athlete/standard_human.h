@@ -36,23 +36,23 @@ struct StandardJoint {
   std::string_view joint_centre;   ///< named point at the joint centre ("" for the root)
 };
 
-/// In kStandardSegmentNames order.
+/// In kStandardSegmentNames order; the segment names are that one list's.
 inline constexpr std::array<StandardJoint, 15> kStandardJoints = {{
-    {"pelvis", "", ""},
-    {"thorax", "yxz", "lumbar_jc"},
-    {"head", "yxz", "neck_jc"},
-    {"r_upper_arm", "yzx", "r_shoulder_jc"},
-    {"r_forearm", "yz", "r_elbow_jc"},
-    {"r_hand", "yx", "r_wrist_jc"},
-    {"l_upper_arm", "yzx", "l_shoulder_jc"},
-    {"l_forearm", "yz", "l_elbow_jc"},
-    {"l_hand", "yx", "l_wrist_jc"},
-    {"r_thigh", "yzx", "r_hip_jc"},
-    {"r_shank", "y", "r_knee_jc"},
-    {"r_foot", "yx", "r_ankle_jc"},
-    {"l_thigh", "yzx", "l_hip_jc"},
-    {"l_shank", "y", "l_knee_jc"},
-    {"l_foot", "yx", "l_ankle_jc"},
+    {kStandardSegmentNames[0], "", ""},
+    {kStandardSegmentNames[1], "yxz", "lumbar_jc"},
+    {kStandardSegmentNames[2], "yxz", "neck_jc"},
+    {kStandardSegmentNames[3], "yzx", "r_shoulder_jc"},
+    {kStandardSegmentNames[4], "yz", "r_elbow_jc"},
+    {kStandardSegmentNames[5], "yx", "r_wrist_jc"},
+    {kStandardSegmentNames[6], "yzx", "l_shoulder_jc"},
+    {kStandardSegmentNames[7], "yz", "l_elbow_jc"},
+    {kStandardSegmentNames[8], "yx", "l_wrist_jc"},
+    {kStandardSegmentNames[9], "yzx", "r_hip_jc"},
+    {kStandardSegmentNames[10], "y", "r_knee_jc"},
+    {kStandardSegmentNames[11], "yx", "r_ankle_jc"},
+    {kStandardSegmentNames[12], "yzx", "l_hip_jc"},
+    {kStandardSegmentNames[13], "y", "l_knee_jc"},
+    {kStandardSegmentNames[14], "yx", "l_ankle_jc"},
 }};
 
 /// Builds the model from a body in its reference pose: each segment's frame is parallel to H with
