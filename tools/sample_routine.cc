@@ -9,13 +9,13 @@
 #include <utility>
 
 #include <Eigen/Geometry>
+#include <nlohmann/json.hpp>
 
 #include "acro/athlete/athlete_profile.h"
 #include "acro/reconstruct/markerset.h"
 #include "acro/design/skill_file.h"
 #include "acro/athlete/standard_human.h"
 #include "acro/base/demand.h"
-#include "acro/base/json_writer.h"
 #include "acro/dynamics/configuration.h"
 #include "acro/dynamics/flight_simulation.h"
 #include "acro/dynamics/kinematics.h"
@@ -1262,97 +1262,62 @@ SampleRoutine MakeSampleRoutine(const std::filesystem::path& athlete_path,
 }
 
 std::string SampleRoutine::TruthJson() const {
-  JsonWriter w;
-  w.BeginObject();
-  w.Key("description");
-  w.Value(
-      "Ground truth of the sample trampoline routine (tools/make_sample_routine.cc): exact, "
-      "sub-frame times from the simulation, SI units, lab frame Z up.");
-  w.Key("athlete");
-  w.Value(athlete_file);
-  w.Key("mass_kg");
-  w.Value(Round9(mass_kg));
-  w.Key("gravity_m_per_s2");
-  w.Value(gravity_m_per_s2);
-  w.Key("point_rate_hz");
-  w.Value(options.point_rate_hz);
-  w.Key("num_frames");
-  w.Value(trial.num_frames);
-  w.Key("bed");
-  w.BeginObject();
-  w.Key("centre_m");
-  w.BeginArray();
-  for (int a = 0; a < 3; ++a) w.Value(options.bed_centre_m[a]);
-  w.EndArray();
-  w.Key("length_m");
-  w.Value(options.bed_length_m);
-  w.Key("width_m");
-  w.Value(options.bed_width_m);
-  w.Key("stiffness_N_per_m");
-  w.Value(options.bed_stiffness_N_per_m);
-  w.Key("damping_N_s_per_m");
-  w.Value(options.bed_damping_N_s_per_m);
-  w.EndObject();
-  auto vec = [&](const char* key, const Eigen::VectorXd& x) {
-    w.Key(key);
-    w.BeginArray();
-    for (int a = 0; a < x.size(); ++a) w.Value(Round9(x[a]));
-    w.EndArray();
+  using Json = nlohmann::ordered_json;  // keys in the order written
+  // A vector with every coordinate rounded to 1e-9 (Round9).
+  auto rounded = [](const Eigen::VectorXd& x) {
+    Json values = Json::array();
+    for (int a = 0; a < x.size(); ++a) values.push_back(Round9(x[a]));
+    return values;
   };
-  w.Key("flights");
-  w.BeginArray();
+  // The routine, the athlete and the bed.
+  Json j;
+  j["description"] =
+      "Ground truth of the sample trampoline routine (tools/make_sample_routine.cc): exact, "
+      "sub-frame times from the simulation, SI units, lab frame Z up.";
+  j["athlete"] = athlete_file;
+  j["mass_kg"] = Round9(mass_kg);
+  j["gravity_m_per_s2"] = gravity_m_per_s2;
+  j["point_rate_hz"] = options.point_rate_hz;
+  j["num_frames"] = trial.num_frames;
+  j["bed"] = {
+      {"centre_m", {options.bed_centre_m.x(), options.bed_centre_m.y(), options.bed_centre_m.z()}},
+      {"length_m", options.bed_length_m},
+      {"width_m", options.bed_width_m},
+      {"stiffness_N_per_m", options.bed_stiffness_N_per_m},
+      {"damping_N_s_per_m", options.bed_damping_N_s_per_m}};
+  // Every flight.
+  j["flights"] = Json::array();
   for (const SampleFlightTruth& f : flights) {
-    w.BeginObject();
-    w.Key("name");
-    w.Value(f.name);
-    w.Key("fig_code");
-    w.Value(f.fig_code);
-    w.Key("takeoff_s");
-    w.Value(Round9(f.takeoff_s));
-    w.Key("landing_s");
-    w.Value(Round9(f.landing_s));
-    w.Key("time_of_flight_s");
-    w.Value(Round9(f.landing_s - f.takeoff_s));
-    w.Key("takeoff_vertical_velocity_m_per_s");
-    w.Value(Round9(f.takeoff_vertical_velocity_m_per_s));
-    w.Key("apex_com_z_m");
-    w.Value(Round9(f.apex_com_z_m));
-    w.Key("apex_above_bed_m");
-    w.Value(Round9(f.apex_com_z_m - options.bed_centre_m.z()));
-    vec("takeoff_com_m", f.takeoff_com_m);
-    vec("landing_com_m", f.landing_com_m);
-    vec("landing_feet_m", f.landing_feet_m);
-    w.Key("landing_com_from_bed_centre_m");
-    w.Value(Round9((f.landing_com_m - options.bed_centre_m).head<2>().norm()));
-    w.Key("landing_from_takeoff_m");
-    w.Value(Round9((f.landing_com_m - f.takeoff_com_m).head<2>().norm()));
-    w.Key("takeoff_somersault_deg");
-    w.Value(Round9(f.takeoff_lean_rad / kDeg));
-    w.Key("air_somersault_deg");
-    w.Value(Round9(f.air_somersault_rad / kDeg));
-    w.Key("air_twist_deg");
-    w.Value(Round9(f.air_twist_rad / kDeg));
-    vec("angular_momentum_N_m_s", f.H_Scm_W);
-    w.EndObject();
+    Json flight;
+    flight["name"] = f.name;
+    flight["fig_code"] = f.fig_code;
+    flight["takeoff_s"] = Round9(f.takeoff_s);
+    flight["landing_s"] = Round9(f.landing_s);
+    flight["time_of_flight_s"] = Round9(f.landing_s - f.takeoff_s);
+    flight["takeoff_vertical_velocity_m_per_s"] = Round9(f.takeoff_vertical_velocity_m_per_s);
+    flight["apex_com_z_m"] = Round9(f.apex_com_z_m);
+    flight["apex_above_bed_m"] = Round9(f.apex_com_z_m - options.bed_centre_m.z());
+    flight["takeoff_com_m"] = rounded(f.takeoff_com_m);
+    flight["landing_com_m"] = rounded(f.landing_com_m);
+    flight["landing_feet_m"] = rounded(f.landing_feet_m);
+    flight["landing_com_from_bed_centre_m"] =
+        Round9((f.landing_com_m - options.bed_centre_m).head<2>().norm());
+    flight["landing_from_takeoff_m"] = Round9((f.landing_com_m - f.takeoff_com_m).head<2>().norm());
+    flight["takeoff_somersault_deg"] = Round9(f.takeoff_lean_rad / kDeg);
+    flight["air_somersault_deg"] = Round9(f.air_somersault_rad / kDeg);
+    flight["air_twist_deg"] = Round9(f.air_twist_rad / kDeg);
+    flight["angular_momentum_N_m_s"] = rounded(f.H_Scm_W);
+    j["flights"].push_back(std::move(flight));
   }
-  w.EndArray();
-  w.Key("contacts");
-  w.BeginArray();
+  // Every bed contact.
+  j["contacts"] = Json::array();
   for (const SampleContactTruth& c : contacts) {
-    w.BeginObject();
-    w.Key("start_s");
-    w.Value(Round9(c.start_s));
-    w.Key("end_s");
-    w.Value(Round9(c.end_s));
-    w.Key("peak_bed_force_body_weights");
-    w.Value(Round9(c.peak_force_body_weights));
-    w.Key("max_depression_m");
-    w.Value(Round9(c.max_depression_m));
-    w.EndObject();
+    j["contacts"].push_back({{"start_s", Round9(c.start_s)},
+                             {"end_s", Round9(c.end_s)},
+                             {"peak_bed_force_body_weights", Round9(c.peak_force_body_weights)},
+                             {"max_depression_m", Round9(c.max_depression_m)}});
   }
-  w.EndArray();
-  w.EndObject();
-  return w.str() + "\n";
+  return j.dump(2) + "\n";
 }
 
 SampleFlightPhysics CheckSampleFlight(const SampleRoutine& routine, int flight) {

@@ -1,6 +1,8 @@
 #include <algorithm>
 #include <cstdio>
 #include <filesystem>
+#include <cmath>
+#include <memory>
 #include <optional>
 
 #include "acro/athlete/athlete_profile.h"
@@ -16,32 +18,6 @@ namespace acro::app {
 
 namespace {
 
-constexpr const char* kAnalyzeHelp =
-    "usage: acrolab analyze TRIAL [--athlete ATHLETE.yaml] [--static STATIC]\n"
-    "                       [--markerset NAME|FILE.yaml] -o DIR [options]\n"
-    "\n"
-    "The main job: import, reconstruct, check the physics, measure every jump. Writes\n"
-    "DIR/report.html (routine summary, per-jump table, verdict with its cause, plots),\n"
-    "DIR/jumps.json, DIR/angles.mot, DIR/torques.sto, DIR/residuals.csv. docs/cli.md.\n"
-    "  --athlete FILE       athlete profile (docs/formats/athlete.md); without it a de Leva\n"
-    "                       athlete from --height (1.75) / --mass (65) / --sex (f), with a "
-    "warning\n"
-    "  --static FILE        static trial for scaling (otherwise a window of the motion)\n"
-    "  --markerset NAME     plug_in_gait | helen_hayes | coco17 | trampoline | FILE.yaml\n"
-    "                       (default: detected from the labels)\n"
-    "  --cutoff HZ          marker low-pass cutoff (default: Winter's residual analysis)\n"
-    "  --no-scale           keep the athlete's segment lengths and default marker offsets\n"
-    "  --joint NAME         the joint whose angle and torque the report plots\n"
-    "                       (default r_hip_flexion)\n"
-    "  --bed X,Y,Z          centre of the trampoline bed (m), when the trial has no BED markers\n"
-    "  --surface-height Z   height of the take-off surface (m) when the trial has no BED\n"
-    "                       markers: 1.155 for a FIG trampoline over a floor at z = 0; the\n"
-    "                       phases then come from the soles (default: from the centre of mass)\n"
-    "  --no-force-plates    phases from the body's centre of mass even when plates exist\n"
-    "  --no-images          the report without plots (no rendering at all)\n"
-    "  --threads N          worker threads (default: all cores)\n"
-    "  --quiet              no progress on stderr\n";
-
 // "x,y,z" as three numbers.
 Eigen::Vector3d ParseVector(const std::string& option, const std::string& text) {
   Eigen::Vector3d v;
@@ -49,50 +25,29 @@ Eigen::Vector3d ParseVector(const std::string& option, const std::string& text) 
   for (int k = 0; k < 3; ++k) {
     const size_t comma = text.find(',', start);
     if ((k < 2) != (comma != std::string::npos))
-      throw UsageError{option + " needs X,Y,Z, got '" + text + "'"};
-    v[k] = OptionNumber(option, text.substr(start, comma - start));
+      throw CLI::ValidationError(option, "needs X,Y,Z, got '" + text + "'");
+    const std::string part = text.substr(start, comma - start);
+    if (!CLI::detail::lexical_cast(part, v[k]) || !std::isfinite(v[k]))
+      throw CLI::ValidationError(option, "'" + part + "' is not a number");
     start = comma + 1;
   }
   return v;
 }
 
-}  // namespace
-
-int RunAnalyze(const std::vector<std::string>& args) {
-  // Arguments.
+struct AnalyzeArguments {
   TrialArguments common;
   bool images = true;
   analysis::TrialAnalysisOptions options;
   ui::AnalysisReportOptions report;
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& arg = args[i];
-    auto value = [&]() -> const std::string& { return OptionValue(args, &i); };
-    if (arg == "--help" || arg == "-h") {
-      std::fputs(kAnalyzeHelp, stdout);
-      return 0;
-    } else if (common.Take(args, &i, &options.reconstruction)) {
-      continue;
-    } else if (arg == "--joint") {
-      report.joint = value();
-    } else if (arg == "--bed") {
-      analysis::BedGeometry bed;
-      bed.centre_W = ParseVector(arg, value());
-      bed.source = "option --bed";
-      options.bed = bed;
-    } else if (arg == "--surface-height") {
-      options.surface_height_m = OptionNumber(arg, value());
-    } else if (arg == "--no-force-plates") {
-      options.use_force_plates = false;
-    } else if (arg == "--no-images") {
-      images = false;
-    } else {
-      throw UsageError{"unknown option '" + arg + "'"};
-    }
-  }
-  common.Check();
+};
+
+int RunAnalyze(AnalyzeArguments& args) {
+  const TrialArguments& common = args.common;
+  analysis::TrialAnalysisOptions& options = args.options;
+  ui::AnalysisReportOptions& report = args.report;
+  const bool images = args.images;
   const bool quiet = common.quiet;
-  std::string why;
-  if (!options.IsValid(&why)) throw UsageError{why};
+  DemandValidOptions(options);
 
   // Inputs: trial, static trial, athlete.
   auto say = [quiet](const std::string& line) {
@@ -135,6 +90,42 @@ int RunAnalyze(const std::vector<std::string>& args) {
   std::printf("wrote %s/{report.html,jumps.json,angles.mot,torques.sto,residuals.csv}\n",
               common.out_dir.c_str());
   return 0;
+}
+
+}  // namespace
+
+void AddAnalyzeCommand(CLI::App& app, CommandRunner* run) {
+  auto args = std::make_shared<AnalyzeArguments>();
+  CLI::App* command = app.add_subcommand(
+      "analyze",
+      "The main job: import, reconstruct, check the physics, measure every jump. Writes "
+      "DIR/report.html (routine summary, per-jump table, verdict with its cause, charts as PNG and "
+      "SVG), DIR/jumps.json, DIR/angles.mot, DIR/torques.sto, DIR/residuals.csv. docs/cli.md.");
+  args->common.Declare(command, &args->options.reconstruction);
+  command->add_option("--joint",
+                      args->report.joint,
+                      "the joint whose angle and torque the report plots (default r_hip_flexion)");
+  command->add_option_function<std::string>(
+      "--bed",
+      [args](const std::string& text) {
+        analysis::BedGeometry bed;
+        bed.centre_W = ParseVector("--bed", text);
+        bed.source = "option --bed";
+        args->options.bed = bed;
+      },
+      "X,Y,Z: centre of the trampoline bed (m), when the trial has no BED markers");
+  command->add_option("--surface-height",
+                      args->options.surface_height_m,
+                      "height of the take-off surface (m) when the trial has no BED markers: "
+                      "1.155 for a FIG trampoline over a floor at z = 0; the phases then come "
+                      "from the soles (default: from the centre of mass)");
+  command->add_flag_callback(
+      "--no-force-plates",
+      [args] { args->options.use_force_plates = false; },
+      "phases from the body's centre of mass even when plates exist");
+  command->add_flag_callback(
+      "--no-images", [args] { args->images = false; }, "the report without charts");
+  command->callback([args, run] { *run = [args] { return RunAnalyze(*args); }; });
 }
 
 }  // namespace acro::app

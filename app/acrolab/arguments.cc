@@ -5,69 +5,49 @@
 
 #include "acro/athlete/athlete_profile.h"
 #include "acro/athlete/de_leva.h"
-#include "acro/athlete/yaml.h"
 #include "commands.h"
 
 namespace acro::app {
 
-const std::string& OptionValue(const std::vector<std::string>& args, std::size_t* i) {
-  if (*i + 1 >= args.size()) throw UsageError{args[*i] + " needs a value"};
-  return args[++*i];
-}
-
-double OptionNumber(const std::string& option, const std::string& text) {
-  double value = 0.0;
-  if (!analysis::ParseYamlNumber(text, &value))
-    throw UsageError{option + " needs a number, got '" + text + "'"};
-  return value;
-}
-
-bool TrialArguments::Take(const std::vector<std::string>& args,
-                          std::size_t* i,
-                          analysis::ReconstructionOptions* options) {
-  const std::string& arg = args[*i];
-  auto value = [&]() -> const std::string& { return OptionValue(args, i); };
-  if (arg == "--static") {
-    static_path = value();
-  } else if (arg == "--athlete") {
-    athlete_path = value();
-  } else if (arg == "--markerset") {
-    markerset = value();
-    options->markerset = markerset;
-  } else if (arg == "-o" || arg == "--output") {
-    out_dir = value();
-  } else if (arg == "--height" || arg == "--mass") {
-    (arg == "--height" ? height_m : mass_kg) = OptionNumber(arg, value());
-    have_body_numbers = true;
-  } else if (arg == "--sex") {
-    sex = value();
-    have_body_numbers = true;
-  } else if (arg == "--cutoff") {
-    options->cutoff_hz = OptionNumber(arg, value());
-    if (options->cutoff_hz < 0) throw UsageError{"--cutoff must be >= 0"};
-    options->filter = options->cutoff_hz > 0;
-  } else if (arg == "--no-scale") {
-    options->scale = false;
-  } else if (arg == "--threads") {
-    options->num_threads = static_cast<int>(OptionNumber(arg, value()));
-  } else if (arg == "--quiet") {
-    quiet = true;
-  } else if (!arg.empty() && arg[0] == '-') {
-    return false;
-  } else if (trial_path.empty()) {
-    trial_path = arg;
-  } else {
-    throw UsageError{"one TRIAL only, got '" + trial_path + "' and '" + arg + "'"};
-  }
-  return true;
-}
-
-void TrialArguments::Check() const {
-  if (trial_path.empty()) throw UsageError{"missing TRIAL"};
-  if (out_dir.empty()) throw UsageError{"missing -o DIR"};
-  if (sex != "f" && sex != "m") throw UsageError{"--sex must be f or m, got '" + sex + "'"};
-  if (!athlete_path.empty() && have_body_numbers)
-    throw UsageError{"--athlete and --height/--mass/--sex exclude each other"};
+void TrialArguments::Declare(CLI::App* command, analysis::ReconstructionOptions* options) {
+  command->add_option("TRIAL", trial_path, "markers or keypoints: C3D, TRC or CSV")->required();
+  command->add_option("-o,--output", out_dir, "output folder (created)")->required();
+  command->add_option("--static", static_path, "static trial for scaling (otherwise a window of the motion)");
+  CLI::Option* athlete = command->add_option(
+      "--athlete", athlete_path, "athlete profile (docs/formats/athlete.md)");
+  CLI::Option* height =
+      command->add_option("--height", height_m, "without --athlete: stature of a de Leva athlete (m)")
+          ->check(CLI::Range(0.5, 2.6));
+  CLI::Option* mass =
+      command->add_option("--mass", mass_kg, "without --athlete: body mass of a de Leva athlete (kg)")
+          ->check(CLI::Range(10.0, 300.0));
+  CLI::Option* sex_option =
+      command->add_option("--sex", sex, "without --athlete: f or m (de Leva's tables)")
+          ->check(CLI::IsMember({"f", "m"}));
+  for (CLI::Option* o : {height, mass, sex_option}) athlete->excludes(o);
+  command->add_option_function<std::string>(
+      "--markerset",
+      [this, options](const std::string& name) {
+        markerset = name;
+        options->markerset = name;
+      },
+      "plug_in_gait | helen_hayes | coco17 | trampoline | FILE.yaml (default: detected from the "
+      "labels)");
+  command->add_option_function<double>(
+      "--cutoff",
+      [options](double hz) {
+        options->cutoff_hz = hz;
+        options->filter = hz > 0;
+      },
+      "marker low-pass cutoff in Hz (default: Winter's residual analysis); 0: no filter")
+      ->check(CLI::NonNegativeNumber);
+  command->add_flag_callback(
+      "--no-scale",
+      [options] { options->scale = false; },
+      "keep the athlete's segment lengths and default marker offsets");
+  command->add_option("--threads", options->num_threads, "worker threads (default: all cores)")
+      ->check(CLI::Range(1, 256));
+  command->add_flag("--quiet", quiet, "no progress on stderr");
 }
 
 analysis::AthleteBody TrialArguments::MakeBody(const std::string& command,

@@ -1,31 +1,42 @@
 #include <cstdio>
+#include <memory>
 
 #include "acro/capture/trial_io.h"
 #include "commands.h"
 
 namespace acro::app {
 
-int RunConvert(const std::vector<std::string>& args) {
-  if (args.size() == 1 && (args[0] == "--help" || args[0] == "-h")) {
-    std::puts(
-        "usage: acrolab convert IN OUT\n\n"
-        "Converts a trial between C3D (.c3d, written as Intel float), TRC (.trc, mm) and "
-        "Acrolab's\n"
-        "marker CSV (.csv, m), chosen by the file extensions. The output is written completely or\n"
-        "not at all.");
-    return 0;
-  }
-  if (args.size() != 2) throw UsageError{"expected IN and OUT"};
-  const capture::Trial trial = capture::ReadTrial(args[0]);
-  capture::WriteTrial(trial, args[1]);
+namespace {
+
+struct ConvertArguments {
+  std::string in, out;
+};
+
+int RunConvert(const ConvertArguments& args) {
+  const capture::Trial trial = capture::ReadTrial(args.in);
+  capture::WriteTrial(trial, args.out);
   for (const std::string& warning : trial.warnings)
     std::fprintf(stderr, "warning: %s\n", warning.c_str());
   std::printf("%s -> %s: %d frames, %d points\n",
-              args[0].c_str(),
-              args[1].c_str(),
+              args.in.c_str(),
+              args.out.c_str(),
               trial.num_frames,
               trial.num_points());
   return 0;
+}
+
+}  // namespace
+
+void AddConvertCommand(CLI::App& app, CommandRunner* run) {
+  auto args = std::make_shared<ConvertArguments>();
+  CLI::App* command = app.add_subcommand(
+      "convert",
+      "Converts a trial between C3D (.c3d, written as Intel float), TRC (.trc, mm) and Acrolab's "
+      "marker CSV (.csv, m), chosen by the file extensions. The output is written completely or "
+      "not at all.");
+  command->add_option("IN", args->in, "the trial to read")->required();
+  command->add_option("OUT", args->out, "the file to write")->required();
+  command->callback([args, run] { *run = [args] { return RunConvert(*args); }; });
 }
 
 }  // namespace acro::app

@@ -1,4 +1,5 @@
 #include <cstdio>
+#include <memory>
 
 #include "acro/capture/trial_info.h"
 #include "acro/capture/trial_io.h"
@@ -6,32 +7,32 @@
 
 namespace acro::app {
 
-int RunInfo(const std::vector<std::string>& args) {
+namespace {
+
+struct InfoArguments {
   std::string file;
   bool json = false;
-  for (const std::string& arg : args) {
-    if (arg == "--json") {
-      json = true;
-    } else if (arg == "--help" || arg == "-h") {
-      std::puts(
-          "usage: acrolab info FILE [--json]\n\n"
-          "Prints format, processor, frames, rates, markers with their gaps, analog channels,\n"
-          "force plates, events and import warnings. --json prints one JSON object (docs/cli.md).");
-      return 0;
-    } else if (!arg.empty() && arg[0] == '-') {
-      throw UsageError{"unknown option '" + arg + "'"};
-    } else if (file.empty()) {
-      file = arg;
-    } else {
-      throw UsageError{"one FILE only, got '" + file + "' and '" + arg + "'"};
-    }
-  }
-  if (file.empty()) throw UsageError{"missing FILE"};
-  const capture::Trial trial = capture::ReadTrial(file);
+};
+
+int RunInfo(const InfoArguments& args) {
+  const capture::Trial trial = capture::ReadTrial(args.file);
   const std::string report =
-      json ? capture::FormatTrialInfoJson(trial) : capture::FormatTrialInfoText(trial);
+      args.json ? capture::FormatTrialInfoJson(trial) : capture::FormatTrialInfoText(trial);
   std::fputs(report.c_str(), stdout);
   return 0;
+}
+
+}  // namespace
+
+void AddInfoCommand(CLI::App& app, CommandRunner* run) {
+  auto args = std::make_shared<InfoArguments>();
+  CLI::App* command = app.add_subcommand(
+      "info",
+      "What a C3D, TRC or CSV file holds: format, processor, frames, rates, markers with their "
+      "gaps, analog channels, force plates, events and import warnings.");
+  command->add_option("FILE", args->file, "the trial file")->required();
+  command->add_flag("--json", args->json, "print one JSON object (docs/cli.md)");
+  command->callback([args, run] { *run = [args] { return RunInfo(*args); }; });
 }
 
 }  // namespace acro::app

@@ -3,56 +3,64 @@
 #include <cstdio>
 #include <exception>
 #include <string>
-#include <vector>
+
+#include <CLI/CLI.hpp>
 
 #include "acro/base/input_error.h"
 #include "commands.h"
 
 namespace {
 
-constexpr const char* kUsage =
-    "usage: acrolab <command> [options]\n"
-    "\n"
-    "commands:\n"
-    "  info FILE [--json]     what a C3D/TRC/CSV file holds: rates, markers, gaps, analog, plates, "
-    "events\n"
-    "  convert IN OUT         convert between C3D, TRC and CSV (by file extension)\n"
-    "  body ...               athlete segments, mass, centre of mass, inertia; tuck/pike ratios\n"
-    "  reconstruct TRIAL -o DIR  markers or keypoints to joint angles (.mot, CSV, C3D)\n"
-    "  optimize SKILL.yaml -o DIR  keyframe timing / trajectory optimisation of a skill\n"
-    "  analyze TRIAL -o DIR   the main job: reconstruct, check the physics, measure every jump,\n"
-    "                         report.html with plots\n"
-    "\n"
-    "  acrolab <command> --help for a command's options; docs/cli.md for everything.\n";
+// "acrolab analyze" for messages about the parsed subcommand, "acrolab" before one is known.
+std::string CommandName(const CLI::App& app) {
+  const std::vector<CLI::App*> parsed = app.get_subcommands();
+  return parsed.empty() ? "acrolab" : "acrolab " + parsed.front()->get_name();
+}
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  if (argc < 2 || std::string(argv[1]) == "--help" || std::string(argv[1]) == "-h") {
-    std::fputs(kUsage, argc < 2 ? stderr : stdout);
-    return argc < 2 ? 2 : 0;
-  }
-  const std::string command = argv[1];
-  const std::vector<std::string> args(argv + 2, argv + argc);
-  try {
-    if (command == "info") return acro::app::RunInfo(args);
-    if (command == "convert") return acro::app::RunConvert(args);
-    if (command == "body") return acro::app::RunBody(args);
-    if (command == "reconstruct") return acro::app::RunReconstruct(args);
-    if (command == "optimize") return acro::app::RunOptimize(args);
-    if (command == "analyze") return acro::app::RunAnalyze(args);
-    if (command == "--version") {
-      std::puts("acrolab 0.1.0");
-      return 0;
-    }
-    std::fprintf(stderr, "acrolab: unknown command '%s'\n%s", command.c_str(), kUsage);
+  CLI::App app(
+      "Acrolab: training analysis for trampoline and other aerial sports. docs/cli.md has every "
+      "command and output.",
+      "acrolab");
+  app.set_version_flag("--version", "acrolab 0.1.0");
+  app.require_subcommand(1);
+  app.fallthrough(false);
+  acro::app::CommandRunner run;
+  acro::app::AddInfoCommand(app, &run);
+  acro::app::AddConvertCommand(app, &run);
+  acro::app::AddBodyCommand(app, &run);
+  acro::app::AddReconstructCommand(app, &run);
+  acro::app::AddOptimizeCommand(app, &run);
+  acro::app::AddAnalyzeCommand(app, &run);
+
+  // Parse: --help and --version exit 0; a bad command line exits 2 with one line and the hint.
+  if (argc > 1 && argv[1][0] != '-' &&
+      app.get_subcommands([&](CLI::App* c) { return c->get_name() == argv[1]; }).empty()) {
+    std::fprintf(stderr, "acrolab: unknown command '%s' (acrolab --help)\n", argv[1]);
     return 2;
+  }
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    const std::string name = CommandName(app);
+    std::fprintf(stderr, "%s: %s (%s --help)\n", name.c_str(), e.what(), name.c_str());
+    return 2;
+  }
+
+  // Run.
+  const std::string name = CommandName(app);
+  try {
+    return run();
   } catch (const acro::app::UsageError& e) {
-    std::fprintf(stderr,
-                 "acrolab %s: %s (acrolab %s --help)\n",
-                 command.c_str(),
-                 e.message.c_str(),
-                 command.c_str());
+    std::fprintf(stderr, "%s: %s (%s --help)\n", name.c_str(), e.message.c_str(), name.c_str());
     return 2;
   } catch (const acro::InputError& e) {
     std::fprintf(stderr, "acrolab: %s\n", e.what());

@@ -1,4 +1,5 @@
 #include <cstdio>
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -10,65 +11,17 @@ namespace acro::app {
 
 namespace {
 
-constexpr const char* kOptimizeHelp =
-    "usage: acrolab optimize SKILL.yaml [--model 1|2] [--fixed-joints] [--simulate] [--intervals "
-    "N]\n"
-    "                        -o DIR\n"
-    "\n"
-    "Finds when each keyframe of a skill must happen so that the motion obeys physics (Model 2:\n"
-    "keyframe times), or also bends the trajectories within the keyframe tolerances (Model 1),\n"
-    "and writes DIR/result.json, timing.csv/.svg/.png, angular_momentum.svg/.png, motion.c3d,\n"
-    "motion.mot and report.html. Progress goes to stderr.\n"
-    "  --model 1|2     2 (default): times only; 1: times and trajectory coefficients\n"
-    "  --fixed-joints  Model 1 keeps the keyframe joint angles and varies the times and the root\n"
-    "                  orientation only\n"
-    "  --simulate      also simulate the flight with the optimised motion (somersaults, landing)\n"
-    "  --intervals N   quadrature intervals over the flight (even; default 40)\n"
-    "  -o DIR          output folder (created)\n"
-    "Skill files: docs/formats/skill.md; method: docs/skill-design.md.\n";
-
-}  // namespace
-
-int RunOptimize(const std::vector<std::string>& args) {
-  // Arguments.
+struct OptimizeArguments {
   std::string skill_path, out_dir;
   bool simulate = false;
   analysis::TimingOptimizationOptions options;
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& arg = args[i];
-    auto value = [&]() -> const std::string& { return OptionValue(args, &i); };
-    if (arg == "--help" || arg == "-h") {
-      std::fputs(kOptimizeHelp, stdout);
-      return 0;
-    } else if (arg == "--model") {
-      const std::string& m = value();
-      if (m != "1" && m != "2") throw UsageError{"--model is 1 or 2, got '" + m + "'"};
-      options.model = m == "1" ? 1 : 2;
-    } else if (arg == "--fixed-joints") {
-      options.model1_vary_joints = false;
-    } else if (arg == "--simulate") {
-      simulate = true;
-    } else if (arg == "--intervals") {
-      const std::string& n = value();
-      try {
-        options.quadrature_intervals = std::stoi(n);
-      } catch (...) {
-        throw UsageError{"--intervals needs an even integer, got '" + n + "'"};
-      }
-    } else if (arg == "-o" || arg == "--output") {
-      out_dir = value();
-    } else if (!arg.empty() && arg[0] == '-') {
-      throw UsageError{"unknown option " + arg};
-    } else if (skill_path.empty()) {
-      skill_path = arg;
-    } else {
-      throw UsageError{"more than one skill file"};
-    }
-  }
-  if (skill_path.empty()) throw UsageError{"no skill file"};
-  if (out_dir.empty()) throw UsageError{"no output folder (-o DIR)"};
-  std::string why;
-  if (!options.IsValid(&why)) throw UsageError{why};
+};
+
+int RunOptimize(OptimizeArguments& args) {
+  const std::string& skill_path = args.skill_path;
+  const std::string& out_dir = args.out_dir;
+  analysis::TimingOptimizationOptions& options = args.options;
+  DemandValidOptions(options);
 
   // Read, optimise, simulate, write.
   const analysis::Skill skill = analysis::ReadSkill(skill_path);
@@ -84,7 +37,7 @@ int RunOptimize(const std::vector<std::string>& args) {
   for (const analysis::TimingOptimizationSummary& s : result.stages)
     std::fprintf(stderr, "  solver: %s\n", s.BriefReport().c_str());
   std::optional<analysis::SkillSimulationResult> sim;
-  if (simulate) {
+  if (args.simulate) {
     std::fprintf(stderr, "  simulating the flight\n");
     sim = analysis::SimulateSkill(design, result.optimized);
   }
@@ -118,6 +71,36 @@ int RunOptimize(const std::vector<std::string>& args) {
       std::fprintf(stderr, "acrolab optimize: warning: %s\n", line.c_str());
   std::printf("  wrote %zu files to %s\n", files.size(), out_dir.c_str());
   return 0;
+}
+
+}  // namespace
+
+void AddOptimizeCommand(CLI::App& app, CommandRunner* run) {
+  auto args = std::make_shared<OptimizeArguments>();
+  CLI::App* command = app.add_subcommand(
+      "optimize",
+      "Finds when each keyframe of a skill must happen so that the motion obeys physics (Model 2: "
+      "keyframe times), or also bends the trajectories within the keyframe tolerances (Model 1), "
+      "and writes DIR/result.json, timing.csv/.svg/.png, angular_momentum.svg/.png, motion.c3d, "
+      "motion.mot and report.html. Progress goes to stderr. Skill files: docs/formats/skill.md; "
+      "method: docs/skill-design.md.");
+  command->add_option("SKILL", args->skill_path, "the skill file (YAML)")->required();
+  command->add_option("-o,--output", args->out_dir, "output folder (created)")->required();
+  command->add_option("--model",
+                      args->options.model,
+                      "2 (default): keyframe times only; 1: times and trajectory coefficients")
+      ->check(CLI::IsMember({1, 2}));
+  command->add_flag_callback(
+      "--fixed-joints",
+      [args] { args->options.model1_vary_joints = false; },
+      "Model 1 keeps the keyframe joint angles and varies the times and the root orientation only");
+  command->add_flag("--simulate",
+                    args->simulate,
+                    "also simulate the flight with the optimised motion (somersaults, landing)");
+  command->add_option("--intervals",
+                      args->options.quadrature_intervals,
+                      "quadrature intervals over the flight (even; default 40)");
+  command->callback([args, run] { *run = [args] { return RunOptimize(*args); }; });
 }
 
 }  // namespace acro::app

@@ -1,6 +1,8 @@
 #include <cstdio>
 #include <filesystem>
+#include <memory>
 #include <optional>
+#include <sstream>
 
 #include "acro/athlete/athlete_profile.h"
 #include "acro/athlete/de_leva.h"
@@ -14,64 +16,26 @@ namespace acro::app {
 
 namespace {
 
-constexpr const char* kReconstructHelp =
-    "usage: acrolab reconstruct TRIAL [--static STATIC] [--athlete ATHLETE.yaml]\n"
-    "                           [--markerset NAME|FILE.yaml] -o DIR [options]\n"
-    "\n"
-    "Markers or video keypoints (C3D, TRC, CSV) to the athlete's joint angles: marker set\n"
-    "detection, gap filling, zero-lag low-pass filter, scaling, per-frame inverse kinematics.\n"
-    "Writes DIR/<trial>.mot (OpenSim, degrees), DIR/<trial>_angles.csv, DIR/<trial>_model.c3d\n"
-    "(processed markers + joint angles as Vicon-style angle points), DIR/<trial>_residuals.csv\n"
-    "and DIR/<trial>_summary.txt; prints the summary. docs/reconstruction.md.\n"
-    "  --static FILE        static trial for scaling (otherwise a window of the motion)\n"
-    "  --athlete FILE       athlete profile (docs/formats/athlete.md); without it a de Leva\n"
-    "                       athlete from --height (1.75) / --mass (65) / --sex (f), with a "
-    "warning\n"
-    "  --markerset NAME     plug_in_gait | helen_hayes | coco17 | trampoline | FILE.yaml\n"
-    "                       (default: detected from the labels)\n"
-    "  --cutoff HZ          low-pass cutoff (default: Winter's residual analysis); 0 = no filter\n"
-    "  --order N            Butterworth order per pass (default 2)\n"
-    "  --max-gap FRAMES     longest gap filled by a cubic spline (default 20)\n"
-    "  --window A:B         frames (0-based) to scale to when there is no static trial\n"
-    "  --no-scale           keep the athlete's segment lengths and default marker offsets\n"
-    "  --no-swap-repair     do not exchange left/right markers that fit the other side better\n"
-    "  --threads N          worker threads (default: all cores)\n"
-    "  --quiet              no progress bar\n";
-
-}  // namespace
-
-int RunReconstruct(const std::vector<std::string>& args) {
-  // Arguments.
+struct ReconstructArguments {
   TrialArguments common;
-  std::string window;
   analysis::ReconstructionOptions options;
-  for (size_t i = 0; i < args.size(); ++i) {
-    const std::string& arg = args[i];
-    auto value = [&]() -> const std::string& { return OptionValue(args, &i); };
-    if (arg == "--help" || arg == "-h") {
-      std::fputs(kReconstructHelp, stdout);
-      return 0;
-    } else if (common.Take(args, &i, &options)) {
-      continue;
-    } else if (arg == "--order") {
-      options.filter_order = static_cast<int>(OptionNumber(arg, value()));
-    } else if (arg == "--max-gap") {
-      options.gaps.max_spline_gap_frames = static_cast<int>(OptionNumber(arg, value()));
-    } else if (arg == "--window") {
-      window = value();
-      const size_t colon = window.find(':');
-      if (colon == std::string::npos) throw UsageError{"--window needs A:B"};
-      options.scaling_first_frame = static_cast<int>(OptionNumber(arg, window.substr(0, colon)));
-      options.scaling_last_frame = static_cast<int>(OptionNumber(arg, window.substr(colon + 1)));
-    } else if (arg == "--no-swap-repair") {
-      options.repair_swaps = false;
-    } else {
-      throw UsageError{"unknown option '" + arg + "'"};
-    }
-  }
-  common.Check();
-  std::string why;
-  if (!options.IsValid(&why)) throw UsageError{why};
+};
+
+// "A:B" frames (0-based) to scale to.
+void ParseWindow(const std::string& text, analysis::ReconstructionOptions* options) {
+  int first = 0, last = 0;
+  char colon = 0;
+  std::istringstream in(text);
+  if (!(in >> first >> colon >> last) || colon != ':' || !in.eof())
+    throw CLI::ValidationError("--window", "needs frames A:B, got '" + text + "'");
+  options->scaling_first_frame = first;
+  options->scaling_last_frame = last;
+}
+
+int RunReconstruct(ReconstructArguments& args) {
+  const TrialArguments& common = args.common;
+  analysis::ReconstructionOptions& options = args.options;
+  DemandValidOptions(options);
 
   // Inputs: trial, static trial, athlete.
   const capture::Trial trial = capture::ReadTrial(common.trial_path);
@@ -106,6 +70,35 @@ int RunReconstruct(const std::vector<std::string>& args) {
                out_dir.c_str(),
                stem.c_str());
   return 0;
+}
+
+}  // namespace
+
+void AddReconstructCommand(CLI::App& app, CommandRunner* run) {
+  auto args = std::make_shared<ReconstructArguments>();
+  CLI::App* command = app.add_subcommand(
+      "reconstruct",
+      "Markers or video keypoints (C3D, TRC, CSV) to the athlete's joint angles: marker set "
+      "detection, gap filling, zero-lag low-pass filter, scaling, per-frame inverse kinematics. "
+      "Writes DIR/<trial>.mot (OpenSim, degrees), <trial>_angles.csv, <trial>_model.c3d "
+      "(processed markers and joint angles as Vicon-style angle points), <trial>_residuals.csv "
+      "and <trial>_summary.txt; prints the summary. docs/reconstruction.md.");
+  args->common.Declare(command, &args->options);
+  command->add_option("--order", args->options.filter_order, "Butterworth order per pass (default 2)")
+      ->check(CLI::Range(1, 8));
+  command->add_option("--max-gap",
+                      args->options.gaps.max_spline_gap_frames,
+                      "longest gap filled by a cubic spline, frames (default 20)")
+      ->check(CLI::NonNegativeNumber);
+  command->add_option_function<std::string>(
+      "--window",
+      [args](const std::string& text) { ParseWindow(text, &args->options); },
+      "frames A:B (0-based) to scale to when there is no static trial");
+  command->add_flag_callback(
+      "--no-swap-repair",
+      [args] { args->options.repair_swaps = false; },
+      "do not exchange left/right markers that fit the other side better");
+  command->callback([args, run] { *run = [args] { return RunReconstruct(*args); }; });
 }
 
 }  // namespace acro::app

@@ -4,15 +4,15 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
-#include <cstdio>
 #include <cstring>
 #include <limits>
 #include <memory>
-#include <sstream>
 
 #include <fcntl.h>
 #include <sys/mman.h>
 #include <unistd.h>
+
+#include <fmt/format.h>
 
 #include "acro/base/input_error.h"
 #include "acro/capture/c3d.h"
@@ -29,19 +29,6 @@ using internal::Processor;
 using internal::Warner;
 
 constexpr std::size_t kBlock = 512;
-
-std::string Hex(unsigned v) {
-  char buf[8];
-  std::snprintf(buf, sizeof buf, "0x%02X", v);
-  return buf;
-}
-
-std::string Num(double v) {
-  std::ostringstream s;
-  s.precision(9);
-  s << v;
-  return s.str();
-}
 
 // Values of the header (C3D manual, "The header section"), 16-bit words numbered from 1.
 struct Header {
@@ -364,7 +351,8 @@ Trial C3dReader::Read() {
              " bytes, less than the 512-byte C3D header");
   }
   if (bytes_[1] != 0x50) {
-    Fail(AtByte(1), "not a C3D file: header key byte is " + Hex(bytes_[1]) + " (expected 0x50)");
+    Fail(AtByte(1),
+         fmt::format("not a C3D file: header key byte is 0x{:02X} (expected 0x50)", bytes_[1]));
   }
   if (bytes_[0] == 0) Fail(AtByte(0), "parameter section block number is 0");
   parameter_start_ = (std::size_t(bytes_[0]) - 1) * kBlock;
@@ -418,9 +406,11 @@ void C3dReader::ReadData() {
   double scale = header_.scale;
   if (const std::optional<double> s = params.FindDouble("POINT", "SCALE")) {
     if ((*s < 0) != (header_.scale < 0)) {
-      warn_("POINT:SCALE",
-            "is " + Num(*s) + " but the header scale is " + Num(header_.scale) +
-                "; the parameter decides the storage");
+      warn_(
+          "POINT:SCALE",
+          fmt::format("is {:.9g} but the header scale is {:.9g}; the parameter decides the storage",
+                      *s,
+                      header_.scale));
     }
     scale = *s;
   }
@@ -590,15 +580,15 @@ void C3dReader::ReadData() {
   if (const std::optional<double> r = params.FindDouble("POINT", "RATE"); r && *r > 0) {
     if (std::abs(*r - rate) > 1e-3 * std::abs(*r)) {
       warn_("POINT:RATE",
-            "is " + Num(*r) + " Hz but the header says " + Num(rate) + " Hz; POINT:RATE used");
+            fmt::format("is {:.9g} Hz but the header says {:.9g} Hz; POINT:RATE used", *r, rate));
     }
     rate = *r;
   } else if (!params.Find("POINT", "RATE")) {
     if (params.FindGroup("POINT"))
-      warn_("POINT:RATE", "missing; header rate " + Num(rate) + " Hz used");
+      warn_("POINT:RATE", fmt::format("missing; header rate {:.9g} Hz used", rate));
   }
   if (!std::isfinite(rate) || rate < 0) {
-    warn_("POINT:RATE", "rate " + Num(rate) + " Hz is invalid; 0 used");
+    warn_("POINT:RATE", fmt::format("rate {:.9g} Hz is invalid; 0 used", rate));
     rate = 0;
   }
   trial_.point_rate_hz = rate;
@@ -614,14 +604,17 @@ void C3dReader::ReadData() {
         r && *r > 0 && std::isfinite(*r)) {
       if (std::abs(*r - analog_rate) > 1e-3 * *r) {
         warn_("ANALOG:RATE",
-              "is " + Num(*r) + " Hz but the data hold " + std::to_string(analog_per_frame_) +
-                  " samples per frame at " + Num(rate) + " Hz; ANALOG:RATE kept");
+              fmt::format("is {:.9g} Hz but the data hold {} samples per frame at {:.9g} Hz; "
+                          "ANALOG:RATE kept",
+                          *r,
+                          analog_per_frame_,
+                          rate));
       }
       analog_rate = *r;
     } else {
-      warn_(
-          "ANALOG:RATE",
-          "missing or invalid; " + Num(analog_rate) + " Hz used (point rate × samples per frame)");
+      warn_("ANALOG:RATE",
+            fmt::format("missing or invalid; {:.9g} Hz used (point rate × samples per frame)",
+                        analog_rate));
     }
     trial_.analog_rate_hz = analog_rate;
   }
@@ -728,7 +721,7 @@ void C3dReader::ReadData() {
     if (num_points_ > 0) {
       warn_("POINT:UNITS",
             std::string("missing; ") + (to_m == 1.0 ? "metres" : "millimetres") +
-                " assumed (median marker coordinate magnitude " + Num(median) + ")");
+                fmt::format(" assumed (median marker coordinate magnitude {:.9g})", median));
     }
     if (to_m != 1.0 && num_points_ > 0) {
       for (std::int64_t f = 0; f < frames; ++f) {

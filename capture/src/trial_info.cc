@@ -2,10 +2,10 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <sstream>
 
-#include "acro/base/json_writer.h"
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 namespace acro::capture {
 namespace {
@@ -28,12 +28,6 @@ const char* PointTypeName(PointType type) {
       return "reaction";
   }
   return "unknown";
-}
-
-std::string Printf(const char* format, double value) {
-  char buffer[64];
-  std::snprintf(buffer, sizeof(buffer), format, value);
-  return buffer;
 }
 
 // Peak magnitude of the vertical ground reaction of a plate over the trial (N), or NaN.
@@ -82,11 +76,11 @@ std::string FormatTrialInfoText(const Trial& trial) {
   if (!trial.source.point_storage.empty()) out << ", " << trial.source.point_storage << " storage";
   out << "\n";
   out << "Frames      " << trial.num_frames << " (first frame " << trial.first_frame << ") at "
-      << Printf("%g", trial.point_rate_hz) << " Hz = " << Printf("%.3f", trial.duration_s())
-      << " s\n";
+      << fmt::format("{:g}", trial.point_rate_hz)
+      << " Hz = " << fmt::format("{:.3f}", trial.duration_s()) << " s\n";
   out << "Units       "
       << (trial.source.point_units.empty() ? "(none in file)" : trial.source.point_units)
-      << " -> m (x" << Printf("%g", trial.source.point_units_to_m) << ")\n";
+      << " -> m (x" << fmt::format("{:g}", trial.source.point_units_to_m) << ")\n";
   if (!trial.subject_name.empty()) out << "Subject     " << trial.subject_name << "\n";
   out << "Markers     " << gaps.size() << "; marker-frames missing: " << missing_total << " of "
       << static_cast<long long>(gaps.size()) * trial.num_frames << "\n";
@@ -113,7 +107,7 @@ std::string FormatTrialInfoText(const Trial& trial) {
   out << "Analog      " << trial.num_analog_channels()
       << (trial.num_analog_channels() == 1 ? " channel" : " channels");
   if (trial.num_analog_channels() > 0) {
-    out << " at " << Printf("%g", trial.analog_rate_hz) << " Hz ("
+    out << " at " << fmt::format("{:g}", trial.analog_rate_hz) << " Hz ("
         << trial.analog_samples_per_frame() << " per frame)";
   }
   out << "\n";
@@ -126,14 +120,17 @@ std::string FormatTrialInfoText(const Trial& trial) {
   for (std::size_t i = 0; i < trial.force_plates.size(); ++i) {
     const ForcePlate& plate = trial.force_plates[i];
     const Eigen::Vector3d centre = plate.corners_W_m.rowwise().mean();
-    out << "  #" << i + 1 << " type " << plate.type << ", centre (" << Printf("%.3f", centre.x())
-        << ", " << Printf("%.3f", centre.y()) << ", " << Printf("%.3f", centre.z())
-        << ") m, peak |Fz| " << Printf("%.1f", PeakVerticalForce(plate)) << " N\n";
+    out << "  #" << i + 1 << " type " << plate.type
+        << fmt::format(", centre ({:.3f}, {:.3f}, {:.3f}) m, peak |Fz| {:.1f} N\n",
+                       centre.x(),
+                       centre.y(),
+                       centre.z(),
+                       PeakVerticalForce(plate));
   }
   out << "Events      " << trial.events.size() << "\n";
   for (const auto& e : trial.events) {
-    out << "  " << Printf("%8.4f", e.time_s) << " s  " << (e.context.empty() ? "" : e.context + " ")
-        << e.label << "\n";
+    out << "  " << fmt::format("{:>8.4f}", e.time_s) << " s  "
+        << (e.context.empty() ? "" : e.context + " ") << e.label << "\n";
   }
   out << "Warnings    " << trial.warnings.size() << "\n";
   for (const auto& w : trial.warnings) out << "  " << w << "\n";
@@ -141,89 +138,69 @@ std::string FormatTrialInfoText(const Trial& trial) {
 }
 
 std::string FormatTrialInfoJson(const Trial& trial) {
+  using Json = nlohmann::ordered_json;  // keys in the order written
   const std::vector<MarkerGaps> gaps = CalcMarkerGaps(trial);
   long long missing_total = 0;
   for (const auto& g : gaps) missing_total += g.missing_frames;
 
-  JsonWriter w;
-  w.BeginObject();
-  w.Field("file", trial.source.path);
-  w.Field("format", trial.source.format);
-  w.Field("processor", trial.source.processor);
-  w.Field("point_storage", trial.source.point_storage);
-  w.Field("frames", trial.num_frames);
-  w.Field("first_frame", static_cast<std::int64_t>(trial.first_frame));
-  w.Field("point_rate_hz", trial.point_rate_hz);
-  w.Field("duration_s", trial.duration_s());
-  w.Field("point_units", trial.source.point_units);
-  w.Field("subject", trial.subject_name);
-  w.Field("markers", static_cast<int>(gaps.size()));
-  w.Key("marker_labels");
-  w.BeginArray();
-  for (const auto& g : gaps) w.Value(g.label);
-  w.EndArray();
-  w.Field("points", trial.num_points());
-  w.Field("missing_marker_frames_total", static_cast<std::int64_t>(missing_total));
-  w.Key("gaps");
-  w.BeginArray();
+  // File, sampling and markers.
+  Json j;
+  j["file"] = trial.source.path;
+  j["format"] = trial.source.format;
+  j["processor"] = trial.source.processor;
+  j["point_storage"] = trial.source.point_storage;
+  j["frames"] = trial.num_frames;
+  j["first_frame"] = trial.first_frame;
+  j["point_rate_hz"] = trial.point_rate_hz;
+  j["duration_s"] = trial.duration_s();
+  j["point_units"] = trial.source.point_units;
+  j["subject"] = trial.subject_name;
+  j["markers"] = gaps.size();
+  j["marker_labels"] = Json::array();
+  for (const auto& g : gaps) j["marker_labels"].push_back(g.label);
+  j["points"] = trial.num_points();
+  j["missing_marker_frames_total"] = missing_total;
+  j["gaps"] = Json::array();
   for (const auto& g : gaps) {
-    w.BeginObject();
-    w.Field("label", g.label);
-    w.Field("missing_frames", g.missing_frames);
-    w.Field("longest_gap_frames", g.longest_gap_frames);
-    w.Field("gap_count", g.gap_count);
-    w.EndObject();
+    j["gaps"].push_back({{"label", g.label},
+                         {"missing_frames", g.missing_frames},
+                         {"longest_gap_frames", g.longest_gap_frames},
+                         {"gap_count", g.gap_count}});
   }
-  w.EndArray();
-  w.Field("analog_rate_hz", trial.analog_rate_hz);
-  w.Field("analog_samples_per_frame", trial.analog_samples_per_frame());
-  w.Key("analog_channels");
-  w.BeginArray();
+
+  // Analog channels and force plates.
+  j["analog_rate_hz"] = trial.analog_rate_hz;
+  j["analog_samples_per_frame"] = trial.analog_samples_per_frame();
+  j["analog_channels"] = Json::array();
   for (const auto& c : trial.analog_channels) {
-    w.BeginObject();
-    w.Field("label", c.label);
-    w.Field("unit", c.unit);
-    w.Field("description", c.description);
-    w.EndObject();
+    j["analog_channels"].push_back(
+        {{"label", c.label}, {"unit", c.unit}, {"description", c.description}});
   }
-  w.EndArray();
-  w.Key("force_plates");
-  w.BeginArray();
+  j["force_plates"] = Json::array();
   for (const ForcePlate& plate : trial.force_plates) {
-    w.BeginObject();
-    w.Field("type", plate.type);
-    w.Key("channels");
-    w.Array(plate.channels);
-    w.Key("corners_W_m");
-    w.BeginArray();
+    Json corners = Json::array();
     for (int c = 0; c < 4; ++c) {
-      w.Array(std::vector<double>{
-          plate.corners_W_m(0, c), plate.corners_W_m(1, c), plate.corners_W_m(2, c)});
+      corners.push_back(
+          {plate.corners_W_m(0, c), plate.corners_W_m(1, c), plate.corners_W_m(2, c)});
     }
-    w.EndArray();
-    w.Key("origin_F_m");
-    w.Array(std::vector<double>{plate.origin_F_m.x(), plate.origin_F_m.y(), plate.origin_F_m.z()});
-    w.Field("peak_vertical_force_N", PeakVerticalForce(plate));
-    w.EndObject();
+    j["force_plates"].push_back(
+        {{"type", plate.type},
+         {"channels", plate.channels},
+         {"corners_W_m", std::move(corners)},
+         {"origin_F_m", {plate.origin_F_m.x(), plate.origin_F_m.y(), plate.origin_F_m.z()}},
+         {"peak_vertical_force_N", PeakVerticalForce(plate)}});
   }
-  w.EndArray();
-  w.Key("events");
-  w.BeginArray();
+
+  // Events and warnings.
+  j["events"] = Json::array();
   for (const auto& e : trial.events) {
-    w.BeginObject();
-    w.Field("label", e.label);
-    w.Field("context", e.context);
-    w.Field("time_s", e.time_s);
-    if (!e.description.empty()) w.Field("description", e.description);
-    w.EndObject();
+    Json event = {{"label", e.label}, {"context", e.context}, {"time_s", e.time_s}};
+    if (!e.description.empty()) event["description"] = e.description;
+    j["events"].push_back(std::move(event));
   }
-  w.EndArray();
-  w.Key("warnings");
-  w.BeginArray();
-  for (const auto& message : trial.warnings) w.Value(message);
-  w.EndArray();
-  w.EndObject();
-  return w.str() + "\n";
+  j["warnings"] = trial.warnings;
+  // Labels and descriptions come from the file: bytes that are not UTF-8 become U+FFFD.
+  return j.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
 }
 
 }  // namespace acro::capture

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <sstream>
 
+#include <fmt/format.h>
 #include <Eigen/Dense>
 #include <Eigen/Geometry>
 
@@ -93,12 +94,6 @@ Eigen::Matrix3Xd AngularVelocities(const std::vector<Matrix3d>& R,
     }
   }
   return w;
-}
-
-std::string Format(const char* fmt, double a, double b = 0.0, double c = 0.0) {
-  char buffer[256];
-  std::snprintf(buffer, sizeof buffer, fmt, a, b, c);
-  return buffer;
 }
 
 /// Frames of the complete flights that the check judged.
@@ -284,7 +279,7 @@ PhysicalCheck CheckPhysics(const dynamics::Model<double>& model,
     fc.last_frame = std::min(flight.landing_frame - 1 - margin, n - 1);
     if (fc.last_frame - fc.first_frame < 4) {
       fc.pass = false;
-      fc.failures.push_back("too short to judge once " + Format("%.0f ms", 1e3 * margin_s) +
+      fc.failures.push_back("too short to judge once " + fmt::format("{:.0f} ms", 1e3 * margin_s) +
                             " are left out at each end");
       check.flights.push_back(fc);
       continue;
@@ -345,31 +340,32 @@ PhysicalCheck CheckPhysics(const dynamics::Model<double>& model,
       if (fit.valid) fc.max_marker_error_m = std::max(fc.max_marker_error_m, fit.max_m);
     }
 
-    const std::string over =
-        options.residual_window_s > 0 ? Format(" over %.2f s", options.residual_window_s) : "";
+    const std::string over = options.residual_window_s > 0
+                                 ? fmt::format(" over {:.2f} s", options.residual_window_s)
+                                 : "";
     if (fc.window_force_bw > options.max_force_bw)
-      fc.failures.push_back(Format("residual force %.3f BW > %.3f at %.2f s",
-                                   fc.window_force_bw,
-                                   options.max_force_bw,
-                                   fc.window_force_at_s) +
+      fc.failures.push_back(fmt::format("residual force {:.3f} BW > {:.3f} at {:.2f} s",
+                                        fc.window_force_bw,
+                                        options.max_force_bw,
+                                        fc.window_force_at_s) +
                             over);
     if (fc.window_moment_bwh > options.max_moment_bwh)
-      fc.failures.push_back(Format("residual moment %.4f BW·h > %.4f at %.2f s",
-                                   fc.window_moment_bwh,
-                                   options.max_moment_bwh,
-                                   fc.window_moment_at_s) +
+      fc.failures.push_back(fmt::format("residual moment {:.4f} BW·h > {:.4f} at {:.2f} s",
+                                        fc.window_moment_bwh,
+                                        options.max_moment_bwh,
+                                        fc.window_moment_at_s) +
                             over);
     if (fc.momentum_variation > options.max_momentum_variation)
-      fc.failures.push_back(Format("angular momentum varies %.0f %% > %.0f %%",
-                                   100 * fc.momentum_variation,
-                                   100 * options.max_momentum_variation));
+      fc.failures.push_back(fmt::format("angular momentum varies {:.0f} % > {:.0f} %",
+                                        100 * fc.momentum_variation,
+                                        100 * options.max_momentum_variation));
     if (std::abs(fc.fitted_gravity_m_per_s2 - g) > options.max_gravity_error * g)
-      fc.failures.push_back(
-          Format("COM falls with %.2f m/s² instead of %.2f", fc.fitted_gravity_m_per_s2, g));
+      fc.failures.push_back(fmt::format(
+          "COM falls with {:.2f} m/s² instead of {:.2f}", fc.fitted_gravity_m_per_s2, g));
     if (fc.max_marker_error_m > options.max_marker_error_m)
-      fc.failures.push_back(Format("marker error %.1f cm > %.1f cm",
-                                   100 * fc.max_marker_error_m,
-                                   100 * options.max_marker_error_m));
+      fc.failures.push_back(fmt::format("marker error {:.1f} cm > {:.1f} cm",
+                                        100 * fc.max_marker_error_m,
+                                        100 * options.max_marker_error_m));
     fc.pass = fc.failures.empty();
     check.flights.push_back(fc);
   }
@@ -554,10 +550,11 @@ void LocalisePhysicsFailure(const dynamics::Model<double>& model,
         finding.names = {markers[static_cast<size_t>(a)].name,
                          markers[static_cast<size_t>(b)].name};
         finding.value = static_cast<double>(f.size());
-        finding.text = "markers " + finding.names[0] + " and " + finding.names[1] +
-                       " are swapped in " + std::to_string(f.size()) + " frames (" +
-                       Format("%.3f–%.3f s", motion.time_s[f.front()], motion.time_s[f.back()]) +
-                       "): relabel them";
+        finding.text =
+            "markers " + finding.names[0] + " and " + finding.names[1] + " are swapped in " +
+            std::to_string(f.size()) + " frames (" +
+            fmt::format("{:.3f}–{:.3f} s", motion.time_s[f.front()], motion.time_s[f.back()]) +
+            "): relabel them";
         named[static_cast<size_t>(a)] = named[static_cast<size_t>(b)] = true;
         check.findings.push_back(finding);
       }
@@ -668,7 +665,7 @@ void LocalisePhysicsFailure(const dynamics::Model<double>& model,
         for (size_t i = 0; i < finding.names.size(); ++i)
           list += (i ? ", " : "") + finding.names[i];
         finding.text = "timing: markers " + list +
-                       Format(" lag the others by %.0f ms", 1e3 * finding.value) +
+                       fmt::format(" lag the others by {:.0f} ms", 1e3 * finding.value) +
                        " (unsynchronised cameras or a time shift in the data)";
         check.findings.push_back(finding);
       }
@@ -702,15 +699,15 @@ void LocalisePhysicsFailure(const dynamics::Model<double>& model,
           finding.names.push_back(ms.segments[static_cast<size_t>(s)]);
           if (i) text += ", ";
           text += ms.segments[static_cast<size_t>(s)] +
-                  Format(" %.1f kg in the model, %.1f kg fits the flights",
-                         ms.current_kg[s],
-                         ms.suggested_kg[s]);
+                  fmt::format(" {:.1f} kg in the model, {:.1f} kg fits the flights",
+                              ms.current_kg[s],
+                              ms.suggested_kg[s]);
         }
         const int s0 = change[0].second;
         finding.value = ms.suggested_kg[s0] / ms.current_kg[s0];
-        text += Format(" (residual %.3f → %.3f; check the athlete file)",
-                       ms.residual_before,
-                       ms.residual_after);
+        text += fmt::format(" (residual {:.3f} → {:.3f}; check the athlete file)",
+                            ms.residual_before,
+                            ms.residual_after);
         finding.text = text;
         check.findings.push_back(finding);
       }
@@ -758,7 +755,8 @@ void LocalisePhysicsFailure(const dynamics::Model<double>& model,
       std::string text = "markers fitting worst at the peak-residual frames: ";
       for (size_t i = 0; i < worst.size() && i < 3; ++i) {
         finding.names.push_back(markers[static_cast<size_t>(worst[i].second)].name);
-        text += (i ? ", " : "") + finding.names.back() + Format(" %.1f cm", 100 * worst[i].first);
+        text += (i ? ", " : "") + finding.names.back() +
+                fmt::format(" {:.1f} cm", 100 * worst[i].first);
       }
       finding.value = worst[0].first;
       finding.text = text;

@@ -3,15 +3,16 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <numbers>
 #include <sstream>
 
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
 #include "acro/reconstruct/motion_export.h"
 #include "acro/base/demand.h"
 #include "acro/base/input_error.h"
-#include "acro/base/json_writer.h"
 #include "acro/base/file_io.h"
 #include "acro/capture/storage.h"
 #include "acro/dynamics/kinematics.h"
@@ -28,12 +29,6 @@ constexpr double kZoneAWidth_m = 1.08;
 
 double Seconds(std::chrono::steady_clock::time_point since) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
-}
-
-std::string Format(const char* fmt, double a, double b = 0.0, double c = 0.0) {
-  char buffer[256];
-  std::snprintf(buffer, sizeof buffer, fmt, a, b, c);
-  return buffer;
 }
 
 // Sole centre of each foot in its segment frame: the midpoint of the toe tip and the point below
@@ -214,18 +209,17 @@ TrialAnalysis AnalyzeTrial(const capture::Trial& trial,
 
   // 1. Reconstruction.
   auto start = std::chrono::steady_clock::now();
-  progress("reconstruct: " + std::to_string(trial.num_frames) + " frames at " +
-           Format("%g Hz", trial.point_rate_hz));
+  progress(fmt::format("reconstruct: {} frames at {:g} Hz", trial.num_frames, trial.point_rate_hz));
   out.reconstruction = Reconstruct(trial, static_trial, body, options.reconstruction);
   const ReconstructionResult& rec = out.reconstruction;
   const Motion& motion = rec.motion;
   const dynamics::Model<double>& model = rec.model;
   out.mass_kg = model.total_mass();
   for (const std::string& w : rec.summary.warnings) out.warnings.push_back(w);
-  progress(Format("reconstruct: marker RMS median %.1f mm, p95 %.1f mm (%.2f s)",
-                  1e3 * rec.summary.median_rms_m,
-                  1e3 * rec.summary.p95_rms_m,
-                  Seconds(start)));
+  progress(fmt::format("reconstruct: marker RMS median {:.1f} mm, p95 {:.1f} mm ({:.2f} s)",
+                       1e3 * rec.summary.median_rms_m,
+                       1e3 * rec.summary.p95_rms_m,
+                       Seconds(start)));
   out.reconstruct_s = Seconds(start);
 
   // 2. Phases: force plates when the trial has them, else the soles against the bed when the bed
@@ -337,88 +331,85 @@ TrialAnalysis AnalyzeTrial(const capture::Trial& trial,
     out.jumps.push_back(std::move(j));
   }
   out.metrics_s = Seconds(start);
-  progress("metrics: " + std::to_string(out.num_scored) + " skills, DD " +
-           Format("%.1f, time of flight %.3f s", out.total_difficulty, out.total_time_of_flight_s));
+  progress(fmt::format("metrics: {} skills, DD {:.1f}, time of flight {:.3f} s",
+                       out.num_scored,
+                       out.total_difficulty,
+                       out.total_time_of_flight_s));
   return out;
 }
 
 std::string TrialAnalysis::BriefReport() const {
   std::ostringstream s;
-  s << "routine: " << num_scored << " skills, DD " << Format("%.1f", total_difficulty)
-    << ", time of flight " << Format("%.3f s", total_time_of_flight_s) << "\n";
+  s << fmt::format("routine: {} skills, DD {:.1f}, time of flight {:.3f} s\n",
+                   num_scored,
+                   total_difficulty,
+                   total_time_of_flight_s);
   s << "physical check: " << check.verdict << "\n";
   for (const Finding& f : check.findings) s << "  cause: " << f.text << "\n";
   for (const JumpMetrics& j : jumps) {
-    s << Format("  %2.0f ", j.index) << (j.partial() ? "(partial) " : "") << j.fig_code;
+    s << fmt::format("  {:2} ", j.index) << (j.partial() ? "(partial) " : "") << j.fig_code;
     if (!j.skill_name.empty()) s << " " << j.skill_name;
-    s << Format("  ToF %.3f s  apex %.2f m", j.time_of_flight_s(), j.apex_m());
-    if (!j.partial()) s << Format("  DD %.1f", j.difficulty.total());
+    s << fmt::format("  ToF {:.3f} s  apex {:.2f} m", j.time_of_flight_s(), j.apex_m());
+    if (!j.partial()) s << fmt::format("  DD {:.1f}", j.difficulty.total());
     s << "  " << j.verdict << "\n";
   }
   return s.str();
 }
 
 std::string FormatJumpsJson(const TrialAnalysis& a) {
-  JsonWriter w;
-  w.BeginArray();
+  using Json = nlohmann::ordered_json;  // keys in the order written
+  Json jumps = Json::array();
   for (const JumpMetrics& j : a.jumps) {
-    w.BeginObject();
-    w.Field("index", j.index);
-    w.Field("partial", j.partial());
-    w.Field("takeoff_s", j.flight.takeoff_s);
-    w.Field("landing_s", j.flight.landing_s);
-    w.Field("takeoff_frame", j.flight.takeoff_frame);
-    w.Field("landing_frame", j.flight.landing_frame);
-    w.Field("time_of_flight_s", j.time_of_flight_s());
-    w.Field("apex_m", j.apex_m());
-    w.Field("apex_above_bed_m", j.apex_above_bed_m);
-    w.Field("takeoff_vertical_velocity_m_per_s", j.takeoff_vertical_velocity_m_per_s());
-    w.Field("fitted_gravity_m_per_s2", j.flight.fitted_gravity_m_per_s2);
-    w.Key("takeoff_feet_m");
-    w.Array(std::vector<double>(j.takeoff_feet_W.data(), j.takeoff_feet_W.data() + 3));
-    w.Key("landing_feet_m");
-    w.Array(std::vector<double>(j.landing_feet_W.data(), j.landing_feet_W.data() + 3));
-    w.Field("displacement_from_takeoff_m", j.displacement_from_takeoff_m);
-    w.Field("displacement_from_centre_m", j.displacement_from_centre_m);
-    w.Key("landing_in_bed_m");
-    w.Array(std::vector<double>{j.landing_in_bed_m.x(), j.landing_in_bed_m.y()});
-    w.Key("landing_in_zone_a");
-    if (j.landing_in_zone_a)
-      w.Value(*j.landing_in_zone_a);
-    else
-      w.Null();
+    // Flight, feet and landing place.
+    Json o;
+    o["index"] = j.index;
+    o["partial"] = j.partial();
+    o["takeoff_s"] = j.flight.takeoff_s;
+    o["landing_s"] = j.flight.landing_s;
+    o["takeoff_frame"] = j.flight.takeoff_frame;
+    o["landing_frame"] = j.flight.landing_frame;
+    o["time_of_flight_s"] = j.time_of_flight_s();
+    o["apex_m"] = j.apex_m();
+    o["apex_above_bed_m"] = j.apex_above_bed_m;
+    o["takeoff_vertical_velocity_m_per_s"] = j.takeoff_vertical_velocity_m_per_s();
+    o["fitted_gravity_m_per_s2"] = j.flight.fitted_gravity_m_per_s2;
+    o["takeoff_feet_m"] = {j.takeoff_feet_W.x(), j.takeoff_feet_W.y(), j.takeoff_feet_W.z()};
+    o["landing_feet_m"] = {j.landing_feet_W.x(), j.landing_feet_W.y(), j.landing_feet_W.z()};
+    o["displacement_from_takeoff_m"] = j.displacement_from_takeoff_m;
+    o["displacement_from_centre_m"] = j.displacement_from_centre_m;
+    o["landing_in_bed_m"] = {j.landing_in_bed_m.x(), j.landing_in_bed_m.y()};
+    o["landing_in_zone_a"] = j.landing_in_zone_a ? Json(*j.landing_in_zone_a) : Json(nullptr);
+    // The skill and its difficulty.
     const FigSkill& skill = j.rotation.skill;
-    w.Field("somersault_quarters", skill.quarter_somersaults);
-    w.Field("direction", DirectionName(skill.direction));
-    w.Key("twist_halves");
-    w.Array(skill.half_twists);
-    w.Field("shape", ShapeName(skill.shape));
-    w.Field("fig_code", j.fig_code);
-    w.Field("skill_name", j.skill_name);
-    w.Field("difficulty", j.difficulty.total());
-    w.Field("difficulty_explained", j.difficulty.Explain());
-    w.Field("measured_somersault_deg", j.rotation.measured_somersault_rad / kDeg);
-    w.Field("measured_twist_deg", j.rotation.measured_twist_rad / kDeg);
-    w.Field("max_hip_flexion_deg", j.rotation.max_hip_flexion_deg);
-    w.Field("knee_flexion_at_max_hip_deg", j.rotation.knee_flexion_at_max_hip_deg);
-    w.Field("verdict", j.verdict);
+    o["somersault_quarters"] = skill.quarter_somersaults;
+    o["direction"] = DirectionName(skill.direction);
+    o["twist_halves"] = skill.half_twists;
+    o["shape"] = ShapeName(skill.shape);
+    o["fig_code"] = j.fig_code;
+    o["skill_name"] = j.skill_name;
+    o["difficulty"] = j.difficulty.total();
+    o["difficulty_explained"] = j.difficulty.Explain();
+    o["measured_somersault_deg"] = j.rotation.measured_somersault_rad / kDeg;
+    o["measured_twist_deg"] = j.rotation.measured_twist_rad / kDeg;
+    o["max_hip_flexion_deg"] = j.rotation.max_hip_flexion_deg;
+    o["knee_flexion_at_max_hip_deg"] = j.rotation.knee_flexion_at_max_hip_deg;
+    o["verdict"] = j.verdict;
+    // The physical check of the flight, when it was judged.
     if (j.check) {
-      w.Key("check");
-      w.BeginObject();
-      w.Field("peak_force_bw", j.check->peak_force_bw);
-      w.Field("rms_force_bw", j.check->rms_force_bw);
-      w.Field("peak_moment_bwh", j.check->peak_moment_bwh);
-      w.Field("rms_moment_bwh", j.check->rms_moment_bwh);
-      w.Field("angular_momentum_kg_m2_per_s", j.check->mean_angular_momentum);
-      w.Field("momentum_variation", j.check->momentum_variation);
-      w.Field("fitted_gravity_m_per_s2", j.check->fitted_gravity_m_per_s2);
-      w.Field("max_marker_error_m", j.check->max_marker_error_m);
-      w.EndObject();
+      const FlightCheck& c = *j.check;
+      o["check"] = {{"peak_force_bw", c.peak_force_bw},
+                    {"rms_force_bw", c.rms_force_bw},
+                    {"peak_moment_bwh", c.peak_moment_bwh},
+                    {"rms_moment_bwh", c.rms_moment_bwh},
+                    {"angular_momentum_kg_m2_per_s", c.mean_angular_momentum},
+                    {"momentum_variation", c.momentum_variation},
+                    {"fitted_gravity_m_per_s2", c.fitted_gravity_m_per_s2},
+                    {"max_marker_error_m", c.max_marker_error_m}};
     }
-    w.EndObject();
+    jumps.push_back(std::move(o));
   }
-  w.EndArray();
-  return w.str() + "\n";
+  // Names come from files (trial, athlete, skills): bytes that are not UTF-8 become U+FFFD.
+  return jumps.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
 }
 
 std::string FormatResidualsCsv(const TrialAnalysis& a) {
@@ -435,16 +426,15 @@ std::string FormatResidualsCsv(const TrialAnalysis& a) {
       "time_s,phase,force_x_bw,force_y_bw,force_z_bw,force_bw,moment_x_bwh,moment_y_bwh,"
       "moment_z_bwh,moment_bwh,L_x_kg_m2_per_s,L_y_kg_m2_per_s,L_z_kg_m2_per_s,com_x_m,com_y_m,"
       "com_z_m,lowest_sole_z_m\n";
-  char line[512];
   for (int i = 0; i < m.num_frames(); ++i) {
     const int k = flight_of[static_cast<size_t>(i)];
     const std::string phase = k > 0 ? "flight " + std::to_string(k) : "contact";
-    std::snprintf(
-        line,
-        sizeof line,
-        "%.6f,%s,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6f,%.6f,%.6f,%.6f\n",
+    out += fmt::format(
+        "{:.6f},{},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:.6g},{:."
+        "6f},"
+        "{:.6f},{:.6f},{:.6f}\n",
         m.time_s[i],
-        phase.c_str(),
+        phase,
         f.force_bw(0, i),
         f.force_bw(1, i),
         f.force_bw(2, i),
@@ -460,7 +450,6 @@ std::string FormatResidualsCsv(const TrialAnalysis& a) {
         f.com_W(1, i),
         f.com_W(2, i),
         a.feet_z_m[i]);
-    out += line;
   }
   return out;
 }

@@ -5,11 +5,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <cstdio>
 #include <map>
 #include <numbers>
 #include <stdexcept>
 
+#include <fmt/format.h>
 #include <Eigen/Eigenvalues>
 
 #include "acro/base/demand.h"
@@ -424,19 +424,15 @@ Eigen::Matrix3Xd CalcSkinnedVertices(const BodyMesh& mesh,
 void WriteBodyMesh(const BodyMesh& mesh, const std::filesystem::path& path) {
   const std::string ext = LowerExtension(path);
   std::string text;
-  char line[160];
   if (ext == "obj") {
     // Vertices, then one group of triangles per standard segment (1-based indices).
     text += "# Acrolab body mesh: " + std::to_string(mesh.num_vertices()) + " vertices, " +
             std::to_string(mesh.num_triangles()) + " triangles, metres, x anterior, y left, z up\n";
     for (Eigen::Index i = 0; i < mesh.vertices_H.cols(); ++i) {
-      std::snprintf(line,
-                    sizeof(line),
-                    "v %.9g %.9g %.9g\n",
-                    mesh.vertices_H(0, i),
-                    mesh.vertices_H(1, i),
-                    mesh.vertices_H(2, i));
-      text += line;
+      text += fmt::format("v {:.9g} {:.9g} {:.9g}\n",
+                          mesh.vertices_H(0, i),
+                          mesh.vertices_H(1, i),
+                          mesh.vertices_H(2, i));
     }
     for (size_t g = 0; g < mesh.segment_names.size(); ++g) {
       text += "g " + mesh.segment_names[g] + "\n";
@@ -444,13 +440,10 @@ void WriteBodyMesh(const BodyMesh& mesh, const std::filesystem::path& path) {
         if (mesh.part_segment[static_cast<size_t>(mesh.triangle_part[static_cast<size_t>(t)])] !=
             static_cast<int>(g))
           continue;
-        std::snprintf(line,
-                      sizeof(line),
-                      "f %d %d %d\n",
-                      mesh.triangles(0, t) + 1,
-                      mesh.triangles(1, t) + 1,
-                      mesh.triangles(2, t) + 1);
-        text += line;
+        text += fmt::format("f {} {} {}\n",
+                            mesh.triangles(0, t) + 1,
+                            mesh.triangles(1, t) + 1,
+                            mesh.triangles(2, t) + 1);
       }
     }
   } else if (ext == "ply") {
@@ -463,23 +456,15 @@ void WriteBodyMesh(const BodyMesh& mesh, const std::filesystem::path& path) {
     for (Eigen::Index i = 0; i < mesh.vertices_H.cols(); ++i) {
       const int g = mesh.skin_weight(0, i) >= mesh.skin_weight(1, i) ? mesh.skin_segment(0, i)
                                                                      : mesh.skin_segment(1, i);
-      std::snprintf(line,
-                    sizeof(line),
-                    "%.9g %.9g %.9g %d\n",
-                    mesh.vertices_H(0, i),
-                    mesh.vertices_H(1, i),
-                    mesh.vertices_H(2, i),
-                    g);
-      text += line;
+      text += fmt::format("{:.9g} {:.9g} {:.9g} {}\n",
+                          mesh.vertices_H(0, i),
+                          mesh.vertices_H(1, i),
+                          mesh.vertices_H(2, i),
+                          g);
     }
     for (Eigen::Index t = 0; t < mesh.triangles.cols(); ++t) {
-      std::snprintf(line,
-                    sizeof(line),
-                    "3 %d %d %d\n",
-                    mesh.triangles(0, t),
-                    mesh.triangles(1, t),
-                    mesh.triangles(2, t));
-      text += line;
+      text += fmt::format(
+          "3 {} {} {}\n", mesh.triangles(0, t), mesh.triangles(1, t), mesh.triangles(2, t));
     }
   } else {
     throw InputError(

@@ -2,8 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <numbers>
+
+#include <fmt/format.h>
 
 #include "acro/capture/c3d.h"
 #include "acro/base/file_io.h"
@@ -70,20 +71,15 @@ std::string FormatMotionCsv(const Motion& motion) {
     out += "," + n + (c < 3 ? "_m" : c < 7 ? "" : "_deg");
   }
   out += ",rms_m,max_m,num_markers\n";
-  char buf[64];
   for (int f = 0; f < motion.num_frames(); ++f) {
-    std::snprintf(buf, sizeof buf, "%.6f", motion.time_s[f]);
-    out += buf;
-    for (int c = 0; c < motion.nq(); ++c) {
-      std::snprintf(buf, sizeof buf, ",%.9g", c < 7 ? motion.q(c, f) : motion.q(c, f) * kRadToDeg);
-      out += buf;
-    }
+    out += fmt::format("{:.6f}", motion.time_s[f]);
+    for (int c = 0; c < motion.nq(); ++c)
+      out += fmt::format(",{:.9g}", c < 7 ? motion.q(c, f) : motion.q(c, f) * kRadToDeg);
     const FrameFit& fit = motion.fit[size_t(f)];
     if (fit.valid)
-      std::snprintf(buf, sizeof buf, ",%.6g,%.6g,%d\n", fit.rms_m, fit.max_m, fit.num_markers);
+      out += fmt::format(",{:.6g},{:.6g},{}\n", fit.rms_m, fit.max_m, fit.num_markers);
     else
-      std::snprintf(buf, sizeof buf, ",,,%d\n", fit.num_markers);
-    out += buf;
+      out += fmt::format(",,,{}\n", fit.num_markers);
   }
   return out;
 }
@@ -94,7 +90,6 @@ void WriteMotionCsv(const Motion& motion, const std::filesystem::path& path) {
 
 std::string FormatMarkerResidualsCsv(const Motion& motion) {
   std::string out = "marker,frames,mean_m,rms_m,max_m\n";
-  char buf[160];
   for (int m = 0; m < static_cast<int>(motion.marker_names.size()); ++m) {
     double sum = 0, sum2 = 0, mx = 0;
     int n = 0;
@@ -107,17 +102,14 @@ std::string FormatMarkerResidualsCsv(const Motion& motion) {
       ++n;
     }
     if (n > 0)
-      std::snprintf(buf,
-                    sizeof buf,
-                    "%s,%d,%.6g,%.6g,%.6g\n",
-                    motion.marker_names[size_t(m)].c_str(),
-                    n,
-                    sum / n,
-                    std::sqrt(sum2 / n),
-                    mx);
+      out += fmt::format("{},{},{:.6g},{:.6g},{:.6g}\n",
+                         motion.marker_names[size_t(m)],
+                         n,
+                         sum / n,
+                         std::sqrt(sum2 / n),
+                         mx);
     else
-      std::snprintf(buf, sizeof buf, "%s,0,,,\n", motion.marker_names[size_t(m)].c_str());
-    out += buf;
+      out += fmt::format("{},0,,,\n", motion.marker_names[size_t(m)]);
   }
   return out;
 }

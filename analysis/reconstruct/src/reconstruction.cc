@@ -3,11 +3,12 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <mutex>
 #include <numbers>
 #include <thread>
+
+#include <fmt/format.h>
 
 #include "acro/athlete/standard_human.h"
 #include "acro/base/input_error.h"
@@ -57,42 +58,34 @@ bool ReconstructionOptions::IsValid(std::string* why) const {
 }
 
 std::string ReconstructionSummary::BriefReport() const {
-  char buf[512];
   std::string out = "marker set " + markerset_report + "\n";
   out += "gaps: " + gaps.BriefReport() + "\n";
   if (filtered) {
-    std::snprintf(buf,
-                  sizeof buf,
-                  "filter: zero-lag Butterworth, order %d, cutoff %.1f Hz%s\n",
-                  filter_order,
-                  cutoff_hz,
-                  cutoff_from_residual_analysis ? " (Winter's residual analysis)" : "");
-    out += buf;
+    out += fmt::format("filter: zero-lag Butterworth, order {}, cutoff {:.1f} Hz{}\n",
+                       filter_order,
+                       cutoff_hz,
+                       cutoff_from_residual_analysis ? " (Winter's residual analysis)" : "");
   } else {
     out += "filter: none\n";
   }
   out += "scaling: " + (scaling_report.empty() ? std::string("none") : scaling_report) + "\n";
-  std::snprintf(buf,
-                sizeof buf,
-                "inverse kinematics: %d of %d frames fitted in %d chunk(s) (%d re-solved), %d "
-                "left/right swaps repaired\n"
-                "marker RMS per frame: median %.1f mm, 95th percentile %.1f mm; largest marker "
-                "error %.1f mm\n",
-                frames_fitted,
-                frames,
-                chunks,
-                chunks_resolved,
-                swaps_repaired,
-                median_rms_m * 1e3,
-                p95_rms_m * 1e3,
-                max_m * 1e3);
-  out += buf;
+  out += fmt::format(
+      "inverse kinematics: {} of {} frames fitted in {} chunk(s) ({} re-solved), {} left/right "
+      "swaps repaired\n"
+      "marker RMS per frame: median {:.1f} mm, 95th percentile {:.1f} mm; largest marker error "
+      "{:.1f} mm\n",
+      frames_fitted,
+      frames,
+      chunks,
+      chunks_resolved,
+      swaps_repaired,
+      median_rms_m * 1e3,
+      p95_rms_m * 1e3,
+      max_m * 1e3);
   for (size_t i = 0; i < flights.size(); ++i) {
     const FlightFit& f = flights[i];
-    std::snprintf(
-        buf,
-        sizeof buf,
-        "flight %zu (frames %d–%d): RMS median %.1f mm, 95th percentile %.1f mm, max %.1f "
+    out += fmt::format(
+        "flight {} (frames {}–{}): RMS median {:.1f} mm, 95th percentile {:.1f} mm, max {:.1f} "
         "mm\n",
         i + 1,
         f.first_frame,
@@ -100,7 +93,6 @@ std::string ReconstructionSummary::BriefReport() const {
         f.median_rms_m * 1e3,
         f.p95_rms_m * 1e3,
         f.max_m * 1e3);
-    out += buf;
   }
   for (const std::string& w : warnings) out += "warning: " + w + "\n";
   return out;

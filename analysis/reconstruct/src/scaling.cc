@@ -1,10 +1,10 @@
 #include "acro/reconstruct/scaling.h"
 
 #include <ceres/ceres.h>
+#include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 
 #include "acro/base/demand.h"
 #include "acro/dynamics/configuration.h"
@@ -110,24 +110,15 @@ bool ScalingOptions::IsValid(std::string* why) const {
 }
 
 std::string ScalingResult::BriefReport() const {
-  char buf[160];
-  std::snprintf(buf,
-                sizeof buf,
-                "scaled to %d frame(s): marker RMS %.1f mm → %.1f mm; factors",
-                frames_used,
-                rms_before_m * 1e3,
-                rms_after_m * 1e3);
-  std::string out = buf;
-  for (const auto& [g, s] : scale) {
-    std::snprintf(buf, sizeof buf, " %s %.3f", g.c_str(), s);
-    out += buf;
-  }
-  std::snprintf(buf,
-                sizeof buf,
-                "; largest marker offset correction %.1f mm (%s)",
-                largest_offset_m * 1e3,
-                largest_offset_marker.c_str());
-  return out + buf;
+  std::string out = fmt::format("scaled to {} frame(s): marker RMS {:.1f} mm → {:.1f} mm; factors",
+                                frames_used,
+                                rms_before_m * 1e3,
+                                rms_after_m * 1e3);
+  for (const auto& [g, s] : scale) out += fmt::format(" {} {:.3f}", g, s);
+  out += fmt::format("; largest marker offset correction {:.1f} mm ({})",
+                     largest_offset_m * 1e3,
+                     largest_offset_marker);
+  return out;
 }
 
 dynamics::Model<double> MakeScaledModel(const dynamics::Model<double>& model,

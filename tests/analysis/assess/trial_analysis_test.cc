@@ -9,13 +9,17 @@
 
 #include <cmath>
 #include <fstream>
+#include <limits>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "acro/athlete/athlete_profile.h"
+#include "acro/base/file_io.h"
 #include "acro/capture/c3d.h"
 #include "acro/capture/storage.h"
 #include "acro/capture/trial_io.h"
+#include "json_keys.h"
 #include "refdata.h"
 #include "sample_routine.h"
 
@@ -255,25 +259,109 @@ TEST(TrialAnalysis, TablesAreWrittenAndReadBack) {
   EXPECT_GE(torques.FindColumn("r_hip_flexion_moment"), 0);
   const capture::Storage angles = capture::ReadStorage(dir / "angles.mot");
   EXPECT_TRUE(angles.in_degrees);
-  const std::string json = FormatJumpsJson(a);
-  for (const char* key : {"\"takeoff_s\"",
-                          "\"landing_s\"",
-                          "\"time_of_flight_s\"",
-                          "\"apex_m\"",
-                          "\"somersault_quarters\"",
-                          "\"direction\"",
-                          "\"twist_halves\"",
-                          "\"shape\"",
-                          "\"fig_code\"",
-                          "\"difficulty\"",
-                          "\"verdict\""})
-    EXPECT_NE(json.find(key), std::string::npos) << key;
-  EXPECT_NE(json.find("\"fig_code\": \"800o\""), std::string::npos);
+  // jumps.json parses to what FormatJumpsJson gives; see JumpsJsonHoldsEveryJumpsValues.
+  EXPECT_EQ(nlohmann::json::parse(ReadFileBytes(dir / "jumps.json")),
+            nlohmann::json::parse(FormatJumpsJson(a)));
   // residuals.csv: a header and one line per frame.
   std::ifstream csv(dir / "residuals.csv");
   int lines = 0;
   for (std::string line; std::getline(csv, line);) ++lines;
   EXPECT_EQ(lines, a.reconstruction.motion.num_frames() + 1);
+}
+
+// jumps.json parsed: one object per jump with the documented keys in order, integers as integers,
+// every value the analysis holds (JSON numbers round-trip exactly), NaN as null. The parsed values
+// are not const: [] on a missing key then gives null rather than undefined behaviour.
+TEST(TrialAnalysis, JumpsJsonHoldsEveryJumpsValues) {
+  const TrialAnalysis& a = CleanAnalysis();
+  nlohmann::ordered_json json = nlohmann::ordered_json::parse(FormatJumpsJson(a));
+  ASSERT_TRUE(json.is_array());
+  ASSERT_EQ(json.size(), a.jumps.size());
+  ASSERT_FALSE(a.jumps.empty());
+  const std::vector<std::string> keys = {"index",
+                                         "partial",
+                                         "takeoff_s",
+                                         "landing_s",
+                                         "takeoff_frame",
+                                         "landing_frame",
+                                         "time_of_flight_s",
+                                         "apex_m",
+                                         "apex_above_bed_m",
+                                         "takeoff_vertical_velocity_m_per_s",
+                                         "fitted_gravity_m_per_s2",
+                                         "takeoff_feet_m",
+                                         "landing_feet_m",
+                                         "displacement_from_takeoff_m",
+                                         "displacement_from_centre_m",
+                                         "landing_in_bed_m",
+                                         "landing_in_zone_a",
+                                         "somersault_quarters",
+                                         "direction",
+                                         "twist_halves",
+                                         "shape",
+                                         "fig_code",
+                                         "skill_name",
+                                         "difficulty",
+                                         "difficulty_explained",
+                                         "measured_somersault_deg",
+                                         "measured_twist_deg",
+                                         "max_hip_flexion_deg",
+                                         "knee_flexion_at_max_hip_deg",
+                                         "verdict"};
+  for (size_t k = 0; k < a.jumps.size(); ++k) {
+    const JumpMetrics& j = a.jumps[k];
+    nlohmann::ordered_json& o = json[k];
+    std::vector<std::string> want = keys;
+    if (j.check) want.push_back("check");
+    EXPECT_EQ(acro::testing::JsonKeys(o), want) << "jump " << k;
+    for (const char* key : {"index", "takeoff_frame", "landing_frame", "somersault_quarters"})
+      EXPECT_TRUE(o[key].is_number_integer()) << key;
+    EXPECT_EQ(o["index"], j.index);
+    EXPECT_EQ(o["partial"], j.partial());
+    EXPECT_EQ(o["takeoff_s"].get<double>(), j.flight.takeoff_s);
+    EXPECT_EQ(o["landing_s"].get<double>(), j.flight.landing_s);
+    EXPECT_EQ(o["takeoff_frame"], j.flight.takeoff_frame);
+    EXPECT_EQ(o["landing_frame"], j.flight.landing_frame);
+    EXPECT_EQ(o["time_of_flight_s"].get<double>(), j.time_of_flight_s());
+    EXPECT_EQ(o["apex_m"].get<double>(), j.apex_m());
+    EXPECT_EQ(
+        o["takeoff_feet_m"],
+        (nlohmann::ordered_json{j.takeoff_feet_W.x(), j.takeoff_feet_W.y(), j.takeoff_feet_W.z()}));
+    EXPECT_EQ(
+        o["landing_feet_m"],
+        (nlohmann::ordered_json{j.landing_feet_W.x(), j.landing_feet_W.y(), j.landing_feet_W.z()}));
+    EXPECT_EQ(o["somersault_quarters"], j.rotation.skill.quarter_somersaults);
+    EXPECT_EQ(o["twist_halves"], nlohmann::ordered_json(j.rotation.skill.half_twists));
+    EXPECT_EQ(o["fig_code"], j.fig_code);
+    EXPECT_EQ(o["skill_name"], j.skill_name);
+    EXPECT_EQ(o["difficulty"].get<double>(), j.difficulty.total());
+    EXPECT_EQ(o["difficulty_explained"], j.difficulty.Explain());
+    EXPECT_EQ(o["verdict"], j.verdict);
+    if (j.landing_in_zone_a)
+      EXPECT_EQ(o["landing_in_zone_a"], *j.landing_in_zone_a);
+    else
+      EXPECT_TRUE(o["landing_in_zone_a"].is_null());
+    if (j.check) {
+      EXPECT_EQ(o["check"]["peak_force_bw"].get<double>(), j.check->peak_force_bw);
+      EXPECT_EQ(o["check"]["max_marker_error_m"].get<double>(), j.check->max_marker_error_m);
+    }
+  }
+  EXPECT_EQ(json.back()["fig_code"], "800o");
+
+  // A jump without a bed: the numbers that need one are NaN in the analysis and null in JSON.
+  TrialAnalysis no_bed;
+  no_bed.jumps = {a.jumps.front()};
+  JumpMetrics& j = no_bed.jumps.front();
+  j.apex_above_bed_m = std::numeric_limits<double>::quiet_NaN();
+  j.displacement_from_centre_m = std::numeric_limits<double>::infinity();
+  j.landing_in_bed_m.setConstant(std::numeric_limits<double>::quiet_NaN());
+  j.landing_in_zone_a.reset();
+  nlohmann::ordered_json o = nlohmann::ordered_json::parse(FormatJumpsJson(no_bed))[0];
+  EXPECT_TRUE(o["apex_above_bed_m"].is_null());
+  EXPECT_TRUE(o["displacement_from_centre_m"].is_null());
+  EXPECT_EQ(o["landing_in_bed_m"], nlohmann::ordered_json::parse("[null, null]"));
+  EXPECT_TRUE(o["landing_in_zone_a"].is_null());
+  EXPECT_EQ(o["takeoff_s"].get<double>(), j.flight.takeoff_s);
 }
 
 // Sample_Jump2 (c3dio sample_00): a real jump on two force plates. The phases come from the plates;

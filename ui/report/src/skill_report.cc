@@ -1,12 +1,13 @@
 #include "acro/report/skill_report.h"
 
 #include <cmath>
-#include <cstdio>
 #include <numbers>
 #include <sstream>
 
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
 #include "acro/report/chart.h"
-#include "acro/base/json_writer.h"
 #include "acro/base/text_format.h"
 #include "acro/capture/c3d.h"
 #include "acro/base/file_io.h"
@@ -42,10 +43,6 @@ Eigen::Vector3d SomersaultTiltTwist(const Eigen::Quaterniond& q) {
                          std::atan2(R(1, 0), R(1, 1)));
 }
 
-std::string Fixed(double v, int digits) {
-  return FormatFixed(v, digits);
-}
-
 std::string Html(const std::string& s) {
   return HtmlEscape(s);
 }
@@ -55,28 +52,25 @@ std::string Html(const std::string& s) {
 std::string MakeSkillResultJson(const SkillDesign& design,
                                 const TimingOptimizationResult& r,
                                 const SkillSimulationResult* sim) {
-  JsonWriter w;
-  w.BeginObject();
-  w.Field("skill", design.skill().name);
-  w.Field("fig_code", design.skill().fig_code);
-  w.Field("athlete", design.skill().athlete.name);
-  w.Field("model", r.model);
-  w.Field("flight_time_s", design.flight_time_s());
-  std::vector<std::string> names;
-  for (const SkillKeyframe& k : design.skill().keyframes) names.push_back(k.name);
-  w.Key("keyframe_names");
-  w.Array(names);
-  w.Key("keyframe_times_initial_s");
-  w.Array(ToStd(r.times_initial_s));
-  w.Key("keyframe_times_s");
-  w.Array(ToStd(r.optimized.times_s));
-  w.Field("objective_initial", r.objective_initial);
-  w.Field("objective", r.objective);
-  w.Field("objective_ratio", r.objective_initial / r.objective);
-  w.Field("angular_momentum_variation_initial", r.angular_momentum_variation_initial);
-  w.Field("angular_momentum_variation", r.angular_momentum_variation);
-  w.Field("max_joint_deviation_deg", r.max_joint_deviation_rad * kRadToDeg);
-  w.Field("max_orientation_deviation_deg", r.max_orientation_deviation_rad * kRadToDeg);
+  using Json = nlohmann::ordered_json;  // keys in the order written
+  // The skill and the timing before and after.
+  Json j;
+  j["skill"] = design.skill().name;
+  j["fig_code"] = design.skill().fig_code;
+  j["athlete"] = design.skill().athlete.name;
+  j["model"] = r.model;
+  j["flight_time_s"] = design.flight_time_s();
+  j["keyframe_names"] = Json::array();
+  for (const SkillKeyframe& k : design.skill().keyframes) j["keyframe_names"].push_back(k.name);
+  j["keyframe_times_initial_s"] = ToStd(r.times_initial_s);
+  j["keyframe_times_s"] = ToStd(r.optimized.times_s);
+  j["objective_initial"] = r.objective_initial;
+  j["objective"] = r.objective;
+  j["objective_ratio"] = r.objective_initial / r.objective;
+  j["angular_momentum_variation_initial"] = r.angular_momentum_variation_initial;
+  j["angular_momentum_variation"] = r.angular_momentum_variation;
+  j["max_joint_deviation_deg"] = r.max_joint_deviation_rad * kRadToDeg;
+  j["max_orientation_deviation_deg"] = r.max_orientation_deviation_rad * kRadToDeg;
   // Every keyframe's joint angles and orientation within its e₂ (rounding: 1e-9 rad).
   bool within = true;
   for (int i = 0; i < design.num_keyframes(); ++i) {
@@ -88,45 +82,38 @@ std::string MakeSkillResultJson(const SkillDesign& design,
              r.optimized.keyframe_orientations[static_cast<size_t>(i)].angularDistance(
                  design.keyframe_orientations()[static_cast<size_t>(i)]) <= e2;
   }
-  w.Field("keyframes_within_tolerance", within);
-  w.Key("solver");
-  w.BeginArray();
+  j["keyframes_within_tolerance"] = within;
+  // The solver's stages.
+  j["solver"] = Json::array();
   for (size_t i = 0; i < r.stages.size(); ++i) {
     const TimingOptimizationSummary& s = r.stages[i];
-    w.BeginObject();
-    w.Field("stage", i == 0 ? std::string("model 2") : std::string("model 1"));
-    w.Field("success", s.success);
-    w.Field("iterations", s.iterations);
-    w.Field("initial_cost", s.initial_cost);
-    w.Field("final_cost", s.final_cost);
-    w.Field("time_s", s.time_s);
-    w.Field("message", s.message);
-    w.EndObject();
+    j["solver"].push_back({{"stage", i == 0 ? "model 2" : "model 1"},
+                           {"success", s.success},
+                           {"iterations", s.iterations},
+                           {"initial_cost", s.initial_cost},
+                           {"final_cost", s.final_cost},
+                           {"time_s", s.time_s},
+                           {"message", s.message}});
   }
-  w.EndArray();
+  // The flight simulation, when there is one.
   if (sim != nullptr) {
-    w.Key("simulation");
-    w.BeginObject();
-    w.Key("H_Scm_W_kgm2ps");
-    w.Array(std::vector<double>{sim->H_Scm_W.x(), sim->H_Scm_W.y(), sim->H_Scm_W.z()});
-    w.Key("H_mean_W_kgm2ps");
-    w.Array(std::vector<double>{sim->H_mean_W.x(), sim->H_mean_W.y(), sim->H_mean_W.z()});
-    w.Field("final_orientation_error_deg", sim->final_orientation_error_rad * kRadToDeg);
-    w.Field("rms_orientation_error_deg", sim->rms_orientation_error_rad * kRadToDeg);
-    w.Field("somersault_turns", sim->somersault_turns);
-    w.Field("intended_somersault_turns", sim->intended_somersault_turns);
-    w.Field("twist_turns", sim->twist_turns);
-    w.Field("intended_twist_turns", sim->intended_twist_turns);
-    w.Key("warnings");
-    w.Array(sim->warnings);
     const Eigen::Vector3d stt = SomersaultTiltTwist(sim->final_orientation) * kRadToDeg;
-    w.Key("final_somersault_tilt_twist_deg");
-    w.Array(std::vector<double>{stt.x(), stt.y(), stt.z()});
-    w.Field("status", sim->flight.summary.BriefReport());
-    w.EndObject();
+    Json simulation;
+    simulation["H_Scm_W_kgm2ps"] = {sim->H_Scm_W.x(), sim->H_Scm_W.y(), sim->H_Scm_W.z()};
+    simulation["H_mean_W_kgm2ps"] = {sim->H_mean_W.x(), sim->H_mean_W.y(), sim->H_mean_W.z()};
+    simulation["final_orientation_error_deg"] = sim->final_orientation_error_rad * kRadToDeg;
+    simulation["rms_orientation_error_deg"] = sim->rms_orientation_error_rad * kRadToDeg;
+    simulation["somersault_turns"] = sim->somersault_turns;
+    simulation["intended_somersault_turns"] = sim->intended_somersault_turns;
+    simulation["twist_turns"] = sim->twist_turns;
+    simulation["intended_twist_turns"] = sim->intended_twist_turns;
+    simulation["warnings"] = sim->warnings;
+    simulation["final_somersault_tilt_twist_deg"] = {stt.x(), stt.y(), stt.z()};
+    simulation["status"] = sim->flight.summary.BriefReport();
+    j["simulation"] = std::move(simulation);
   }
-  w.EndObject();
-  return w.str() + "\n";
+  // Names come from the skill file: bytes that are not UTF-8 become U+FFFD.
+  return j.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
 }
 
 capture::Trial MakeSkillMarkerTrial(const SkillDesign& design,
@@ -212,10 +199,11 @@ std::vector<std::string> WriteSkillOutputs(const std::filesystem::path& dir,
   csv << "keyframe,name,time_initial_s,time_s,interval_initial_s,interval_s\n";
   for (int i = 0; i < n; ++i) {
     csv << i + 1 << ",\"" << design.skill().keyframes[static_cast<size_t>(i)].name << "\","
-        << Fixed(r.times_initial_s[i], 4) << "," << Fixed(r.optimized.times_s[i], 4) << ",";
+        << fmt::format("{:.4f}", r.times_initial_s[i]) << ","
+        << fmt::format("{:.4f}", r.optimized.times_s[i]) << ",";
     if (i > 0)
-      csv << Fixed(r.times_initial_s[i] - r.times_initial_s[i - 1], 4) << ","
-          << Fixed(r.optimized.times_s[i] - r.optimized.times_s[i - 1], 4);
+      csv << fmt::format("{:.4f}", r.times_initial_s[i] - r.times_initial_s[i - 1]) << ","
+          << fmt::format("{:.4f}", r.optimized.times_s[i] - r.optimized.times_s[i - 1]);
     else
       csv << ",";
     csv << "\n";
@@ -280,38 +268,39 @@ std::vector<std::string> WriteSkillOutputs(const std::filesystem::path& dir,
           "</style></head><body>\n";
   html << "<h1>" << Html(design.skill().name)
        << "</h1>\n<p>Athlete: " << Html(design.skill().athlete.name) << ". Flight time "
-       << Fixed(design.flight_time_s(), 3) << " s. Model (" << r.model << ").</p>\n";
+       << fmt::format("{:.3f}", design.flight_time_s()) << " s. Model (" << r.model << ").</p>\n";
   html << "<table><tr><th></th><th>initial timing</th><th>optimised</th></tr>\n"
        << "<tr><td>J = T⁻¹∫|L̇/(m g h)|² dt</td><td>" << r.objective_initial << "</td><td>"
        << r.objective << "</td></tr>\n<tr><td>angular momentum variation</td><td>"
-       << Fixed(100 * r.angular_momentum_variation_initial, 2) << " %</td><td>"
-       << Fixed(100 * r.angular_momentum_variation, 2) << " %</td></tr></table>\n";
+       << fmt::format("{:.2f}", 100 * r.angular_momentum_variation_initial) << " %</td><td>"
+       << fmt::format("{:.2f}", 100 * r.angular_momentum_variation) << " %</td></tr></table>\n";
   if (r.model == 1)
     html << "<p>Largest keyframe deviation: joint angles "
-         << Fixed(r.max_joint_deviation_rad * kRadToDeg, 2) << "°, root orientation "
-         << Fixed(r.max_orientation_deviation_rad * kRadToDeg, 2) << "°.</p>\n";
+         << fmt::format("{:.2f}", r.max_joint_deviation_rad * kRadToDeg) << "°, root orientation "
+         << fmt::format("{:.2f}", r.max_orientation_deviation_rad * kRadToDeg) << "°.</p>\n";
   html << "<h2>Keyframe timing</h2>\n<img src=\"timing.svg\" "
           "alt=\"timing\">\n<table><tr><th>#</th><th>keyframe"
           "</th><th>initial (s)</th><th>optimised (s)</th></tr>\n";
   for (int i = 0; i < n; ++i)
     html << "<tr><td>" << i + 1 << "</td><td style=\"text-align:left\">"
          << Html(design.skill().keyframes[static_cast<size_t>(i)].name) << "</td><td>"
-         << Fixed(r.times_initial_s[i], 3) << "</td><td>" << Fixed(r.optimized.times_s[i], 3)
-         << "</td></tr>\n";
+         << fmt::format("{:.3f}", r.times_initial_s[i]) << "</td><td>"
+         << fmt::format("{:.3f}", r.optimized.times_s[i]) << "</td></tr>\n";
   html << "</table>\n<h2>Angular momentum</h2>\n<img src=\"angular_momentum.svg\" alt=\"angular "
           "momentum\">\n";
   if (sim != nullptr)
     html << "<h2>Flight simulation</h2>\n<p>The joints follow the optimised motion, the root flies "
             "under gravity "
             "with the take-off momentum the design needs ("
-         << Fixed(sim->H_Scm_W.norm(), 1) << " kg·m²/s; the design's mean "
-         << Fixed(sim->H_mean_W.norm(), 1) << "): " << Fixed(sim->somersault_turns, 3)
-         << " somersault turns (designed " << Fixed(sim->intended_somersault_turns, 3)
+         << fmt::format("{:.1f}", sim->H_Scm_W.norm()) << " kg·m²/s; the design's mean "
+         << fmt::format("{:.1f}", sim->H_mean_W.norm())
+         << "): " << fmt::format("{:.3f}", sim->somersault_turns) << " somersault turns (designed "
+         << fmt::format("{:.3f}", sim->intended_somersault_turns)
          << "); the orientation follows the design within "
-         << Fixed(sim->rms_orientation_error_rad * kRadToDeg, 1) << "° RMS and lands "
-         << Fixed(sim->final_orientation_error_rad * kRadToDeg, 1)
-         << "° from the last keyframe's; twist turns " << Fixed(sim->twist_turns, 2)
-         << " (designed " << Fixed(sim->intended_twist_turns, 2) << ").</p>\n";
+         << fmt::format("{:.1f}", sim->rms_orientation_error_rad * kRadToDeg) << "° RMS and lands "
+         << fmt::format("{:.1f}", sim->final_orientation_error_rad * kRadToDeg)
+         << "° from the last keyframe's; twist turns " << fmt::format("{:.2f}", sim->twist_turns)
+         << " (designed " << fmt::format("{:.2f}", sim->intended_twist_turns) << ").</p>\n";
   if (sim != nullptr && !sim->warnings.empty()) {
     html << "<p class=\"warning\"><b>The design does not fly as drawn:</b></p>\n<ul>\n";
     for (const std::string& line : sim->warnings) html << "<li>" << Html(line) << "</li>\n";

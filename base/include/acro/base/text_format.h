@@ -2,18 +2,13 @@
 
 // Small text helpers for the report pages and tables every layer writes.
 
-#include <cstdio>
 #include <string>
 #include <string_view>
 
 namespace acro {
 
-/// `v` with `digits` digits after the point ("%.*f").
-inline std::string FormatFixed(double v, int digits) {
-  char buffer[48];
-  std::snprintf(buffer, sizeof buffer, "%.*f", digits, v);
-  return buffer;
-}
+/// `v` with `digits` digits after the point, as printf's "%.*f" writes it.
+std::string FormatFixed(double v, int digits);
 
 /// `s` with the characters HTML gives a meaning (& < > ") escaped, for text and attribute values.
 inline std::string HtmlEscape(std::string_view s) {
