@@ -4,7 +4,8 @@
 #include <string>
 
 #include "acro/report/skill_report.h"
-#include "acro/design/timing_optimization.h"
+#include "acro/design/skill_optimization.h"
+#include "acro/design/skill_simulation.h"
 #include "commands.h"
 
 namespace acro::app {
@@ -14,13 +15,13 @@ namespace {
 struct OptimizeArguments {
   std::string skill_path, out_dir;
   bool simulate = false;
-  analysis::TimingOptimizationOptions options;
+  analysis::SkillOptimizationOptions options;
 };
 
 int RunOptimize(OptimizeArguments& args) {
   const std::string& skill_path = args.skill_path;
   const std::string& out_dir = args.out_dir;
-  analysis::TimingOptimizationOptions& options = args.options;
+  analysis::SkillOptimizationOptions& options = args.options;
   DemandValidOptions(options);
 
   // Read, optimise, simulate, write.
@@ -30,11 +31,11 @@ int RunOptimize(OptimizeArguments& args) {
                skill.name.c_str(),
                skill.keyframes.size(),
                skill.flight_time_s,
-               options.model);
+               analysis::SkillModelNumber(options.model));
   const analysis::SkillDesign design(skill);
   options.progress = [](const std::string& line) { std::fprintf(stderr, "  %s\n", line.c_str()); };
-  const analysis::TimingOptimizationResult result = analysis::OptimizeSkillTiming(design, options);
-  for (const analysis::TimingOptimizationSummary& s : result.stages)
+  const analysis::SkillOptimizationResult result = analysis::OptimizeSkill(design, options);
+  for (const analysis::SkillOptimizationSummary& s : result.stages)
     std::fprintf(stderr, "  solver: %s\n", s.BriefReport().c_str());
   std::optional<analysis::SkillSimulationResult> sim;
   if (args.simulate) {
@@ -45,7 +46,7 @@ int RunOptimize(OptimizeArguments& args) {
       ui::WriteSkillOutputs(out_dir, design, result, sim ? &*sim : nullptr);
 
   // Summary.
-  std::printf("%s (model %d)\n", skill.name.c_str(), result.model);
+  std::printf("%s (model %d)\n", skill.name.c_str(), analysis::SkillModelNumber(result.model));
   std::printf("  J: %.6g -> %.6g (%.1f times smaller)\n",
               result.objective_initial,
               result.objective,
@@ -86,10 +87,12 @@ void AddOptimizeCommand(CLI::App& app, CommandRunner* run) {
       "method: docs/skill-design.md.");
   command->add_option("SKILL", args->skill_path, "the skill file (YAML)")->required();
   command->add_option("-o,--output", args->out_dir, "output folder (created)")->required();
+  const std::map<std::string, analysis::SkillModel> models = {
+      {"1", analysis::SkillModel::kTrajectory}, {"2", analysis::SkillModel::kTiming}};
   command->add_option("--model",
                       args->options.model,
                       "2 (default): keyframe times only; 1: times and trajectory coefficients")
-      ->check(CLI::IsMember({1, 2}));
+      ->transform(CLI::CheckedTransformer(models));
   command->add_flag_callback(
       "--fixed-joints",
       [args] { args->options.model1_vary_joints = false; },

@@ -7,7 +7,8 @@
 
 #include <filesystem>
 
-#include "acro/design/timing_optimization.h"
+#include "acro/design/skill_optimization.h"
+#include "acro/design/skill_simulation.h"
 
 namespace acro::analysis {
 namespace {
@@ -20,14 +21,14 @@ const SkillDesign& Example() {
   return design;
 }
 
-// Model 2 from even timing: the whole OptimizeSkillTiming call (initial and final profiles
+// Model 2 from even timing: the whole OptimizeSkill call (initial and final profiles
 // included).
 void BM_Model2(benchmark::State& state) {
-  TimingOptimizationOptions o;
-  o.model = 2;
+  SkillOptimizationOptions o;
+  o.model = SkillModel::kTiming;
   double ratio = 0.0;
   for (auto _ : state) {
-    const TimingOptimizationResult r = OptimizeSkillTiming(Example(), o);
+    const SkillOptimizationResult r = OptimizeSkill(Example(), o);
     ratio = r.objective_initial / r.objective;
     benchmark::DoNotOptimize(ratio);
   }
@@ -39,9 +40,9 @@ BENCHMARK(BM_Model2)->Unit(benchmark::kMillisecond);
 // iteration costs).
 void BM_Model2Gradient(benchmark::State& state) {
   const SkillTrajectory t = MakeKeyframeTrajectory(Example(), Example().EvenTimes());
-  const Eigen::VectorXd x = InitialSkillParameters(Example(), t, 2);
+  const Eigen::VectorXd x = InitialSkillParameters(Example(), t, SkillModel::kTiming);
   Eigen::VectorXd g;
-  for (auto _ : state) benchmark::DoNotOptimize(CalcSkillObjective(Example(), t, 2, x, 40, &g));
+  for (auto _ : state) benchmark::DoNotOptimize(CalcSkillObjective(Example(), t, SkillModel::kTiming, x, 40, &g));
 }
 BENCHMARK(BM_Model2Gradient)->Unit(benchmark::kMillisecond);
 
@@ -51,19 +52,19 @@ BENCHMARK(BM_Model2Gradient)->Unit(benchmark::kMillisecond);
 void BM_Model1Gradient(benchmark::State& state) {
   const SkillTrajectory t =
       MakeKnotTrajectory(MakeKeyframeTrajectory(Example(), Example().EvenTimes()), 1);
-  const Eigen::VectorXd x = InitialSkillParameters(Example(), t, 1);
+  const Eigen::VectorXd x = InitialSkillParameters(Example(), t, SkillModel::kTrajectory);
   Eigen::VectorXd g;
-  for (auto _ : state) benchmark::DoNotOptimize(CalcSkillObjective(Example(), t, 1, x, 8, &g));
+  for (auto _ : state) benchmark::DoNotOptimize(CalcSkillObjective(Example(), t, SkillModel::kTrajectory, x, 8, &g));
 }
 BENCHMARK(BM_Model1Gradient)->Unit(benchmark::kMillisecond);
 
 // Model 1 (after Model 2).
 void BM_Model1(benchmark::State& state) {
-  TimingOptimizationOptions o;
-  o.model = 1;
+  SkillOptimizationOptions o;
+  o.model = SkillModel::kTrajectory;
   double ratio = 0.0, model1_s = 0.0, iterations = 0.0;
   for (auto _ : state) {
-    const TimingOptimizationResult r = OptimizeSkillTiming(Example(), o);
+    const SkillOptimizationResult r = OptimizeSkill(Example(), o);
     ratio = r.objective_initial / r.objective;
     model1_s = r.stages.back().time_s;
     iterations = r.stages.back().iterations;

@@ -12,7 +12,7 @@
 #include <string>
 #include <thread>
 
-#include "acro/design/timing_optimization.h"
+#include "acro/design/skill_optimization.h"
 
 namespace acro::analysis::internal {
 
@@ -41,7 +41,7 @@ class SkillProgressCallback : public ceres::IterationCallback {
 /// search along its projection, at a Jacobian evaluation per trial step; the plain step reached the
 /// same optimum on Model 2's example with half the Jacobians (13 against 26) and a lower one on
 /// Model 1's (J 1.75e-5 against 2.47e-5, 52 Jacobians against 125).
-inline ceres::Solver::Options MakeSkillSolverOptions(const TimingOptimizationOptions& options,
+inline ceres::Solver::Options MakeSkillSolverOptions(const SkillOptimizationOptions& options,
                                                      ceres::LinearSolverType linear_solver,
                                                      int num_threads) {
   ceres::Solver::Options so;
@@ -60,16 +60,16 @@ inline ceres::Solver::Options MakeSkillSolverOptions(const TimingOptimizationOpt
 }
 
 /// Threads for the residual blocks: the options' num_threads, or the hardware's concurrency.
-inline int SkillSolverThreads(const TimingOptimizationOptions& options) {
+inline int SkillSolverThreads(const SkillOptimizationOptions& options) {
   return options.num_threads > 0
              ? options.num_threads
              : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
 }
 
 /// The stage's summary from Ceres' and the wall time since `start`.
-inline TimingOptimizationSummary MakeStageSummary(const ceres::Solver::Summary& s,
+inline SkillOptimizationSummary MakeStageSummary(const ceres::Solver::Summary& s,
                                                   std::chrono::steady_clock::time_point start) {
-  TimingOptimizationSummary out;
+  SkillOptimizationSummary out;
   out.success = s.IsSolutionUsable();
   out.message = s.message;
   out.iterations = static_cast<int>(s.iterations.size()) - 1;

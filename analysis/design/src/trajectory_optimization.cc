@@ -606,8 +606,8 @@ double CalcModel1Objective(const SkillDesign& design,
 
 Eigen::VectorXd SolveModel1(const SkillDesign& design,
                             const SkillTrajectory& base,
-                            const TimingOptimizationOptions& options,
-                            TimingOptimizationSummary* summary) {
+                            const SkillOptimizationOptions& options,
+                            SkillOptimizationSummary* summary) {
   const auto start = std::chrono::steady_clock::now();
   const Model1Data d(design, base, options.model1_samples_per_knot_interval);
   Eigen::VectorXd x = Eigen::VectorXd::Zero(NumModel1Parameters(design, base.knots_per_interval));
@@ -652,51 +652,6 @@ Eigen::VectorXd SolveModel1(const SkillDesign& design,
 
   *summary = MakeStageSummary(s, start);
   return x;
-}
-
-void EvalKnotTrajectory(const SkillTrajectory& tr,
-                        double t,
-                        Eigen::Ref<Eigen::VectorXd> qj,
-                        Eigen::Ref<Eigen::VectorXd> vj,
-                        Eigen::Ref<Eigen::VectorXd> aj,
-                        Eigen::Quaterniond* q_WB,
-                        Eigen::Vector3d* w_WB_B,
-                        Eigen::Vector3d* wdot_WB_B) {
-  ACRO_DEMAND(tr.has_knots());
-  const int n = static_cast<int>(tr.times_s.size());
-  const int P = tr.knots_per_interval;
-  // Keyframe interval i, then the knot interval inside it.
-  int i = 0;
-  while (i < n - 2 && t >= tr.times_s[i + 1]) ++i;
-  const double H = tr.times_s[i + 1] - tr.times_s[i];
-  const double h = H / P;
-  int j = static_cast<int>(std::floor((t - tr.times_s[i]) / h));
-  j = std::clamp(j, 0, P - 1);
-  const int k = i * P + j;
-  const double u = (t - (tr.times_s[i] + j * h)) / h;
-  const QuinticHermiteBasis B(u);
-  for (int c = 0; c < qj.size(); ++c) {
-    const double data[6] = {tr.knot_joint_angles_rad(c, k),
-                            tr.knot_joint_rates(c, k),
-                            tr.knot_joint_accelerations(c, k),
-                            tr.knot_joint_angles_rad(c, k + 1),
-                            tr.knot_joint_rates(c, k + 1),
-                            tr.knot_joint_accelerations(c, k + 1)};
-    qj[c] = QuinticHermite<double, double>(B, 0, h, data);
-    vj[c] = QuinticHermite<double, double>(B, 1, h, data);
-    aj[c] = QuinticHermite<double, double>(B, 2, h, data);
-  }
-  OrientationKnot<double> a, b;
-  a.Q = tr.knot_orientations[static_cast<size_t>(k)];
-  a.w = tr.knot_angular_velocities_B.col(k);
-  a.wdot = tr.knot_angular_accelerations_B.col(k);
-  b.Q = tr.knot_orientations[static_cast<size_t>(k + 1)];
-  b.w = tr.knot_angular_velocities_B.col(k + 1);
-  b.wdot = tr.knot_angular_accelerations_B.col(k + 1);
-  const QuaternionSample<double> r = EvalOrientationHermite<double>(B, h, a, b);
-  *q_WB = r.q_WB;
-  *w_WB_B = r.w_WB_B;
-  *wdot_WB_B = r.wdot_WB_B;
 }
 
 }  // namespace acro::analysis::internal

@@ -3,11 +3,13 @@
 // Model (1) in its local form (docs/skill-design.md, "Model (1): local form"): one Ceres residual
 // block per quadrature sample, depending only on the gaps and on the data of the two knots around
 // it, with derivatives by the chain rule through the sample's state (one ceres::Jet pass through
-// the inverse dynamics per sample). Internal to analysis: timing_optimization.cc calls it.
+// the inverse dynamics per sample). Internal to acro_design:
+// OptimizeSkill (skill_optimization.h) calls it; it does not know Model 2.
 
 #include <Eigen/Core>
 
-#include "acro/design/timing_optimization.h"
+#include "acro/design/skill_design.h"
+#include "acro/design/skill_optimization.h"
 
 namespace acro::analysis::internal {
 
@@ -30,18 +32,7 @@ double CalcModel1Objective(const SkillDesign& design,
 /// One Ceres solve of Model 1 from `base` (which has knots); returns the optimised x.
 Eigen::VectorXd SolveModel1(const SkillDesign& design,
                             const SkillTrajectory& base,
-                            const TimingOptimizationOptions& options,
-                            TimingOptimizationSummary* summary);
-
-/// Joint angles, rates, accelerations and the root orientation, body angular velocity and
-/// acceleration of a trajectory with knots at time t (double).
-void EvalKnotTrajectory(const SkillTrajectory& trajectory,
-                        double t,
-                        Eigen::Ref<Eigen::VectorXd> qj,
-                        Eigen::Ref<Eigen::VectorXd> vj,
-                        Eigen::Ref<Eigen::VectorXd> aj,
-                        Eigen::Quaterniond* q_WB,
-                        Eigen::Vector3d* w_WB_B,
-                        Eigen::Vector3d* wdot_WB_B);
+                            const SkillOptimizationOptions& options,
+                            SkillOptimizationSummary* summary);
 
 }  // namespace acro::analysis::internal

@@ -28,9 +28,9 @@ std::string Slurp(const std::filesystem::path& p) {
 // back with the model's points at the motion's rate, a .mot whose last row is the landing pose.
 TEST(SkillReport, WritesEveryOutput) {
   const SkillDesign d(ReadSkill(acro::testing::SourceDir() / "samples/skills/back_tuck.yaml"));
-  TimingOptimizationOptions o;
+  SkillOptimizationOptions o;
   o.quadrature_intervals = 20;
-  const TimingOptimizationResult r = OptimizeSkillTiming(d, o);
+  const SkillOptimizationResult r = OptimizeSkill(d, o);
   const SkillSimulationResult sim = SimulateSkill(d, r.optimized);
   const auto dir = acro::testing::TempDir() / "skill_report";
   const std::vector<std::string> files = WriteSkillOutputs(dir, d, r, &sim);

@@ -50,7 +50,7 @@ std::string Html(const std::string& s) {
 }  // namespace
 
 std::string MakeSkillResultJson(const SkillDesign& design,
-                                const TimingOptimizationResult& r,
+                                const SkillOptimizationResult& r,
                                 const SkillSimulationResult* sim) {
   using Json = nlohmann::ordered_json;  // keys in the order written
   // The skill and the timing before and after.
@@ -58,7 +58,7 @@ std::string MakeSkillResultJson(const SkillDesign& design,
   j["skill"] = design.skill().name;
   j["fig_code"] = design.skill().fig_code;
   j["athlete"] = design.skill().athlete.name;
-  j["model"] = r.model;
+  j["model"] = SkillModelNumber(r.model);
   j["flight_time_s"] = design.flight_time_s();
   j["keyframe_names"] = Json::array();
   for (const SkillKeyframe& k : design.skill().keyframes) j["keyframe_names"].push_back(k.name);
@@ -86,7 +86,7 @@ std::string MakeSkillResultJson(const SkillDesign& design,
   // The solver's stages.
   j["solver"] = Json::array();
   for (size_t i = 0; i < r.stages.size(); ++i) {
-    const TimingOptimizationSummary& s = r.stages[i];
+    const SkillOptimizationSummary& s = r.stages[i];
     j["solver"].push_back({{"stage", i == 0 ? "model 2" : "model 1"},
                            {"success", s.success},
                            {"iterations", s.iterations},
@@ -131,7 +131,7 @@ capture::Trial MakeSkillMarkerTrial(const SkillDesign& design,
     t.points.push_back({p.name, "virtual marker", capture::PointType::kMarker, "m"});
   t.positions.resize(3, std::int64_t(t.num_frames) * m.num_points());
   for (int f = 0; f < t.num_frames; ++f) {
-    const SkillMotionState s = EvalSkillMotion(design, trajectory, times[static_cast<size_t>(f)]);
+    const SkillMotionState s = CalcSkillMotion(design, trajectory, times[static_cast<size_t>(f)]);
     dynamics::CalcForwardKinematics(m, ws, s.q);
     for (int p = 0; p < m.num_points(); ++p)
       t.position(f, p) = dynamics::CalcPointPosition(m, ws, p);
@@ -157,7 +157,7 @@ capture::Storage MakeSkillMotionTable(const SkillDesign& design,
                 static_cast<Eigen::Index>(s.labels.size()));
   Eigen::Vector3d prev = Eigen::Vector3d::Zero(), unwrapped = Eigen::Vector3d::Zero();
   for (size_t k = 0; k < times.size(); ++k) {
-    const SkillMotionState st = EvalSkillMotion(design, trajectory, times[k]);
+    const SkillMotionState st = CalcSkillMotion(design, trajectory, times[k]);
     const Eigen::Vector3d a =
         SomersaultTiltTwist(Eigen::Quaterniond(st.q[3], st.q[4], st.q[5], st.q[6]));
     // Unwrap somersault and twist so that several turns read as such.
@@ -175,7 +175,7 @@ capture::Storage MakeSkillMotionTable(const SkillDesign& design,
 
 std::vector<std::string> WriteSkillOutputs(const std::filesystem::path& dir,
                                            const SkillDesign& design,
-                                           const TimingOptimizationResult& r,
+                                           const SkillOptimizationResult& r,
                                            const SkillSimulationResult* sim) {
   std::filesystem::create_directories(dir);
   std::vector<std::string> written;
@@ -220,7 +220,7 @@ std::vector<std::string> WriteSkillOutputs(const std::filesystem::path& dir,
                       .color = kInitialGrey,
                       .dashed = true,
                       .markers = true};
-  ui::LineSeries opt{.name = "optimised (model " + std::to_string(r.model) + ")",
+  ui::LineSeries opt{.name = "optimised (model " + std::to_string(SkillModelNumber(r.model)) + ")",
                      .y = ToStd(r.optimized.times_s),
                      .color = kOptimisedRed,
                      .markers = true};
@@ -240,7 +240,7 @@ std::vector<std::string> WriteSkillOutputs(const std::filesystem::path& dir,
   h.y_label = "|H| (kg·m²/s)";
   ui::LineSeries h0{
       .name = "initial timing", .x = ToStd(p0.t_s), .color = kInitialGrey, .dashed = true};
-  ui::LineSeries h1{.name = "optimised (model " + std::to_string(r.model) + ")",
+  ui::LineSeries h1{.name = "optimised (model " + std::to_string(SkillModelNumber(r.model)) + ")",
                     .x = ToStd(p1.t_s),
                     .color = kOptimisedRed};
   for (int k = 0; k < p0.t_s.size(); ++k) {
@@ -268,13 +268,13 @@ std::vector<std::string> WriteSkillOutputs(const std::filesystem::path& dir,
           "</style></head><body>\n";
   html << "<h1>" << Html(design.skill().name)
        << "</h1>\n<p>Athlete: " << Html(design.skill().athlete.name) << ". Flight time "
-       << fmt::format("{:.3f}", design.flight_time_s()) << " s. Model (" << r.model << ").</p>\n";
+       << fmt::format("{:.3f}", design.flight_time_s()) << " s. Model (" << SkillModelNumber(r.model) << ").</p>\n";
   html << "<table><tr><th></th><th>initial timing</th><th>optimised</th></tr>\n"
        << "<tr><td>J = T⁻¹∫|L̇/(m g h)|² dt</td><td>" << r.objective_initial << "</td><td>"
        << r.objective << "</td></tr>\n<tr><td>angular momentum variation</td><td>"
        << fmt::format("{:.2f}", 100 * r.angular_momentum_variation_initial) << " %</td><td>"
        << fmt::format("{:.2f}", 100 * r.angular_momentum_variation) << " %</td></tr></table>\n";
-  if (r.model == 1)
+  if (r.model == SkillModel::kTrajectory)
     html << "<p>Largest keyframe deviation: joint angles "
          << fmt::format("{:.2f}", r.max_joint_deviation_rad * kRadToDeg) << "°, root orientation "
          << fmt::format("{:.2f}", r.max_orientation_deviation_rad * kRadToDeg) << "°.</p>\n";
@@ -307,7 +307,7 @@ std::vector<std::string> WriteSkillOutputs(const std::filesystem::path& dir,
     html << "</ul>\n";
   }
   html << "<h2>Solver</h2>\n<ul>\n";
-  for (const TimingOptimizationSummary& s : r.stages)
+  for (const SkillOptimizationSummary& s : r.stages)
     html << "<li>" << Html(s.BriefReport()) << "</li>\n";
   html << "</ul>\n<p>Files: result.json, timing.csv, motion.c3d (virtual markers), "
           "motion.mot.</p>\n</body></html>\n";

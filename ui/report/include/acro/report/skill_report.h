@@ -9,7 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "acro/design/timing_optimization.h"
+#include "acro/design/skill_optimization.h"
+#include "acro/design/skill_simulation.h"
 #include "acro/capture/storage.h"
 #include "acro/capture/trial.h"
 
@@ -18,7 +19,7 @@ namespace acro::ui {
 /// result.json's text (keyframe_names, keyframe_times_initial_s, keyframe_times_s,
 /// objective_initial, objective, angular_momentum_variation(_initial), model, solver, simulation).
 std::string MakeSkillResultJson(const analysis::SkillDesign& design,
-                                const analysis::TimingOptimizationResult& result,
+                                const analysis::SkillOptimizationResult& result,
                                 const analysis::SkillSimulationResult* simulation);
 
 /// The designed motion sampled at `rate_hz`: the standard human's named points as virtual markers.
@@ -36,7 +37,7 @@ capture::Storage MakeSkillMotionTable(const analysis::SkillDesign& design,
 /// motion.mot and report.html into `dir` (created if needed). Returns the file names written.
 std::vector<std::string> WriteSkillOutputs(const std::filesystem::path& dir,
                                            const analysis::SkillDesign& design,
-                                           const analysis::TimingOptimizationResult& result,
+                                           const analysis::SkillOptimizationResult& result,
                                            const analysis::SkillSimulationResult* simulation);
 
 }  // namespace acro::ui

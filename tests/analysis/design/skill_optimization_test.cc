@@ -1,4 +1,5 @@
-#include "acro/design/timing_optimization.h"
+#include "acro/design/skill_optimization.h"
+#include "acro/design/skill_simulation.h"
 
 #include <cmath>
 #include <cstdio>
@@ -26,7 +27,7 @@ const SkillDesign& FrontExample() {
 // Central differences of J along each coordinate of x.
 Eigen::VectorXd CentralDifferences(const SkillDesign& d,
                                    const SkillTrajectory& base,
-                                   int model,
+                                   SkillModel model,
                                    const Eigen::VectorXd& x,
                                    int intervals,
                                    double h) {
@@ -42,7 +43,7 @@ Eigen::VectorXd CentralDifferences(const SkillDesign& d,
   return g;
 }
 
-TEST(TimingOptimization, TheExampleHasTwelveKeyframesAndTheFlightTimeOfItsTakeOff) {
+TEST(SkillOptimization, TheExampleHasTwelveKeyframesAndTheFlightTimeOfItsTakeOff) {
   const SkillDesign& d = FrontExample();
   EXPECT_EQ(d.num_keyframes(), 12);
   EXPECT_NEAR(d.flight_time_s(), 2.0 * 7.8 / 9.81, 4 * kEps);
@@ -53,38 +54,38 @@ TEST(TimingOptimization, TheExampleHasTwelveKeyframesAndTheFlightTimeOfItsTakeOf
 // The root translation keeps the COM on the parabola: the force residual vanishes, and the profile
 // (full dynamics with the true root translation) gives the same J as the optimiser's evaluation
 // (root fixed at the origin), since the moment about the COM does not depend on the translation.
-TEST(TimingOptimization, ForcesVanishAndTheTwoEvaluationsOfJAgree) {
+TEST(SkillOptimization, ForcesVanishAndTheTwoEvaluationsOfJAgree) {
   const SkillDesign& d = FrontExample();
   const SkillTrajectory t = MakeKeyframeTrajectory(d, d.EvenTimes());
   const SkillMotionProfile p = CalcSkillMotionProfile(d, t, 80);
   // Force / weight is a difference of O(1) terms: a few hundred ε.
   EXPECT_LT(p.force_per_weight.cwiseAbs().maxCoeff(), 1e-12);
-  const double J = CalcSkillObjective(d, t, 2, InitialSkillParameters(d, t, 2), 80);
+  const double J = CalcSkillObjective(d, t, SkillModel::kTiming, InitialSkillParameters(d, t, SkillModel::kTiming), 80);
   EXPECT_NEAR(p.objective, J, 1e-12 * J);
   EXPECT_GT(J, 0.0);
 }
 
 // Model 2's gradient (automatic differentiation through splines and inverse dynamics) against
 // central differences.
-TEST(TimingOptimization, Model2GradientMatchesCentralDifferences) {
+TEST(SkillOptimization, Model2GradientMatchesCentralDifferences) {
   const SkillDesign& d = FrontExample();
   const SkillTrajectory t = MakeKeyframeTrajectory(d, d.EvenTimes());
-  Eigen::VectorXd x = InitialSkillParameters(d, t, 2);
+  Eigen::VectorXd x = InitialSkillParameters(d, t, SkillModel::kTiming);
   // An uneven point, not the even timing.
   for (int i = 0; i < x.size(); ++i) x[i] *= 1.0 + 0.1 * std::sin(1.0 + i);
   Eigen::VectorXd g;
-  CalcSkillObjective(d, t, 2, x, 40, &g);
+  CalcSkillObjective(d, t, SkillModel::kTiming, x, 40, &g);
   // h ≈ ε^(1/3)·scale: truncation and rounding errors both near 1e-10 relative.
-  const Eigen::VectorXd fd = CentralDifferences(d, t, 2, x, 40, 1e-6);
+  const Eigen::VectorXd fd = CentralDifferences(d, t, SkillModel::kTiming, x, 40, 1e-6);
   EXPECT_LT((g - fd).norm(), 1e-6 * g.norm())
       << "AD " << g.transpose() << "\nFD " << fd.transpose();
 }
 
-TEST(TimingOptimization, Model2OnThePapersExample) {
+TEST(SkillOptimization, Model2OnThePapersExample) {
   const SkillDesign& d = FrontExample();
-  TimingOptimizationOptions o;
-  o.model = 2;
-  const TimingOptimizationResult r = OptimizeSkillTiming(d, o);
+  SkillOptimizationOptions o;
+  o.model = SkillModel::kTiming;
+  const SkillOptimizationResult r = OptimizeSkill(d, o);
   std::printf("J %g -> %g (÷%.1f), variation %.3f -> %.3f, %s\n",
               r.objective_initial,
               r.objective,
@@ -112,7 +113,7 @@ const SkillDesign& BackTuck() {
 // The motion t of design d is at every keyframe's pose at that keyframe's time.
 void ExpectKeyframePosesAtTheirTimes(const SkillDesign& d, const SkillTrajectory& t) {
   for (int i = 0; i < d.num_keyframes(); ++i) {
-    const SkillMotionState s = EvalSkillMotion(d, t, t.times_s[i]);
+    const SkillMotionState s = CalcSkillMotion(d, t, t.times_s[i]);
     const Eigen::Quaterniond q(s.q[3], s.q[4], s.q[5], s.q[6]);
     EXPECT_LT(q.angularDistance(d.keyframe_orientations()[static_cast<size_t>(i)]), 1e-7) << i;
     EXPECT_LT(
@@ -122,7 +123,7 @@ void ExpectKeyframePosesAtTheirTimes(const SkillDesign& d, const SkillTrajectory
 }
 
 // The designed motion passes through every keyframe pose at its time.
-TEST(TimingOptimization, TheMotionPassesThroughTheKeyframes) {
+TEST(SkillOptimization, TheMotionPassesThroughTheKeyframes) {
   const SkillDesign& d = FrontExample();
   const SkillTrajectory t = MakeKeyframeTrajectory(d, d.EvenTimes());
   ExpectKeyframePosesAtTheirTimes(d, t);
@@ -132,22 +133,22 @@ TEST(TimingOptimization, TheMotionPassesThroughTheKeyframes) {
 // accelerations, angular velocity and acceleration), assembled by Ceres from the per-sample
 // residual blocks and their chain-rule Jacobians, against central differences of J, on a coarse
 // grid (2 Simpson intervals per knot interval) to keep the 2·(n_x) evaluations cheap.
-TEST(TimingOptimization, Model1GradientMatchesCentralDifferences) {
+TEST(SkillOptimization, Model1GradientMatchesCentralDifferences) {
   // The back tuck, and the full: twisting and tilted, with asymmetric arms, so that every joint's
   // subtree and the orientation's derivative ∂R/∂Q n_B are exercised away from symmetry.
   const SkillDesign full(ReadSkill(SkillPath("full.yaml")));
   for (const SkillDesign* design : {&BackTuck(), &full}) {
     const SkillDesign& d = *design;
     const SkillTrajectory base = MakeKnotTrajectory(MakeKeyframeTrajectory(d, d.EvenTimes()), 2);
-    Eigen::VectorXd x = InitialSkillParameters(d, base, 1);
-    ASSERT_EQ(x.size(), NumSkillParameters(d, 1, 2));
+    Eigen::VectorXd x = InitialSkillParameters(d, base, SkillModel::kTrajectory);
+    ASSERT_EQ(x.size(), NumSkillParameters(d, SkillModel::kTrajectory, 2));
     // An uneven point with non-zero offsets everywhere (orientation offsets included, so that the
     // right Jacobian is away from the identity).
     for (int i = 0; i < x.size(); ++i)
       x[i] += (i < d.num_keyframes() - 1 ? 0.01 : 0.02) * std::sin(0.7 * i);
     Eigen::VectorXd g;
-    CalcSkillObjective(d, base, 1, x, 2, &g);
-    const Eigen::VectorXd fd = CentralDifferences(d, base, 1, x, 2, 1e-6);
+    CalcSkillObjective(d, base, SkillModel::kTrajectory, x, 2, &g);
+    const Eigen::VectorXd fd = CentralDifferences(d, base, SkillModel::kTrajectory, x, 2, 1e-6);
     EXPECT_LT((g - fd).norm(), 1e-6 * g.norm()) << d.skill().name;
     EXPECT_LT((g - fd).cwiseAbs().maxCoeff(), 1e-6 * g.cwiseAbs().maxCoeff()) << d.skill().name;
   }
@@ -156,7 +157,7 @@ TEST(TimingOptimization, Model1GradientMatchesCentralDifferences) {
 // Model 1's local form: the keyframe splines read at the knots give the same keyframe poses, the
 // body angular velocity is the derivative of the orientation and the angular acceleration that of
 // the velocity (central differences), and the joint rates likewise.
-TEST(TimingOptimization, Model1LocalFormIsConsistentWithItsDerivatives) {
+TEST(SkillOptimization, Model1LocalFormIsConsistentWithItsDerivatives) {
   const SkillDesign& d = FrontExample();
   const SkillTrajectory t = MakeKnotTrajectory(MakeKeyframeTrajectory(d, d.EvenTimes()), 2);
   ASSERT_EQ(t.num_knots(), 23);
@@ -166,9 +167,9 @@ TEST(TimingOptimization, Model1LocalFormIsConsistentWithItsDerivatives) {
   const double h = 1e-5;
   double worst_w = 0.0, worst_wdot = 0.0, worst_joint = 0.0;
   for (double tt = 0.013; tt < d.flight_time_s() - 0.01; tt += 0.031) {
-    const SkillMotionState s0 = EvalSkillMotion(d, t, tt);
-    const SkillMotionState sp = EvalSkillMotion(d, t, tt + h);
-    const SkillMotionState sm = EvalSkillMotion(d, t, tt - h);
+    const SkillMotionState s0 = CalcSkillMotion(d, t, tt);
+    const SkillMotionState sp = CalcSkillMotion(d, t, tt + h);
+    const SkillMotionState sm = CalcSkillMotion(d, t, tt - h);
     auto quat = [](const SkillMotionState& s) {
       return Eigen::Quaterniond(s.q[3], s.q[4], s.q[5], s.q[6]);
     };
@@ -192,11 +193,11 @@ TEST(TimingOptimization, Model1LocalFormIsConsistentWithItsDerivatives) {
 // timing and the angular momentum about the COM within 2 % of its mean, both on the check grid
 // (8 times finer than the solver's, so the pieces cannot bend between the samples unseen), with
 // every keyframe within its tolerances.
-TEST(TimingOptimization, Model1OnThePapersExample) {
+TEST(SkillOptimization, Model1OnThePapersExample) {
   const SkillDesign& d = FrontExample();
-  TimingOptimizationOptions o;
-  o.model = 1;
-  const TimingOptimizationResult r = OptimizeSkillTiming(d, o);
+  SkillOptimizationOptions o;
+  o.model = SkillModel::kTrajectory;
+  const SkillOptimizationResult r = OptimizeSkill(d, o);
   std::printf(
       "J %g -> %g (÷%.0f), variation %.4f -> %.4f, joints within %.2f deg, orientation "
       "within %.2f deg, %s\n",
@@ -229,10 +230,10 @@ TEST(TimingOptimization, Model1OnThePapersExample) {
 
 // Flight simulation of the sample skills without twist, with their Model 2 timing: the final
 // orientation within 15° of the last keyframe's, and the somersault count as designed.
-TEST(TimingOptimization, SimulatedSinglesLandAsDesigned) {
+TEST(SkillOptimization, SimulatedSinglesLandAsDesigned) {
   for (const char* name : {"back_tuck.yaml", "back_pike.yaml"}) {
     const SkillDesign d(ReadSkill(SkillPath(name)));
-    const TimingOptimizationResult r = OptimizeSkillTiming(d, TimingOptimizationOptions{});
+    const SkillOptimizationResult r = OptimizeSkill(d, SkillOptimizationOptions{});
     const SkillSimulationResult sim = SimulateSkill(d, r.optimized);
     EXPECT_EQ(sim.flight.summary.status, dynamics::FlightSimulationStatus::kSuccess);
     EXPECT_LT(sim.final_orientation_error_rad, 15 * kDeg) << name;
@@ -243,7 +244,7 @@ TEST(TimingOptimization, SimulatedSinglesLandAsDesigned) {
 // Flight simulation of Model 1's designs, with the take-off momentum fitted to the designed
 // orientation: every sample skill lands within 15° of its last keyframe (the acceptance), with its
 // designed somersaults.
-TEST(TimingOptimization, Model1DesignsLandAsDesigned) {
+TEST(SkillOptimization, Model1DesignsLandAsDesigned) {
   for (const char* name : {"front_1_3_4_half_twist.yaml",
                            "back_tuck.yaml",
                            "back_pike.yaml",
@@ -251,9 +252,9 @@ TEST(TimingOptimization, Model1DesignsLandAsDesigned) {
                            "full.yaml",
                            "double_back_tuck.yaml"}) {
     const SkillDesign d(ReadSkill(SkillPath(name)));
-    TimingOptimizationOptions o;
-    o.model = 1;
-    const TimingOptimizationResult r = OptimizeSkillTiming(d, o);
+    SkillOptimizationOptions o;
+    o.model = SkillModel::kTrajectory;
+    const SkillOptimizationResult r = OptimizeSkill(d, o);
     const SkillSimulationResult sim = SimulateSkill(d, r.optimized);
     EXPECT_EQ(sim.flight.summary.status, dynamics::FlightSimulationStatus::kSuccess);
     EXPECT_LT(sim.final_orientation_error_rad, 15 * kDeg) << name;
@@ -267,11 +268,11 @@ TEST(TimingOptimization, Model1DesignsLandAsDesigned) {
 
 // The full with its twist reversed (positive, with the same negative tilt and arms) does not fly as
 // drawn, and the simulation says so: it twists the other way.
-TEST(TimingOptimization, SimulationWarnsWhenTheTwistGoesAgainstTheTilt) {
+TEST(SkillOptimization, SimulationWarnsWhenTheTwistGoesAgainstTheTilt) {
   Skill skill = ReadSkill(SkillPath("full.yaml"));
   for (SkillKeyframe& k : skill.keyframes) k.twist_rad = -k.twist_rad;
   const SkillDesign d(skill);
-  const TimingOptimizationResult r = OptimizeSkillTiming(d, TimingOptimizationOptions{});
+  const SkillOptimizationResult r = OptimizeSkill(d, SkillOptimizationOptions{});
   const SkillSimulationResult sim = SimulateSkill(d, r.optimized);
   EXPECT_NEAR(sim.intended_twist_turns, 1.0, 0.01);
   EXPECT_LT(sim.twist_turns, 0.0);
@@ -283,7 +284,7 @@ TEST(TimingOptimization, SimulationWarnsWhenTheTwistGoesAgainstTheTilt) {
 }
 
 // Each warning from its own condition, on made-up results.
-TEST(TimingOptimization, SimulationWarningsNameWhatDiffers) {
+TEST(SkillOptimization, SimulationWarningsNameWhatDiffers) {
   SkillSimulationResult sim;
   sim.flight.summary.status = dynamics::FlightSimulationStatus::kSuccess;
   sim.somersault_turns = sim.intended_somersault_turns = -0.9;
