@@ -12,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "acro/athlete/athlete_profile.h"
+#include "acro/athlete/orientation.h"
 #include "acro/reconstruct/markerset.h"
 #include "acro/design/skill_file.h"
 #include "acro/athlete/standard_human.h"
@@ -65,15 +66,6 @@ Matrix3d RightJacobian(const Vector3d& u) {
          (theta - std::sin(theta)) / (t2 * theta) * S * S;
 }
 
-// Somersault and twist of R_SB = R_y(somersault) R_x(tilt) R_z(twist) (jump_rotation.h).
-void SomersaultTiltTwist(const Matrix3d& R, double* somersault, double* tilt, double* twist) {
-  *somersault = std::atan2(R(0, 2), R(2, 2));
-  *tilt = -std::asin(std::clamp(R(1, 2), -1.0, 1.0));
-  *twist = std::atan2(R(1, 0), R(1, 1));
-}
-double Unwrap(double previous, double angle) {
-  return previous + std::remainder(angle - previous, 2 * kPi);
-}
 
 // Septic smoothstep S(u) = u⁴(35 − 84u + 70u² − 20u³): S′, S″ and S‴ vanish at both ends, so
 // the prescribed joint motion is C³ and the RK4 root integration keeps its full order across
@@ -499,20 +491,16 @@ FlightPath SimulateSkillFlight(Context& ctx,
   path.v.assign(r2.v.begin(), r2.v.begin() + long(land));
 
   // Somersault and twist, unwrapped from take-off to landing.
-  double som, tilt, tw;
-  SomersaultTiltTwist(
-      R_heading.transpose() * dynamics::GetRootQuaternion(q0).toRotationMatrix(), &som, &tilt, &tw);
+  const analysis::SomersaultTiltTwist start = analysis::CalcSomersaultTiltTwist(
+      R_heading.transpose() * dynamics::GetRootQuaternion(q0).toRotationMatrix());
+  double som = start.somersault_rad;
   path.somersault0 = som;
-  double twist = tw;
+  double twist = start.twist_rad;
   auto accumulate = [&](const VectorXd& q) {
-    double s, t, w;
-    SomersaultTiltTwist(
-        R_heading.transpose() * dynamics::GetRootQuaternion(q).normalized().toRotationMatrix(),
-        &s,
-        &t,
-        &w);
-    som = Unwrap(som, s);
-    twist = Unwrap(twist, w);
+    const analysis::SomersaultTiltTwist a = analysis::CalcSomersaultTiltTwist(
+        R_heading.transpose() * dynamics::GetRootQuaternion(q).normalized().toRotationMatrix());
+    som = analysis::UnwrapAngle(som, a.somersault_rad);
+    twist = analysis::UnwrapAngle(twist, a.twist_rad);
   };
   for (const VectorXd& q : path.q) accumulate(q);
   accumulate(path.q_land);

@@ -11,6 +11,7 @@
 #include "acro/athlete/standard_human.h"
 #include "acro/assess/trial_analysis.h"
 #include "acro/capture/trial_io.h"
+#include "acro/dynamics/configuration.h"
 #include "acro/report/analysis_report.h"
 #include "commands.h"
 
@@ -62,7 +63,7 @@ int RunAnalyze(AnalyzeArguments& args) {
   {
     const std::vector<std::string> names =
         analysis::MakeCoordinateNames(analysis::MakeStandardHumanModel(body));
-    if (std::find(names.begin() + 7, names.end(), report.joint) == names.end())
+    if (std::find(names.begin() + dynamics::kRootNq, names.end(), report.joint) == names.end())
       throw UsageError{"--joint: '" + report.joint +
                        "' is not a joint angle (e.g. r_hip_flexion, l_knee_flexion, "
                        "lumbar_flexion; docs/reconstruction.md)"};

@@ -5,6 +5,7 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "acro/athlete/orientation.h"
 #include "acro/base/demand.h"
 
 namespace acro::analysis {
@@ -12,21 +13,6 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
-
-// Unwraps angle jumps larger than π between consecutive samples.
-void Unwrap(Eigen::VectorXd* angles) {
-  for (Eigen::Index i = 1; i < angles->size(); ++i) {
-    double d = (*angles)[i] - (*angles)[i - 1];
-    while (d > kPi) {
-      (*angles)[i] -= 2 * kPi;
-      d -= 2 * kPi;
-    }
-    while (d < -kPi) {
-      (*angles)[i] += 2 * kPi;
-      d += 2 * kPi;
-    }
-  }
-}
 
 // Upright when the long axis leans less than the limit; otherwise front (facing down) or back.
 BodyPosition ClassifyPosition(const Eigen::Quaterniond& q_WB, double max_lean_deg) {
@@ -97,13 +83,13 @@ RotationAngles CalcRotationAngles(const std::vector<Eigen::Quaterniond>& q_WB,
   for (int i = 0; i < n; ++i) {
     const Eigen::Matrix3d R =
         R_WS.transpose() * q_WB[static_cast<std::size_t>(i)].normalized().toRotationMatrix();
-    // R = R_y(φ) R_x(θ) R_z(ψ): row 1 is [cθ sψ, cθ cψ, −sθ], column 2 is [sφ cθ, −sθ, cφ cθ].
-    out.tilt_rad[i] = std::asin(std::clamp(-R(1, 2), -1.0, 1.0));
-    out.twist_rad[i] = std::atan2(R(1, 0), R(1, 1));
-    out.somersault_rad[i] = std::atan2(R(0, 2), R(2, 2));
+    const SomersaultTiltTwist angles = CalcSomersaultTiltTwist(R);
+    out.tilt_rad[i] = angles.tilt_rad;
+    out.twist_rad[i] = angles.twist_rad;
+    out.somersault_rad[i] = angles.somersault_rad;
   }
-  Unwrap(&out.somersault_rad);
-  Unwrap(&out.twist_rad);
+  UnwrapAngles(&out.somersault_rad);
+  UnwrapAngles(&out.twist_rad);
   return out;
 }
 

@@ -29,7 +29,7 @@
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 
-#include "acro/design/keyframe_spline.h"
+#include "acro/base/cubic_spline.h"
 #include "acro/design/quaternion_spline.h"
 #include "acro/dynamics/configuration.h"
 

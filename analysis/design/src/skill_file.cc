@@ -63,13 +63,6 @@ int StandardJointDofIndex(std::string_view segment, int axis) {
   return -1;
 }
 
-std::vector<std::string> StandardJointDofNames() {
-  std::vector<std::string> out;
-  for (const StandardJoint& j : kStandardJoints)
-    for (char axis : j.axis_sequence) out.push_back(std::string(j.segment) + ":" + axis);
-  return out;
-}
-
 Eigen::Quaterniond KeyframeOrientation(const SkillKeyframe& k) {
   return Eigen::AngleAxisd(k.somersault_rad, Eigen::Vector3d::UnitY()) *
          Eigen::AngleAxisd(k.tilt_rad, Eigen::Vector3d::UnitX()) *

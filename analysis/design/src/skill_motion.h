@@ -12,9 +12,10 @@
 #include <Eigen/Geometry>
 
 #include "acro/base/demand.h"
-#include "acro/design/keyframe_spline.h"
+#include "acro/base/cubic_spline.h"
 #include "acro/design/quaternion_spline.h"
 #include "acro/design/skill_design.h"
+#include "acro/dynamics/configuration.h"
 #include "acro/dynamics/kinematics.h"
 #include "acro/dynamics/workspace.h"
 
@@ -93,16 +94,13 @@ void SampleState(const SkillSplines<T>& s,
   for (int j = 0; j < s.ndof; ++j) {
     const SplineSample<T> y =
         s.joint_knots.Combine(w, s.joint_values.data() + j * s.n, s.joint_moments.data() + j * s.n);
-    q[7 + j] = y.value;
-    v[6 + j] = y.d1;
-    a[6 + j] = y.d2;
+    q[dynamics::kRootNq + j] = y.value;
+    v[dynamics::kRootNv + j] = y.d1;
+    a[dynamics::kRootNv + j] = y.d2;
   }
   const QuaternionSample<T> r = s.orientation.Eval(t);
   q.template head<3>().setZero();
-  q[3] = r.q_WB.w();
-  q[4] = r.q_WB.x();
-  q[5] = r.q_WB.y();
-  q[6] = r.q_WB.z();
+  dynamics::SetRootQuaternion<T>(r.q_WB, q);
   v.template head<3>().setZero();
   a.template head<3>().setZero();
   v.template segment<3>(3) = r.w_WB_B;
@@ -165,10 +163,7 @@ class MotionEvaluator {
     CalcKnotMotion(
         trajectory_, t, q.tail(ndof), v.tail(ndof), a.tail(ndof), &q_WB, &w, &wdot);
     q.head<3>().setZero();
-    q[3] = q_WB.w();
-    q[4] = q_WB.x();
-    q[5] = q_WB.y();
-    q[6] = q_WB.z();
+    dynamics::SetRootQuaternion<double>(q_WB, q);
     v.head<3>().setZero();
     a.head<3>().setZero();
     v.segment<3>(3) = w;

@@ -42,7 +42,7 @@ SkillSimulationResult SimulateSkill(const SkillDesign& design,
     const dynamics::Vector6<double> v_root0 = dynamics::CalcRootVelocityFromMomentum(
         m, ws, s0.q, s0.v, Eigen::Vector3d(design.skill().takeoff_com_velocity_mps), H);
     return dynamics::SimulateFlight(
-        m, fo, Eigen::Matrix<double, 7, 1>(s0.q.head<7>()), v_root0, joints);
+        m, fo, Eigen::Matrix<double, dynamics::kRootNq, 1>(s0.q.head<dynamics::kRootNq>()), v_root0, joints);
   };
   out.H_Scm_W = out.H_mean_W;
   out.flight = simulate(out.H_Scm_W);
@@ -55,7 +55,7 @@ SkillSimulationResult SimulateSkill(const SkillDesign& design,
   auto misfit = [&](const dynamics::FlightSimulationResult<double>& f, double* r) {
     for (size_t k = 0; k < designed.size(); ++k) {
       const Eigen::VectorXd& q = f.q[std::min(k, f.q.size() - 1)];
-      const Eigen::Quaterniond sim(q[3], q[4], q[5], q[6]);
+      const Eigen::Quaterniond sim = dynamics::GetRootQuaternion(q);
       const Eigen::AngleAxisd e(designed[k].conjugate() * sim.normalized());
       const Eigen::Vector3d v = e.axis() * e.angle();
       for (int c = 0; c < 3; ++c) r[3 * k + c] = v[c];
@@ -99,7 +99,7 @@ SkillSimulationResult SimulateSkill(const SkillDesign& design,
     sum += r[3 * k] * r[3 * k] + r[3 * k + 1] * r[3 * k + 1] + r[3 * k + 2] * r[3 * k + 2];
   out.rms_orientation_error_rad = std::sqrt(sum / static_cast<double>(designed.size()));
   const Eigen::VectorXd& qf = out.flight.q.back();
-  out.final_orientation = Eigen::Quaterniond(qf[3], qf[4], qf[5], qf[6]).normalized();
+  out.final_orientation = dynamics::GetRootQuaternion(qf).normalized();
   out.intended_final_orientation = design.keyframe_orientations().back();
   out.final_orientation_error_rad =
       out.final_orientation.angularDistance(out.intended_final_orientation);
@@ -127,7 +127,7 @@ SkillSimulationResult SimulateSkill(const SkillDesign& design,
     return total / (2.0 * std::numbers::pi);
   };
   std::vector<Eigen::Quaterniond> sim;
-  for (const Eigen::VectorXd& q : out.flight.q) sim.emplace_back(q[3], q[4], q[5], q[6]);
+  for (const Eigen::VectorXd& q : out.flight.q) sim.push_back(dynamics::GetRootQuaternion(q));
   out.somersault_turns = turns(sim);
   out.intended_somersault_turns = turns(designed);
   out.twist_turns = twist_turns(sim);

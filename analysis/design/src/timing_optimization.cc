@@ -12,7 +12,7 @@
 #include <numbers>
 #include <sstream>
 
-#include "acro/design/keyframe_spline.h"
+#include "acro/base/cubic_spline.h"
 #include "acro/design/quaternion_spline.h"
 #include "acro/athlete/standard_human.h"
 #include "acro/base/text_format.h"

@@ -236,7 +236,7 @@ void SampleResidual(const Model1Data& d,
       vj[k] = ConfigJet(v[k]);
       aj[k] = ConfigJet(a[k]);
     }
-    for (int j = 0; j < kNdof; ++j) qj[7 + j].v[j] = 1.0;
+    for (int j = 0; j < kNdof; ++j) qj[dynamics::kRootNq + j].v[j] = 1.0;
     dynamics::CalcInverseDynamics(m, *wsj, qj, vj, aj);
     const dynamics::RootResidual<ConfigJet> res =
         dynamics::CalcRootResidual(m, *wsj, ConfigJet(d.height));
@@ -390,7 +390,7 @@ class SampleCost : public ceres::CostFunction {
         value[2] = ka.ydd[j];
         for (int o = 0; o < 3; ++o) joint_dh[o][j] = 0.0;
       }
-      q[7 + j] = value[0];
+      q[dynamics::kRootNq + j] = value[0];
       v[6 + j] = value[1];
       a[6 + j] = value[2];
     }

@@ -4,6 +4,7 @@
 
 #include <Eigen/Geometry>
 
+#include "acro/base/cubic_spline.h"
 #include "acro/base/demand.h"
 
 namespace acro::analysis {
@@ -14,27 +15,6 @@ bool Valid(const Eigen::Matrix3Xd& p, int frame, int marker, int M) {
   return !std::isnan(p(0, Eigen::Index(frame) * M + marker));
 }
 
-/// Natural cubic spline through (t_i, y_i), evaluated at t (Burden & Faires, Algorithm 3.4).
-double NaturalSpline(const std::vector<double>& t, const std::vector<double>& y, double at) {
-  const size_t n = t.size();
-  if (n == 2) return y[0] + (y[1] - y[0]) * (at - t[0]) / (t[1] - t[0]);
-  std::vector<double> h(n - 1), alpha(n, 0.0), l(n, 1.0), mu(n, 0.0), z(n, 0.0), c(n, 0.0);
-  for (size_t i = 0; i + 1 < n; ++i) h[i] = t[i + 1] - t[i];
-  for (size_t i = 1; i + 1 < n; ++i)
-    alpha[i] = 3.0 / h[i] * (y[i + 1] - y[i]) - 3.0 / h[i - 1] * (y[i] - y[i - 1]);
-  for (size_t i = 1; i + 1 < n; ++i) {
-    l[i] = 2.0 * (t[i + 1] - t[i - 1]) - h[i - 1] * mu[i - 1];
-    mu[i] = h[i] / l[i];
-    z[i] = (alpha[i] - h[i - 1] * z[i - 1]) / l[i];
-  }
-  for (size_t j = n - 1; j-- > 0;) c[j] = z[j] - mu[j] * c[j + 1];
-  size_t k = 0;
-  while (k + 2 < n && at > t[k + 1]) ++k;
-  const double b = (y[k + 1] - y[k]) / h[k] - h[k] * (c[k + 1] + 2.0 * c[k]) / 3.0;
-  const double d = (c[k + 1] - c[k]) / (3.0 * h[k]);
-  const double dt = at - t[k];
-  return y[k] + dt * (b + dt * (c[k] + dt * d));
-}
 
 /// A frame from three points: origin a, x along b − a, z normal to the plane (a, b, c).
 bool TriadFrame(const Eigen::Vector3d& a,
@@ -105,9 +85,11 @@ GapFillingSummary FillGaps(Eigen::Matrix3Xd& positions,
           t.push_back(k);
           for (int d = 0; d < 3; ++d) y[size_t(d)].push_back(original(d, Eigen::Index(k) * M + m));
         }
-        for (int k = first; k <= last; ++k)
-          for (int d = 0; d < 3; ++d)
-            positions(d, Eigen::Index(k) * M + m) = NaturalSpline(t, y[size_t(d)], k);
+        for (int d = 0; d < 3; ++d) {
+          const CubicSpline<double> spline(t, y[size_t(d)]);
+          for (int k = first; k <= last; ++k)
+            positions(d, Eigen::Index(k) * M + m) = spline.Eval(double(k)).value;
+        }
         ++summary.filled_spline;
         summary.samples_filled += len;
         continue;

@@ -36,11 +36,11 @@ struct MarkerKinematics {
     const int n = model.num_joint_dofs();
     const bool same = std::memcmp(q.data(), parameters[0], 3 * sizeof(double)) == 0 &&
                       std::memcmp(q.data() + 3, parameters[1], 4 * sizeof(double)) == 0 &&
-                      std::memcmp(q.data() + 7, parameters[2], size_t(n) * sizeof(double)) == 0;
+                      std::memcmp(q.data() + dynamics::kRootNq, parameters[2], size_t(n) * sizeof(double)) == 0;
     if (!same) {
       std::memcpy(q.data(), parameters[0], 3 * sizeof(double));
       std::memcpy(q.data() + 3, parameters[1], 4 * sizeof(double));
-      std::memcpy(q.data() + 7, parameters[2], size_t(n) * sizeof(double));
+      std::memcpy(q.data() + dynamics::kRootNq, parameters[2], size_t(n) * sizeof(double));
       // Ceres keeps the quaternion on the unit sphere; normalise against rounding drift.
       q.segment<4>(3).normalize();
       dynamics::CalcForwardKinematics(model, ws, q);
@@ -238,7 +238,7 @@ std::vector<JointLimit> StandardJointLimits(const dynamics::Model<double>& model
           hi = -lo;
           lo = mirrored_lo;
         }
-        limits[static_cast<size_t>(seg.q_start - 7 + k)] = {lo, hi};
+        limits[static_cast<size_t>(seg.q_start - dynamics::kRootNq + k)] = {lo, hi};
       }
     }
   }
@@ -429,10 +429,7 @@ bool InverseKinematics::InitializeRoot(const Eigen::Matrix3Xd& observed, Eigen::
   const Eigen::Matrix3d R = svd.matrixV() * D * svd.matrixU().transpose();
   const Eigen::Quaterniond quat(R);
   q.head<3>() = cb - R * ca;
-  q[3] = quat.w();
-  q[4] = quat.x();
-  q[5] = quat.y();
-  q[6] = quat.z();
+  dynamics::SetRootQuaternion<double>(quat, q);
   return true;
 }
 
@@ -528,7 +525,7 @@ double InverseKinematics::Impl::EvaluateChart(const Eigen::Quaterniond& q0,
 int InverseKinematics::Impl::SolveWarm(Eigen::VectorXd& q, bool* converged) {
   const int n = model.num_joint_dofs();
   const int nv = model.nv();
-  const Eigen::Quaterniond q0 = Eigen::Quaterniond(q[3], q[4], q[5], q[6]).normalized();
+  const Eigen::Quaterniond q0 = dynamics::GetRootQuaternion(q).normalized();
   x.resize(nv);
   x.head<3>() = q.head<3>();
   x.segment<3>(3).setZero();

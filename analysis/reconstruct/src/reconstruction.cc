@@ -11,6 +11,8 @@
 #include <fmt/format.h>
 
 #include "acro/athlete/standard_human.h"
+#include "acro/athlete/orientation.h"
+#include "acro/reconstruct/phases.h"
 #include "acro/base/input_error.h"
 #include "acro/dynamics/configuration.h"
 
@@ -27,15 +29,15 @@ Eigen::Matrix3Xd FrameObservations(const Eigen::Matrix3Xd& P, int frame, int M) 
 /// Largest joint-angle difference (rad) and root orientation difference (rad) between two q.
 std::pair<double, double> ConfigurationDistance(const Eigen::VectorXd& a,
                                                 const Eigen::VectorXd& b) {
-  const double joints = (a.tail(a.size() - 7) - b.tail(b.size() - 7)).cwiseAbs().maxCoeff();
+  const auto n = a.size() - dynamics::kRootNq;
+  const double joints = (a.tail(n) - b.tail(n)).cwiseAbs().maxCoeff();
   const double dot = std::min(1.0, std::abs(a.segment<4>(3).dot(b.segment<4>(3))));
   return {joints, 2.0 * std::acos(dot)};
 }
 
 /// Adds multiples of 2π to q's joint angles so that each is nearest to the reference's.
 void UnwrapJoints(const Eigen::VectorXd& reference, Eigen::VectorXd& q) {
-  for (Eigen::Index i = 7; i < q.size(); ++i)
-    q[i] -= 2.0 * kPi * std::round((q[i] - reference[i]) / (2.0 * kPi));
+  for (Eigen::Index i = dynamics::kRootNq; i < q.size(); ++i) q[i] = UnwrapAngle(reference[i], q[i]);
 }
 
 }  // namespace
@@ -100,11 +102,12 @@ std::string ReconstructionSummary::BriefReport() const {
 
 std::vector<std::pair<int, int>> FindFlights(const Eigen::Matrix3Xd& positions,
                                              int M,
-                                             double rate_hz,
+                                             const Eigen::VectorXd& time_s,
                                              double clearance_m,
                                              double min_duration_s) {
+  // The lowest marker of each frame, and the level it rests at (2nd percentile).
   const int F = static_cast<int>(positions.cols() / M);
-  std::vector<double> low(size_t(F), std::nan(""));
+  Eigen::VectorXd low = Eigen::VectorXd::Constant(F, std::nan(""));
   std::vector<double> finite;
   for (int f = 0; f < F; ++f) {
     double z = std::numeric_limits<double>::infinity();
@@ -113,25 +116,21 @@ std::vector<std::pair<int, int>> FindFlights(const Eigen::Matrix3Xd& positions,
       if (!std::isnan(v)) z = std::min(z, v);
     }
     if (std::isfinite(z)) {
-      low[size_t(f)] = z;
+      low[f] = z;
       finite.push_back(z);
     }
   }
   std::vector<std::pair<int, int>> flights;
-  if (finite.empty()) return flights;
+  if (finite.empty() || time_s.size() != F) return flights;
   std::sort(finite.begin(), finite.end());
   const double ground = Percentile(finite, 2.0);
-  const int min_frames = static_cast<int>(std::ceil(min_duration_s * rate_hz));
-  int f = 0;
-  while (f < F) {
-    if (!(low[size_t(f)] > ground + clearance_m)) {
-      ++f;
-      continue;
-    }
-    int g = f;
-    while (g < F && (std::isnan(low[size_t(g)]) || low[size_t(g)] > ground + clearance_m)) ++g;
-    if (g - f >= min_frames && f > 0 && g < F) flights.push_back({f, g - 1});
-    f = g;
+  // The phase detector's feet route on that height (complete flights only).
+  PhaseOptions options;
+  options.feet_clearance_m = clearance_m;
+  options.min_flight_s = min_duration_s;
+  for (const Flight& flight :
+       DetectFlightsFromFeet(time_s, low, ground, Eigen::VectorXd(), options).flights) {
+    if (!flight.partial) flights.push_back({flight.takeoff_frame, flight.landing_frame - 1});
   }
   return flights;
 }
@@ -176,7 +175,7 @@ ReconstructionResult Reconstruct(const capture::Trial& trial,
         const bool unseen =
             base == "thorax" || base == "hand" || base == "foot" || (base == "forearm" && k == 1);
         if (unseen)
-          ik_options.joint_prior_m_per_rad[size_t(seg.q_start - 7 + k)] =
+          ik_options.joint_prior_m_per_rad[size_t(seg.q_start - dynamics::kRootNq + k)] =
               options.keypoint_unseen_angle_prior_m_per_rad;
       }
     }
@@ -494,7 +493,7 @@ ReconstructionResult Reconstruct(const capture::Trial& trial,
   const std::vector<double> sorted = SortedFrameRms(motion);
   summary.median_rms_m = Percentile(sorted, 50);
   summary.p95_rms_m = Percentile(sorted, 95);
-  for (const auto& [a, b] : FindFlights(P, M, rate)) {
+  for (const auto& [a, b] : FindFlights(P, M, motion.time_s)) {
     FlightFit ff;
     ff.first_frame = a;
     ff.last_frame = b;

@@ -44,7 +44,7 @@ struct ScaledMarkerResidual {
       pos += R * (seg.X_PJ.translation().template cast<T>() * s_parent);
       R = R * seg.X_PJ.rotation().template cast<T>();
       for (int k = 0; k < seg.num_axes; ++k) {
-        const T th = joints[seg.q_start - 7 + k];
+        const T th = joints[seg.q_start - dynamics::kRootNq + k];
         const T c0 = cos(th), s0 = sin(th);
         M3 E = M3::Identity();
         const int a = seg.axes[size_t(k)], i = (a + 1) % 3, j = (a + 2) % 3;
@@ -204,13 +204,13 @@ ScalingResult ScaleModel(const dynamics::Model<double>& model,
     double* pk = q[k].data();
     problem.AddParameterBlock(pk, 3);
     problem.AddParameterBlock(pk + 3, 4, new ceres::QuaternionManifold);
-    problem.AddParameterBlock(pk + 7, n);
+    problem.AddParameterBlock(pk + dynamics::kRootNq, n);
     {
       auto* lim = new ceres::DynamicAutoDiffCostFunction<LimitResidual, 16>(new LimitResidual{
           limits, ik_options.joint_limit_stiffness_m_per_rad, ik_options.joint_prior_m_per_rad});
       lim->AddParameterBlock(n);
       lim->SetNumResiduals(ik_options.joint_prior_m_per_rad.empty() ? n : 2 * n);
-      problem.AddResidualBlock(lim, nullptr, pk + 7);
+      problem.AddResidualBlock(lim, nullptr, pk + dynamics::kRootNq);
     }
     for (int m = 0; m < M; ++m) {
       if (std::isnan(frames[k](0, m))) continue;
@@ -231,7 +231,7 @@ ScalingResult ScaleModel(const dynamics::Model<double>& model,
       cost->SetNumResiduals(3);
       problem.AddResidualBlock(cost,
                                new ceres::HuberLoss(ik_options.robust_scale_m),
-                               {pk, pk + 3, pk + 7, scales.data(), delta[size_t(m)].data()});
+                               {pk, pk + 3, pk + dynamics::kRootNq, scales.data(), delta[size_t(m)].data()});
     }
   }
   {

@@ -112,7 +112,7 @@ TEST(SkillReport, WritesEveryOutput) {
   EXPECT_EQ(c3d.point_rate_hz, 100.0);
   EXPECT_NEAR(c3d.duration_s(), d.flight_time_s() + 0.01, 0.011);  // frames at 0, 10 ms, …, and T
   const capture::Storage mot = capture::ReadStorage(dir / "motion.mot");
-  const int knee = mot.FindColumn("r_shank:y");
+  const int knee = mot.FindColumn("r_knee_flexion");
   ASSERT_GE(knee, 0);
   // Landing: knee 10° (the back tuck's last keyframe); single precision of the text: 1e-4.
   EXPECT_NEAR(mot.data(mot.data.rows() - 1, knee), 10.0, 1e-4);

@@ -9,6 +9,7 @@
 #include "acro/base/input_error.h"
 #include "acro/base/text_format.h"
 #include "acro/base/file_io.h"
+#include "acro/dynamics/configuration.h"
 
 namespace acro::ui {
 namespace {
@@ -198,7 +199,7 @@ std::vector<ReportFigure> MakeAnalysisFigures(const analysis::TrialAnalysis& a,
     Chart c = TimeChart(a, "Joint torque: " + options.joint, "N·m");
     c.series.push_back(Series(options.joint + " torque",
                               t,
-                              ToVector(f.joint_torque_Nm.row(row - 7).transpose()),
+                              ToVector(f.joint_torque_Nm.row(row - dynamics::kRootNq).transpose()),
                               kOrange));
     out.push_back({"joint_torque.png",
                    "Net torque about the " + options.joint + " axis from inverse dynamics.",

@@ -7,6 +7,8 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "acro/athlete/motion.h"
+#include "acro/athlete/orientation.h"
 #include "acro/report/chart.h"
 #include "acro/base/text_format.h"
 #include "acro/capture/c3d.h"
@@ -34,13 +36,10 @@ std::vector<double> SampleTimes(double T, double rate_hz) {
   return t;
 }
 
-// Somersault, tilt, twist of R = R_y(s) R_x(t) R_z(w): z_B = (cos t sin s, −sin t, cos t cos s),
-// row y of R = (cos t sin w, cos t cos w, −sin t).
+// Somersault, tilt and twist of an orientation (acro/athlete/orientation.h).
 Eigen::Vector3d SomersaultTiltTwist(const Eigen::Quaterniond& q) {
-  const Eigen::Matrix3d R = q.toRotationMatrix();
-  return Eigen::Vector3d(std::atan2(R(0, 2), R(2, 2)),
-                         std::asin(std::clamp(-R(1, 2), -1.0, 1.0)),
-                         std::atan2(R(1, 0), R(1, 1)));
+  const analysis::SomersaultTiltTwist a = CalcSomersaultTiltTwist(q.toRotationMatrix());
+  return Eigen::Vector3d(a.somersault_rad, a.tilt_rad, a.twist_rad);
 }
 
 std::string Html(const std::string& s) {
@@ -150,25 +149,24 @@ capture::Storage MakeSkillMotionTable(const SkillDesign& design,
   s.name = design.skill().name;
   s.in_degrees = true;
   s.labels = {"pelvis_tx", "pelvis_ty", "pelvis_tz", "somersault", "tilt", "twist"};
-  for (const std::string& n : StandardJointDofNames()) s.labels.push_back(n);
+  // Joint angles by the names of every other output file (MakeCoordinateNames: r_knee_flexion, …).
+  const std::vector<std::string> names = MakeCoordinateNames(design.model());
+  s.labels.insert(s.labels.end(), names.begin() + dynamics::kRootNq, names.end());
   s.time_s =
       Eigen::Map<const Eigen::VectorXd>(times.data(), static_cast<Eigen::Index>(times.size()));
   s.data.resize(static_cast<Eigen::Index>(times.size()),
                 static_cast<Eigen::Index>(s.labels.size()));
-  Eigen::Vector3d prev = Eigen::Vector3d::Zero(), unwrapped = Eigen::Vector3d::Zero();
+  Eigen::Vector3d unwrapped = Eigen::Vector3d::Zero();
   for (size_t k = 0; k < times.size(); ++k) {
     const SkillMotionState st = CalcSkillMotion(design, trajectory, times[k]);
-    const Eigen::Vector3d a =
-        SomersaultTiltTwist(Eigen::Quaterniond(st.q[3], st.q[4], st.q[5], st.q[6]));
+    const Eigen::Vector3d a = SomersaultTiltTwist(dynamics::GetRootQuaternion(st.q));
     // Unwrap somersault and twist so that several turns read as such.
-    for (int c = 0; c < 3; ++c)
-      unwrapped[c] =
-          k == 0 ? a[c] : unwrapped[c] + std::remainder(a[c] - prev[c], 2.0 * std::numbers::pi);
-    prev = a;
+    for (int c = 0; c < 3; ++c) unwrapped[c] = k == 0 ? a[c] : UnwrapAngle(unwrapped[c], a[c]);
     const Eigen::Index row = static_cast<Eigen::Index>(k);
     s.data.block<1, 3>(row, 0) = st.q.head<3>().transpose();
     s.data.block<1, 3>(row, 3) = unwrapped.transpose() * kRadToDeg;
-    s.data.row(row).tail(st.q.size() - 7) = st.q.tail(st.q.size() - 7).transpose() * kRadToDeg;
+    const int joints = static_cast<int>(st.q.size()) - dynamics::kRootNq;
+    s.data.row(row).tail(joints) = st.q.tail(joints).transpose() * kRadToDeg;
   }
   return s;
 }

@@ -15,6 +15,11 @@
 
 namespace acro::dynamics {
 
+/// The root's share of q (position 3, quaternion 4) and of v (linear 3, angular 3): joint angle k
+/// is q[kRootNq + k], its rate v[kRootNv + k].
+inline constexpr int kRootNq = 7;
+inline constexpr int kRootNv = 6;
+
 /// Quaternion of the root, R_WB, from q (q stores w, x, y, z; Eigen stores x, y, z, w).
 template <typename Derived>
 Eigen::Quaternion<typename Derived::Scalar> GetRootQuaternion(const Eigen::MatrixBase<Derived>& q) {
@@ -138,14 +143,11 @@ void IntegrateConfiguration(const Model<T>& model,
                             const T& dt,
                             VectorXRef<T> q_out) {
   ACRO_DEMAND(q.size() == model.nq() && v.size() == model.nv() && q_out.size() == model.nq());
-  const Eigen::Quaternion<T> q_WB(q[3], q[4], q[5], q[6]);
+  const Eigen::Quaternion<T> q_WB = GetRootQuaternion(q);
   const Vector3<T> phi = v.template segment<3>(3) * dt;
   const Eigen::Quaternion<T> q_new = q_WB * QuaternionExp<T>(phi);
   q_out.template head<3>() = q.template head<3>() + v.template head<3>() * dt;
-  q_out[3] = q_new.w();
-  q_out[4] = q_new.x();
-  q_out[5] = q_new.y();
-  q_out[6] = q_new.z();
+  SetRootQuaternion<T>(q_new, q_out);
   const int n = model.num_joint_dofs();
   q_out.tail(n) = q.tail(n) + v.tail(n) * dt;
 }

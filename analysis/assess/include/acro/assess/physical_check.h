@@ -15,7 +15,7 @@
 
 #include "acro/reconstruct/markerset.h"
 #include "acro/athlete/motion.h"
-#include "acro/assess/phases.h"
+#include "acro/reconstruct/phases.h"
 #include "acro/dynamics/model.h"
 
 namespace acro::analysis {

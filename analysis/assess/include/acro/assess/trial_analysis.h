@@ -18,7 +18,7 @@
 #include "acro/athlete/athlete_body.h"
 #include "acro/assess/fig_skill.h"
 #include "acro/assess/jump_rotation.h"
-#include "acro/assess/phases.h"
+#include "acro/reconstruct/phases.h"
 #include "acro/assess/physical_check.h"
 #include "acro/reconstruct/reconstruction.h"
 #include "acro/capture/storage.h"

@@ -18,7 +18,7 @@
 #include <cmath>
 #include <vector>
 
-#include "acro/design/keyframe_spline.h"
+#include "acro/base/cubic_spline.h"
 #include "acro/dynamics/configuration.h"
 
 namespace acro::analysis {

@@ -56,9 +56,6 @@ int StandardJointDofCount();
 /// sequence), or −1 when the segment has no such axis.
 int StandardJointDofIndex(std::string_view segment, int axis);
 
-/// "r_thigh:y", … for every joint angle in model order.
-std::vector<std::string> StandardJointDofNames();
-
 /// R_WB of a keyframe: R_y(somersault) R_x(tilt) R_z(twist).
 Eigen::Quaterniond KeyframeOrientation(const SkillKeyframe& keyframe);
 

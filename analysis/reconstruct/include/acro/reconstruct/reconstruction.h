@@ -119,11 +119,13 @@ ReconstructionResult Reconstruct(const capture::Trial& trial,
                                  const AthleteBody& body,
                                  const ReconstructionOptions& options = {});
 
-/// Flight phases: runs of frames in which no marker is within `clearance_m` of the lowest level
-/// (the 2nd percentile of the per-frame lowest marker height), at least `min_duration_s` long.
+/// Complete flights (first and last frame in the air) of a marker trial: the phase detector's feet
+/// route (phases.h) on the lowest marker of each frame against its resting level (the 2nd
+/// percentile of that height), in the air when more than `clearance_m` above it for at least
+/// `min_duration_s`. For the per-flight fit summary, before any model exists.
 std::vector<std::pair<int, int>> FindFlights(const Eigen::Matrix3Xd& positions,
                                              int num_markers,
-                                             double rate_hz,
+                                             const Eigen::VectorXd& time_s,
                                              double clearance_m = 0.25,
                                              double min_duration_s = 0.3);
 

@@ -1,4 +1,4 @@
-#include "acro/assess/phases.h"
+#include "acro/reconstruct/phases.h"
 
 #include <algorithm>
 #include <cmath>
@@ -280,7 +280,7 @@ PhaseSegmentation FlightsBelowThreshold(const Eigen::VectorXd& time_s,
     if (com_time_s.size() > 0) {
       flight.takeoff_frame = FirstFrameAtOrAfter(com_time_s, flight.takeoff_s);
       flight.landing_frame = FirstFrameAtOrAfter(com_time_s, flight.landing_s);
-      FitFlightParabola(com_time_s, com_z_m, &flight);
+      if (com_z_m.size() > 0) FitFlightParabola(com_time_s, com_z_m, &flight);
     }
     result.flights.push_back(flight);
   }
@@ -317,7 +317,8 @@ PhaseSegmentation DetectFlightsFromFeet(const Eigen::VectorXd& time_s,
                                         const PhaseOptions& options) {
   std::string why;
   ACRO_DEMAND(options.IsValid(&why));
-  ACRO_DEMAND(time_s.size() == feet_z_m.size() && com_z_m.size() == feet_z_m.size());
+  ACRO_DEMAND(time_s.size() == feet_z_m.size() &&
+              (com_z_m.size() == feet_z_m.size() || com_z_m.size() == 0));
   // In the air while the lowest sole is above the surface: the signal −z is at most −surface.
   PhaseSegmentation result = FlightsBelowThreshold(time_s,
                                                    -feet_z_m,

@@ -7,7 +7,7 @@
 #include <gtest/gtest.h>
 
 #include "acro/athlete/de_leva.h"
-#include "acro/assess/phases.h"
+#include "acro/reconstruct/phases.h"
 #include "acro/reconstruct/reconstruction.h"
 #include "acro/capture/trc.h"
 #include "acro/dynamics/kinematics.h"

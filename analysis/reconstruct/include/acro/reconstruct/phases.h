@@ -1,7 +1,8 @@
 #pragma once
 
-// Contact and flight phases of a trampoline (or floor) trial, from the whole-body centre of mass
-// or from force plates. One flight = one skill; flights cut by the start or end of the recording
+// Contact and flight phases of a trampoline (or floor) trial, from the whole-body centre of mass,
+// the soles or force plates: the one flight detector of every stage (reconstruction's per-flight
+// fit summary too). One flight = one skill; flights cut by the start or end of the recording
 // are flagged partial and not scored.
 
 #include <string>
@@ -76,6 +77,7 @@ PhaseSegmentation DetectFlightsFromForce(const Eigen::VectorXd& time_s,
 /// trampoline bed, the floor): take-off and landing where the soles cross it (interpolated), the
 /// parabola fields from `com_z_m` (same frames). A trampoline bed without mass lets go of the feet
 /// when it is back at its rest level, so this is the instant of leaving and touching the bed.
+/// With `com_z_m` empty the flights have their events and frames but no parabola.
 PhaseSegmentation DetectFlightsFromFeet(const Eigen::VectorXd& time_s,
                                         const Eigen::VectorXd& feet_z_m,
                                         double surface_z_m,

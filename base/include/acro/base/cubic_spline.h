@@ -1,6 +1,7 @@
 #pragma once
 
-// Natural C² cubic splines through keyframes (t_i, y_i), templated on the scalar so that the
+// Natural C² cubic splines through knots (t_i, y_i): the keyframes of a skill, the samples around
+// a marker gap; , templated on the scalar so that the
 // same code runs in double and in ceres::Jet (derivatives with respect to the knot times t_i and
 // the values y_i). Every channel of a skill (a joint angle, a cumulative basis function of the
 // quaternion spline) shares the knots, so the tridiagonal system is factorised once per set of
@@ -22,7 +23,7 @@
 
 #include "acro/base/demand.h"
 
-namespace acro::analysis {
+namespace acro {
 
 /// The value part of a scalar: itself for arithmetic types, `.a` for a ceres::Jet.
 template <typename T>
@@ -177,4 +178,4 @@ class CubicSpline {
   std::vector<T> M_;
 };
 
-}  // namespace acro::analysis
+}  // namespace acro

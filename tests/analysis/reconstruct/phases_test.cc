@@ -1,6 +1,6 @@
 // Flight detection against an independent simulation of a body bouncing on a sprung, damped bed
 // (true events known to 1e-5 s) and against the recorded events of a real jump with force plates.
-#include "acro/assess/phases.h"
+#include "acro/reconstruct/phases.h"
 
 #include <cmath>
 #include <random>
