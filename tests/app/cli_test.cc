@@ -115,12 +115,12 @@ TEST(Cli, EveryBrokenReferenceFileFailsCleanlyOrLoads) {
                           "c3dio-c3d_org_samples/sample_18/bad_parameter_section.c3d"}) {
     const auto path = acro::testing::RefdataFile(rel);
     const ProcessResult run = Execute(std::string(ACROLAB_EXE) + " info " + Quote(path));
-    EXPECT_TRUE(run.status == 0 || run.status == 1)
-        << rel << ": status " << run.status << " " << run.err;
-    if (run.status == 1) {
-      EXPECT_NE(run.err.find(path.filename().string()), std::string::npos) << run.err;
-      EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
-    }
+    // Each is refused (tests/capture: empty, truncated, a broken parameter section): status 1,
+    // nothing on stdout, one line on stderr naming the file.
+    EXPECT_EQ(run.status, 1) << rel << ": status " << run.status << " " << run.err;
+    EXPECT_TRUE(run.out.empty()) << rel << ": " << run.out;
+    EXPECT_NE(run.err.find(path.filename().string()), std::string::npos) << run.err;
+    EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
   }
 }
 

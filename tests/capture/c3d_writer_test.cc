@@ -308,8 +308,6 @@ TEST(C3dWriter, MoreThan65535Frames) {
     const Trial back = ReadC3dFromMemory(bytes, "long.c3d");
     EXPECT_EQ(back.num_frames, 70000);
     EXPECT_EQ(back.first_frame, first);
-    EXPECT_EQ(back.position(69999, 0)(0),
-              t.position(69999, 0)(0) == 0 ? 0 : back.position(69999, 0)(0));
     EXPECT_NEAR(back.position(69999, 0)(0), 0.069999, 1e-9);
     const Parameter* frames = back.parameters.Find("POINT", "FRAMES");
     ASSERT_NE(frames, nullptr);

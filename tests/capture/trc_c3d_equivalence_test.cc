@@ -28,10 +28,8 @@ TEST(TrcC3dEquivalence, BtkGaitPairAgreesWhereItsDataAgree) {
   // both importers agree on visibility.
   for (int p = 0; p < 33; ++p) {
     for (int f = 0; f < 49; ++f) {
-      ASSERT_EQ(c3d.valid(f, p), trc.valid(f, p)) << trc.points[p].label << " frame " << f;
-      if (c3d.valid(f, p)) {
-        EXPECT_LT((c3d.position(f, p) - trc.position(f, p)).cwiseAbs().maxCoeff(), 1e-4 * 1e-3);
-      }
+      EXPECT_FALSE(c3d.valid(f, p)) << trc.points[p].label << " frame " << f;
+      EXPECT_FALSE(trc.valid(f, p)) << trc.points[p].label << " frame " << f;
     }
   }
   // Beyond frame 49 the two files hold different reconstructions of the same walk: the C3D has data

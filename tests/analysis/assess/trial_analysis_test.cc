@@ -443,7 +443,12 @@ TEST(TrialAnalysis, S2mLabRoutineHasItsFiveFlightsWithinTwoFrames) {
     EXPECT_NEAR(j.flight.takeoff_s * rate, windows[k][0], 2.0);
     EXPECT_NEAR(j.flight.landing_s * rate, windows[k][1], 2.0);
     EXPECT_GE(j.rotation.skill.quarter_somersaults, 4);
-    EXPECT_FALSE(j.fig_code.empty());
+    // The code reads back as the skill it was made from, with one twist digit per somersault.
+    const FigSkill parsed = ParseFigCode(j.fig_code);
+    EXPECT_EQ(parsed.quarter_somersaults, j.rotation.skill.quarter_somersaults);
+    EXPECT_EQ(parsed.half_twists.size(),
+              static_cast<size_t>(FigSkill::SomersaultSlots(parsed.quarter_somersaults)));
+    EXPECT_EQ(parsed.half_twists, j.rotation.skill.half_twists);
     RecordProperty("flight" + std::to_string(k + 1),
                    j.fig_code + " ToF " + std::to_string(j.time_of_flight_s()));
   }

@@ -2,6 +2,8 @@
 
 #include <numbers>
 
+#include <Eigen/Geometry>
+
 #include <gtest/gtest.h>
 
 #include "acro/athlete/de_leva.h"
@@ -88,16 +90,20 @@ TEST(AthleteBody, TuckPikeStraightOrderTheSomersaultInertia) {
   EXPECT_LT(inertia[0] / inertia[2], 4.5);
 }
 
-TEST(AthleteBody, RigidPosingKeepsMassAndTraceInvariants) {
+TEST(AthleteBody, SomersaultTiltTwistTurnTheWholeBodyRigidly) {
   const AthleteBody rest = MakeDeLevaBody(1.80, 75, Sex::kMale);
   BodyPose pose;
   pose.angles_rad = {{"somersault", 1.0}, {"twist", 0.4}, {"tilt", -0.2}};
   const AthleteBody turned = PoseAthleteBody(rest, pose);
-  // A whole-body rotation leaves the principal moments unchanged (trace and mass as proxies).
-  EXPECT_NEAR(turned.total.mass_kg, rest.total.mass_kg, 16 * kEps * rest.total.mass_kg);
-  EXPECT_NEAR(turned.total.I_Cm_H.trace(),
-              rest.total.I_Cm_H.trace(),
-              1e3 * kEps * rest.total.I_Cm_H.trace());
+  // The body turns about H's origin by R = R_y(somersault) R_x(tilt) R_z(twist), built here with
+  // Eigen's angle-axis: COM' = R COM and I' = R I Rᵀ.
+  const Eigen::Matrix3d R = (Eigen::AngleAxisd(1.0, Eigen::Vector3d::UnitY()) *
+                             Eigen::AngleAxisd(-0.2, Eigen::Vector3d::UnitX()) *
+                             Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitZ()))
+                                .toRotationMatrix();
+  EXPECT_LT((turned.total.p_HoCm_H - R * rest.total.p_HoCm_H).norm(), 1e3 * kEps);
+  EXPECT_LT((turned.total.I_Cm_H - R * rest.total.I_Cm_H * R.transpose()).norm(),
+            1e3 * kEps * rest.total.I_Cm_H.norm());
   EXPECT_THROW(PoseAthleteBody(rest, BodyPose{{{"wrist_flexion", 0.1}}}), InputError);
   EXPECT_THROW(PoseAthleteBody(rest, BodyPose{{{"l_somersault", 0.1}}}), InputError);
   EXPECT_TRUE(IsBodyPoseAngle("r_knee_flexion"));
