@@ -53,6 +53,8 @@ if(ACRO_BUILD_TESTS)
   # Simbody is a test oracle only (tests/dynamics); it is optional so that a build without it still
   # runs every other test, and the oracle test reports itself as skipped.
   find_package(Simbody QUIET)
+  # pugixml reads OpenSim's .osim model in the OpenSim oracle test (tests/dynamics).
+  find_package(pugixml REQUIRED)
 endif()
 if(ACRO_BUILD_BENCHMARKS)
   find_package(benchmark REQUIRED)

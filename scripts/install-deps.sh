@@ -14,14 +14,15 @@ main_packages=(
   libyaml-cpp-dev nlohmann-json3-dev libfmt-dev libcli11-dev libcairo2-dev
 )
 # Everything else: cameras (OpenCV), video (FFmpeg's libraries), the 3D views and the window
-# (VTK, Qt, Xvfb), the tests and their oracles (GoogleTest, Simbody, the ffmpeg command), the benchmarks, the trial library.
+# (VTK, Qt, Xvfb), the tests and their oracles (GoogleTest, Simbody, pugixml for OpenSim's
+# models, the ffmpeg command), the benchmarks, the trial library.
 full_packages=(
   libopencv-dev
   libavformat-dev libavcodec-dev libswscale-dev libavutil-dev
   libvtk9-dev libvtk9-qt-dev qtbase5-dev libjsoncpp-dev
   ffmpeg
   libgtest-dev libgmock-dev libbenchmark-dev
-  libsqlite3-dev libsimbody-dev
+  libsqlite3-dev libsimbody-dev libpugixml-dev
   xvfb xauth
 )
 
