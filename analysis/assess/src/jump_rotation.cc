@@ -7,6 +7,7 @@
 
 #include "acro/athlete/orientation.h"
 #include "acro/base/demand.h"
+#include "acro/base/input_error.h"
 
 namespace acro::analysis {
 namespace {
@@ -99,8 +100,7 @@ JumpRotation CountJumpRotation(const std::vector<Eigen::Quaterniond>& q_WB,
                                const Eigen::VectorXd& hip_flexion_rad,
                                const Eigen::VectorXd& knee_flexion_rad,
                                const JumpRotationOptions& options) {
-  std::string why;
-  ACRO_DEMAND(options.IsValid(&why));
+  DemandValidOptions(options, "rotation options");
   ACRO_DEMAND(takeoff_frame >= 0 && landing_frame > takeoff_frame &&
               landing_frame < static_cast<int>(q_WB.size()));
   JumpRotation out;

@@ -218,7 +218,7 @@ void SetSkinWeights(BodyMesh* mesh,
 
 void RequireValid(const BodyMeshOptions& options) {
   std::string why;
-  if (!options.IsValid(&why)) throw std::invalid_argument("BodyMeshOptions: " + why);
+  if (!options.IsValid(&why)) throw InputError("", "body mesh options", why);
 }
 
 }  // namespace

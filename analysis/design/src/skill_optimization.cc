@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "acro/base/demand.h"
+#include "acro/base/input_error.h"
 #include "timing_optimization.h"
 #include "trajectory_optimization.h"
 
@@ -93,8 +94,7 @@ std::string SkillOptimizationSummary::BriefReport() const {
 
 SkillOptimizationResult OptimizeSkill(const SkillDesign& design,
                                       const SkillOptimizationOptions& options) {
-  std::string why;
-  ACRO_DEMAND(options.IsValid(&why));
+  DemandValidOptions(options, "skill optimisation options");
   SkillOptimizationResult result;
   result.model = options.model;
   result.times_initial_s = design.InitialTimes();

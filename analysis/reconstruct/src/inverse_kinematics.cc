@@ -12,6 +12,7 @@
 
 #include "acro/athlete/standard_human.h"
 #include "acro/base/demand.h"
+#include "acro/base/input_error.h"
 #include "acro/dynamics/kinematics.h"
 
 namespace acro::analysis {
@@ -277,8 +278,7 @@ struct InverseKinematics::Impl {
         quat(1, 0, 0, 0),
         joints(Eigen::VectorXd::Zero(model.num_joint_dofs())) {
     ACRO_DEMAND(static_cast<int>(limits.size()) == model.num_joint_dofs());
-    std::string why;
-    ACRO_DEMAND(options.IsValid(&why));
+    DemandValidOptions(options, "inverse kinematics options");
     targets.setZero();
     ceres::Problem::Options po;
     po.manifold_ownership = ceres::TAKE_OWNERSHIP;

@@ -7,6 +7,7 @@
 #include <Eigen/Dense>
 
 #include "acro/base/demand.h"
+#include "acro/base/input_error.h"
 
 namespace acro::analysis {
 namespace {
@@ -168,8 +169,7 @@ Eigen::VectorXd SavitzkyGolaySecondDerivative(const Eigen::VectorXd& values,
 PhaseSegmentation DetectFlightsFromCom(const Eigen::VectorXd& time_s,
                                        const Eigen::VectorXd& com_z_m,
                                        const PhaseOptions& options) {
-  std::string why;
-  ACRO_DEMAND(options.IsValid(&why));
+  DemandValidOptions(options, "phase options");
   ACRO_DEMAND(time_s.size() == com_z_m.size());
   PhaseSegmentation result;
   result.method = "com";
@@ -294,8 +294,7 @@ PhaseSegmentation DetectFlightsFromForce(const Eigen::VectorXd& time_s,
                                          const Eigen::VectorXd& com_time_s,
                                          const Eigen::VectorXd& com_z_m,
                                          const PhaseOptions& options) {
-  std::string why;
-  ACRO_DEMAND(options.IsValid(&why));
+  DemandValidOptions(options, "phase options");
   ACRO_DEMAND(time_s.size() == force_z_N.size());
   const int n = static_cast<int>(time_s.size());
   if (n < 4) return PhaseSegmentation{{}, "force plates"};
@@ -315,8 +314,7 @@ PhaseSegmentation DetectFlightsFromFeet(const Eigen::VectorXd& time_s,
                                         double surface_z_m,
                                         const Eigen::VectorXd& com_z_m,
                                         const PhaseOptions& options) {
-  std::string why;
-  ACRO_DEMAND(options.IsValid(&why));
+  DemandValidOptions(options, "phase options");
   ACRO_DEMAND(time_s.size() == feet_z_m.size() &&
               (com_z_m.size() == feet_z_m.size() || com_z_m.size() == 0));
   // In the air while the lowest sole is above the surface: the signal −z is at most −surface.

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "acro/base/demand.h"
+#include "acro/base/input_error.h"
 #include "acro/dynamics/configuration.h"
 #include "acro/dynamics/model_builder.h"
 
@@ -158,8 +159,7 @@ ScalingResult ScaleModel(const dynamics::Model<double>& model,
                          const ScalingOptions& options,
                          const std::vector<Eigen::VectorXd>* initial_q,
                          const InverseKinematicsOptions& ik_options) {
-  std::string why;
-  ACRO_DEMAND(options.IsValid(&why));
+  DemandValidOptions(options, "scaling options");
   ACRO_DEMAND(!frames.empty());
   const int n = model.num_joint_dofs();
   const int M = static_cast<int>(markers.size());

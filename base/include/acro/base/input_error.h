@@ -27,6 +27,14 @@ class InputError : public std::runtime_error {
   }
 };
 
+/// Throws InputError "<what>: <reason>" when `options.IsValid(&reason)` is false, so that an
+/// Options struct's reason reaches the user as one line (never a logic_error that drops it).
+template <typename Options>
+void DemandValidOptions(const Options& options, const std::string& what) {
+  std::string why;
+  if (!options.IsValid(&why)) throw InputError("", what, why);
+}
+
 /// "byte 1234" for error locations.
 inline std::string AtByte(long long offset) {
   return "byte " + std::to_string(offset);
