@@ -817,14 +817,14 @@ double Round9(double x) {
   return std::round(x * 1e9) / 1e9;
 }
 
-}  // namespace
+// ---------------------------------------------------------------------------------------------
+// MakeSampleRoutine's steps.
 
-SampleRoutine MakeSampleRoutine(const std::filesystem::path& athlete_path,
-                                const std::string& athlete_label,
-                                const SampleRoutineOptions& options) {
-  const analysis::AthleteProfile profile = analysis::ReadAthleteProfile(athlete_path);
-  const analysis::AthleteBody body = analysis::MakeAthleteBody(profile);
-  Context ctx;
+// The context: the athlete's standard human, the bed, and the integration grid (substeps per
+// frame).
+void SetUpContext(const analysis::AthleteBody& body,
+                  const SampleRoutineOptions& options,
+                  Context& ctx) {
   ctx.model = analysis::MakeStandardHumanModel(body);
   ctx.ws = std::make_unique<Workspace>(ctx.model);
   ctx.mass = ctx.model.total_mass();
@@ -834,198 +834,241 @@ SampleRoutine MakeSampleRoutine(const std::filesystem::path& athlete_path,
   ctx.z_rest = options.bed_centre_m.z();
   ctx.substeps = options.substeps_per_frame;
   ctx.h_grid = 1.0 / (options.point_rate_hz * ctx.substeps);
+}
+
+// Sole centres from the reference pose: halfway from the toe tip to the point below the ankle.
+void FindSoleCentres(Context& ctx) {
   const Model& model = ctx.model;
-  const int nj = model.num_joint_dofs();
-
-  // Sole centres from the reference pose: halfway from the toe tip to the point below the ankle.
-  {
-    const VectorXd q = dynamics::MakeNeutralConfiguration(model);
-    ctx.Fk(q);
-    const char* sides[2] = {"r_", "l_"};
-    for (int s = 0; s < 2; ++s) {
-      const std::string side = sides[s];
-      ctx.foot[s] = model.FindSegment(side + "foot");
-      const Vector3d toe =
-          dynamics::CalcPointPosition(model, *ctx.ws, model.FindPoint(side + "toe"));
-      const Vector3d ankle =
-          dynamics::CalcPointPosition(model, *ctx.ws, model.FindPoint(side + "ankle_jc"));
-      const Vector3d sole = 0.5 * (toe + Vector3d(ankle.x(), ankle.y(), toe.z()));
-      const auto& X = ctx.ws->X_WB[size_t(ctx.foot[s])];
-      ctx.p_FoSole_F[s] = X.rotation().transpose() * (sole - X.translation());
-    }
+  const VectorXd q = dynamics::MakeNeutralConfiguration(model);
+  ctx.Fk(q);
+  const char* sides[2] = {"r_", "l_"};
+  for (int s = 0; s < 2; ++s) {
+    const std::string side = sides[s];
+    ctx.foot[s] = model.FindSegment(side + "foot");
+    const Vector3d toe = dynamics::CalcPointPosition(model, *ctx.ws, model.FindPoint(side + "toe"));
+    const Vector3d ankle =
+        dynamics::CalcPointPosition(model, *ctx.ws, model.FindPoint(side + "ankle_jc"));
+    const Vector3d sole = 0.5 * (toe + Vector3d(ankle.x(), ankle.y(), toe.z()));
+    const auto& X = ctx.ws->X_WB[size_t(ctx.foot[s])];
+    ctx.p_FoSole_F[s] = X.rotation().transpose() * (sole - X.translation());
   }
+}
 
-  SampleRoutine out;
-  out.options = options;
-  out.model = ctx.model;
-  out.athlete_file = athlete_label;
-  out.mass_kg = ctx.mass;
-  out.gravity_m_per_s2 = ctx.g;
-  const Vector2d centre = options.bed_centre_m.head<2>();
-
-  // 1. Shoot every skill in its own heading (take-off at t = 0, COM above the origin).
-  std::vector<SkillPlan> plans = MakePlans(ctx.poses);
+// The routine's skills, each shot in its own heading (take-off at t = 0, COM above the origin);
+// every skill turns the heading by its half twists.
+struct Skills {
+  std::vector<SkillPlan> plans;
   std::vector<double> headings;
   std::vector<Shot> shots;
+  double final_heading = 0;
+};
+
+Skills ShootSkills(Context& ctx) {
+  Skills skills;
+  skills.plans = MakePlans(ctx.poses);
   double heading = 0;
-  for (const SkillPlan& plan : plans) {
-    headings.push_back(heading);
-    shots.push_back(ShootSkill(ctx, plan, heading));
+  for (const SkillPlan& plan : skills.plans) {
+    skills.headings.push_back(heading);
+    skills.shots.push_back(ShootSkill(ctx, plan, heading));
     heading += plan.twist_halves * kPi;
   }
-  const double final_heading = heading;
+  skills.final_heading = heading;
+  return skills;
+}
 
-  // Horizontal COM offset from the feet in a configuration.
-  auto com_minus_feet = [&](const VectorXd& q) {
-    ctx.Fk(q);
-    return Vector2d((ctx.Com() - ctx.Feet()).head<2>());
-  };
-
-  // 2. Time line: the first contact (from the bottom of a bounce, standing), then per skill the
-  // flight and the contact after it.
+// The routine's time line: contacts and flights alternating, from the first contact (from the
+// bottom of a bounce, standing) to the last (to the bottom after the last landing).
+struct Timeline {
   std::vector<Phase> phases;
   std::vector<ContactPhase> contacts;
   std::vector<FlightPath> flights;
-  const Vector2d feet_xy = centre + Vector2d(-0.03, 0.02);
+};
+
+// Builds the time line: the first contact, then per skill the flight and the contact after it.
+class TimelineBuilder {
+ public:
+  TimelineBuilder(Context& ctx, const Skills& skills, const Vector2d& centre)
+      : ctx_(ctx),
+        skills_(skills),
+        centre_(centre),
+        nj_(ctx.model.num_joint_dofs()),
+        feet_xy_(centre + Vector2d(-0.03, 0.02)) {}
+
+  Timeline Build() && {
+    AddFirstContact();
+    const std::vector<SkillPlan>& plans = skills_.plans;
+    for (size_t i = 0; i < plans.size(); ++i) {
+      if (i + 1 == plans.size()) {
+        AddLastContact(i);
+        break;
+      }
+      AddContactToNextSkill(i);
+    }
+    return std::move(timeline_);
+  }
+
+ private:
+  // Horizontal COM offset from the feet in a configuration.
+  Vector2d ComMinusFeet(const VectorXd& q) {
+    ctx_.Fk(q);
+    return Vector2d((ctx_.Com() - ctx_.Feet()).head<2>());
+  }
 
   // The take-off state of skill i, its COM above `com_xy` with horizontal velocity `v_xy` and
   // vertical velocity `vz`.
-  auto takeoff_state = [&](int i,
-                           const Vector2d& com_xy,
-                           const Vector2d& v_xy,
-                           double vz,
-                           VectorXd* q,
-                           VectorXd* v,
-                           double* depth) {
-    MakeTakeoffState(ctx,
-                     plans[size_t(i)].track,
-                     shots[size_t(i)].R_TO,
+  void TakeoffState(int i,
+                    const Vector2d& com_xy,
+                    const Vector2d& v_xy,
+                    double vz,
+                    VectorXd* q,
+                    VectorXd* v,
+                    double* depth) {
+    MakeTakeoffState(ctx_,
+                     skills_.plans[size_t(i)].track,
+                     skills_.shots[size_t(i)].R_TO,
                      Vector3d(v_xy.x(), v_xy.y(), vz),
-                     shots[size_t(i)].H,
+                     skills_.shots[size_t(i)].H,
                      com_xy,
                      q,
                      v,
                      depth);
-  };
+  }
+
   // The horizontal COM coasts through a contact of duration Δ that starts at x_l with velocity
   // v_l (the bed pushes almost vertically; the feet slide with the bed as the body turns about
   // them): x_to = x_l + (v_l + v_to) Δ / 2. The take-off velocity v_to of skill i puts its feet at
   // the landing target: x_to + v_to T + (feet − COM at landing) = target, T the shot's flight time.
-  auto aim = [&](int i, const Vector2d& x_l, const Vector2d& v_l, double duration) {
-    const FlightPath& p = shots[size_t(i)].path;
+  Vector2d Aim(int i, const Vector2d& x_l, const Vector2d& v_l, double duration) {
+    const FlightPath& p = skills_.shots[size_t(i)].path;
     // In the canonical shot the COM starts above the origin and moves only vertically.
-    const Vector2d feet_rel_land = -com_minus_feet(p.q_land);
-    const Vector2d target = centre + plans[size_t(i)].landing_target_m;
+    const Vector2d feet_rel_land = -ComMinusFeet(p.q_land);
+    const Vector2d target = centre_ + skills_.plans[size_t(i)].landing_target_m;
     const double T = p.landing_rel;
     return Vector2d((target - feet_rel_land - x_l - 0.5 * duration * v_l) / (T + 0.5 * duration));
-  };
+  }
 
-  // 2a. First contact: standing at the bottom of a bounce, to the first take-off.
-  {
-    const SkillPlan& plan = plans[0];
-    const double vz = ctx.g * plan.flight_s / 2;
+  // Skill n's flight from the contact's end, its COM above com_to with horizontal velocity v_xy.
+  FlightPath FlyFromContact(int n,
+                            const ContactRun& run,
+                            const Vector2d& com_to,
+                            const Vector2d& v_xy) {
+    const SkillPlan& plan = skills_.plans[size_t(n)];
     VectorXd q_to, v_to;
     double depth;
-    takeoff_state(0, Vector2d::Zero(), Vector2d::Zero(), vz, &q_to, &v_to, &depth);
-    ctx.Fk(q_to);
-    const double z_to = ctx.Com().z();
-    const Matrix3d R_stand = Rz(headings[0]);
+    TakeoffState(n, com_to, v_xy, run.y_end[1], &q_to, &v_to, &depth);
+    ctx_.Fk(q_to);
+    q_to[2] += run.y_end[0] - ctx_.Com().z();
+    return SimulateSkillFlight(
+        ctx_, plan.track, q_to, v_to, run.t_end, plan.flight_s, Rz(skills_.headings[size_t(n)]));
+  }
+
+  // First contact: standing at the bottom of a bounce, to the first take-off; then the first
+  // flight.
+  void AddFirstContact() {
+    const SkillPlan& plan = skills_.plans[0];
+    const double vz = ctx_.g * plan.flight_s / 2;
+    VectorXd q_to, v_to;
+    double depth;
+    TakeoffState(0, Vector2d::Zero(), Vector2d::Zero(), vz, &q_to, &v_to, &depth);
+    ctx_.Fk(q_to);
+    const double z_to = ctx_.Com().z();
+    const Matrix3d R_stand = Rz(skills_.headings[0]);
     ContactPhase cp;
     Blend& b = cp.blend;
-    b.SetEnds(R_stand, Vector3d::Zero(), shots[0].R_TO, v_to.segment<3>(3));
-    b.q0 = ctx.poses.Standing();
-    b.qd0 = VectorXd::Zero(nj);
-    b.q1 = q_to.tail(nj);
-    b.qd1 = v_to.tail(nj);
-    b.squat = ctx.poses.Squat();
+    b.SetEnds(R_stand, Vector3d::Zero(), skills_.shots[0].R_TO, v_to.segment<3>(3));
+    b.q0 = ctx_.poses.Standing();
+    b.qd0 = VectorXd::Zero(nj_);
+    b.q1 = q_to.tail(nj_);
+    b.qd1 = v_to.tail(nj_);
+    b.squat = ctx_.poses.Squat();
     // The contact's duration: backward from take-off to the bottom, with the blend spanning it.
     double duration = 0.18;
     std::pair<double, Vector2d> bottom;
     for (int it = 0; it < 100; ++it) {
       b.duration = duration;
       b.t0 = -duration;
-      bottom = IntegrateToBottomBackward(ctx, b, 0.0, Vector2d(z_to, vz));
+      bottom = IntegrateToBottomBackward(ctx_, b, 0.0, Vector2d(z_to, vz));
       const double next = -bottom.first;
       const bool done = std::abs(next - duration) < 1e-13;
       duration = next;
       if (done) break;
     }
+    // The horizontal COM from standing over the feet to the take-off that aims the first skill.
     b.duration = duration;
     b.t0 = 0.0;
-    b.x0 = feet_xy + com_minus_feet(Configuration(ctx, R_stand, b.q0));
-    const Vector2d v_xy = aim(0, b.x0, Vector2d::Zero(), duration);
+    b.x0 = feet_xy_ + ComMinusFeet(Configuration(ctx_, R_stand, b.q0));
+    const Vector2d v_xy = Aim(0, b.x0, Vector2d::Zero(), duration);
     const Vector2d com_to = b.x0 + 0.5 * duration * v_xy;
     b.x1 = com_to;
     b.xd1 = v_xy;
+    // The contact forward from the bottom, and the flight from its end state.
     cp.t_start = 0.0;
     cp.y_start = Vector2d(bottom.second[0], 0.0);
-    cp.run = IntegrateContact(ctx, b, 0.0, cp.y_start, ContactEnd::kTakeoff);
-    // The flight from the contact's end state.
-    takeoff_state(0, com_to, v_xy, cp.run.y_end[1], &q_to, &v_to, &depth);
-    ctx.Fk(q_to);
-    q_to[2] += cp.run.y_end[0] - ctx.Com().z();
-    flights.push_back(SimulateSkillFlight(
-        ctx, plan.track, q_to, v_to, cp.run.t_end, plan.flight_s, Rz(headings[0])));
-    phases.push_back({false, 0, 0.0, cp.run.t_end});
-    phases.push_back({true, 0, cp.run.t_end, cp.run.t_end + flights[0].landing_rel});
-    contacts.push_back(std::move(cp));
+    cp.run = IntegrateContact(ctx_, b, 0.0, cp.y_start, ContactEnd::kTakeoff);
+    std::vector<FlightPath>& flights = timeline_.flights;
+    flights.push_back(FlyFromContact(0, cp.run, com_to, v_xy));
+    timeline_.phases.push_back({false, 0, 0.0, cp.run.t_end});
+    timeline_.phases.push_back({true, 0, cp.run.t_end, cp.run.t_end + flights[0].landing_rel});
+    timeline_.contacts.push_back(std::move(cp));
   }
 
-  // 2b. Contacts between skills, and the last contact to the bottom after the last landing.
-  for (size_t i = 0; i < plans.size(); ++i) {
-    const FlightPath& f = flights[i];
+  // The contact after flight i's landing, from its landing state: start, joints and horizontal
+  // COM (the ends toward which it blends are the caller's).
+  ContactPhase StartLandingContact(const FlightPath& f) {
     const double t_land = f.t0 + f.landing_rel;
-    ctx.Fk(f.q_land, f.v_land);
-    const Vector3d com_l = ctx.Com();
-    const Vector3d vcom_l = ctx.ComVelocity();
+    ctx_.Fk(f.q_land, f.v_land);
+    const Vector3d com_l = ctx_.Com();
+    const Vector3d vcom_l = ctx_.ComVelocity();
     ContactPhase cp;
     cp.t_start = t_land;
     cp.y_start = Vector2d(com_l.z(), vcom_l.z());
     Blend& b = cp.blend;
     b.t0 = t_land;
-    b.q0 = f.q_land.tail(nj);
-    b.qd0 = f.v_land.tail(nj);
-    b.squat = ctx.poses.Squat();
+    b.q0 = f.q_land.tail(nj_);
+    b.qd0 = f.v_land.tail(nj_);
+    b.squat = ctx_.poses.Squat();
     b.x0 = com_l.head<2>();
     b.xd0 = vcom_l.head<2>();
+    return cp;
+  }
+
+  // Last contact: to the bottom, standing up straight, arms by the sides.
+  void AddLastContact(size_t i) {
+    const FlightPath& f = timeline_.flights[i];
+    const double t_land = f.t0 + f.landing_rel;
+    ContactPhase cp = StartLandingContact(f);
+    Blend& b = cp.blend;
     const Matrix3d R_l = dynamics::GetRootQuaternion(f.q_land).normalized().toRotationMatrix();
     const Vector3d w_l = f.v_land.segment<3>(3);
-    if (i + 1 == plans.size()) {
-      // Last contact: to the bottom, standing up straight, arms by the sides.
-      b.SetEnds(R_l, w_l, Rz(final_heading), Vector3d::Zero());
-      b.q1 = ctx.poses.Standing();
-      b.qd1 = VectorXd::Zero(nj);
-      b.xd1 = Vector2d::Zero();
-      double duration = 0.18;
-      for (int it = 0; it < 100; ++it) {
-        b.duration = duration;
-        cp.run = IntegrateContact(ctx, b, t_land, cp.y_start, ContactEnd::kBottom);
-        const double next = cp.run.t_end - t_land;
-        const bool done = std::abs(next - duration) < 1e-13;
-        duration = next;
-        if (done) break;
-      }
+    b.SetEnds(R_l, w_l, Rz(skills_.final_heading), Vector3d::Zero());
+    b.q1 = ctx_.poses.Standing();
+    b.qd1 = VectorXd::Zero(nj_);
+    b.xd1 = Vector2d::Zero();
+    // The duration: the blend spans the contact to its bottom.
+    double duration = 0.18;
+    for (int it = 0; it < 100; ++it) {
       b.duration = duration;
-      b.x1 = b.x0 + 0.5 * duration * b.xd0;
-      cp.run = IntegrateContact(ctx, b, t_land, cp.y_start, ContactEnd::kBottom);
-      phases.push_back({false, int(contacts.size()), t_land, cp.run.t_end});
-      contacts.push_back(std::move(cp));
-      break;
+      cp.run = IntegrateContact(ctx_, b, t_land, cp.y_start, ContactEnd::kBottom);
+      const double next = cp.run.t_end - t_land;
+      const bool done = std::abs(next - duration) < 1e-13;
+      duration = next;
+      if (done) break;
     }
-    // To the next take-off: duration Δ and push p such that the bed lets go at t_land + Δ with the
-    // next skill's vertical velocity (Newton on both, forward-difference Jacobian).
-    const size_t n = i + 1;
-    const double vz = ctx.g * plans[n].flight_s / 2;
-    VectorXd q_to, v_to;
-    double depth;
-    takeoff_state(int(n), Vector2d::Zero(), Vector2d::Zero(), vz, &q_to, &v_to, &depth);
-    b.SetEnds(R_l, w_l, shots[n].R_TO, v_to.segment<3>(3));
-    b.q1 = q_to.tail(nj);
-    b.qd1 = v_to.tail(nj);
+    b.duration = duration;
+    b.x1 = b.x0 + 0.5 * duration * b.xd0;
+    cp.run = IntegrateContact(ctx_, b, t_land, cp.y_start, ContactEnd::kBottom);
+    timeline_.phases.push_back({false, int(timeline_.contacts.size()), t_land, cp.run.t_end});
+    timeline_.contacts.push_back(std::move(cp));
+  }
+
+  // Duration Δ and push p of the contact `b` from t_land such that the bed lets go at t_land + Δ
+  // with vertical velocity vz (Newton on both, forward-difference Jacobian, halving steps that do
+  // not reduce the residual). Leaves b's last trial values set.
+  Vector2d SolveDurationAndPush(Blend& b, double t_land, const Vector2d& y_start, double vz) {
     auto residual = [&](const Vector2d& x) {
       b.duration = x[0];
       b.push = x[1];
-      const ContactRun r = IntegrateContact(ctx, b, t_land, cp.y_start, ContactEnd::kTakeoff);
+      const ContactRun r = IntegrateContact(ctx_, b, t_land, y_start, ContactEnd::kTakeoff);
       return Vector2d(r.t_end - t_land - x[0], r.y_end[1] - vz);
     };
     Vector2d x(0.36, 0.3);
@@ -1047,31 +1090,75 @@ SampleRoutine MakeSampleRoutine(const std::filesystem::path& athlete_path,
         step *= 0.5;
       }
     }
+    return x;
+  }
+
+  // The contact after flight i to the take-off of skill i + 1, then that skill's flight.
+  void AddContactToNextSkill(size_t i) {
+    const FlightPath& f = timeline_.flights[i];
+    const double t_land = f.t0 + f.landing_rel;
+    ContactPhase cp = StartLandingContact(f);
+    Blend& b = cp.blend;
+    const Matrix3d R_l = dynamics::GetRootQuaternion(f.q_land).normalized().toRotationMatrix();
+    const Vector3d w_l = f.v_land.segment<3>(3);
+    // Toward the next skill's take-off pose.
+    const size_t n = i + 1;
+    const double vz = ctx_.g * skills_.plans[n].flight_s / 2;
+    VectorXd q_to, v_to;
+    double depth;
+    TakeoffState(int(n), Vector2d::Zero(), Vector2d::Zero(), vz, &q_to, &v_to, &depth);
+    b.SetEnds(R_l, w_l, skills_.shots[n].R_TO, v_to.segment<3>(3));
+    b.q1 = q_to.tail(nj_);
+    b.qd1 = v_to.tail(nj_);
+    // Duration and push for the next skill's vertical velocity; the horizontal COM aimed.
+    const Vector2d x = SolveDurationAndPush(b, t_land, cp.y_start, vz);
     b.duration = x[0];
     b.push = x[1];
-    const Vector2d v_xy = aim(int(n), b.x0, b.xd0, x[0]);
+    const Vector2d v_xy = Aim(int(n), b.x0, b.xd0, x[0]);
     const Vector2d com_to = b.x0 + 0.5 * x[0] * (b.xd0 + v_xy);
     b.x1 = com_to;
     b.xd1 = v_xy;
-    cp.run = IntegrateContact(ctx, b, t_land, cp.y_start, ContactEnd::kTakeoff);
-    takeoff_state(int(n), com_to, v_xy, cp.run.y_end[1], &q_to, &v_to, &depth);
-    ctx.Fk(q_to);
-    q_to[2] += cp.run.y_end[0] - ctx.Com().z();
+    // The contact, then the flight from its end state.
+    cp.run = IntegrateContact(ctx_, b, t_land, cp.y_start, ContactEnd::kTakeoff);
     const double t_to = cp.run.t_end;
-    phases.push_back({false, int(contacts.size()), t_land, t_to});
-    contacts.push_back(std::move(cp));
-    flights.push_back(SimulateSkillFlight(
-        ctx, plans[n].track, q_to, v_to, t_to, plans[n].flight_s, Rz(headings[n])));
-    phases.push_back({true, int(n), t_to, t_to + flights.back().landing_rel});
+    FlightPath next = FlyFromContact(int(n), cp.run, com_to, v_xy);
+    timeline_.phases.push_back({false, int(timeline_.contacts.size()), t_land, t_to});
+    timeline_.contacts.push_back(std::move(cp));
+    timeline_.flights.push_back(std::move(next));
+    timeline_.phases.push_back({true, int(n), t_to, t_to + timeline_.flights.back().landing_rel});
   }
 
-  // 3. Frames: noise-free q and v per frame, from the phase each frame time falls in.
-  const double rate = options.point_rate_hz;
+  Context& ctx_;
+  const Skills& skills_;
+  const Vector2d centre_;
+  const int nj_;
+  const Vector2d feet_xy_;
+  Timeline timeline_;
+};
+
+// A contact's state at time t with the COM at height and vertical rate y: the blend's
+// configuration and velocities, the root placed so that the COM follows the blend's horizontal
+// path and y.
+void ContactState(
+    Context& ctx, const ContactPhase& c, double t, const Vector2d& y, VectorXd* q, VectorXd* v) {
+  c.blend.Eval(ctx, t, q, v);
+  Vector2d xy, vxy;
+  c.blend.Horizontal(t, &xy, &vxy);
+  ctx.Fk(*q, *v);
+  const Vector3d com = ctx.Com();
+  const Vector3d vcom = ctx.ComVelocity();
+  q->head<3>() = Vector3d(xy.x(), xy.y(), y[0]) - com;
+  v->head<3>() = Vector3d(vxy.x(), vxy.y(), y[1]) - vcom;
+}
+
+// Noise-free q and v per frame, from the phase each frame time falls in: flights on the grid,
+// contacts from their stored COM heights.
+void SampleFrames(
+    Context& ctx, const Timeline& timeline, int num_frames, double rate, SampleRoutine& out) {
+  const std::vector<Phase>& phases = timeline.phases;
   const int N = ctx.substeps;
-  const double t_last = phases.back().t_end;
-  const int num_frames = static_cast<int>(std::floor(t_last * rate + 1e-9)) + 1;
-  out.q.resize(model.nq(), num_frames);
-  out.v.resize(model.nv(), num_frames);
+  out.q.resize(ctx.model.nq(), num_frames);
+  out.v.resize(ctx.model.nv(), num_frames);
   size_t ph = 0;
   for (int fr = 0; fr < num_frames; ++fr) {
     const double t = fr / rate;
@@ -1079,13 +1166,13 @@ SampleRoutine MakeSampleRoutine(const std::filesystem::path& athlete_path,
     while (ph + 1 < phases.size() && t >= phases[ph].t_end) ++ph;
     const Phase& p = phases[ph];
     if (p.flight) {
-      const FlightPath& f = flights[size_t(p.index)];
+      const FlightPath& f = timeline.flights[size_t(p.index)];
       const std::int64_t j = g - f.first_grid;
       ACRO_DEMAND(j >= 0 && j < std::int64_t(f.q.size()));
       out.q.col(fr) = f.q[size_t(j)];
       out.v.col(fr) = f.v[size_t(j)];
     } else {
-      const ContactPhase& c = contacts[size_t(p.index)];
+      const ContactPhase& c = timeline.contacts[size_t(p.index)];
       Vector2d y;
       if (fr == 0) {
         y = c.y_start;
@@ -1095,67 +1182,65 @@ SampleRoutine MakeSampleRoutine(const std::filesystem::path& athlete_path,
         y = c.run.y[size_t(it - c.run.grid.begin())];
       }
       VectorXd q, v;
-      c.blend.Eval(ctx, t, &q, &v);
-      Vector2d xy, vxy;
-      c.blend.Horizontal(t, &xy, &vxy);
-      ctx.Fk(q, v);
-      const Vector3d com = ctx.Com();
-      const Vector3d vcom = ctx.ComVelocity();
-      q.head<3>() = Vector3d(xy.x(), xy.y(), y[0]) - com;
-      v.head<3>() = Vector3d(vxy.x(), vxy.y(), y[1]) - vcom;
+      ContactState(ctx, c, t, y, &q, &v);
       out.q.col(fr) = q;
       out.v.col(fr) = v;
     }
   }
+}
 
-  // 4. C¹ continuity at every take-off and landing: the contact's state at its end (start) against
-  // the flight's first (last) state.
-  auto contact_state =
-      [&](const ContactPhase& c, double t, const Vector2d& y, VectorXd* q, VectorXd* v) {
-        c.blend.Eval(ctx, t, q, v);
-        Vector2d xy, vxy;
-        c.blend.Horizontal(t, &xy, &vxy);
-        ctx.Fk(*q, *v);
-        const Vector3d com = ctx.Com();
-        const Vector3d vcom = ctx.ComVelocity();
-        q->head<3>() = Vector3d(xy.x(), xy.y(), y[0]) - com;
-        v->head<3>() = Vector3d(vxy.x(), vxy.y(), y[1]) - vcom;
-      };
-  auto compare =
-      [&](const VectorXd& qa, const VectorXd& va, const VectorXd& qb, const VectorXd& vb) {
-        ctx.Fk(qa, va);
-        const Vector3d ca = ctx.Com(), vca = ctx.ComVelocity();
-        ctx.Fk(qb, vb);
-        const Vector3d cb = ctx.Com(), vcb = ctx.ComVelocity();
-        const Matrix3d Ra = dynamics::GetRootQuaternion(qa).normalized().toRotationMatrix();
-        const Matrix3d Rb = dynamics::GetRootQuaternion(qb).normalized().toRotationMatrix();
-        out.max_boundary_position_jump_m =
-            std::max(out.max_boundary_position_jump_m, (ca - cb).norm());
-        out.max_boundary_velocity_jump_m_per_s =
-            std::max(out.max_boundary_velocity_jump_m_per_s, (vca - vcb).norm());
-        out.max_boundary_orientation_jump_rad =
-            std::max(out.max_boundary_orientation_jump_rad, LogSO3(Ra.transpose() * Rb).norm());
-        out.max_boundary_angular_velocity_jump_rad_per_s =
-            std::max(out.max_boundary_angular_velocity_jump_rad_per_s,
-                     (va.segment<3>(3) - vb.segment<3>(3)).norm());
-        out.max_boundary_joint_jump_rad = std::max(
-            out.max_boundary_joint_jump_rad, (qa.tail(nj) - qb.tail(nj)).cwiseAbs().maxCoeff());
-        out.max_boundary_joint_rate_jump_rad_per_s =
-            std::max(out.max_boundary_joint_rate_jump_rad_per_s,
-                     (va.tail(nj) - vb.tail(nj)).cwiseAbs().maxCoeff());
-      };
-  for (size_t i = 0; i < flights.size(); ++i) {
-    const FlightPath& f = flights[i];
+// Raises out's largest boundary jumps to those between two states (COM position and velocity,
+// orientation, angular velocity, joint angles and rates).
+void CompareBoundaryStates(Context& ctx,
+                           const VectorXd& qa,
+                           const VectorXd& va,
+                           const VectorXd& qb,
+                           const VectorXd& vb,
+                           SampleRoutine& out) {
+  const int nj = ctx.model.num_joint_dofs();
+  ctx.Fk(qa, va);
+  const Vector3d ca = ctx.Com(), vca = ctx.ComVelocity();
+  ctx.Fk(qb, vb);
+  const Vector3d cb = ctx.Com(), vcb = ctx.ComVelocity();
+  const Matrix3d Ra = dynamics::GetRootQuaternion(qa).normalized().toRotationMatrix();
+  const Matrix3d Rb = dynamics::GetRootQuaternion(qb).normalized().toRotationMatrix();
+  out.max_boundary_position_jump_m = std::max(out.max_boundary_position_jump_m, (ca - cb).norm());
+  out.max_boundary_velocity_jump_m_per_s =
+      std::max(out.max_boundary_velocity_jump_m_per_s, (vca - vcb).norm());
+  out.max_boundary_orientation_jump_rad =
+      std::max(out.max_boundary_orientation_jump_rad, LogSO3(Ra.transpose() * Rb).norm());
+  out.max_boundary_angular_velocity_jump_rad_per_s =
+      std::max(out.max_boundary_angular_velocity_jump_rad_per_s,
+               (va.segment<3>(3) - vb.segment<3>(3)).norm());
+  out.max_boundary_joint_jump_rad =
+      std::max(out.max_boundary_joint_jump_rad, (qa.tail(nj) - qb.tail(nj)).cwiseAbs().maxCoeff());
+  out.max_boundary_joint_rate_jump_rad_per_s =
+      std::max(out.max_boundary_joint_rate_jump_rad_per_s,
+               (va.tail(nj) - vb.tail(nj)).cwiseAbs().maxCoeff());
+}
+
+// C¹ continuity at every take-off and landing: the contact's state at its end (start) against
+// the flight's first (last) state.
+void MeasureBoundaryJumps(Context& ctx, const Timeline& timeline, SampleRoutine& out) {
+  const std::vector<ContactPhase>& contacts = timeline.contacts;
+  for (size_t i = 0; i < timeline.flights.size(); ++i) {
+    const FlightPath& f = timeline.flights[i];
     VectorXd q, v;
-    contact_state(contacts[i], contacts[i].run.t_end, contacts[i].run.y_end, &q, &v);
-    compare(q, v, f.q0, f.v0);
-    contact_state(contacts[i + 1], contacts[i + 1].t_start, contacts[i + 1].y_start, &q, &v);
-    compare(q, v, f.q_land, f.v_land);
+    ContactState(ctx, contacts[i], contacts[i].run.t_end, contacts[i].run.y_end, &q, &v);
+    CompareBoundaryStates(ctx, q, v, f.q0, f.v0, out);
+    ContactState(ctx, contacts[i + 1], contacts[i + 1].t_start, contacts[i + 1].y_start, &q, &v);
+    CompareBoundaryStates(ctx, q, v, f.q_land, f.v_land, out);
   }
+}
 
-  // 5. Ground truth.
-  for (size_t i = 0; i < flights.size(); ++i) {
-    const FlightPath& f = flights[i];
+// Ground truth of every flight (times, take-off and landing COM, apex, momentum, rotations) and
+// every contact (times, peak force, depression).
+void RecordGroundTruth(Context& ctx,
+                       const Timeline& timeline,
+                       const std::vector<SkillPlan>& plans,
+                       SampleRoutine& out) {
+  for (size_t i = 0; i < timeline.flights.size(); ++i) {
+    const FlightPath& f = timeline.flights[i];
     const SkillPlan& plan = plans[i];
     SampleFlightTruth t;
     t.name = plan.name;
@@ -1167,7 +1252,7 @@ SampleRoutine MakeSampleRoutine(const std::filesystem::path& athlete_path,
     t.takeoff_vertical_velocity_m_per_s = ctx.ComVelocity().z();
     t.apex_com_z_m = t.takeoff_com_m.z() + t.takeoff_vertical_velocity_m_per_s *
                                                t.takeoff_vertical_velocity_m_per_s / (2 * ctx.g);
-    t.H_Scm_W = dynamics::CalcCentroidalMomentum(model, *ctx.ws).rotational();
+    t.H_Scm_W = dynamics::CalcCentroidalMomentum(ctx.model, *ctx.ws).rotational();
     ctx.Fk(f.q_land);
     t.landing_com_m = ctx.Com();
     t.landing_feet_m = ctx.Feet();
@@ -1176,7 +1261,7 @@ SampleRoutine MakeSampleRoutine(const std::filesystem::path& athlete_path,
     t.takeoff_lean_rad = f.somersault0;
     out.flights.push_back(t);
   }
-  for (const ContactPhase& c : contacts) {
+  for (const ContactPhase& c : timeline.contacts) {
     SampleContactTruth t;
     t.start_s = c.t_start;
     t.end_s = c.run.t_end;
@@ -1184,14 +1269,23 @@ SampleRoutine MakeSampleRoutine(const std::filesystem::path& athlete_path,
     t.max_depression_m = c.run.max_depth;
     out.contacts.push_back(t);
   }
+}
 
-  // 6. The trial: markers by forward kinematics, the bed's corners, noise and gaps.
+// The trial: the trampoline set's markers by forward kinematics of out.q and the bed's corners,
+// each coordinate with Gaussian noise (one stream, markers then corners, frame by frame).
+void MakeTrial(Context& ctx,
+               const analysis::AthleteProfile& profile,
+               const SampleRoutineOptions& options,
+               int num_frames,
+               SampleRoutine& out) {
+  const Model& model = ctx.model;
   const analysis::MarkerSet set = analysis::BuiltinMarkerSet("trampoline");
   const std::vector<analysis::ModelMarker> markers =
       analysis::PlaceMarkers(set, model, profile.height_m);
+  // The trial's description and points.
   capture::Trial& trial = out.trial;
   trial.source.point_units = "mm";
-  trial.point_rate_hz = rate;
+  trial.point_rate_hz = options.point_rate_hz;
   trial.first_frame = 1;
   trial.num_frames = num_frames;
   trial.subject_name = profile.name;
@@ -1208,6 +1302,7 @@ SampleRoutine MakeSampleRoutine(const std::filesystem::path& athlete_path,
     trial.points.push_back(
         {label, "corner of the woven bed at rest", capture::PointType::kMarker, "m"});
   }
+  // The positions with noise.
   const int P = trial.num_points();
   trial.positions.resize(3, std::int64_t(num_frames) * P);
   trial.residuals.setConstant(P, num_frames, 1.0f);
@@ -1227,8 +1322,13 @@ SampleRoutine MakeSampleRoutine(const std::filesystem::path& athlete_path,
       trial.position(fr, int(markers.size()) + k) = p;
     }
   }
-  // Gaps: a finger marker in the full's twist, an ASIS closed by the tuck of the back somersault,
-  // an elbow in the double, a toe on the bed.
+}
+
+// Gaps: a finger marker in the full's twist, an ASIS closed by the tuck of the back somersault,
+// an elbow in the double, a toe on the bed.
+void AddGaps(SampleRoutine& out) {
+  capture::Trial& trial = out.trial;
+  const double rate = out.options.point_rate_hz;
   auto gap = [&](const std::string& label, double t_centre, int frames) {
     const int m = trial.FindPoint(label);
     ACRO_DEMAND(m >= 0);
@@ -1246,6 +1346,49 @@ SampleRoutine MakeSampleRoutine(const std::filesystem::path& athlete_path,
   gap("LASI", during(1, 0.45), 12);
   gap("LELB", during(5, 0.55), 24);
   gap("RTOE", 0.5 * (out.contacts[3].start_s + out.contacts[3].end_s), 6);
+}
+
+}  // namespace
+
+SampleRoutine MakeSampleRoutine(const std::filesystem::path& athlete_path,
+                                const std::string& athlete_label,
+                                const SampleRoutineOptions& options) {
+  // The athlete on the bed.
+  const analysis::AthleteProfile profile = analysis::ReadAthleteProfile(athlete_path);
+  const analysis::AthleteBody body = analysis::MakeAthleteBody(profile);
+  Context ctx;
+  SetUpContext(body, options, ctx);
+  FindSoleCentres(ctx);
+
+  SampleRoutine out;
+  out.options = options;
+  out.model = ctx.model;
+  out.athlete_file = athlete_label;
+  out.mass_kg = ctx.mass;
+  out.gravity_m_per_s2 = ctx.g;
+
+  // 1. Shoot every skill in its own heading (take-off at t = 0, COM above the origin).
+  const Skills skills = ShootSkills(ctx);
+
+  // 2. Time line: the first contact (from the bottom of a bounce, standing), then per skill the
+  // flight and the contact after it.
+  const Timeline timeline = TimelineBuilder(ctx, skills, options.bed_centre_m.head<2>()).Build();
+
+  // 3. Frames: noise-free q and v per frame, from the phase each frame time falls in.
+  const double rate = options.point_rate_hz;
+  const double t_last = timeline.phases.back().t_end;
+  const int num_frames = static_cast<int>(std::floor(t_last * rate + 1e-9)) + 1;
+  SampleFrames(ctx, timeline, num_frames, rate, out);
+
+  // 4. C¹ continuity at every take-off and landing.
+  MeasureBoundaryJumps(ctx, timeline, out);
+
+  // 5. Ground truth.
+  RecordGroundTruth(ctx, timeline, skills.plans, out);
+
+  // 6. The trial: markers by forward kinematics, the bed's corners, noise and gaps.
+  MakeTrial(ctx, profile, options, num_frames, out);
+  AddGaps(out);
   return out;
 }
 

@@ -7,6 +7,9 @@
 #include <cstring>
 #include <limits>
 #include <memory>
+#include <optional>
+#include <string>
+#include <vector>
 
 #include <fcntl.h>
 #include <sys/mman.h>
@@ -48,6 +51,32 @@ struct Header {
   std::uint16_t num_events = 0;
 };
 
+// The first and the number of frames the file declares.
+struct FrameRange {
+  std::int64_t first = 0;
+  std::int64_t frames = 0;
+};
+
+// The start of one parameter record, as its first bytes and its offset describe it.
+struct ParameterRecord {
+  std::size_t pos = 0;             // its first byte
+  int name_length_signed = 0;      // negative = locked
+  int group_id = 0;                // negative for a group, the group's id for a parameter
+  std::string name;                // the group's or the parameter's
+  std::size_t offset_at = 0;       // the offset word
+  std::uint16_t offset = 0;        // from the offset word to the next record
+  bool last = false;               // offset 0
+  std::size_t next = 0;            // where the offset says the next record starts
+  bool offset_past_limit = false;  // next lies past the parameter section
+  std::size_t end = 0;             // where the record's content must end
+};
+
+// A parameter read before its group is known.
+struct PendingParameter {
+  int group_id;
+  Parameter parameter;
+};
+
 class C3dReader {
  public:
   C3dReader(std::span<const std::uint8_t> bytes,
@@ -64,8 +93,47 @@ class C3dReader {
 
   void DetectProcessor();
   void ReadHeader();
+
+  // The parameter section, record by record.
   void ReadParameters();
+  std::optional<ParameterRecord> ReadRecordStart(std::size_t pos) const;
+  void WarnBeyondDeclaredSection(const ParameterRecord& record) const;
+  std::string ReadDescription(std::size_t at,
+                              const ParameterRecord& record,
+                              const std::string& who) const;
+  std::size_t ReadGroupRecord(const ParameterRecord& record,
+                              std::vector<ParameterGroup>& groups) const;
+  std::optional<std::size_t> ReadParameterRecord(const ParameterRecord& record,
+                                                 const std::vector<ParameterGroup>& groups,
+                                                 std::vector<PendingParameter>& pending) const;
+  void DecodeParameterValues(const std::uint8_t* d, std::size_t count, Parameter& p) const;
+  std::optional<std::size_t> FollowRecordOffset(const ParameterRecord& record,
+                                                std::size_t natural_end) const;
+  void AttachParametersToGroups(std::vector<PendingParameter>& pending,
+                                std::vector<ParameterGroup>& groups) const;
+
+  // The data section: its layout, the rates, the points, then the samples.
   void ReadData();
+  std::vector<int> PointCountCandidates() const;
+  double ReadPointScale() const;
+  std::vector<int> AnalogLayoutCandidates();
+  FrameRange CountFrames() const;
+  std::size_t FindDataStart(std::int64_t frames) const;
+  std::size_t FrameBytes(int points, int channels, std::size_t word) const;
+  std::int64_t ChooseDataLayout(const std::vector<int>& point_candidates,
+                                const std::vector<int>& channel_candidates,
+                                std::size_t word,
+                                std::size_t data_start,
+                                std::int64_t frames);
+  void ReadRates();
+  double DescribePoints(bool is_float, double scale, const std::optional<std::string>& units);
+  void DecodeData(const std::uint8_t* data,
+                  bool is_float,
+                  const internal::AnalogConversion& conversion,
+                  const std::vector<double>& point_factor,
+                  double scale);
+  void MarkInvalidSamples();
+  double GuessMissingUnits();
   template <Processor P, bool kFloat>
   void Decode(const std::uint8_t* data,
               const internal::AnalogConversion& conversion,
@@ -82,6 +150,9 @@ class C3dReader {
   Header header_;
   std::size_t parameter_start_ = 0;
   std::size_t data_start_byte_ = 0;
+  // Where the parameter records must end, and where the declared parameter section ends.
+  std::size_t parameter_limit_ = 0;
+  std::size_t parameter_declared_end_ = 0;
   // Layout chosen for the data section.
   int num_points_ = 0;
   int num_channels_ = 0;
@@ -136,193 +207,257 @@ void C3dReader::ReadHeader() {
 // parameter its type (−1 char, 1 byte, 2 int16, 4 float), dimension count, dimensions, data and
 // description. A name length of 0 ends the section.
 void C3dReader::ReadParameters() {
-  struct Pending {
-    int group_id;
-    Parameter parameter;
-  };
   std::vector<ParameterGroup> groups;
-  std::vector<Pending> pending;
+  std::vector<PendingParameter> pending;
 
   // Records must end before the data section when it follows the parameters, else at the file end.
-  const std::size_t declared_end =
+  parameter_declared_end_ =
       parameter_start_ + kBlock * static_cast<std::size_t>(bytes_[parameter_start_ + 2]);
-  std::size_t limit = bytes_.size();
+  parameter_limit_ = bytes_.size();
   if (data_start_byte_ > parameter_start_ && data_start_byte_ <= bytes_.size()) {
-    limit = data_start_byte_;
-  }
-  bool warned_beyond_declared = false;
-  std::size_t pos = parameter_start_ + 4;
-  const auto u8 = [&](std::size_t at) { return bytes_[at]; };
-  while (true) {
-    if (pos + 2 > limit) {
-      warn_(AtByte(static_cast<long long>(pos)),
-            "parameter section ends without a terminating record");
-      break;
-    }
-    const int name_length_signed = static_cast<std::int8_t>(u8(pos));
-    const int group_id = static_cast<std::int8_t>(u8(pos + 1));
-    if (name_length_signed == 0 || group_id == 0) break;  // end of the parameter section
-    const std::size_t name_length = static_cast<std::size_t>(std::abs(name_length_signed));
-    const std::size_t offset_at = pos + 2 + name_length;
-    if (offset_at + 2 > limit) {
-      Fail(AtByte(static_cast<long long>(pos)),
-           "parameter record runs past the end of the parameter section (byte " +
-               std::to_string(limit) + ")");
-    }
-    const std::string name(reinterpret_cast<const char*>(bytes_.data() + pos + 2), name_length);
-    const std::uint16_t offset = LoadU16(bytes_.data() + offset_at, processor_);
-    const bool last = offset == 0;
-    std::size_t next = offset_at + offset;
-    bool offset_past_limit = !last && next > limit;
-    // Some writers store single offsets in the wrong byte order (c3d.org sample 2, SGI files):
-    // the record's own content then says where it ends (checked once it is decoded, below).
-    std::size_t record_end = last ? limit : std::min(next, limit);
-    if (!warned_beyond_declared && record_end > declared_end && !last) {
-      warned_beyond_declared = true;
-      warn_("record '" + name + "' at " + AtByte(static_cast<long long>(pos)),
-            "lies beyond the declared parameter section (" +
-                std::to_string(bytes_[parameter_start_ + 2]) + " blocks ending at byte " +
-                std::to_string(declared_end) + "); read anyway");
-    }
-    // Description: a length byte then the text, both inside the record.
-    const auto read_description = [&](std::size_t at, const std::string& who) {
-      if (at >= record_end) {
-        if (!last)
-          warn_(who,
-                "record has no description length byte (record ends at " +
-                    AtByte(static_cast<long long>(record_end)) + ")");
-        return std::string();
-      }
-      std::size_t length = u8(at);
-      if (at + 1 + length > record_end) {
-        warn_(who,
-              "description of " + std::to_string(length) + " bytes runs past the record end at " +
-                  AtByte(static_cast<long long>(record_end)) + "; cut");
-        length = record_end - at - 1;
-      }
-      return std::string(reinterpret_cast<const char*>(bytes_.data() + at + 1), length);
-    };
-    std::size_t natural_end = 0;
-    if (group_id < 0) {
-      ParameterGroup group;
-      group.id = -group_id;
-      group.name = name;
-      group.locked = name_length_signed < 0;
-      group.description = read_description(offset_at + 2, "group " + name);
-      natural_end = offset_at + 3 + group.description.size();
-      groups.push_back(std::move(group));
-    } else {
-      Parameter p;
-      p.name = name;
-      p.locked = name_length_signed < 0;
-      // Name the parameter GROUP:NAME when its group record has been seen already.
-      std::string who = "parameter " + name + " (group id " + std::to_string(group_id) + ")";
-      for (const ParameterGroup& g : groups) {
-        if (g.id == group_id) who = g.name + ":" + name;
-      }
-      if (offset_at + 4 > limit)
-        Fail(AtByte(static_cast<long long>(offset_at)), who + " is cut short");
-      const int type = static_cast<std::int8_t>(u8(offset_at + 2));
-      const std::size_t num_dims = u8(offset_at + 3);
-      if (type != -1 && type != 1 && type != 2 && type != 4) {
-        // Unknown storage: skip the record when its offset leads on, else give up.
-        if (last || next <= pos || next > limit) {
-          Fail(AtByte(static_cast<long long>(offset_at + 2)),
-               who + " has type " + std::to_string(type) + " (expected -1, 1, 2 or 4)");
-        }
-        warn_(who, "has type " + std::to_string(type) + " (expected -1, 1, 2 or 4); skipped");
-        pos = next;
-        continue;
-      }
-      p.type = static_cast<ParameterType>(type);
-      if (offset_at + 4 + num_dims > limit) {
-        Fail(AtByte(static_cast<long long>(offset_at + 3)),
-             who + " dimensions run past the parameter section");
-      }
-      p.dimensions.assign(bytes_.begin() + offset_at + 4,
-                          bytes_.begin() + offset_at + 4 + num_dims);
-      const std::size_t element_size = static_cast<std::size_t>(std::abs(type));
-      // Element count, saturating (up to 255 dimensions of up to 255 each).
-      std::size_t count = 1;
-      for (std::uint8_t d : p.dimensions)
-        count = count > (std::size_t(1) << 40) ? count : count * d;
-      const std::size_t data_at = offset_at + 4 + num_dims;
-      // Check the count against the bytes left before anything is allocated.
-      if (count > (limit - data_at) / element_size) {
-        Fail(AtByte(static_cast<long long>(data_at)),
-             who + " declares " + std::to_string(count) + " values of " +
-                 std::to_string(element_size) + " bytes, more than the " +
-                 std::to_string(limit - data_at) + " bytes left in the parameter section" +
-                 (limit == data_start_byte_ ? " before the data section at byte " +
-                                                  std::to_string(limit) + " (bad data first block)"
-                                            : ""));
-      }
-      const std::size_t data_end = data_at + count * element_size;
-      if (!last && data_end > record_end) {
-        warn_(who,
-              "data (" + std::to_string(count * element_size) +
-                  " bytes) overrun the next record at " +
-                  AtByte(static_cast<long long>(record_end)) +
-                  " given by the record offset; read as declared");
-      }
-      const std::uint8_t* d = bytes_.data() + data_at;
-      switch (p.type) {
-        case ParameterType::kChar:
-          p.chars.assign(reinterpret_cast<const char*>(d),
-                         reinterpret_cast<const char*>(d) + count);
-          break;
-        case ParameterType::kByte:
-          p.bytes.assign(d, d + count);
-          break;
-        case ParameterType::kInt16:
-          p.int16s.resize(count);
-          for (std::size_t i = 0; i < count; ++i) p.int16s[i] = LoadI16(d + 2 * i, processor_);
-          break;
-        case ParameterType::kFloat:
-          p.floats.resize(count);
-          for (std::size_t i = 0; i < count; ++i) p.floats[i] = LoadF32(d + 4 * i, processor_);
-          break;
-      }
-      p.description =
-          data_end < record_end || last ? read_description(data_end, who) : std::string();
-      if (!last && data_end >= record_end && data_end == record_end) {
-        warn_(who,
-              "record has no description length byte (record ends at " +
-                  AtByte(static_cast<long long>(record_end)) + ")");
-      }
-      natural_end = data_end + 1 + p.description.size();
-      pending.push_back({group_id, std::move(p)});
-    }
-    if (last) break;
-    if (offset_past_limit) {
-      if (natural_end > limit) {
-        Fail(
-            AtByte(static_cast<long long>(pos)),
-            "record '" + name + "' extends to byte " + std::to_string(next) +
-                ", past the end of the parameter section at byte " + std::to_string(limit) +
-                (limit == data_start_byte_ ? " where the data section starts (bad data first block)"
-                                           : ""));
-      }
-      warn_(AtByte(static_cast<long long>(offset_at)),
-            "record '" + name + "' has offset " + std::to_string(offset) +
-                " pointing past the parameter section (byte " + std::to_string(limit) +
-                "); continuing after its content at byte " + std::to_string(natural_end));
-      next = natural_end;
-    }
-    if (next <= pos) {
-      // A backward offset would loop: continue after the record's own content instead.
-      warn_(AtByte(static_cast<long long>(offset_at)),
-            "record '" + name + "' has offset " + std::to_string(offset) +
-                " pointing backwards; continuing after its content at byte " +
-                std::to_string(natural_end));
-      next = natural_end;
-      if (next <= pos) break;
-    }
-    pos = next;
+    parameter_limit_ = data_start_byte_;
   }
 
-  // Attach parameters to their groups (records may come in any order).
-  for (Pending& item : pending) {
+  // The records, one after the other, until the terminating record.
+  bool warned_beyond_declared = false;
+  std::size_t pos = parameter_start_ + 4;
+  while (true) {
+    const std::optional<ParameterRecord> record = ReadRecordStart(pos);
+    if (!record) break;
+    // A record beyond the declared section is read anyway, with one warning for the first.
+    if (!warned_beyond_declared && record->end > parameter_declared_end_ && !record->last) {
+      warned_beyond_declared = true;
+      WarnBeyondDeclaredSection(*record);
+    }
+    // Its content: a group, or a parameter (skipped when its storage type is unknown).
+    std::size_t natural_end = 0;
+    if (record->group_id < 0) {
+      natural_end = ReadGroupRecord(*record, groups);
+    } else {
+      const std::optional<std::size_t> end = ReadParameterRecord(*record, groups, pending);
+      if (!end) {
+        pos = record->next;
+        continue;
+      }
+      natural_end = *end;
+    }
+    // On to the next record.
+    const std::optional<std::size_t> next = FollowRecordOffset(*record, natural_end);
+    if (!next) break;
+    pos = *next;
+  }
+
+  AttachParametersToGroups(pending, groups);
+  trial_.parameters.mutable_groups() = std::move(groups);
+}
+
+// The start of the record at `pos`: name, group id and offset; none where the section ends (a
+// terminating record, or no room for one: warned).
+std::optional<ParameterRecord> C3dReader::ReadRecordStart(std::size_t pos) const {
+  const std::size_t limit = parameter_limit_;
+  if (pos + 2 > limit) {
+    warn_(AtByte(static_cast<long long>(pos)),
+          "parameter section ends without a terminating record");
+    return std::nullopt;
+  }
+  ParameterRecord r;
+  r.pos = pos;
+  r.name_length_signed = static_cast<std::int8_t>(bytes_[pos]);
+  r.group_id = static_cast<std::int8_t>(bytes_[pos + 1]);
+  if (r.name_length_signed == 0 || r.group_id == 0) return std::nullopt;  // end of the section
+  const std::size_t name_length = static_cast<std::size_t>(std::abs(r.name_length_signed));
+  r.offset_at = pos + 2 + name_length;
+  if (r.offset_at + 2 > limit) {
+    Fail(AtByte(static_cast<long long>(pos)),
+         "parameter record runs past the end of the parameter section (byte " +
+             std::to_string(limit) + ")");
+  }
+  r.name.assign(reinterpret_cast<const char*>(bytes_.data() + pos + 2), name_length);
+  r.offset = LoadU16(bytes_.data() + r.offset_at, processor_);
+  r.last = r.offset == 0;
+  r.next = r.offset_at + r.offset;
+  r.offset_past_limit = !r.last && r.next > limit;
+  // Some writers store single offsets in the wrong byte order (c3d.org sample 2, SGI files):
+  // the record's own content then says where it ends (checked once it is decoded).
+  r.end = r.last ? limit : std::min(r.next, limit);
+  return r;
+}
+
+void C3dReader::WarnBeyondDeclaredSection(const ParameterRecord& record) const {
+  warn_("record '" + record.name + "' at " + AtByte(static_cast<long long>(record.pos)),
+        "lies beyond the declared parameter section (" +
+            std::to_string(bytes_[parameter_start_ + 2]) + " blocks ending at byte " +
+            std::to_string(parameter_declared_end_) + "); read anyway");
+}
+
+// A description: a length byte then the text, both inside the record (cut at its end).
+std::string C3dReader::ReadDescription(std::size_t at,
+                                       const ParameterRecord& record,
+                                       const std::string& who) const {
+  if (at >= record.end) {
+    if (!record.last)
+      warn_(who,
+            "record has no description length byte (record ends at " +
+                AtByte(static_cast<long long>(record.end)) + ")");
+    return std::string();
+  }
+  std::size_t length = bytes_[at];
+  if (at + 1 + length > record.end) {
+    warn_(who,
+          "description of " + std::to_string(length) + " bytes runs past the record end at " +
+              AtByte(static_cast<long long>(record.end)) + "; cut");
+    length = record.end - at - 1;
+  }
+  return std::string(reinterpret_cast<const char*>(bytes_.data() + at + 1), length);
+}
+
+// A group record: its id, name, lock and description. Returns where its content ends.
+std::size_t C3dReader::ReadGroupRecord(const ParameterRecord& record,
+                                       std::vector<ParameterGroup>& groups) const {
+  ParameterGroup group;
+  group.id = -record.group_id;
+  group.name = record.name;
+  group.locked = record.name_length_signed < 0;
+  group.description = ReadDescription(record.offset_at + 2, record, "group " + record.name);
+  const std::size_t natural_end = record.offset_at + 3 + group.description.size();
+  groups.push_back(std::move(group));
+  return natural_end;
+}
+
+// A parameter record: type, dimensions, values and description, kept in `pending` until the
+// groups are known. Returns where its content ends; none when its storage type is unknown and
+// the record is skipped.
+std::optional<std::size_t> C3dReader::ReadParameterRecord(
+    const ParameterRecord& record,
+    const std::vector<ParameterGroup>& groups,
+    std::vector<PendingParameter>& pending) const {
+  const std::size_t limit = parameter_limit_;
+  const std::size_t offset_at = record.offset_at;
+  Parameter p;
+  p.name = record.name;
+  p.locked = record.name_length_signed < 0;
+  // Name the parameter GROUP:NAME when its group record has been seen already.
+  std::string who =
+      "parameter " + record.name + " (group id " + std::to_string(record.group_id) + ")";
+  for (const ParameterGroup& g : groups) {
+    if (g.id == record.group_id) who = g.name + ":" + record.name;
+  }
+  // Storage type and dimensions.
+  if (offset_at + 4 > limit) Fail(AtByte(static_cast<long long>(offset_at)), who + " is cut short");
+  const int type = static_cast<std::int8_t>(bytes_[offset_at + 2]);
+  const std::size_t num_dims = bytes_[offset_at + 3];
+  if (type != -1 && type != 1 && type != 2 && type != 4) {
+    // Unknown storage: skip the record when its offset leads on, else give up.
+    if (record.last || record.next <= record.pos || record.next > limit) {
+      Fail(AtByte(static_cast<long long>(offset_at + 2)),
+           who + " has type " + std::to_string(type) + " (expected -1, 1, 2 or 4)");
+    }
+    warn_(who, "has type " + std::to_string(type) + " (expected -1, 1, 2 or 4); skipped");
+    return std::nullopt;
+  }
+  p.type = static_cast<ParameterType>(type);
+  if (offset_at + 4 + num_dims > limit) {
+    Fail(AtByte(static_cast<long long>(offset_at + 3)),
+         who + " dimensions run past the parameter section");
+  }
+  p.dimensions.assign(bytes_.begin() + offset_at + 4, bytes_.begin() + offset_at + 4 + num_dims);
+  const std::size_t element_size = static_cast<std::size_t>(std::abs(type));
+  // Element count, saturating (up to 255 dimensions of up to 255 each).
+  std::size_t count = 1;
+  for (std::uint8_t d : p.dimensions) count = count > (std::size_t(1) << 40) ? count : count * d;
+  const std::size_t data_at = offset_at + 4 + num_dims;
+  // Check the count against the bytes left before anything is allocated.
+  if (count > (limit - data_at) / element_size) {
+    Fail(AtByte(static_cast<long long>(data_at)),
+         who + " declares " + std::to_string(count) + " values of " + std::to_string(element_size) +
+             " bytes, more than the " + std::to_string(limit - data_at) +
+             " bytes left in the parameter section" +
+             (limit == data_start_byte_ ? " before the data section at byte " +
+                                              std::to_string(limit) + " (bad data first block)"
+                                        : ""));
+  }
+  const std::size_t data_end = data_at + count * element_size;
+  if (!record.last && data_end > record.end) {
+    warn_(who,
+          "data (" + std::to_string(count * element_size) + " bytes) overrun the next record at " +
+              AtByte(static_cast<long long>(record.end)) +
+              " given by the record offset; read as declared");
+  }
+  // The values, then the description after them.
+  DecodeParameterValues(bytes_.data() + data_at, count, p);
+  p.description =
+      data_end < record.end || record.last ? ReadDescription(data_end, record, who) : std::string();
+  if (!record.last && data_end >= record.end && data_end == record.end) {
+    warn_(who,
+          "record has no description length byte (record ends at " +
+              AtByte(static_cast<long long>(record.end)) + ")");
+  }
+  const std::size_t natural_end = data_end + 1 + p.description.size();
+  pending.push_back({record.group_id, std::move(p)});
+  return natural_end;
+}
+
+// `count` values of p's type from `d`.
+void C3dReader::DecodeParameterValues(const std::uint8_t* d,
+                                      std::size_t count,
+                                      Parameter& p) const {
+  switch (p.type) {
+    case ParameterType::kChar:
+      p.chars.assign(reinterpret_cast<const char*>(d), reinterpret_cast<const char*>(d) + count);
+      break;
+    case ParameterType::kByte:
+      p.bytes.assign(d, d + count);
+      break;
+    case ParameterType::kInt16:
+      p.int16s.resize(count);
+      for (std::size_t i = 0; i < count; ++i) p.int16s[i] = LoadI16(d + 2 * i, processor_);
+      break;
+    case ParameterType::kFloat:
+      p.floats.resize(count);
+      for (std::size_t i = 0; i < count; ++i) p.floats[i] = LoadF32(d + 4 * i, processor_);
+      break;
+  }
+}
+
+// Where the record after this one starts: at its offset, or, where the offset points past the
+// section or backwards, after this record's content (its natural end). None after the last
+// record, or when even the content would lead backwards.
+std::optional<std::size_t> C3dReader::FollowRecordOffset(const ParameterRecord& record,
+                                                         std::size_t natural_end) const {
+  const std::size_t limit = parameter_limit_;
+  if (record.last) return std::nullopt;
+  std::size_t next = record.next;
+  if (record.offset_past_limit) {
+    if (natural_end > limit) {
+      Fail(AtByte(static_cast<long long>(record.pos)),
+           "record '" + record.name + "' extends to byte " + std::to_string(record.next) +
+               ", past the end of the parameter section at byte " + std::to_string(limit) +
+               (limit == data_start_byte_ ? " where the data section starts (bad data first block)"
+                                          : ""));
+    }
+    warn_(AtByte(static_cast<long long>(record.offset_at)),
+          "record '" + record.name + "' has offset " + std::to_string(record.offset) +
+              " pointing past the parameter section (byte " + std::to_string(limit) +
+              "); continuing after its content at byte " + std::to_string(natural_end));
+    next = natural_end;
+  }
+  if (next <= record.pos) {
+    // A backward offset would loop: continue after the record's own content instead.
+    warn_(AtByte(static_cast<long long>(record.offset_at)),
+          "record '" + record.name + "' has offset " + std::to_string(record.offset) +
+              " pointing backwards; continuing after its content at byte " +
+              std::to_string(natural_end));
+    next = natural_end;
+    if (next <= record.pos) return std::nullopt;
+  }
+  return next;
+}
+
+// Attaches parameters to their groups (records may come in any order); a parameter whose group
+// has no record gets a group of its own, UNNAMED<id>.
+void C3dReader::AttachParametersToGroups(std::vector<PendingParameter>& pending,
+                                         std::vector<ParameterGroup>& groups) const {
+  for (PendingParameter& item : pending) {
     auto it = std::find_if(groups.begin(), groups.end(), [&](const ParameterGroup& g) {
       return g.id == item.group_id;
     });
@@ -338,7 +473,6 @@ void C3dReader::ReadParameters() {
     }
     it->parameters.push_back(std::move(item.parameter));
   }
-  trial_.parameters.mutable_groups() = std::move(groups);
 }
 
 Trial C3dReader::Read() {
@@ -385,7 +519,62 @@ Trial C3dReader::Read() {
 
 void C3dReader::ReadData() {
   const ParameterSet& params = trial_.parameters;
-  // Point count: POINT:USED (read unsigned), else the header.
+  // Point count candidates: POINT:USED, then the header's.
+  const std::vector<int> point_candidates = PointCountCandidates();
+
+  // Storage: POINT:SCALE negative = float (C3D manual, "POINT:SCALE"); the header holds a copy.
+  const double scale = ReadPointScale();
+  const bool is_float = scale < 0;
+  const std::size_t word = is_float ? 4 : 2;
+
+  // Analog layout: samples per frame and channel count candidates.
+  const std::vector<int> channel_candidates = AnalogLayoutCandidates();
+
+  // Frames, the data start, and the point and channel counts that the data section can hold.
+  const FrameRange range = CountFrames();
+  const std::size_t data_start = FindDataStart(range.frames);
+  const std::int64_t frames =
+      ChooseDataLayout(point_candidates, channel_candidates, word, data_start, range.frames);
+  const std::size_t frame_size = FrameBytes(num_points_, num_channels_, word);
+  num_frames_ = frames;
+  trial_.num_frames = static_cast<int>(frames);
+  trial_.first_frame = range.first;
+
+  // Rates: POINT:RATE, else the header frame rate; the analog rate.
+  ReadRates();
+
+  // Point descriptions and units. POINT:UNITS converts markers to metres (C3D manual,
+  // "POINT:UNITS"); other point types keep the file's units.
+  const std::optional<std::string> units = params.FindString("POINT", "UNITS");
+  double to_m = DescribePoints(is_float, scale, units);
+  std::vector<double> point_factor(num_points_, 1.0);
+  for (int p = 0; p < num_points_; ++p) {
+    if (trial_.points[p].type == PointType::kMarker) point_factor[p] = units ? to_m : 1.0;
+  }
+
+  // Analog channels.
+  internal::AnalogConversion conversion;
+  trial_.analog_channels =
+      internal::DecodeAnalogChannels(params, num_channels_, &conversion, warn_);
+
+  // Allocate once (sizes are bounded by the file size checked above), then decode in one pass.
+  trial_.positions.resize(3, frames * num_points_);
+  trial_.residuals.resize(num_points_, frames);
+  trial_.camera_masks.resize(num_points_, frames);
+  trial_.analog.resize(num_channels_, num_channels_ > 0 ? frames * analog_per_frame_ : 0);
+  if (frames > 0 && frame_size > 0)
+    DecodeData(bytes_.data() + data_start, is_float, conversion, point_factor, scale);
+
+  // Invalid samples become gaps; missing units are guessed from the coordinates.
+  MarkInvalidSamples();
+  if (!units) to_m = GuessMissingUnits();
+  trial_.source.point_units_to_m = to_m;
+}
+
+// Point count candidates, preferred first: POINT:USED (read unsigned), then the header's when it
+// differs or POINT:USED is missing (warned).
+std::vector<int> C3dReader::PointCountCandidates() const {
+  const ParameterSet& params = trial_.parameters;
   std::vector<int> point_candidates;
   if (const Parameter* used = params.Find("POINT", "USED"); used && !used->AsUnsigned().empty()) {
     point_candidates.push_back(static_cast<int>(used->AsUnsigned().front()));
@@ -401,10 +590,13 @@ void C3dReader::ReadData() {
     }
     point_candidates.push_back(header_.num_points);
   }
+  return point_candidates;
+}
 
-  // Storage: POINT:SCALE negative = float (C3D manual, "POINT:SCALE"); the header holds a copy.
+// POINT:SCALE, else the header's scale; 1 when not finite (warned). Negative means float storage.
+double C3dReader::ReadPointScale() const {
   double scale = header_.scale;
-  if (const std::optional<double> s = params.FindDouble("POINT", "SCALE")) {
+  if (const std::optional<double> s = trial_.parameters.FindDouble("POINT", "SCALE")) {
     if ((*s < 0) != (header_.scale < 0)) {
       warn_(
           "POINT:SCALE",
@@ -418,13 +610,17 @@ void C3dReader::ReadData() {
     warn_("POINT:SCALE", "is not finite; 1 assumed");
     scale = 1.0;
   }
-  const bool is_float = scale < 0;
-  const std::size_t word = is_float ? 4 : 2;
+  return scale;
+}
 
-  // Analog layout: samples per frame from the header (word 10), channels from ANALOG:USED.
+// Analog layout: sets the samples per frame from the header (word 10; from ANALOG:USED when
+// the header's is 0); returns the channel count candidates, preferred first: ANALOG:USED, then
+// the header's when it differs (warned).
+std::vector<int> C3dReader::AnalogLayoutCandidates() {
   analog_per_frame_ = header_.analog_per_frame;
   std::vector<int> channel_candidates;
-  if (const Parameter* used = params.Find("ANALOG", "USED"); used && !used->AsUnsigned().empty()) {
+  if (const Parameter* used = trial_.parameters.Find("ANALOG", "USED");
+      used && !used->AsUnsigned().empty()) {
     channel_candidates.push_back(static_cast<int>(used->AsUnsigned().front()));
   }
   // Header word 10 missing (0) while word 3 announces analog words: samples per frame from
@@ -448,13 +644,19 @@ void C3dReader::ReadData() {
     }
     channel_candidates.push_back(header_channels);
   }
+  return channel_candidates;
+}
 
-  // Frames: header first/last (unsigned 16-bit); beyond 65535 frames TRIAL:ACTUAL_START_FIELD and
-  // ACTUAL_END_FIELD (two 16-bit halves each) or POINT:FRAMES (float or unsigned).
-  std::int64_t first = header_.first_frame;
-  std::int64_t frames = header_.last_frame >= header_.first_frame
-                            ? std::int64_t(header_.last_frame) - header_.first_frame + 1
-                            : 0;
+// Frames: header first/last (unsigned 16-bit); beyond 65535 frames TRIAL:ACTUAL_START_FIELD and
+// ACTUAL_END_FIELD (two 16-bit halves each) or POINT:FRAMES (float or unsigned).
+FrameRange C3dReader::CountFrames() const {
+  const ParameterSet& params = trial_.parameters;
+  FrameRange range;
+  range.first = header_.first_frame;
+  range.frames = header_.last_frame >= header_.first_frame
+                     ? std::int64_t(header_.last_frame) - header_.first_frame + 1
+                     : 0;
+  // POINT:FRAMES.
   std::optional<std::int64_t> point_frames;
   if (const Parameter* pf = params.Find("POINT", "FRAMES")) {
     if (pf->type == ParameterType::kFloat && !pf->floats.empty()) {
@@ -464,6 +666,7 @@ void C3dReader::ReadData() {
       point_frames = pf->AsUnsigned().front();
     }
   }
+  // The TRIAL range.
   const Parameter* start_field = params.Find("TRIAL", "ACTUAL_START_FIELD");
   const Parameter* end_field = params.Find("TRIAL", "ACTUAL_END_FIELD");
   bool from_trial = false;
@@ -478,25 +681,31 @@ void C3dReader::ReadData() {
     // The 16-bit header cannot count beyond 65535 frames: a longer TRIAL range wins when the header
     // is saturated or the range itself exceeds 16 bits (a header that wrapped around).
     const std::int64_t count = trial_last - trial_first + 1;
-    if (trial_last >= trial_first && count > frames &&
+    if (trial_last >= trial_first && count > range.frames &&
         (header_.last_frame == 0xFFFF || count > 0xFFFF || trial_last > 0xFFFF)) {
-      first = trial_first;
-      frames = count;
+      range.first = trial_first;
+      range.frames = count;
       from_trial = true;
     }
   }
-  if (!from_trial && point_frames && *point_frames != frames) {
-    if (*point_frames > frames && (header_.last_frame == 0xFFFF || *point_frames > 0xFFFF)) {
-      frames = *point_frames;
+  // Else POINT:FRAMES, when the header is saturated or it exceeds 16 bits.
+  if (!from_trial && point_frames && *point_frames != range.frames) {
+    if (*point_frames > range.frames && (header_.last_frame == 0xFFFF || *point_frames > 0xFFFF)) {
+      range.frames = *point_frames;
     } else {
       warn_("POINT:FRAMES",
             "is " + std::to_string(*point_frames) + " but the header frames " +
                 std::to_string(header_.first_frame) + ".." + std::to_string(header_.last_frame) +
-                " give " + std::to_string(frames) + "; the header is used");
+                " give " + std::to_string(range.frames) + "; the header is used");
     }
   }
+  return range;
+}
 
-  // Data start: header word 9, else POINT:DATA_START (read unsigned).
+// Data start byte: header word 9, else POINT:DATA_START (read unsigned); with `frames` to read
+// and neither valid, the file is refused.
+std::size_t C3dReader::FindDataStart(std::int64_t frames) const {
+  const ParameterSet& params = trial_.parameters;
   std::size_t data_start = data_start_byte_;
   if (const Parameter* ds = params.Find("POINT", "DATA_START");
       ds && !ds->AsUnsigned().empty() && ds->AsUnsigned()[0] != header_.data_start &&
@@ -519,18 +728,30 @@ void C3dReader::ReadData() {
                " is invalid and POINT:DATA_START gives no alternative");
     }
   }
-  const std::size_t available = data_start < bytes_.size() ? bytes_.size() - data_start : 0;
+  return data_start;
+}
 
-  // Choose the point and channel counts that the data section can hold, preferring parameters.
+// Bytes of one frame of `points` points and `channels` analog channels, in words of `word` bytes.
+std::size_t C3dReader::FrameBytes(int points, int channels, std::size_t word) const {
+  return (std::size_t(points) * 4 + std::size_t(channels) * analog_per_frame_) * word;
+}
+
+// Sets the point and channel counts to the first candidates (parameters preferred) whose frames
+// the data section can hold; when none fit, the preferred ones and as many frames as the file
+// holds (truncated, warned). Refuses counts that no file could back. Returns the frame count.
+std::int64_t C3dReader::ChooseDataLayout(const std::vector<int>& point_candidates,
+                                         const std::vector<int>& channel_candidates,
+                                         std::size_t word,
+                                         std::size_t data_start,
+                                         std::int64_t frames) {
+  const std::size_t available = data_start < bytes_.size() ? bytes_.size() - data_start : 0;
+  // The first pair of counts that fits.
   num_points_ = point_candidates.front();
   num_channels_ = channel_candidates.front();
-  const auto frame_bytes = [&](int points, int channels) {
-    return (std::size_t(points) * 4 + std::size_t(channels) * analog_per_frame_) * word;
-  };
   bool fits = false;
   for (int points : point_candidates) {
     for (int channels : channel_candidates) {
-      const std::size_t fb = frame_bytes(points, channels);
+      const std::size_t fb = FrameBytes(points, channels, word);
       if (fb == 0 || std::size_t(frames) <= available / fb) {
         if (points != num_points_ || channels != num_channels_) {
           warn_("data section",
@@ -545,7 +766,8 @@ void C3dReader::ReadData() {
     }
     if (fits) break;
   }
-  const std::size_t frame_size = frame_bytes(num_points_, num_channels_);
+  // None fits: the complete frames the file holds.
+  const std::size_t frame_size = FrameBytes(num_points_, num_channels_, word);
   if (!fits) {
     const std::int64_t whole = static_cast<std::int64_t>(available / frame_size);
     if (whole == 0) {
@@ -560,6 +782,7 @@ void C3dReader::ReadData() {
               " read");
     frames = whole;
   }
+  // Counts this reader can hold and the file can back.
   if (frame_size == 0) frames = frames > 0 ? frames : 0;
   if (frames > std::numeric_limits<int>::max() / std::max(1, num_points_ + 1)) {
     Fail("POINT:FRAMES", std::to_string(frames) + " frames are more than this reader supports");
@@ -571,11 +794,14 @@ void C3dReader::ReadData() {
              " analog channels with no frames are more than a " + std::to_string(bytes_.size()) +
              "-byte file can describe");
   }
-  num_frames_ = frames;
-  trial_.num_frames = static_cast<int>(frames);
-  trial_.first_frame = first;
+  return frames;
+}
 
-  // Rates: POINT:RATE, else the header frame rate.
+// Rates: POINT:RATE, else the header frame rate (0 when invalid); the analog rate from
+// ANALOG:RATE, else the point rate times the samples per frame.
+void C3dReader::ReadRates() {
+  const ParameterSet& params = trial_.parameters;
+  // The point rate.
   double rate = header_.frame_rate;
   if (const std::optional<double> r = params.FindDouble("POINT", "RATE"); r && *r > 0) {
     if (std::abs(*r - rate) > 1e-3 * std::abs(*r)) {
@@ -592,6 +818,7 @@ void C3dReader::ReadData() {
     rate = 0;
   }
   trial_.point_rate_hz = rate;
+  // The analog rate.
   if (num_channels_ == 0) {
     // No analog data: the analog rate is still reported (as BTK does), from ANALOG:RATE or the
     // point rate times the header's samples per frame (at least 1).
@@ -618,16 +845,21 @@ void C3dReader::ReadData() {
     }
     trial_.analog_rate_hz = analog_rate;
   }
+}
 
-  // Point descriptions and units. POINT:UNITS converts markers to metres (C3D manual,
-  // "POINT:UNITS"); other point types keep the file's units.
+// The points' labels, descriptions, types and units, and the storage in the source info.
+// Returns the factor from POINT:UNITS to metres (millimetres assumed for an unknown unit, 0
+// when POINT:UNITS is missing).
+double C3dReader::DescribePoints(bool is_float,
+                                 double scale,
+                                 const std::optional<std::string>& units) {
+  const ParameterSet& params = trial_.parameters;
   trial_.points = internal::DecodePoints(params, num_points_, warn_);
   SourceInfo& src = trial_.source;
   src.processor = internal::ProcessorName(processor_);
   src.point_storage = is_float ? "float" : "integer";
   src.max_interpolation_gap = header_.max_gap;
   src.point_scale = scale;
-  const std::optional<std::string> units = params.FindString("POINT", "UNITS");
   double to_m = 0;
   if (units) {
     src.point_units = *units;
@@ -637,102 +869,98 @@ void C3dReader::ReadData() {
       to_m = 1e-3;
     }
   }
-  {
-    const std::string x = params.FindString("POINT", "X_SCREEN").value_or("");
-    const std::string y = params.FindString("POINT", "Y_SCREEN").value_or("");
-    if (!x.empty() || !y.empty()) src.axis_convention = x + " " + y;
-  }
-  std::vector<double> point_factor(num_points_, 1.0);
-  for (int p = 0; p < num_points_; ++p) {
-    if (trial_.points[p].type == PointType::kMarker) point_factor[p] = units ? to_m : 1.0;
-  }
+  const std::string x = params.FindString("POINT", "X_SCREEN").value_or("");
+  const std::string y = params.FindString("POINT", "Y_SCREEN").value_or("");
+  if (!x.empty() || !y.empty()) src.axis_convention = x + " " + y;
+  return to_m;
+}
 
-  // Analog channels.
-  internal::AnalogConversion conversion;
-  trial_.analog_channels =
-      internal::DecodeAnalogChannels(params, num_channels_, &conversion, warn_);
+// Decodes the data section at `data` with the decoder for the processor and storage.
+void C3dReader::DecodeData(const std::uint8_t* data,
+                           bool is_float,
+                           const internal::AnalogConversion& conversion,
+                           const std::vector<double>& point_factor,
+                           double scale) {
+  switch (processor_) {
+    case Processor::kIntel:
+      is_float ? Decode<Processor::kIntel, true>(data, conversion, point_factor, scale)
+               : Decode<Processor::kIntel, false>(data, conversion, point_factor, scale);
+      break;
+    case Processor::kDec:
+      is_float ? Decode<Processor::kDec, true>(data, conversion, point_factor, scale)
+               : Decode<Processor::kDec, false>(data, conversion, point_factor, scale);
+      break;
+    case Processor::kMips:
+      is_float ? Decode<Processor::kMips, true>(data, conversion, point_factor, scale)
+               : Decode<Processor::kMips, false>(data, conversion, point_factor, scale);
+      break;
+  }
+}
 
-  // Allocate once (sizes are bounded by the file size checked above), then decode in one pass.
+// Residual word negative = invalid sample → a gap (NaN). If every sample is invalid but the
+// coordinates are not all zero (SIMI files, c3d.org sample 16), keep them and say so.
+void C3dReader::MarkInvalidSamples() {
+  const std::int64_t frames = num_frames_;
   const std::int64_t samples = frames * num_points_;
-  trial_.positions.resize(3, samples);
-  trial_.residuals.resize(num_points_, frames);
-  trial_.camera_masks.resize(num_points_, frames);
-  trial_.analog.resize(num_channels_, num_channels_ > 0 ? frames * analog_per_frame_ : 0);
-  const std::uint8_t* data = bytes_.data() + data_start;
-  if (frames > 0 && frame_size > 0) {
-    switch (processor_) {
-      case Processor::kIntel:
-        is_float ? Decode<Processor::kIntel, true>(data, conversion, point_factor, scale)
-                 : Decode<Processor::kIntel, false>(data, conversion, point_factor, scale);
-        break;
-      case Processor::kDec:
-        is_float ? Decode<Processor::kDec, true>(data, conversion, point_factor, scale)
-                 : Decode<Processor::kDec, false>(data, conversion, point_factor, scale);
-        break;
-      case Processor::kMips:
-        is_float ? Decode<Processor::kMips, true>(data, conversion, point_factor, scale)
-                 : Decode<Processor::kMips, false>(data, conversion, point_factor, scale);
-        break;
+  if (samples <= 0 || invalid_samples_ <= 0) return;
+  bool keep = false;
+  if (invalid_samples_ == samples) {
+    for (std::int64_t i = 0; i < samples && !keep; ++i) {
+      keep =
+          trial_.positions(0, i) != 0 || trial_.positions(1, i) != 0 || trial_.positions(2, i) != 0;
+    }
+    if (keep) {
+      warn_("POINT residuals",
+            "every sample has residual -1 (invalid) but the coordinates are not zero; "
+            "coordinates kept as valid samples (residuals stay -1)");
     }
   }
+  if (!keep) {
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    for (std::int64_t f = 0; f < frames; ++f) {
+      for (int p = 0; p < num_points_; ++p) {
+        if (trial_.residuals(p, f) < 0) trial_.positions.col(f * num_points_ + p).setConstant(nan);
+      }
+    }
+  }
+}
 
-  // Residual word negative = invalid sample → a gap (NaN). If every sample is invalid but the
-  // coordinates are not all zero (SIMI files, c3d.org sample 16), keep them and say so.
-  if (samples > 0 && invalid_samples_ > 0) {
-    bool keep = false;
-    if (invalid_samples_ == samples) {
-      for (std::int64_t i = 0; i < samples && !keep; ++i) {
-        keep = trial_.positions(0, i) != 0 || trial_.positions(1, i) != 0 ||
-               trial_.positions(2, i) != 0;
-      }
-      if (keep) {
-        warn_("POINT residuals",
-              "every sample has residual -1 (invalid) but the coordinates are not zero; "
-              "coordinates kept as valid samples (residuals stay -1)");
-      }
-    }
-    if (!keep) {
-      const double nan = std::numeric_limits<double>::quiet_NaN();
-      for (std::int64_t f = 0; f < frames; ++f) {
-        for (int p = 0; p < num_points_; ++p) {
-          if (trial_.residuals(p, f) < 0)
-            trial_.positions.col(f * num_points_ + p).setConstant(nan);
-        }
+// Missing POINT:UNITS: millimetres unless the marker coordinates are small enough to be metres
+// (median magnitude of up to 20000 sampled marker coordinates below 20); markers in millimetres
+// are converted. Returns the factor to metres.
+double C3dReader::GuessMissingUnits() {
+  const std::int64_t frames = num_frames_;
+  const std::int64_t samples = frames * num_points_;
+  // The median magnitude.
+  std::vector<double> magnitudes;
+  for (std::int64_t i = 0; i < samples; i += std::max<std::int64_t>(1, samples / 20000)) {
+    const int p = static_cast<int>(i % std::max(1, num_points_));
+    if (trial_.points[p].type != PointType::kMarker) continue;
+    const double m = trial_.positions.col(i).cwiseAbs().maxCoeff();
+    if (std::isfinite(m) && m > 0) magnitudes.push_back(m);
+  }
+  double median = 0;
+  if (!magnitudes.empty()) {
+    std::nth_element(
+        magnitudes.begin(), magnitudes.begin() + magnitudes.size() / 2, magnitudes.end());
+    median = magnitudes[magnitudes.size() / 2];
+  }
+  // The unit it suggests, and the markers converted.
+  const double to_m = (median > 0 && median < 20.0) ? 1.0 : 1e-3;
+  if (num_points_ > 0) {
+    warn_("POINT:UNITS",
+          std::string("missing; ") + (to_m == 1.0 ? "metres" : "millimetres") +
+              fmt::format(" assumed (median marker coordinate magnitude {:.9g})", median));
+  }
+  if (to_m != 1.0 && num_points_ > 0) {
+    for (std::int64_t f = 0; f < frames; ++f) {
+      for (int p = 0; p < num_points_; ++p) {
+        if (trial_.points[p].type == PointType::kMarker)
+          trial_.positions.col(f * num_points_ + p) *= to_m;
       }
     }
   }
-
-  // Missing POINT:UNITS: millimetres unless the marker coordinates are small enough to be metres.
-  if (!units) {
-    std::vector<double> magnitudes;
-    for (std::int64_t i = 0; i < samples; i += std::max<std::int64_t>(1, samples / 20000)) {
-      const int p = static_cast<int>(i % std::max(1, num_points_));
-      if (trial_.points[p].type != PointType::kMarker) continue;
-      const double m = trial_.positions.col(i).cwiseAbs().maxCoeff();
-      if (std::isfinite(m) && m > 0) magnitudes.push_back(m);
-    }
-    double median = 0;
-    if (!magnitudes.empty()) {
-      std::nth_element(
-          magnitudes.begin(), magnitudes.begin() + magnitudes.size() / 2, magnitudes.end());
-      median = magnitudes[magnitudes.size() / 2];
-    }
-    to_m = (median > 0 && median < 20.0) ? 1.0 : 1e-3;
-    if (num_points_ > 0) {
-      warn_("POINT:UNITS",
-            std::string("missing; ") + (to_m == 1.0 ? "metres" : "millimetres") +
-                fmt::format(" assumed (median marker coordinate magnitude {:.9g})", median));
-    }
-    if (to_m != 1.0 && num_points_ > 0) {
-      for (std::int64_t f = 0; f < frames; ++f) {
-        for (int p = 0; p < num_points_; ++p) {
-          if (trial_.points[p].type == PointType::kMarker)
-            trial_.positions.col(f * num_points_ + p) *= to_m;
-        }
-      }
-    }
-  }
-  src.point_units_to_m = to_m;
+  return to_m;
 }
 
 // Decodes every frame: per point x, y, z and the residual word, then the analog samples (C3D

@@ -2,7 +2,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <sstream>
+#include <utility>
 
 #include <fmt/format.h>
 #include <Eigen/Dense>
@@ -246,131 +248,167 @@ Eigen::MatrixXd CalcSegmentWrenches(const dynamics::Model<double>& model,
   return out;
 }
 
-PhysicalCheck CheckPhysics(const dynamics::Model<double>& model,
-                           const Motion& motion,
-                           const std::vector<Flight>& flights,
-                           double height_m,
-                           double cutoff_hz,
-                           const PhysicalCheckOptions& options) {
-  std::string why;
-  ACRO_DEMAND(options.IsValid(&why));
-  PhysicalCheck check;
-  check.frames = CalcFrameDynamics(model, motion, height_m);
-  const int n = motion.num_frames();
-  const double dt = FrameStep(motion);
-  const double margin_s = options.edge_margin_s >= 0
-                              ? options.edge_margin_s
-                              : std::max(2.0 * dt, cutoff_hz > 0 ? 0.5 / cutoff_hz : 0.0);
-  check.edge_margin_s = margin_s;
-  check.height_m = height_m;
-  const int margin = static_cast<int>(std::ceil(margin_s / dt - 1e-9));
-  const double mass = model.total_mass();
-  const double g = model.gravity_W().norm();
-  const double L_floor = options.momentum_floor_mh2_per_s * mass * height_m * height_m;
-  check.window_force_bw = Eigen::VectorXd::Constant(n, kNaN);
-  check.window_moment_bwh = Eigen::VectorXd::Constant(n, kNaN);
+namespace {
 
-  for (size_t k = 0; k < flights.size(); ++k) {
-    const Flight& flight = flights[k];
-    if (flight.partial) continue;
-    FlightCheck fc;
-    fc.flight = static_cast<int>(k);
-    fc.first_frame = std::max(flight.takeoff_frame + margin, 0);
-    fc.last_frame = std::min(flight.landing_frame - 1 - margin, n - 1);
-    if (fc.last_frame - fc.first_frame < 4) {
-      fc.pass = false;
-      fc.failures.push_back("too short to judge once " + fmt::format("{:.0f} ms", 1e3 * margin_s) +
-                            " are left out at each end");
-      check.flights.push_back(fc);
-      continue;
+// ---- CheckPhysics' steps ----
+
+// What every flight is judged with: the frame step, the frames (and seconds) left out at each
+// end, g, and the floor of the angular momentum the variation is relative to.
+struct FlightJudging {
+  double dt = 0.0;
+  int margin = 0;
+  double margin_s = 0.0;
+  double g = 0.0;
+  double L_floor = 0.0;
+};
+
+// Peak and RMS of the residual force and moment over the flight's judged frames.
+void MeasureResidualPeaks(const FrameDynamics& frames, FlightCheck& fc) {
+  const int m = fc.last_frame - fc.first_frame + 1;
+  const auto force = frames.force_bw.middleCols(fc.first_frame, m).colwise().norm();
+  const auto moment = frames.moment_bwh.middleCols(fc.first_frame, m).colwise().norm();
+  fc.peak_force_bw = force.maxCoeff();
+  fc.rms_force_bw = std::sqrt(force.array().square().mean());
+  fc.peak_moment_bwh = moment.maxCoeff();
+  fc.rms_moment_bwh = std::sqrt(moment.array().square().mean());
+}
+
+// The judged residual: the mean over every window of residual_window_s inside the judged frames
+// (the whole judged span when it is shorter), by a running sum. Each window's mean goes to the
+// check at the window's centre frame; the largest, and where its window starts, to fc.
+void MeasureWindowedResidual(const Motion& motion,
+                             double residual_window_s,
+                             double dt,
+                             FlightCheck& fc,
+                             PhysicalCheck& check) {
+  const int m = fc.last_frame - fc.first_frame + 1;
+  const int w = std::clamp(static_cast<int>(std::lround(residual_window_s / dt)), 1, m);
+  const Eigen::Matrix3Xd F = check.frames.force_bw.middleCols(fc.first_frame, m);
+  const Eigen::Matrix3Xd M = check.frames.moment_bwh.middleCols(fc.first_frame, m);
+  Eigen::Vector3d sum_f = F.leftCols(w).rowwise().sum();
+  Eigen::Vector3d sum_m = M.leftCols(w).rowwise().sum();
+  for (int a = 0;; ++a) {
+    const double wf = sum_f.norm() / w, wm = sum_m.norm() / w;
+    check.window_force_bw[fc.first_frame + a + w / 2] = wf;
+    check.window_moment_bwh[fc.first_frame + a + w / 2] = wm;
+    if (wf > fc.window_force_bw) {
+      fc.window_force_bw = wf;
+      fc.window_force_at_s = motion.time_s[fc.first_frame + a];
     }
-    const int m = fc.last_frame - fc.first_frame + 1;
-    const auto force = check.frames.force_bw.middleCols(fc.first_frame, m).colwise().norm();
-    const auto moment = check.frames.moment_bwh.middleCols(fc.first_frame, m).colwise().norm();
-    fc.peak_force_bw = force.maxCoeff();
-    fc.rms_force_bw = std::sqrt(force.array().square().mean());
-    fc.peak_moment_bwh = moment.maxCoeff();
-    fc.rms_moment_bwh = std::sqrt(moment.array().square().mean());
-    // The judged residual: the mean over every window of residual_window_s inside the judged
-    // frames (the whole judged span when it is shorter).
-    {
-      const int w = std::clamp(static_cast<int>(std::lround(options.residual_window_s / dt)), 1, m);
-      const Eigen::Matrix3Xd F = check.frames.force_bw.middleCols(fc.first_frame, m);
-      const Eigen::Matrix3Xd M = check.frames.moment_bwh.middleCols(fc.first_frame, m);
-      Eigen::Vector3d sum_f = F.leftCols(w).rowwise().sum();
-      Eigen::Vector3d sum_m = M.leftCols(w).rowwise().sum();
-      for (int a = 0;; ++a) {
-        const double wf = sum_f.norm() / w, wm = sum_m.norm() / w;
-        check.window_force_bw[fc.first_frame + a + w / 2] = wf;
-        check.window_moment_bwh[fc.first_frame + a + w / 2] = wm;
-        if (wf > fc.window_force_bw) {
-          fc.window_force_bw = wf;
-          fc.window_force_at_s = motion.time_s[fc.first_frame + a];
-        }
-        if (wm > fc.window_moment_bwh) {
-          fc.window_moment_bwh = wm;
-          fc.window_moment_at_s = motion.time_s[fc.first_frame + a];
-        }
-        if (a + w >= m) break;
-        sum_f += F.col(a + w) - F.col(a);
-        sum_m += M.col(a + w) - M.col(a);
-      }
+    if (wm > fc.window_moment_bwh) {
+      fc.window_moment_bwh = wm;
+      fc.window_moment_at_s = motion.time_s[fc.first_frame + a];
     }
-
-    const Eigen::Matrix3Xd L = check.frames.angular_momentum.middleCols(fc.first_frame, m);
-    fc.mean_angular_momentum = L.rowwise().mean().norm();
-    double spread = 0.0;
-    for (int i = 0; i < m; ++i)
-      for (int j = i + 1; j < m; ++j) spread = std::max(spread, (L.col(i) - L.col(j)).norm());
-    fc.momentum_variation = spread / std::max(fc.mean_angular_momentum, L_floor);
-
-    // z(t) = c0 + c1 t + c2 t² over the judged frames: g_fit = −2 c2.
-    Eigen::MatrixXd A(m, 3);
-    Eigen::VectorXd z(m);
-    const double t0 = motion.time_s[fc.first_frame];
-    for (int i = 0; i < m; ++i) {
-      const double t = motion.time_s[fc.first_frame + i] - t0;
-      A.row(i) << 1.0, t, t * t;
-      z[i] = check.frames.com_W(2, fc.first_frame + i);
-    }
-    fc.fitted_gravity_m_per_s2 = -2.0 * A.colPivHouseholderQr().solve(z)[2];
-
-    for (int i = fc.first_frame; i <= fc.last_frame; ++i) {
-      const FrameFit& fit = motion.fit[static_cast<size_t>(i)];
-      if (fit.valid) fc.max_marker_error_m = std::max(fc.max_marker_error_m, fit.max_m);
-    }
-
-    const std::string over = options.residual_window_s > 0
-                                 ? fmt::format(" over {:.2f} s", options.residual_window_s)
-                                 : "";
-    if (fc.window_force_bw > options.max_force_bw)
-      fc.failures.push_back(fmt::format("residual force {:.3f} BW > {:.3f} at {:.2f} s",
-                                        fc.window_force_bw,
-                                        options.max_force_bw,
-                                        fc.window_force_at_s) +
-                            over);
-    if (fc.window_moment_bwh > options.max_moment_bwh)
-      fc.failures.push_back(fmt::format("residual moment {:.4f} BW·h > {:.4f} at {:.2f} s",
-                                        fc.window_moment_bwh,
-                                        options.max_moment_bwh,
-                                        fc.window_moment_at_s) +
-                            over);
-    if (fc.momentum_variation > options.max_momentum_variation)
-      fc.failures.push_back(fmt::format("angular momentum varies {:.0f} % > {:.0f} %",
-                                        100 * fc.momentum_variation,
-                                        100 * options.max_momentum_variation));
-    if (std::abs(fc.fitted_gravity_m_per_s2 - g) > options.max_gravity_error * g)
-      fc.failures.push_back(fmt::format(
-          "COM falls with {:.2f} m/s² instead of {:.2f}", fc.fitted_gravity_m_per_s2, g));
-    if (fc.max_marker_error_m > options.max_marker_error_m)
-      fc.failures.push_back(fmt::format("marker error {:.1f} cm > {:.1f} cm",
-                                        100 * fc.max_marker_error_m,
-                                        100 * options.max_marker_error_m));
-    fc.pass = fc.failures.empty();
-    check.flights.push_back(fc);
+    if (a + w >= m) break;
+    sum_f += F.col(a + w) - F.col(a);
+    sum_m += M.col(a + w) - M.col(a);
   }
+}
 
-  // Contact phases: the frames between flights (partial ones included).
+// |mean L| over the judged frames, and the largest difference between two of them relative to
+// it (at least L_floor).
+void MeasureMomentumVariation(const FrameDynamics& frames, double L_floor, FlightCheck& fc) {
+  const int m = fc.last_frame - fc.first_frame + 1;
+  const Eigen::Matrix3Xd L = frames.angular_momentum.middleCols(fc.first_frame, m);
+  fc.mean_angular_momentum = L.rowwise().mean().norm();
+  double spread = 0.0;
+  for (int i = 0; i < m; ++i)
+    for (int j = i + 1; j < m; ++j) spread = std::max(spread, (L.col(i) - L.col(j)).norm());
+  fc.momentum_variation = spread / std::max(fc.mean_angular_momentum, L_floor);
+}
+
+// The gravity the COM falls with: z(t) = c0 + c1 t + c2 t² over the judged frames, g_fit = −2 c2.
+void FitGravity(const Motion& motion, const FrameDynamics& frames, FlightCheck& fc) {
+  const int m = fc.last_frame - fc.first_frame + 1;
+  Eigen::MatrixXd A(m, 3);
+  Eigen::VectorXd z(m);
+  const double t0 = motion.time_s[fc.first_frame];
+  for (int i = 0; i < m; ++i) {
+    const double t = motion.time_s[fc.first_frame + i] - t0;
+    A.row(i) << 1.0, t, t * t;
+    z[i] = frames.com_W(2, fc.first_frame + i);
+  }
+  fc.fitted_gravity_m_per_s2 = -2.0 * A.colPivHouseholderQr().solve(z)[2];
+}
+
+// The largest marker error of the judged frames' valid fits.
+void MeasureMarkerError(const Motion& motion, FlightCheck& fc) {
+  for (int i = fc.first_frame; i <= fc.last_frame; ++i) {
+    const FrameFit& fit = motion.fit[static_cast<size_t>(i)];
+    if (fit.valid) fc.max_marker_error_m = std::max(fc.max_marker_error_m, fit.max_m);
+  }
+}
+
+// The criteria the flight's measures fail, each with its numbers.
+std::vector<std::string> ListFailures(const FlightCheck& fc,
+                                      const PhysicalCheckOptions& options,
+                                      double g) {
+  std::vector<std::string> failures;
+  const std::string over =
+      options.residual_window_s > 0 ? fmt::format(" over {:.2f} s", options.residual_window_s) : "";
+  if (fc.window_force_bw > options.max_force_bw)
+    failures.push_back(fmt::format("residual force {:.3f} BW > {:.3f} at {:.2f} s",
+                                   fc.window_force_bw,
+                                   options.max_force_bw,
+                                   fc.window_force_at_s) +
+                       over);
+  if (fc.window_moment_bwh > options.max_moment_bwh)
+    failures.push_back(fmt::format("residual moment {:.4f} BW·h > {:.4f} at {:.2f} s",
+                                   fc.window_moment_bwh,
+                                   options.max_moment_bwh,
+                                   fc.window_moment_at_s) +
+                       over);
+  if (fc.momentum_variation > options.max_momentum_variation)
+    failures.push_back(fmt::format("angular momentum varies {:.0f} % > {:.0f} %",
+                                   100 * fc.momentum_variation,
+                                   100 * options.max_momentum_variation));
+  if (std::abs(fc.fitted_gravity_m_per_s2 - g) > options.max_gravity_error * g)
+    failures.push_back(
+        fmt::format("COM falls with {:.2f} m/s² instead of {:.2f}", fc.fitted_gravity_m_per_s2, g));
+  if (fc.max_marker_error_m > options.max_marker_error_m)
+    failures.push_back(fmt::format("marker error {:.1f} cm > {:.1f} cm",
+                                   100 * fc.max_marker_error_m,
+                                   100 * options.max_marker_error_m));
+  return failures;
+}
+
+// Judges complete flight k on its frames without the margins: its measures and the criteria they
+// fail (a flight too short to judge fails for that). The windowed residual goes to the check.
+FlightCheck JudgeFlight(const Motion& motion,
+                        int k,
+                        const Flight& flight,
+                        const FlightJudging& judging,
+                        const PhysicalCheckOptions& options,
+                        PhysicalCheck& check) {
+  const int n = motion.num_frames();
+  FlightCheck fc;
+  fc.flight = k;
+  fc.first_frame = std::max(flight.takeoff_frame + judging.margin, 0);
+  fc.last_frame = std::min(flight.landing_frame - 1 - judging.margin, n - 1);
+  if (fc.last_frame - fc.first_frame < 4) {
+    fc.pass = false;
+    fc.failures.push_back("too short to judge once " +
+                          fmt::format("{:.0f} ms", 1e3 * judging.margin_s) +
+                          " are left out at each end");
+    return fc;
+  }
+  MeasureResidualPeaks(check.frames, fc);
+  MeasureWindowedResidual(motion, options.residual_window_s, judging.dt, fc, check);
+  MeasureMomentumVariation(check.frames, judging.L_floor, fc);
+  FitGravity(motion, check.frames, fc);
+  MeasureMarkerError(motion, fc);
+  fc.failures = ListFailures(fc, options, judging.g);
+  fc.pass = fc.failures.empty();
+  return fc;
+}
+
+// Contact phases: the frames between flights (partial ones included), each with its peak
+// residual force (the bed's reaction) and when it occurs.
+std::vector<ContactLoad> FindContactLoads(const FrameDynamics& frames,
+                                          const Motion& motion,
+                                          const std::vector<Flight>& flights) {
+  const int n = motion.num_frames();
+  std::vector<ContactLoad> contacts;
   int start = 0;
   auto add_contact = [&](int first, int last) {
     first = std::max(first, 0);
@@ -381,16 +419,20 @@ PhysicalCheck CheckPhysics(const dynamics::Model<double>& model,
     c.last_frame = last;
     Eigen::Index peak = 0;
     c.peak_force_bw =
-        check.frames.force_bw.middleCols(first, last - first + 1).colwise().norm().maxCoeff(&peak);
+        frames.force_bw.middleCols(first, last - first + 1).colwise().norm().maxCoeff(&peak);
     c.peak_s = motion.time_s[first + static_cast<int>(peak)];
-    check.contacts.push_back(c);
+    contacts.push_back(c);
   };
   for (const Flight& flight : flights) {
     add_contact(start, flight.takeoff_frame - 1);
     start = flight.landing_frame;
   }
   add_contact(start, n - 1);
+  return contacts;
+}
 
+// Pass when every judged flight passes; the verdict names each failing flight's failures.
+void SetVerdict(PhysicalCheck& check) {
   check.pass = true;
   std::string causes;
   for (const FlightCheck& fc : check.flights) {
@@ -403,6 +445,45 @@ PhysicalCheck CheckPhysics(const dynamics::Model<double>& model,
     check.verdict = "not judged: no complete flight";
   else
     check.verdict = check.pass ? "pass" : "fail: " + causes;
+}
+
+}  // namespace
+
+PhysicalCheck CheckPhysics(const dynamics::Model<double>& model,
+                           const Motion& motion,
+                           const std::vector<Flight>& flights,
+                           double height_m,
+                           double cutoff_hz,
+                           const PhysicalCheckOptions& options) {
+  std::string why;
+  ACRO_DEMAND(options.IsValid(&why));
+  PhysicalCheck check;
+  check.frames = CalcFrameDynamics(model, motion, height_m);
+  const int n = motion.num_frames();
+
+  // The margin left out at each end of a flight: given, or two frames and half the filter's
+  // cutoff period, whichever is longer.
+  FlightJudging judging;
+  judging.dt = FrameStep(motion);
+  judging.margin_s = options.edge_margin_s >= 0
+                         ? options.edge_margin_s
+                         : std::max(2.0 * judging.dt, cutoff_hz > 0 ? 0.5 / cutoff_hz : 0.0);
+  check.edge_margin_s = judging.margin_s;
+  check.height_m = height_m;
+  judging.margin = static_cast<int>(std::ceil(judging.margin_s / judging.dt - 1e-9));
+  const double mass = model.total_mass();
+  judging.g = model.gravity_W().norm();
+  judging.L_floor = options.momentum_floor_mh2_per_s * mass * height_m * height_m;
+  check.window_force_bw = Eigen::VectorXd::Constant(n, kNaN);
+  check.window_moment_bwh = Eigen::VectorXd::Constant(n, kNaN);
+
+  // Each complete flight judged; the contacts between them; the verdict.
+  for (size_t k = 0; k < flights.size(); ++k)
+    if (!flights[k].partial)
+      check.flights.push_back(
+          JudgeFlight(motion, static_cast<int>(k), flights[k], judging, options, check));
+  check.contacts = FindContactLoads(check.frames, motion, flights);
+  SetVerdict(check);
   return check;
 }
 
@@ -486,6 +567,344 @@ MassSuggestion SuggestSegmentMasses(const dynamics::Model<double>& model,
   return out;
 }
 
+namespace {
+
+// ---- LocalisePhysicsFailure's finders ----
+
+// The measured and the model's positions of nm markers on every frame, frame-major, and how far
+// apart they are.
+class MarkerResiduals {
+ public:
+  MarkerResiduals(const Eigen::Matrix3Xd& measured, Eigen::Matrix3Xd predicted, int nm)
+      : measured_(measured), predicted_(std::move(predicted)), nm_(nm) {}
+
+  auto measured(int frame, int j) const {
+    return measured_.col(static_cast<Eigen::Index>(frame) * nm_ + j);
+  }
+  auto predicted(int frame, int j) const {
+    return predicted_.col(static_cast<Eigen::Index>(frame) * nm_ + j);
+  }
+  bool present(int frame, int j) const { return std::isfinite(measured(frame, j)[0]); }
+  // |measured − predicted| (m), NaN where the marker is missing.
+  double error(int frame, int j) const {
+    return present(frame, j) ? (measured(frame, j) - predicted(frame, j)).norm() : kNaN;
+  }
+
+ private:
+  const Eigen::Matrix3Xd& measured_;
+  const Eigen::Matrix3Xd predicted_;
+  const int nm_;
+};
+
+// The model's marker positions on every frame, frame-major.
+Eigen::Matrix3Xd CalcModelMarkerPositions(const dynamics::Model<double>& model,
+                                          const Motion& motion,
+                                          const std::vector<ModelMarker>& markers) {
+  const int n = motion.num_frames();
+  const int nm = static_cast<int>(markers.size());
+  Eigen::Matrix3Xd model_positions(3, static_cast<Eigen::Index>(n) * nm);
+  dynamics::Workspace<double> ws(model);
+  Eigen::VectorXd q(model.nq());
+  for (int i = 0; i < n; ++i) {
+    q = motion.q.col(i);
+    dynamics::CalcForwardKinematics(model, ws, q);
+    for (int j = 0; j < nm; ++j) {
+      const auto& X = ws.X_WB[static_cast<size_t>(markers[static_cast<size_t>(j)].segment)];
+      model_positions.col(static_cast<Eigen::Index>(i) * nm + j) =
+          X.rotation() * markers[static_cast<size_t>(j)].p_BoM_B + X.translation();
+    }
+  }
+  return model_positions;
+}
+
+// 1. Swaps: two markers far (beyond threshold) from their own model positions and each close to
+// the other's, on 3 frames or more. One finding per pair; the pair is marked in `named`.
+std::vector<Finding> FindSwappedMarkers(const MarkerResiduals& residuals,
+                                        const std::vector<ModelMarker>& markers,
+                                        const Motion& motion,
+                                        double threshold,
+                                        std::vector<bool>& named) {
+  const int n = motion.num_frames();
+  const int nm = static_cast<int>(markers.size());
+  // The frames on which each pair (a < b) looks exchanged.
+  std::vector<std::vector<int>> swap_frames(static_cast<size_t>(nm) * nm);
+  for (int i = 0; i < n; ++i) {
+    std::vector<int> bad;
+    for (int j = 0; j < nm; ++j)
+      if (residuals.error(i, j) > threshold) bad.push_back(j);
+    for (size_t x = 0; x < bad.size(); ++x)
+      for (size_t y = x + 1; y < bad.size(); ++y) {
+        const int a = bad[x], b = bad[y];
+        if ((residuals.measured(i, a) - residuals.predicted(i, b)).norm() < threshold &&
+            (residuals.measured(i, b) - residuals.predicted(i, a)).norm() < threshold)
+          swap_frames[static_cast<size_t>(a * nm + b)].push_back(i);
+      }
+  }
+  // A finding for each pair exchanged on 3 frames or more.
+  std::vector<Finding> findings;
+  for (int a = 0; a < nm; ++a)
+    for (int b = a + 1; b < nm; ++b) {
+      const std::vector<int>& f = swap_frames[static_cast<size_t>(a * nm + b)];
+      if (f.size() < 3) continue;
+      Finding finding;
+      finding.kind = Finding::Kind::kSwap;
+      finding.names = {markers[static_cast<size_t>(a)].name, markers[static_cast<size_t>(b)].name};
+      finding.value = static_cast<double>(f.size());
+      finding.text =
+          "markers " + finding.names[0] + " and " + finding.names[1] + " are swapped in " +
+          std::to_string(f.size()) + " frames (" +
+          fmt::format("{:.3f}–{:.3f} s", motion.time_s[f.front()], motion.time_s[f.back()]) +
+          "): relabel them";
+      named[static_cast<size_t>(a)] = named[static_cast<size_t>(b)] = true;
+      findings.push_back(finding);
+    }
+  return findings;
+}
+
+// A pair of markers on one segment and how much later b is recorded than a (s).
+struct PairLag {
+  int a, b;
+  double lag_s;
+};
+
+// The lag of marker b relative to marker a (same segment) that makes their distance steadiest
+// over the judged frames, searched in quarter frames within ±`steps`/4 frames and refined by a
+// parabola through the best three; none when the pair cannot be trusted.
+std::optional<double> EstimatePairLag(const MarkerResiduals& residuals,
+                                      const std::vector<int>& frames,
+                                      int n,
+                                      double dt,
+                                      int steps,
+                                      int a,
+                                      int b) {
+  // b's position at frame i + δ/dt by linear interpolation (NaN outside or across a gap).
+  auto shifted = [&](int j, int i, double frames_ahead) -> Vector3d {
+    const double x = i + frames_ahead;
+    const int k = static_cast<int>(std::floor(x));
+    if (k < 0 || k + 1 >= n) return Vector3d::Constant(kNaN);
+    const double u = x - k;
+    return (1 - u) * residuals.measured(k, j) + u * residuals.measured(k + 1, j);
+  };
+  // Variance of the distance for every candidate lag.
+  std::vector<double> variance(static_cast<size_t>(2 * steps + 1), kNaN);
+  for (int s = -steps; s <= steps; ++s) {
+    double sum = 0, sum2 = 0;
+    int count = 0;
+    for (int i : frames) {
+      if (!residuals.present(i, a)) continue;
+      const Vector3d pb = shifted(b, i, s / 4.0);
+      if (!std::isfinite(pb[0])) continue;
+      const double d = (residuals.measured(i, a) - pb).norm();
+      sum += d;
+      sum2 += d * d;
+      ++count;
+    }
+    if (count < static_cast<int>(frames.size()) * 3 / 4) continue;
+    variance[static_cast<size_t>(s + steps)] =
+        std::max(0.0, sum2 / count - (sum / count) * (sum / count));
+  }
+  // The steadiest lag, strictly inside the range.
+  int best = -1;
+  for (int s = 0; s <= 2 * steps; ++s)
+    if (std::isfinite(variance[static_cast<size_t>(s)]) &&
+        (best < 0 || variance[static_cast<size_t>(s)] < variance[static_cast<size_t>(best)]))
+      best = s;
+  const double at_zero = variance[static_cast<size_t>(steps)];
+  if (best <= 0 || best >= 2 * steps || !std::isfinite(at_zero)) return std::nullopt;
+  // Trust a pair whose distance varies by more than marker noise at zero lag and that a lag
+  // makes clearly steadier.
+  if (std::sqrt(at_zero) < 0.002 || at_zero < 2.0 * variance[static_cast<size_t>(best)])
+    return std::nullopt;
+  // Sub-step refinement by the parabola through the best and its neighbours.
+  const double v0 = variance[static_cast<size_t>(best - 1)],
+               v1 = variance[static_cast<size_t>(best)],
+               v2 = variance[static_cast<size_t>(best + 1)];
+  double step = best - steps;
+  if (std::isfinite(v0) && std::isfinite(v2) && v0 - 2 * v1 + v2 > 0)
+    step += 0.5 * (v0 - v2) / (v0 - 2 * v1 + v2);
+  return step / 4.0 * dt;
+}
+
+// The timing finding from the pairs' lags: per-marker lags by least squares (lag_b − lag_a = pair
+// lag, their mean pinned to zero); the lagging group is the markers more than half the spread
+// above the earliest, reported when the spread exceeds half a frame and 8 ms.
+std::optional<Finding> FindLaggingGroup(const std::vector<PairLag>& pairs,
+                                        const std::vector<ModelMarker>& markers,
+                                        double dt) {
+  const int nm = static_cast<int>(markers.size());
+  // Per-marker lags.
+  Eigen::MatrixXd A = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(pairs.size()) + 1, nm);
+  Eigen::VectorXd rhs = Eigen::VectorXd::Zero(A.rows());
+  std::vector<bool> involved(static_cast<size_t>(nm), false);
+  for (size_t r = 0; r < pairs.size(); ++r) {
+    A(static_cast<Eigen::Index>(r), pairs[r].b) = 1.0;
+    A(static_cast<Eigen::Index>(r), pairs[r].a) = -1.0;
+    rhs[static_cast<Eigen::Index>(r)] = pairs[r].lag_s;
+    involved[static_cast<size_t>(pairs[r].a)] = involved[static_cast<size_t>(pairs[r].b)] = true;
+  }
+  for (int j = 0; j < nm; ++j) A(A.rows() - 1, j) = 1.0;
+  const Eigen::VectorXd lag = A.completeOrthogonalDecomposition().solve(rhs);
+  // Their spread among the markers of some pair.
+  std::vector<std::pair<double, int>> lags;
+  for (int j = 0; j < nm; ++j)
+    if (involved[static_cast<size_t>(j)]) lags.emplace_back(lag[j], j);
+  std::sort(lags.begin(), lags.end());
+  const double lo = lags.front().first, hi = lags.back().first;
+  if (!(hi - lo > std::max(0.5 * dt, 0.008))) return std::nullopt;
+  // The late group, and how much later than the early one it is on average.
+  Finding finding;
+  finding.kind = Finding::Kind::kTiming;
+  std::vector<double> late, early;
+  for (const auto& [value, j] : lags) {
+    if (value > 0.5 * (lo + hi)) {
+      finding.names.push_back(markers[static_cast<size_t>(j)].name);
+      late.push_back(value);
+    } else {
+      early.push_back(value);
+    }
+  }
+  auto mean = [](const std::vector<double>& v) {
+    double m = 0;
+    for (double x : v) m += x;
+    return m / static_cast<double>(v.size());
+  };
+  finding.value = mean(late) - mean(early);
+  std::string list;
+  for (size_t i = 0; i < finding.names.size(); ++i) list += (i ? ", " : "") + finding.names[i];
+  finding.text = "timing: markers " + list +
+                 fmt::format(" lag the others by {:.0f} ms", 1e3 * finding.value) +
+                 " (unsynchronised cameras or a time shift in the data)";
+  return finding;
+}
+
+// 2. Timing: markers recorded late. Two markers on one rigid segment keep their distance; if
+// one of them lags by δ, the distance between a's position at t and b's at t + δ is the one
+// that stays constant. Each pair's relative lag is the δ that makes their distance steadiest over
+// the judged frames (8 or more); the per-marker lags follow by least squares over the pairs.
+std::optional<Finding> FindTimingLag(const MarkerResiduals& residuals,
+                                     const std::vector<ModelMarker>& markers,
+                                     const std::vector<int>& frames,
+                                     int n,
+                                     double dt) {
+  if (frames.size() < 8) return std::nullopt;
+  const int nm = static_cast<int>(markers.size());
+  const double max_lag_s = 0.05;
+  const int steps = static_cast<int>(std::ceil(max_lag_s / dt)) * 4;  // quarter frames
+  std::vector<PairLag> pairs;
+  for (int a = 0; a < nm; ++a)
+    for (int b = a + 1; b < nm; ++b) {
+      if (markers[static_cast<size_t>(a)].segment != markers[static_cast<size_t>(b)].segment)
+        continue;
+      const std::optional<double> lag_s = EstimatePairLag(residuals, frames, n, dt, steps, a, b);
+      if (lag_s) pairs.push_back({a, b, *lag_s});
+    }
+  if (pairs.size() < 2) return std::nullopt;
+  return FindLaggingGroup(pairs, markers, dt);
+}
+
+// 3. Segment masses that best zero the flight residuals: a finding when the suggestion halves
+// the residual with no segment at a bound of its range, and changes some segment's mass by more
+// than 25 % (the one or two largest changes named).
+std::optional<Finding> FindSegmentMassFinding(const MassSuggestion& ms) {
+  // A suggestion that needs a segment at a bound of its range does not describe a wrong mass
+  // (noise or kinematics the masses cannot explain): not reported as a cause.
+  bool at_bound = false;
+  for (Eigen::Index s = 0; s < ms.current_kg.size(); ++s) {
+    const double scale = ms.suggested_kg[s] / ms.current_kg[s];
+    at_bound = at_bound || scale < 0.25 + 1e-6 || scale > 4.0 - 1e-6;
+  }
+  if (at_bound || !(ms.residual_before > 0 && ms.residual_after < 0.5 * ms.residual_before))
+    return std::nullopt;
+  // The segments by how much their mass changes (log ratio), largest first.
+  std::vector<std::pair<double, int>> change;
+  for (int s = 0; s < static_cast<int>(ms.segments.size()); ++s)
+    change.emplace_back(std::abs(std::log(std::max(ms.suggested_kg[s], 1e-6) / ms.current_kg[s])),
+                        s);
+  std::sort(change.rbegin(), change.rend());
+  if (change.empty() || !(change[0].first > std::log(1.25))) return std::nullopt;
+  // The largest change, and the second when at least half as large.
+  Finding finding;
+  finding.kind = Finding::Kind::kSegmentMass;
+  std::string text = "segment mass: ";
+  for (size_t i = 0; i < change.size() && i < 2; ++i) {
+    if (i > 0 && change[i].first < 0.5 * change[0].first) break;
+    const int s = change[i].second;
+    finding.names.push_back(ms.segments[static_cast<size_t>(s)]);
+    if (i) text += ", ";
+    text += ms.segments[static_cast<size_t>(s)] +
+            fmt::format(" {:.1f} kg in the model, {:.1f} kg fits the flights",
+                        ms.current_kg[s],
+                        ms.suggested_kg[s]);
+  }
+  const int s0 = change[0].second;
+  finding.value = ms.suggested_kg[s0] / ms.current_kg[s0];
+  text += fmt::format(
+      " (residual {:.3f} → {:.3f}; check the athlete file)", ms.residual_before, ms.residual_after);
+  finding.text = text;
+  return finding;
+}
+
+// 4. The markers (not already named) that fit worst at the 5 judged frames of largest residual:
+// mean error there above 1 cm and 3 times the marker's median error; up to 3 named.
+std::optional<Finding> FindWorstMarkers(const MarkerResiduals& residuals,
+                                        const std::vector<ModelMarker>& markers,
+                                        const std::vector<int>& frames,
+                                        const std::vector<bool>& named,
+                                        int n,
+                                        const PhysicalCheck& check,
+                                        const PhysicalCheckOptions& options) {
+  const int nm = static_cast<int>(markers.size());
+  // The peak-residual frames.
+  std::vector<int> peak = frames;
+  auto score = [&](int i) {
+    return check.frames.force_bw.col(i).norm() / options.max_force_bw +
+           check.frames.moment_bwh.col(i).norm() / options.max_moment_bwh;
+  };
+  const size_t top = std::min<size_t>(5, peak.size());
+  std::partial_sort(
+      peak.begin(), peak.begin() + static_cast<long>(top), peak.end(), [&](int x, int y) {
+        return score(x) > score(y);
+      });
+  peak.resize(top);
+  // Each marker's mean error there against its median error over the trial.
+  std::vector<std::pair<double, int>> worst;
+  for (int j = 0; j < nm; ++j) {
+    if (named[static_cast<size_t>(j)]) continue;
+    std::vector<double> all;
+    for (int i = 0; i < n; ++i)
+      if (residuals.present(i, j)) all.push_back(residuals.error(i, j));
+    if (all.empty()) continue;
+    std::nth_element(all.begin(), all.begin() + static_cast<long>(all.size() / 2), all.end());
+    const double median = all[all.size() / 2];
+    double at_peak = 0.0;
+    int count = 0;
+    for (int i : peak)
+      if (residuals.present(i, j)) {
+        at_peak += residuals.error(i, j);
+        ++count;
+      }
+    if (count == 0) continue;
+    at_peak /= count;
+    if (at_peak > 0.01 && at_peak > 3.0 * median) worst.emplace_back(at_peak, j);
+  }
+  std::sort(worst.rbegin(), worst.rend());
+  if (worst.empty()) return std::nullopt;
+  // The finding: the worst three.
+  Finding finding;
+  finding.kind = Finding::Kind::kMarkers;
+  std::string text = "markers fitting worst at the peak-residual frames: ";
+  for (size_t i = 0; i < worst.size() && i < 3; ++i) {
+    finding.names.push_back(markers[static_cast<size_t>(worst[i].second)].name);
+    text +=
+        (i ? ", " : "") + finding.names.back() + fmt::format(" {:.1f} cm", 100 * worst[i].first);
+  }
+  finding.value = worst[0].first;
+  finding.text = text;
+  return finding;
+}
+
+}  // namespace
+
 void LocalisePhysicsFailure(const dynamics::Model<double>& model,
                             const Motion& motion,
                             const Eigen::Matrix3Xd& marker_positions,
@@ -498,271 +917,32 @@ void LocalisePhysicsFailure(const dynamics::Model<double>& model,
   const double dt = FrameStep(motion);
   check.findings.clear();
 
-  // Model marker positions on every frame.
-  Eigen::Matrix3Xd model_positions(3, static_cast<Eigen::Index>(n) * nm);
-  {
-    dynamics::Workspace<double> ws(model);
-    Eigen::VectorXd q(model.nq());
-    for (int i = 0; i < n; ++i) {
-      q = motion.q.col(i);
-      dynamics::CalcForwardKinematics(model, ws, q);
-      for (int j = 0; j < nm; ++j) {
-        const auto& X = ws.X_WB[static_cast<size_t>(markers[static_cast<size_t>(j)].segment)];
-        model_positions.col(static_cast<Eigen::Index>(i) * nm + j) =
-            X.rotation() * markers[static_cast<size_t>(j)].p_BoM_B + X.translation();
-      }
-    }
-  }
-  auto measured = [&](int frame, int j) {
-    return marker_positions.col(static_cast<Eigen::Index>(frame) * nm + j);
-  };
-  auto predicted = [&](int frame, int j) {
-    return model_positions.col(static_cast<Eigen::Index>(frame) * nm + j);
-  };
-  auto present = [&](int frame, int j) { return std::isfinite(measured(frame, j)[0]); };
-  auto error = [&](int frame, int j) {
-    return present(frame, j) ? (measured(frame, j) - predicted(frame, j)).norm() : kNaN;
-  };
-  const double threshold = options.max_marker_error_m;
+  // Measured against model marker positions on every frame.
+  const MarkerResiduals residuals(
+      marker_positions, CalcModelMarkerPositions(model, motion, markers), nm);
   std::vector<bool> named(static_cast<size_t>(nm), false);
 
-  // 1. Swaps: two markers far from their own model positions and each close to the other's.
-  {
-    std::vector<std::vector<int>> swap_frames(static_cast<size_t>(nm) * nm);
-    for (int i = 0; i < n; ++i) {
-      std::vector<int> bad;
-      for (int j = 0; j < nm; ++j)
-        if (error(i, j) > threshold) bad.push_back(j);
-      for (size_t x = 0; x < bad.size(); ++x)
-        for (size_t y = x + 1; y < bad.size(); ++y) {
-          const int a = bad[x], b = bad[y];
-          if ((measured(i, a) - predicted(i, b)).norm() < threshold &&
-              (measured(i, b) - predicted(i, a)).norm() < threshold)
-            swap_frames[static_cast<size_t>(a * nm + b)].push_back(i);
-        }
-    }
-    for (int a = 0; a < nm; ++a)
-      for (int b = a + 1; b < nm; ++b) {
-        const std::vector<int>& f = swap_frames[static_cast<size_t>(a * nm + b)];
-        if (f.size() < 3) continue;
-        Finding finding;
-        finding.kind = Finding::Kind::kSwap;
-        finding.names = {markers[static_cast<size_t>(a)].name,
-                         markers[static_cast<size_t>(b)].name};
-        finding.value = static_cast<double>(f.size());
-        finding.text =
-            "markers " + finding.names[0] + " and " + finding.names[1] + " are swapped in " +
-            std::to_string(f.size()) + " frames (" +
-            fmt::format("{:.3f}–{:.3f} s", motion.time_s[f.front()], motion.time_s[f.back()]) +
-            "): relabel them";
-        named[static_cast<size_t>(a)] = named[static_cast<size_t>(b)] = true;
-        check.findings.push_back(finding);
-      }
-  }
+  // 1. Swapped markers.
+  for (Finding& finding :
+       FindSwappedMarkers(residuals, markers, motion, options.max_marker_error_m, named))
+    check.findings.push_back(std::move(finding));
 
+  // 2. Markers recorded late, judged on the flights' frames.
   const std::vector<int> frames = JudgedFrames(check);
-
-  // 2. Timing: markers recorded late. Two markers on one rigid segment keep their distance; if
-  // one of them lags by δ, the distance between a's position at t and b's at t + δ is the one
-  // that stays constant. Each pair's relative lag is the δ that makes their distance steadiest over
-  // the judged frames; the per-marker lags follow by least squares over the pairs.
-  if (frames.size() >= 8) {
-    const double max_lag_s = 0.05;
-    const int steps = static_cast<int>(std::ceil(max_lag_s / dt)) * 4;  // quarter frames
-    // b's position at frame i + δ/dt by linear interpolation (NaN outside or across a gap).
-    auto shifted = [&](int j, int i, double frames_ahead) -> Vector3d {
-      const double x = i + frames_ahead;
-      const int k = static_cast<int>(std::floor(x));
-      if (k < 0 || k + 1 >= n) return Vector3d::Constant(kNaN);
-      const double u = x - k;
-      return (1 - u) * measured(k, j) + u * measured(k + 1, j);
-    };
-    struct PairLag {
-      int a, b;
-      double lag_s;
-    };
-    std::vector<PairLag> pairs;
-    for (int a = 0; a < nm; ++a)
-      for (int b = a + 1; b < nm; ++b) {
-        if (markers[static_cast<size_t>(a)].segment != markers[static_cast<size_t>(b)].segment)
-          continue;
-        // Variance of the distance for every candidate lag.
-        std::vector<double> variance(static_cast<size_t>(2 * steps + 1), kNaN);
-        for (int s = -steps; s <= steps; ++s) {
-          double sum = 0, sum2 = 0;
-          int count = 0;
-          for (int i : frames) {
-            if (!present(i, a)) continue;
-            const Vector3d pb = shifted(b, i, s / 4.0);
-            if (!std::isfinite(pb[0])) continue;
-            const double d = (measured(i, a) - pb).norm();
-            sum += d;
-            sum2 += d * d;
-            ++count;
-          }
-          if (count < static_cast<int>(frames.size()) * 3 / 4) continue;
-          variance[static_cast<size_t>(s + steps)] =
-              std::max(0.0, sum2 / count - (sum / count) * (sum / count));
-        }
-        int best = -1;
-        for (int s = 0; s <= 2 * steps; ++s)
-          if (std::isfinite(variance[static_cast<size_t>(s)]) &&
-              (best < 0 || variance[static_cast<size_t>(s)] < variance[static_cast<size_t>(best)]))
-            best = s;
-        const double at_zero = variance[static_cast<size_t>(steps)];
-        if (best <= 0 || best >= 2 * steps || !std::isfinite(at_zero)) continue;
-        // Trust a pair whose distance varies by more than marker noise at zero lag and that a lag
-        // makes clearly steadier.
-        if (std::sqrt(at_zero) < 0.002 || at_zero < 2.0 * variance[static_cast<size_t>(best)])
-          continue;
-        const double v0 = variance[static_cast<size_t>(best - 1)],
-                     v1 = variance[static_cast<size_t>(best)],
-                     v2 = variance[static_cast<size_t>(best + 1)];
-        double step = best - steps;
-        if (std::isfinite(v0) && std::isfinite(v2) && v0 - 2 * v1 + v2 > 0)
-          step += 0.5 * (v0 - v2) / (v0 - 2 * v1 + v2);
-        pairs.push_back({a, b, step / 4.0 * dt});
-      }
-    // Per-marker lags: lag_b − lag_a = pair lag in least squares, their mean pinned to zero.
-    if (pairs.size() >= 2) {
-      Eigen::MatrixXd A = Eigen::MatrixXd::Zero(static_cast<Eigen::Index>(pairs.size()) + 1, nm);
-      Eigen::VectorXd rhs = Eigen::VectorXd::Zero(A.rows());
-      std::vector<bool> involved(static_cast<size_t>(nm), false);
-      for (size_t r = 0; r < pairs.size(); ++r) {
-        A(static_cast<Eigen::Index>(r), pairs[r].b) = 1.0;
-        A(static_cast<Eigen::Index>(r), pairs[r].a) = -1.0;
-        rhs[static_cast<Eigen::Index>(r)] = pairs[r].lag_s;
-        involved[static_cast<size_t>(pairs[r].a)] = involved[static_cast<size_t>(pairs[r].b)] =
-            true;
-      }
-      for (int j = 0; j < nm; ++j) A(A.rows() - 1, j) = 1.0;
-      const Eigen::VectorXd lag = A.completeOrthogonalDecomposition().solve(rhs);
-      // The lagging group: markers more than half the spread above the earliest.
-      std::vector<std::pair<double, int>> lags;
-      for (int j = 0; j < nm; ++j)
-        if (involved[static_cast<size_t>(j)]) lags.emplace_back(lag[j], j);
-      std::sort(lags.begin(), lags.end());
-      const double lo = lags.front().first, hi = lags.back().first;
-      if (hi - lo > std::max(0.5 * dt, 0.008)) {
-        Finding finding;
-        finding.kind = Finding::Kind::kTiming;
-        std::vector<double> late, early;
-        for (const auto& [value, j] : lags) {
-          if (value > 0.5 * (lo + hi)) {
-            finding.names.push_back(markers[static_cast<size_t>(j)].name);
-            late.push_back(value);
-          } else {
-            early.push_back(value);
-          }
-        }
-        auto mean = [](const std::vector<double>& v) {
-          double m = 0;
-          for (double x : v) m += x;
-          return m / static_cast<double>(v.size());
-        };
-        finding.value = mean(late) - mean(early);
-        std::string list;
-        for (size_t i = 0; i < finding.names.size(); ++i)
-          list += (i ? ", " : "") + finding.names[i];
-        finding.text = "timing: markers " + list +
-                       fmt::format(" lag the others by {:.0f} ms", 1e3 * finding.value) +
-                       " (unsynchronised cameras or a time shift in the data)";
-        check.findings.push_back(finding);
-      }
-    }
-  }
+  if (std::optional<Finding> timing = FindTimingLag(residuals, markers, frames, n, dt))
+    check.findings.push_back(std::move(*timing));
 
   // 3. Segment masses that best zero the flight residuals.
   check.mass_suggestion = SuggestSegmentMasses(model, motion, check, check.height_m);
-  {
-    const MassSuggestion& ms = check.mass_suggestion;
-    // A suggestion that needs a segment at a bound of its range does not describe a wrong mass
-    // (noise or kinematics the masses cannot explain): not reported as a cause.
-    bool at_bound = false;
-    for (Eigen::Index s = 0; s < ms.current_kg.size(); ++s) {
-      const double scale = ms.suggested_kg[s] / ms.current_kg[s];
-      at_bound = at_bound || scale < 0.25 + 1e-6 || scale > 4.0 - 1e-6;
-    }
-    if (!at_bound && ms.residual_before > 0 && ms.residual_after < 0.5 * ms.residual_before) {
-      std::vector<std::pair<double, int>> change;
-      for (int s = 0; s < static_cast<int>(ms.segments.size()); ++s)
-        change.emplace_back(
-            std::abs(std::log(std::max(ms.suggested_kg[s], 1e-6) / ms.current_kg[s])), s);
-      std::sort(change.rbegin(), change.rend());
-      if (!change.empty() && change[0].first > std::log(1.25)) {
-        Finding finding;
-        finding.kind = Finding::Kind::kSegmentMass;
-        std::string text = "segment mass: ";
-        for (size_t i = 0; i < change.size() && i < 2; ++i) {
-          if (i > 0 && change[i].first < 0.5 * change[0].first) break;
-          const int s = change[i].second;
-          finding.names.push_back(ms.segments[static_cast<size_t>(s)]);
-          if (i) text += ", ";
-          text += ms.segments[static_cast<size_t>(s)] +
-                  fmt::format(" {:.1f} kg in the model, {:.1f} kg fits the flights",
-                              ms.current_kg[s],
-                              ms.suggested_kg[s]);
-        }
-        const int s0 = change[0].second;
-        finding.value = ms.suggested_kg[s0] / ms.current_kg[s0];
-        text += fmt::format(" (residual {:.3f} → {:.3f}; check the athlete file)",
-                            ms.residual_before,
-                            ms.residual_after);
-        finding.text = text;
-        check.findings.push_back(finding);
-      }
-    }
-  }
+  if (std::optional<Finding> mass = FindSegmentMassFinding(check.mass_suggestion))
+    check.findings.push_back(std::move(*mass));
 
   // 4. When nothing above explains it: the markers that fit worst at the frames of largest
   // residual.
-  if (!frames.empty() && check.findings.empty()) {
-    std::vector<int> peak = frames;
-    auto score = [&](int i) {
-      return check.frames.force_bw.col(i).norm() / options.max_force_bw +
-             check.frames.moment_bwh.col(i).norm() / options.max_moment_bwh;
-    };
-    const size_t top = std::min<size_t>(5, peak.size());
-    std::partial_sort(
-        peak.begin(), peak.begin() + static_cast<long>(top), peak.end(), [&](int x, int y) {
-          return score(x) > score(y);
-        });
-    peak.resize(top);
-    std::vector<std::pair<double, int>> worst;
-    for (int j = 0; j < nm; ++j) {
-      if (named[static_cast<size_t>(j)]) continue;
-      std::vector<double> all;
-      for (int i = 0; i < n; ++i)
-        if (present(i, j)) all.push_back(error(i, j));
-      if (all.empty()) continue;
-      std::nth_element(all.begin(), all.begin() + static_cast<long>(all.size() / 2), all.end());
-      const double median = all[all.size() / 2];
-      double at_peak = 0.0;
-      int count = 0;
-      for (int i : peak)
-        if (present(i, j)) {
-          at_peak += error(i, j);
-          ++count;
-        }
-      if (count == 0) continue;
-      at_peak /= count;
-      if (at_peak > 0.01 && at_peak > 3.0 * median) worst.emplace_back(at_peak, j);
-    }
-    std::sort(worst.rbegin(), worst.rend());
-    if (!worst.empty()) {
-      Finding finding;
-      finding.kind = Finding::Kind::kMarkers;
-      std::string text = "markers fitting worst at the peak-residual frames: ";
-      for (size_t i = 0; i < worst.size() && i < 3; ++i) {
-        finding.names.push_back(markers[static_cast<size_t>(worst[i].second)].name);
-        text += (i ? ", " : "") + finding.names.back() +
-                fmt::format(" {:.1f} cm", 100 * worst[i].first);
-      }
-      finding.value = worst[0].first;
-      finding.text = text;
-      check.findings.push_back(finding);
-    }
-  }
+  if (!frames.empty() && check.findings.empty())
+    if (std::optional<Finding> worst =
+            FindWorstMarkers(residuals, markers, frames, named, n, check, options))
+      check.findings.push_back(std::move(*worst));
 }
 
 }  // namespace acro::analysis

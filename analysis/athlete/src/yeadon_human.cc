@@ -3,6 +3,9 @@
 #include <cmath>
 #include <numbers>
 #include <sstream>
+#include <string>
+#include <utility>
+#include <vector>
 
 #include <Eigen/Geometry>
 
@@ -286,6 +289,416 @@ struct SolidShape {
   SolidLocal local;
 };
 
+// ---- YeadonHuman::Make's steps: measurements → solids (shapes, then mass properties) → pose ----
+
+// Left and right limbs averaged (the yeadon package's `symmetric` option): measurement names
+// La… ↔ Lb… and Lj… ↔ Lk… with the same suffix.
+YeadonMeasurements SymmetrisedMeasurements(const YeadonMeasurements& measurements) {
+  YeadonMeasurements meas = measurements;
+  for (std::string_view name : kYeadonMeasurementNames) {
+    if (name.size() < 3 || (name[1] != 'a' && name[1] != 'j')) continue;
+    std::string other(name);
+    other[1] = name[1] == 'a' ? 'b' : 'k';
+    const double mean = 0.5 * (meas.Get(name) + meas.Get(other));
+    meas.Set(name, mean);
+    meas.Set(other, mean);
+  }
+  return meas;
+}
+
+// Appends a stadium solid from stadium s0 to s1; a non-positive height (lengths not increasing
+// along the limb) is refused, naming `source`.
+void AddSolid(const std::string& source,
+              std::string label,
+              double density,
+              const Stadium& s0,
+              const Stadium& s1,
+              double height,
+              std::vector<SolidShape>& shapes) {
+  SolidShape s;
+  s.label = std::move(label);
+  s.s0 = s0;
+  s.s1 = s1;
+  s.height = height;
+  s.density = density;
+  if (!(height > 0.0))
+    throw InputError(source,
+                     "solid " + s.label,
+                     "non-positive height " + std::to_string(height) +
+                         " m (the length measurements must increase along the limb)");
+  shapes.push_back(s);
+}
+
+// Torso levels Ls0…Ls7 (Yeadon 1990, Fig. 2), nine stadia with Ls5 twice (acromion, bottom of
+// neck). Ls5 (acromion) cannot be measured: its radius is 0.57 of Ls4's and its width Ls4's
+// (Yeadon's ISEG program, as in the yeadon package).
+std::vector<Stadium> MakeTorsoLevels(const StadiumMaker& stadium, const YeadonMeasurements& meas) {
+  auto m = [&](std::string_view name) { return meas.Get(name); };
+  std::vector<Stadium> Ls;
+  Ls.push_back(stadium.PerimeterWidth("Ls0 (hip joint centre)", m("Ls0p"), m("Ls0w")));
+  Ls.push_back(stadium.PerimeterWidth("Ls1 (umbilicus)", m("Ls1p"), m("Ls1w")));
+  Ls.push_back(stadium.PerimeterWidth("Ls2 (lowest front rib)", m("Ls2p"), m("Ls2w")));
+  Ls.push_back(stadium.PerimeterWidth("Ls3 (nipple)", m("Ls3p"), m("Ls3w")));
+  Ls.push_back(stadium.DepthWidth("Ls4 (shoulder joint centre)", m("Ls4d"), m("Ls4w")));
+  const double r5 = 0.57 * Ls[4].r;
+  Ls.push_back(stadium.ThicknessRadius("Ls5 (acromion)", Ls[4].width / 2.0 - r5, r5));
+  Ls.push_back(stadium.Circle("Ls5 (bottom of neck)", m("Ls5p")));
+  Ls.push_back(stadium.Circle("Ls6 (beneath nose)", m("Ls6p")));
+  Ls.push_back(stadium.Circle("Ls7 (above ear)", m("Ls7p")));
+  return Ls;
+}
+
+// The torso's solids s0…s6 between the levels, and the head s7, a semi-ellipsoid on Ls7.
+void AddTorsoSolids(const std::vector<Stadium>& Ls,
+                    const YeadonMeasurements& meas,
+                    const YeadonDensities& rho,
+                    double scale,
+                    std::vector<SolidShape>& shapes) {
+  auto m = [&](std::string_view name) { return meas.Get(name); };
+  const std::string& source = meas.source;
+  AddSolid(source, "s0", scale * rho.abdomen_pelvis, Ls[0], Ls[1], m("Ls1L"), shapes);
+  AddSolid(source, "s1", scale * rho.abdomen_pelvis, Ls[1], Ls[2], m("Ls2L") - m("Ls1L"), shapes);
+  AddSolid(source, "s2", scale * rho.thorax, Ls[2], Ls[3], m("Ls3L") - m("Ls2L"), shapes);
+  AddSolid(source, "s3", scale * rho.thorax, Ls[3], Ls[4], m("Ls4L") - m("Ls3L"), shapes);
+  AddSolid(source, "s4", scale * rho.shoulders, Ls[4], Ls[5], m("Ls5L") - m("Ls4L"), shapes);
+  AddSolid(source, "s5", scale * rho.head_neck, Ls[6], Ls[7], m("Ls6L"), shapes);
+  AddSolid(source, "s6", scale * rho.head_neck, Ls[7], Ls[8], m("Ls7L") - m("Ls6L"), shapes);
+  SolidShape head;
+  head.label = "s7";
+  head.semi_ellipsoid = true;
+  head.s0 = Ls[8];
+  head.s1 = Ls[8];
+  head.height = m("Ls8L") - m("Ls7L");
+  head.density = scale * rho.head_neck;
+  if (!(head.height > 0.0)) throw InputError(source, "solid s7", "Ls8L must exceed Ls7L");
+  shapes.push_back(head);
+}
+
+// One arm (side 'a' left, 'b' right): levels 0…3 circles, 4…7 stadia; solid i joins level i+1
+// (stadium 0, distal) to level i.
+void AddArmSolids(char side,
+                  const StadiumMaker& stadium,
+                  const YeadonMeasurements& meas,
+                  const YeadonDensities& rho,
+                  double scale,
+                  std::vector<SolidShape>& shapes) {
+  auto m = [&](std::string_view name) { return meas.Get(name); };
+  const std::string L = std::string("L") + side;
+  auto name = [&](const char* suffix) { return L + suffix; };
+  // The levels.
+  std::vector<Stadium> La;
+  La.push_back(stadium.Circle(name("0 (shoulder joint centre)"), m(name("0p"))));
+  La.push_back(stadium.Circle(name("1 (mid-arm)"), m(name("1p"))));
+  La.push_back(stadium.Circle(name("2 (elbow joint centre)"), m(name("2p"))));
+  La.push_back(stadium.Circle(name("3 (maximum forearm perimeter)"), m(name("3p"))));
+  La.push_back(
+      stadium.PerimeterWidth(name("4 (wrist joint centre)"), m(name("4p")), m(name("4w"))));
+  La.push_back(stadium.PerimeterWidth(name("5 (base of thumb)"), m(name("5p")), m(name("5w"))));
+  La.push_back(stadium.PerimeterWidth(name("6 (knuckles)"), m(name("6p")), m(name("6w"))));
+  La.push_back(stadium.PerimeterWidth(name("7 (fingernails)"), m(name("7p")), m(name("7w"))));
+  // The solids between them; the mid-arm level halves the upper arm.
+  const double L2 = m(name("2L"));
+  const double heights[7] = {L2 * 0.5,
+                             L2 - L2 * 0.5,
+                             m(name("3L")) - L2,
+                             m(name("4L")) - m(name("3L")),
+                             m(name("5L")),
+                             m(name("6L")) - m(name("5L")),
+                             m(name("7L")) - m(name("6L"))};
+  const double density[7] = {
+      rho.upper_arm, rho.upper_arm, rho.forearm, rho.forearm, rho.hand, rho.hand, rho.hand};
+  for (int i = 0; i < 7; ++i)
+    AddSolid(meas.source,
+             std::string(1, side) + std::to_string(i),
+             scale * density[i],
+             La[i + 1],
+             La[i],
+             heights[i],
+             shapes);
+}
+
+// One leg (side 'j' left, 'k' right): Lj0's perimeter from Ls0 (2π · ½√(r w)); Lj6 (heel) an
+// antero-posterior stadium from its perimeter and depth; Lj2 and Lj7 halfway between their
+// neighbours.
+void AddLegSolids(char side,
+                  const Stadium& Ls0,
+                  const StadiumMaker& stadium,
+                  const YeadonMeasurements& meas,
+                  const YeadonDensities& rho,
+                  double scale,
+                  std::vector<SolidShape>& shapes) {
+  auto m = [&](std::string_view name) { return meas.Get(name); };
+  const std::string L = std::string("L") + side;
+  auto name = [&](const char* suffix) { return L + suffix; };
+  // The levels.
+  std::vector<Stadium> Lj;
+  Lj.push_back(stadium.Circle(name("0 (hip joint centre)"),
+                              2.0 * kPi * 0.5 * std::sqrt(std::abs(Ls0.r * Ls0.width))));
+  Lj.push_back(stadium.Circle(name("1 (crotch)"), m(name("1p"))));
+  Lj.push_back(stadium.Circle(name("2 (mid-thigh)"), m(name("2p"))));
+  Lj.push_back(stadium.Circle(name("3 (knee joint centre)"), m(name("3p"))));
+  Lj.push_back(stadium.Circle(name("4 (maximum calf perimeter)"), m(name("4p"))));
+  Lj.push_back(stadium.Circle(name("5 (ankle joint centre)"), m(name("5p"))));
+  Lj.push_back(stadium.PerimeterWidth(name("6 (heel)"), m(name("6p")), m(name("6d")), true));
+  Lj.push_back(stadium.Circle(name("7 (arch)"), m(name("7p"))));
+  Lj.push_back(stadium.PerimeterWidth(name("8 (ball)"), m(name("8p")), m(name("8w"))));
+  Lj.push_back(stadium.PerimeterWidth(name("9 (toe nails)"), m(name("9p")), m(name("9w"))));
+  // The solids between them.
+  const double L1 = m(name("1L")), L3 = m(name("3L")), L6 = m(name("6L")), L8 = m(name("8L"));
+  const double heights[9] = {L1,
+                             (L3 + L1) * 0.5 - L1,
+                             L3 - (L3 + L1) * 0.5,
+                             m(name("4L")) - L3,
+                             m(name("5L")) - m(name("4L")),
+                             L6,
+                             (L8 + L6) * 0.5 - L6,
+                             L8 - (L8 + L6) * 0.5,
+                             m(name("9L")) - L8};
+  const double density[9] = {rho.thigh,
+                             rho.thigh,
+                             rho.thigh,
+                             rho.lower_leg,
+                             rho.lower_leg,
+                             rho.foot,
+                             rho.foot,
+                             rho.foot,
+                             rho.foot};
+  for (int i = 0; i < 9; ++i)
+    AddSolid(meas.source,
+             std::string(1, side) + std::to_string(i),
+             scale * density[i],
+             Lj[i + 1],
+             Lj[i],
+             heights[i],
+             shapes);
+}
+
+// The body's 40 solids before posing, densities times `scale`, with their local mass properties;
+// and the torso levels (the shoulders and hips are placed from Ls4 and Ls0).
+struct BodyShape {
+  std::vector<Stadium> Ls;
+  std::vector<SolidShape> solids;
+};
+
+BodyShape MakeBodyShape(const YeadonMeasurements& meas,
+                        const StadiumMaker& stadium,
+                        const YeadonDensities& rho,
+                        double scale,
+                        bool package_compatible) {
+  BodyShape body;
+  // Torso, arms, legs.
+  body.Ls = MakeTorsoLevels(stadium, meas);
+  AddTorsoSolids(body.Ls, meas, rho, scale, body.solids);
+  for (char side : {'a', 'b'}) AddArmSolids(side, stadium, meas, rho, scale, body.solids);
+  for (char side : {'j', 'k'})
+    AddLegSolids(side, body.Ls[0], stadium, meas, rho, scale, body.solids);
+  // Local mass properties of every solid.
+  for (SolidShape& s : body.solids) {
+    s.local = s.semi_ellipsoid
+                  ? SemiEllipsoidLocal(s.density, s.s0.r, s.height)
+                  : StadiumSolidLocal(s.density, s.s0, s.s1, s.height, package_compatible);
+  }
+  return body;
+}
+
+// A placed segment, in yeadon's axes Y.
+struct Placed {
+  Eigen::Matrix3d R_Y;                        // segment orientation in Y
+  Eigen::Vector3d proximal;                   // in Y
+  Eigen::Vector3d end;                        // in Y
+  std::vector<Eigen::Vector3d> solid_origin;  // stadium-0 centre of each solid, in Y
+};
+
+// Places segments, each a chain of solids, in yeadon's axes Y, and keeps them and their solids
+// rotated into the body axes H.
+class SegmentPlacer {
+ public:
+  explicit SegmentPlacer(const std::vector<SolidShape>& shapes)
+      : shapes_(shapes), C_(YeadonAxesToBodyAxes()) {}
+
+  const SolidShape& Shape(std::string_view label) const {
+    for (const SolidShape& shape : shapes_)
+      if (shape.label == label) return shape;
+    ACRO_DEMAND(false);
+    return shapes_.front();
+  }
+
+  // Segment `label` with orientation R in Y, its solids stacked from `proximal` along R's z
+  // (toward positive z, or toward negative z for the limbs).
+  Placed Place(const char* label,
+               const char* seg_name,
+               const Eigen::Vector3d& proximal,
+               const Eigen::Matrix3d& R,
+               const std::vector<std::string>& solid_labels,
+               bool toward_positive_z) {
+    const Eigen::Matrix3d& C = C_;
+    YeadonSegment seg;
+    seg.label = label;
+    seg.name = seg_name;
+    Placed p{R, proximal, proximal, {}};
+    Eigen::Vector3d cursor = proximal;
+    const int seg_index = static_cast<int>(segments_.size());
+    std::vector<InertialProperties> parts;
+    for (const std::string& sl : solid_labels) {
+      const SolidShape& shape = Shape(sl);
+      // The solid's stadium-0 centre, and the cursor moved to its other end.
+      const Eigen::Vector3d axis = shape.height * (R * Eigen::Vector3d::UnitZ());
+      Eigen::Vector3d origin;
+      if (toward_positive_z) {
+        origin = cursor;
+        cursor = cursor + axis;
+      } else {
+        origin = cursor - axis;
+        cursor = origin;
+      }
+      p.solid_origin.push_back(origin);
+      const YeadonSolid solid = MakeSolid(shape, seg_index, R, origin);
+      parts.push_back(solid.in_H);
+      seg.solids.push_back(static_cast<int>(solids_.size()));
+      solids_.push_back(solid);
+    }
+    p.end = cursor;
+    seg.R_HB = C * R * C.transpose();
+    seg.p_HoBo_H = C * proximal;
+    seg.p_HoBend_H = C * cursor;
+    seg.in_H = CombineInertia(parts);
+    segments_.push_back(seg);
+    return p;
+  }
+
+  std::vector<YeadonSolid>& solids() { return solids_; }
+  std::vector<YeadonSegment>& segments() { return segments_; }
+
+ private:
+  // The solid of `shape` in segment seg_index, oriented R with its stadium-0 centre at `origin`
+  // (in Y), and its inertia in its own axes S and in H.
+  YeadonSolid MakeSolid(const SolidShape& shape,
+                        int seg_index,
+                        const Eigen::Matrix3d& R,
+                        const Eigen::Vector3d& origin) const {
+    const Eigen::Matrix3d& C = C_;
+    YeadonSolid solid;
+    solid.label = shape.label;
+    solid.semi_ellipsoid = shape.semi_ellipsoid;
+    solid.anteroposterior = shape.s0.anteroposterior || shape.s1.anteroposterior;
+    solid.r0_m = shape.s0.r;
+    solid.t0_m = shape.s0.t;
+    solid.r1_m = shape.semi_ellipsoid ? 0.0 : shape.s1.r;
+    solid.t1_m = shape.semi_ellipsoid ? 0.0 : shape.s1.t;
+    solid.height_m = shape.height;
+    solid.density_kg_m3 = shape.density;
+    solid.segment = seg_index;
+    solid.R_HS = C * R * C.transpose();
+    solid.p_HoSo_H = C * origin;
+    solid.in_S.mass_kg = shape.local.mass;
+    solid.in_S.p_HoCm_H = Eigen::Vector3d(0.0, 0.0, shape.local.z_com);
+    solid.in_S.I_Cm_H = C * shape.local.I_local * C.transpose();
+    solid.in_H = TransformInertia(solid.in_S, solid.R_HS, solid.p_HoSo_H);
+    return solid;
+  }
+
+  const std::vector<SolidShape>& shapes_;
+  const Eigen::Matrix3d C_;
+  std::vector<YeadonSolid> solids_;
+  std::vector<YeadonSegment> segments_;
+};
+
+// The torso: pelvis at the origin in the configuration's somersault, tilt and twist, thorax on
+// it, chest-head on the thorax. Returns the pelvis and the chest-head.
+std::pair<Placed, Placed> PlaceTorso(SegmentPlacer& placer, const YeadonConfiguration& cfg) {
+  auto a = [&](std::string_view n) { return cfg.Get(n); };
+  const Eigen::Matrix3d R_P = Euler123(a("somersault"), a("tilt"), a("twist"));
+  const Placed P = placer.Place("P", "pelvis", Eigen::Vector3d::Zero(), R_P, {"s0", "s1"}, true);
+  const Eigen::Matrix3d R_T = R_P * Euler123(a("PTsagittalFlexion"), a("PTbending"), 0.0);
+  const Placed T = placer.Place("T", "thorax", P.end, R_T, {"s2"}, true);
+  const Eigen::Matrix3d R_C =
+      R_T * Euler123(a("TCsagittalSpinalFlexion"), 0.0, a("TCspinalTorsion"));
+  const Placed Cs =
+      placer.Place("C", "chest-head", T.end, R_C, {"s3", "s4", "s5", "s6", "s7"}, true);
+  return {P, Cs};
+}
+
+// The arms from the shoulders: ±(Ls4 width)/2 laterally at the top of solid s3 (Ls4 level).
+void PlaceArms(SegmentPlacer& placer,
+               const YeadonConfiguration& cfg,
+               const Placed& Cs,
+               const Stadium& Ls4) {
+  auto a = [&](std::string_view n) { return cfg.Get(n); };
+  const Eigen::Matrix3d& R_C = Cs.R_Y;
+  const double shoulder_half_width = Ls4.width / 2.0;
+  const double s3_height = placer.Shape("s3").height;
+  // Left.
+  const Eigen::Matrix3d R_A1 =
+      R_C * Euler123(a("CA1extension"), a("CA1adduction"), a("CA1rotation"));
+  const Placed A1 =
+      placer.Place("A1",
+                   "left upper arm",
+                   Cs.solid_origin[0] + R_C * Eigen::Vector3d(shoulder_half_width, 0, s3_height),
+                   R_A1,
+                   {"a0", "a1"},
+                   false);
+  placer.Place("A2",
+               "left forearm-hand",
+               A1.end,
+               R_A1 * Euler123(a("A1A2extension"), 0.0, 0.0),
+               {"a2", "a3", "a4", "a5", "a6"},
+               false);
+  // Right.
+  const Eigen::Matrix3d R_B1 =
+      R_C * Euler123(a("CB1extension"), a("CB1abduction"), a("CB1rotation"));
+  const Placed B1 =
+      placer.Place("B1",
+                   "right upper arm",
+                   Cs.solid_origin[0] + R_C * Eigen::Vector3d(-shoulder_half_width, 0, s3_height),
+                   R_B1,
+                   {"b0", "b1"},
+                   false);
+  placer.Place("B2",
+               "right forearm-hand",
+               B1.end,
+               R_B1 * Euler123(a("B1B2extension"), 0.0, 0.0),
+               {"b2", "b3", "b4", "b5", "b6"},
+               false);
+}
+
+// The legs from the hips: ±(t + r)/2 of Ls0 laterally, at the Ls0 level.
+void PlaceLegs(SegmentPlacer& placer,
+               const YeadonConfiguration& cfg,
+               const Placed& P,
+               const Stadium& Ls0) {
+  auto a = [&](std::string_view n) { return cfg.Get(n); };
+  const Eigen::Matrix3d& R_P = P.R_Y;
+  const double hip_half_width = (Ls0.t + Ls0.r) / 2.0;
+  // Left.
+  const Eigen::Matrix3d R_J1 = R_P * Euler123(a("PJ1extension"), a("PJ1adduction"), 0.0);
+  const Placed J1 = placer.Place("J1",
+                                 "left thigh",
+                                 P.solid_origin[0] + R_P * Eigen::Vector3d(hip_half_width, 0, 0),
+                                 R_J1,
+                                 {"j0", "j1", "j2"},
+                                 false);
+  placer.Place("J2",
+               "left shank-foot",
+               J1.end,
+               R_J1 * Euler123(a("J1J2flexion"), 0.0, 0.0),
+               {"j3", "j4", "j5", "j6", "j7", "j8"},
+               false);
+  // Right.
+  const Eigen::Matrix3d R_K1 = R_P * Euler123(a("PK1extension"), a("PK1abduction"), 0.0);
+  const Placed K1 = placer.Place("K1",
+                                 "right thigh",
+                                 P.solid_origin[0] + R_P * Eigen::Vector3d(-hip_half_width, 0, 0),
+                                 R_K1,
+                                 {"k0", "k1", "k2"},
+                                 false);
+  placer.Place("K2",
+               "right shank-foot",
+               K1.end,
+               R_K1 * Euler123(a("K1K2flexion"), 0.0, 0.0),
+               {"k3", "k4", "k5", "k6", "k7", "k8"},
+               false);
+}
+
 }  // namespace
 
 YeadonHuman YeadonHuman::Make(const YeadonMeasurements& measurements_in,
@@ -293,307 +706,24 @@ YeadonHuman YeadonHuman::Make(const YeadonMeasurements& measurements_in,
                               const YeadonConfiguration& cfg) {
   YeadonHuman human;
   human.options_ = options;
-  const std::string& source = measurements_in.source;
-
-  // Left and right limbs averaged (the yeadon package's `symmetric` option): measurement names
-  // La… ↔ Lb… and Lj… ↔ Lk… with the same suffix.
-  YeadonMeasurements meas = measurements_in;
-  if (options.symmetric) {
-    for (std::string_view name : kYeadonMeasurementNames) {
-      if (name.size() < 3 || (name[1] != 'a' && name[1] != 'j')) continue;
-      std::string other(name);
-      other[1] = name[1] == 'a' ? 'b' : 'k';
-      const double mean = 0.5 * (meas.Get(name) + meas.Get(other));
-      meas.Set(name, mean);
-      meas.Set(other, mean);
-    }
-  }
-  auto m = [&](std::string_view name) { return meas.Get(name); };
-
-  const StadiumMaker stadium(source, &human.warnings_);
-  std::vector<SolidShape> shapes;
-  auto add_solid =
-      [&](std::string label, double density, const Stadium& s0, const Stadium& s1, double height) {
-        SolidShape s;
-        s.label = std::move(label);
-        s.s0 = s0;
-        s.s1 = s1;
-        s.height = height;
-        s.density = density;
-        if (!(height > 0.0))
-          throw InputError(source,
-                           "solid " + s.label,
-                           "non-positive height " + std::to_string(height) +
-                               " m (the length measurements must increase along the limb)");
-        shapes.push_back(s);
-      };
+  const YeadonMeasurements meas =
+      options.symmetric ? SymmetrisedMeasurements(measurements_in) : measurements_in;
+  const StadiumMaker stadium(measurements_in.source, &human.warnings_);
 
   // One pass builds the solids at a density multiplier; a second pass rescales to a measured mass.
   auto build = [&](double scale) {
-    shapes.clear();
     human.warnings_.clear();
-    const YeadonDensities rho = DensitiesOf(options.density);
-
-    // Torso levels Ls0…Ls7 (Yeadon 1990, Fig. 2). Ls5 (acromion) cannot be measured: its radius is
-    // 0.57 of Ls4's and its width Ls4's (Yeadon's ISEG program, as in the yeadon package).
-    std::vector<Stadium> Ls;
-    Ls.push_back(stadium.PerimeterWidth("Ls0 (hip joint centre)", m("Ls0p"), m("Ls0w")));
-    Ls.push_back(stadium.PerimeterWidth("Ls1 (umbilicus)", m("Ls1p"), m("Ls1w")));
-    Ls.push_back(stadium.PerimeterWidth("Ls2 (lowest front rib)", m("Ls2p"), m("Ls2w")));
-    Ls.push_back(stadium.PerimeterWidth("Ls3 (nipple)", m("Ls3p"), m("Ls3w")));
-    Ls.push_back(stadium.DepthWidth("Ls4 (shoulder joint centre)", m("Ls4d"), m("Ls4w")));
-    const double r5 = 0.57 * Ls[4].r;
-    Ls.push_back(stadium.ThicknessRadius("Ls5 (acromion)", Ls[4].width / 2.0 - r5, r5));
-    Ls.push_back(stadium.Circle("Ls5 (bottom of neck)", m("Ls5p")));
-    Ls.push_back(stadium.Circle("Ls6 (beneath nose)", m("Ls6p")));
-    Ls.push_back(stadium.Circle("Ls7 (above ear)", m("Ls7p")));
-    add_solid("s0", scale * rho.abdomen_pelvis, Ls[0], Ls[1], m("Ls1L"));
-    add_solid("s1", scale * rho.abdomen_pelvis, Ls[1], Ls[2], m("Ls2L") - m("Ls1L"));
-    add_solid("s2", scale * rho.thorax, Ls[2], Ls[3], m("Ls3L") - m("Ls2L"));
-    add_solid("s3", scale * rho.thorax, Ls[3], Ls[4], m("Ls4L") - m("Ls3L"));
-    add_solid("s4", scale * rho.shoulders, Ls[4], Ls[5], m("Ls5L") - m("Ls4L"));
-    add_solid("s5", scale * rho.head_neck, Ls[6], Ls[7], m("Ls6L"));
-    add_solid("s6", scale * rho.head_neck, Ls[7], Ls[8], m("Ls7L") - m("Ls6L"));
-    {
-      SolidShape head;
-      head.label = "s7";
-      head.semi_ellipsoid = true;
-      head.s0 = Ls[8];
-      head.s1 = Ls[8];
-      head.height = m("Ls8L") - m("Ls7L");
-      head.density = scale * rho.head_neck;
-      if (!(head.height > 0.0)) throw InputError(source, "solid s7", "Ls8L must exceed Ls7L");
-      shapes.push_back(head);
-    }
-
-    // Arms: levels 0…3 circles, 4…7 stadia; solid i joins level i+1 (stadium 0, distal) to level i.
-    for (char side : {'a', 'b'}) {
-      const std::string L = std::string("L") + side;
-      auto name = [&](const char* suffix) { return L + suffix; };
-      std::vector<Stadium> La;
-      La.push_back(stadium.Circle(name("0 (shoulder joint centre)"), m(name("0p"))));
-      La.push_back(stadium.Circle(name("1 (mid-arm)"), m(name("1p"))));
-      La.push_back(stadium.Circle(name("2 (elbow joint centre)"), m(name("2p"))));
-      La.push_back(stadium.Circle(name("3 (maximum forearm perimeter)"), m(name("3p"))));
-      La.push_back(
-          stadium.PerimeterWidth(name("4 (wrist joint centre)"), m(name("4p")), m(name("4w"))));
-      La.push_back(stadium.PerimeterWidth(name("5 (base of thumb)"), m(name("5p")), m(name("5w"))));
-      La.push_back(stadium.PerimeterWidth(name("6 (knuckles)"), m(name("6p")), m(name("6w"))));
-      La.push_back(stadium.PerimeterWidth(name("7 (fingernails)"), m(name("7p")), m(name("7w"))));
-      const double L2 = m(name("2L"));
-      const double heights[7] = {L2 * 0.5,
-                                 L2 - L2 * 0.5,
-                                 m(name("3L")) - L2,
-                                 m(name("4L")) - m(name("3L")),
-                                 m(name("5L")),
-                                 m(name("6L")) - m(name("5L")),
-                                 m(name("7L")) - m(name("6L"))};
-      const double density[7] = {
-          rho.upper_arm, rho.upper_arm, rho.forearm, rho.forearm, rho.hand, rho.hand, rho.hand};
-      for (int i = 0; i < 7; ++i)
-        add_solid(std::string(1, side) + std::to_string(i),
-                  scale * density[i],
-                  La[i + 1],
-                  La[i],
-                  heights[i]);
-    }
-
-    // Legs: Lj0's perimeter from Ls0 (2π · ½√(r w)); Lj6 (heel) an antero-posterior stadium from
-    // its perimeter and depth; Lj2 and Lj7 halfway between their neighbours.
-    for (char side : {'j', 'k'}) {
-      const std::string L = std::string("L") + side;
-      auto name = [&](const char* suffix) { return L + suffix; };
-      std::vector<Stadium> Lj;
-      Lj.push_back(stadium.Circle(name("0 (hip joint centre)"),
-                                  2.0 * kPi * 0.5 * std::sqrt(std::abs(Ls[0].r * Ls[0].width))));
-      Lj.push_back(stadium.Circle(name("1 (crotch)"), m(name("1p"))));
-      Lj.push_back(stadium.Circle(name("2 (mid-thigh)"), m(name("2p"))));
-      Lj.push_back(stadium.Circle(name("3 (knee joint centre)"), m(name("3p"))));
-      Lj.push_back(stadium.Circle(name("4 (maximum calf perimeter)"), m(name("4p"))));
-      Lj.push_back(stadium.Circle(name("5 (ankle joint centre)"), m(name("5p"))));
-      Lj.push_back(stadium.PerimeterWidth(name("6 (heel)"), m(name("6p")), m(name("6d")), true));
-      Lj.push_back(stadium.Circle(name("7 (arch)"), m(name("7p"))));
-      Lj.push_back(stadium.PerimeterWidth(name("8 (ball)"), m(name("8p")), m(name("8w"))));
-      Lj.push_back(stadium.PerimeterWidth(name("9 (toe nails)"), m(name("9p")), m(name("9w"))));
-      const double L1 = m(name("1L")), L3 = m(name("3L")), L6 = m(name("6L")), L8 = m(name("8L"));
-      const double heights[9] = {L1,
-                                 (L3 + L1) * 0.5 - L1,
-                                 L3 - (L3 + L1) * 0.5,
-                                 m(name("4L")) - L3,
-                                 m(name("5L")) - m(name("4L")),
-                                 L6,
-                                 (L8 + L6) * 0.5 - L6,
-                                 L8 - (L8 + L6) * 0.5,
-                                 m(name("9L")) - L8};
-      const double density[9] = {rho.thigh,
-                                 rho.thigh,
-                                 rho.thigh,
-                                 rho.lower_leg,
-                                 rho.lower_leg,
-                                 rho.foot,
-                                 rho.foot,
-                                 rho.foot,
-                                 rho.foot};
-      for (int i = 0; i < 9; ++i)
-        add_solid(std::string(1, side) + std::to_string(i),
-                  scale * density[i],
-                  Lj[i + 1],
-                  Lj[i],
-                  heights[i]);
-    }
-
-    // Local mass properties of every solid.
-    for (SolidShape& s : shapes) {
-      s.local = s.semi_ellipsoid ? SemiEllipsoidLocal(s.density, s.s0.r, s.height)
-                                 : StadiumSolidLocal(
-                                       s.density, s.s0, s.s1, s.height, options.package_compatible);
-    }
-
+    // The solids' shapes and mass properties.
+    const BodyShape body = MakeBodyShape(
+        meas, stadium, DensitiesOf(options.density), scale, options.package_compatible);
     // Pose: segments placed from the pelvis outwards, in yeadon's axes Y, then rotated into H.
-    const Eigen::Matrix3d C = YeadonAxesToBodyAxes();
-    human.solids_.clear();
-    human.segments_.clear();
-    auto index_of = [&](std::string_view label) {
-      for (size_t i = 0; i < shapes.size(); ++i)
-        if (shapes[i].label == label) return static_cast<int>(i);
-      ACRO_DEMAND(false);
-      return -1;
-    };
-    struct Placed {
-      Eigen::Matrix3d R_Y;                        // segment orientation in Y
-      Eigen::Vector3d proximal;                   // in Y
-      Eigen::Vector3d end;                        // in Y
-      std::vector<Eigen::Vector3d> solid_origin;  // stadium-0 centre of each solid, in Y
-    };
-    std::vector<Placed> placed;
-    auto place = [&](const char* label,
-                     const char* seg_name,
-                     const Eigen::Vector3d& proximal,
-                     const Eigen::Matrix3d& R,
-                     std::vector<std::string> solid_labels,
-                     bool toward_positive_z) {
-      YeadonSegment seg;
-      seg.label = label;
-      seg.name = seg_name;
-      Placed p{R, proximal, proximal, {}};
-      Eigen::Vector3d cursor = proximal;
-      const int seg_index = static_cast<int>(human.segments_.size());
-      std::vector<InertialProperties> parts;
-      for (const std::string& sl : solid_labels) {
-        const SolidShape& shape = shapes[static_cast<size_t>(index_of(sl))];
-        const Eigen::Vector3d axis = shape.height * (R * Eigen::Vector3d::UnitZ());
-        Eigen::Vector3d origin;
-        if (toward_positive_z) {
-          origin = cursor;
-          cursor = cursor + axis;
-        } else {
-          origin = cursor - axis;
-          cursor = origin;
-        }
-        p.solid_origin.push_back(origin);
-        YeadonSolid solid;
-        solid.label = shape.label;
-        solid.semi_ellipsoid = shape.semi_ellipsoid;
-        solid.anteroposterior = shape.s0.anteroposterior || shape.s1.anteroposterior;
-        solid.r0_m = shape.s0.r;
-        solid.t0_m = shape.s0.t;
-        solid.r1_m = shape.semi_ellipsoid ? 0.0 : shape.s1.r;
-        solid.t1_m = shape.semi_ellipsoid ? 0.0 : shape.s1.t;
-        solid.height_m = shape.height;
-        solid.density_kg_m3 = shape.density;
-        solid.segment = seg_index;
-        solid.R_HS = C * R * C.transpose();
-        solid.p_HoSo_H = C * origin;
-        solid.in_S.mass_kg = shape.local.mass;
-        solid.in_S.p_HoCm_H = Eigen::Vector3d(0.0, 0.0, shape.local.z_com);
-        solid.in_S.I_Cm_H = C * shape.local.I_local * C.transpose();
-        solid.in_H = TransformInertia(solid.in_S, solid.R_HS, solid.p_HoSo_H);
-        parts.push_back(solid.in_H);
-        seg.solids.push_back(static_cast<int>(human.solids_.size()));
-        human.solids_.push_back(solid);
-      }
-      p.end = cursor;
-      seg.R_HB = C * R * C.transpose();
-      seg.p_HoBo_H = C * proximal;
-      seg.p_HoBend_H = C * cursor;
-      seg.in_H = CombineInertia(parts);
-      human.segments_.push_back(seg);
-      placed.push_back(p);
-      return placed.back();
-    };
-    auto a = [&](std::string_view n) { return cfg.Get(n); };
-
-    const Eigen::Matrix3d R_P = Euler123(a("somersault"), a("tilt"), a("twist"));
-    const Placed P = place("P", "pelvis", Eigen::Vector3d::Zero(), R_P, {"s0", "s1"}, true);
-    const Eigen::Matrix3d R_T = R_P * Euler123(a("PTsagittalFlexion"), a("PTbending"), 0.0);
-    const Placed T = place("T", "thorax", P.end, R_T, {"s2"}, true);
-    const Eigen::Matrix3d R_C =
-        R_T * Euler123(a("TCsagittalSpinalFlexion"), 0.0, a("TCspinalTorsion"));
-    const Placed Cs = place("C", "chest-head", T.end, R_C, {"s3", "s4", "s5", "s6", "s7"}, true);
-
-    // Shoulders: ±(Ls4 width)/2 laterally at the top of solid s3 (Ls4 level).
-    const double shoulder_half_width = Ls[4].width / 2.0;
-    const double s3_height = shapes[static_cast<size_t>(index_of("s3"))].height;
-    const Eigen::Matrix3d R_A1 =
-        R_C * Euler123(a("CA1extension"), a("CA1adduction"), a("CA1rotation"));
-    const Placed A1 =
-        place("A1",
-              "left upper arm",
-              Cs.solid_origin[0] + R_C * Eigen::Vector3d(shoulder_half_width, 0, s3_height),
-              R_A1,
-              {"a0", "a1"},
-              false);
-    place("A2",
-          "left forearm-hand",
-          A1.end,
-          R_A1 * Euler123(a("A1A2extension"), 0.0, 0.0),
-          {"a2", "a3", "a4", "a5", "a6"},
-          false);
-    const Eigen::Matrix3d R_B1 =
-        R_C * Euler123(a("CB1extension"), a("CB1abduction"), a("CB1rotation"));
-    const Placed B1 =
-        place("B1",
-              "right upper arm",
-              Cs.solid_origin[0] + R_C * Eigen::Vector3d(-shoulder_half_width, 0, s3_height),
-              R_B1,
-              {"b0", "b1"},
-              false);
-    place("B2",
-          "right forearm-hand",
-          B1.end,
-          R_B1 * Euler123(a("B1B2extension"), 0.0, 0.0),
-          {"b2", "b3", "b4", "b5", "b6"},
-          false);
-
-    // Hips: ±(t + r)/2 of Ls0 laterally, at the Ls0 level.
-    const double hip_half_width = (Ls[0].t + Ls[0].r) / 2.0;
-    const Eigen::Matrix3d R_J1 = R_P * Euler123(a("PJ1extension"), a("PJ1adduction"), 0.0);
-    const Placed J1 = place("J1",
-                            "left thigh",
-                            P.solid_origin[0] + R_P * Eigen::Vector3d(hip_half_width, 0, 0),
-                            R_J1,
-                            {"j0", "j1", "j2"},
-                            false);
-    place("J2",
-          "left shank-foot",
-          J1.end,
-          R_J1 * Euler123(a("J1J2flexion"), 0.0, 0.0),
-          {"j3", "j4", "j5", "j6", "j7", "j8"},
-          false);
-    const Eigen::Matrix3d R_K1 = R_P * Euler123(a("PK1extension"), a("PK1abduction"), 0.0);
-    const Placed K1 = place("K1",
-                            "right thigh",
-                            P.solid_origin[0] + R_P * Eigen::Vector3d(-hip_half_width, 0, 0),
-                            R_K1,
-                            {"k0", "k1", "k2"},
-                            false);
-    place("K2",
-          "right shank-foot",
-          K1.end,
-          R_K1 * Euler123(a("K1K2flexion"), 0.0, 0.0),
-          {"k3", "k4", "k5", "k6", "k7", "k8"},
-          false);
-
+    SegmentPlacer placer(body.solids);
+    const auto [P, Cs] = PlaceTorso(placer, cfg);
+    PlaceArms(placer, cfg, Cs, body.Ls[4]);
+    PlaceLegs(placer, cfg, P, body.Ls[0]);
+    human.solids_ = std::move(placer.solids());
+    human.segments_ = std::move(placer.segments());
+    // The whole body.
     std::vector<InertialProperties> parts;
     for (const YeadonSegment& s : human.segments_) parts.push_back(s.in_H);
     human.total_ = CombineInertia(parts);
