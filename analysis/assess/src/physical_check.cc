@@ -11,6 +11,7 @@
 #include <Eigen/Geometry>
 
 #include "acro/base/demand.h"
+#include "acro/base/input_error.h"
 #include "acro/dynamics/configuration.h"
 #include "acro/dynamics/inverse_dynamics.h"
 #include "acro/dynamics/kinematics.h"
@@ -455,8 +456,7 @@ PhysicalCheck CheckPhysics(const dynamics::Model<double>& model,
                            double height_m,
                            double cutoff_hz,
                            const PhysicalCheckOptions& options) {
-  std::string why;
-  ACRO_DEMAND(options.IsValid(&why));
+  DemandValidOptions(options, "physical check options");
   PhysicalCheck check;
   check.frames = CalcFrameDynamics(model, motion, height_m);
   const int n = motion.num_frames();
