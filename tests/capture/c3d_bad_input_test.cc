@@ -145,11 +145,22 @@ TEST(C3dBadInput, LyingCountsAreBoundedByTheFileSize) {
   const auto path = acro::testing::RefdataFile("c3dio-c3d_org_samples/sample_01/Eb015pr.c3d");
   ACRO_REQUIRE_REFDATA_FILE(path);
   const std::vector<std::uint8_t> full = Bytes(path);
-  // Header last frame 65535: the data section cannot hold it; frames are cut to what fits.
+  // Header last frame 65535: the parameters' 450 frames (what the data section holds) are read,
+  // the same samples as from the honest file.
   std::vector<std::uint8_t> bytes = full;
   bytes[8] = 0xFF;
   bytes[9] = 0xFF;
   std::string result = TryRead(bytes, "lying.c3d");
+  EXPECT_EQ(result, "ok");
+  if (result == "ok") {
+    const Trial honest = ReadC3dFromMemory(full, "honest.c3d");
+    const Trial lying = ReadC3dFromMemory(bytes, "lying.c3d");
+    EXPECT_EQ(lying.num_frames, 450);
+    EXPECT_EQ(lying.num_frames, honest.num_frames);
+    const auto a = lying.positions.array(), b = honest.positions.array();
+    ASSERT_EQ(a.size(), b.size());
+    EXPECT_TRUE((a == b || (a.isNaN() && b.isNaN())).all());  // the same samples, gaps included
+  }
   // Header point count 65535 with POINT:USED 26: the parameter is used, a warning says so.
   bytes = full;
   bytes[2] = 0xFF;
