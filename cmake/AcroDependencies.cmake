@@ -15,7 +15,8 @@ find_package(CLI11 REQUIRED)
 # Cairo: every chart of every report, PNG and SVG, with no display (ui/report only).
 pkg_check_modules(CAIRO REQUIRED IMPORTED_TARGET cairo cairo-svg cairo-png)
 
-# FFmpeg: found here again when capture decodes video (milestone 2, "Video and cameras").
+# FFmpeg: video input and output (capture/src only).
+pkg_check_modules(FFMPEG REQUIRED IMPORTED_TARGET libavformat libavcodec libswscale libavutil)
 
 # Ceres and OpenMesh (analysis/*/src only).
 find_package(Ceres 2.1 REQUIRED)

@@ -13,8 +13,13 @@ namespace {
 
 // "acrolab analyze" for messages about the parsed subcommand, "acrolab" before one is known.
 std::string CommandName(const CLI::App& app) {
-  const std::vector<CLI::App*> parsed = app.get_subcommands();
-  return parsed.empty() ? "acrolab" : "acrolab " + parsed.front()->get_name();
+  std::string name = "acrolab";
+  for (const CLI::App* level = &app;;) {
+    const std::vector<CLI::App*> parsed = level->get_subcommands();
+    if (parsed.empty()) return name;
+    level = parsed.front();
+    name += " " + level->get_name();
+  }
 }
 
 }  // namespace
@@ -34,6 +39,7 @@ int main(int argc, char** argv) {
   acro::app::AddReconstructCommand(app, &run);
   acro::app::AddOptimizeCommand(app, &run);
   acro::app::AddAnalyzeCommand(app, &run);
+  acro::app::AddVideoCommand(app, &run);
 
   // Parse: --help and --version exit 0; a bad command line exits 2 with one line and the hint.
   if (argc > 1 && argv[1][0] != '-' &&

@@ -1,0 +1,364 @@
+// Frame-exact video input with FFmpeg (libavformat, libavcodec, libswscale). The packet index is
+// built on open; random access seeks to the keyframe before the target in presentation order and
+// decodes forward to the target's timestamp, stepping back a keyframe when the target is a leading
+// picture of an open GOP. Colour conversion to RGB24 uses the frame's own YUV matrix and range
+// with bicubic chroma (as the ffmpeg command line's scaler does), then the display rotation.
+
+#include "acro/capture/video.h"
+
+extern "C" {
+#include <libavcodec/avcodec.h>
+#include <libavformat/avformat.h>
+#include <libavutil/display.h>
+#include <libavutil/error.h>
+#include <libswscale/swscale.h>
+}
+
+#include <algorithm>
+#include <cmath>
+#include <thread>
+
+#include <fmt/format.h>
+
+#include "acro/base/input_error.h"
+
+namespace acro::capture {
+namespace {
+
+std::string AvError(int code) {
+  char buffer[AV_ERROR_MAX_STRING_SIZE] = {};
+  av_strerror(code, buffer, sizeof buffer);
+  return buffer;
+}
+
+// The clockwise rotation (0, 90, 180, 270) that shows the stream upright, from its display
+// matrix, as the ffmpeg command line's autorotation reads it.
+int DisplayRotation(const AVStream* stream) {
+  const std::uint8_t* matrix = av_stream_get_side_data(stream, AV_PKT_DATA_DISPLAYMATRIX, nullptr);
+  if (matrix == nullptr) return 0;
+  double theta = -std::round(av_display_rotation_get(reinterpret_cast<const std::int32_t*>(matrix)));
+  theta -= 360.0 * std::floor(theta / 360.0 + 0.9 / 360.0);
+  for (int r : {90, 180, 270})
+    if (std::abs(theta - r) < 1.0) return r;
+  return 0;
+}
+
+// Rotates an RGB image clockwise by 90, 180 or 270 degrees.
+void RotateRgb(int rotation_deg, VideoFrame* f) {
+  if (rotation_deg == 0) return;
+  const int w = f->width, h = f->height;
+  std::vector<std::uint8_t> out(f->rgb.size());
+  const bool quarter = rotation_deg != 180;
+  const int ow = quarter ? h : w;
+  for (int y = 0; y < h; ++y) {
+    for (int x = 0; x < w; ++x) {
+      int ox = 0, oy = 0;
+      if (rotation_deg == 90) {
+        ox = h - 1 - y;
+        oy = x;
+      } else if (rotation_deg == 180) {
+        ox = w - 1 - x;
+        oy = h - 1 - y;
+      } else {
+        ox = y;
+        oy = w - 1 - x;
+      }
+      std::copy_n(&f->rgb[3 * (static_cast<size_t>(y) * w + x)],
+                  3,
+                  &out[3 * (static_cast<size_t>(oy) * ow + ox)]);
+    }
+  }
+  f->rgb.swap(out);
+  if (quarter) std::swap(f->width, f->height);
+}
+
+}  // namespace
+
+struct VideoReader::Impl {
+  std::string path;
+  VideoInfo info;
+  AVFormatContext* format = nullptr;
+  AVCodecContext* decoder = nullptr;
+  SwsContext* scaler = nullptr;
+  AVPacket* packet = nullptr;
+  AVFrame* frame = nullptr;
+  int stream = -1;
+  AVRational time_base{1, 1};
+  std::vector<std::int64_t> pts;           // presentation order
+  std::vector<std::int64_t> keyframe_pts;  // ascending
+  std::vector<double> times_s;
+  bool input_done = false;  // the demuxer is at its end: the decoder is being drained
+  int next_sequential = 0;  // index the next ReadNext returns
+
+  ~Impl() {
+    sws_freeContext(scaler);
+    av_frame_free(&frame);
+    av_packet_free(&packet);
+    avcodec_free_context(&decoder);
+    avformat_close_input(&format);
+  }
+
+  [[noreturn]] void Fail(const std::string& where, const std::string& problem) const {
+    throw InputError(path, where, problem);
+  }
+
+  void Open(const VideoReaderOptions& options);
+  void Index();
+  void Rewind(std::int64_t to_pts);
+  // The next decoded frame in presentation order into `frame`; false at the end of the stream.
+  bool DecodeNext();
+  int IndexOfPts(std::int64_t p) const;
+  VideoFrame Convert(int index);
+};
+
+void VideoReader::Impl::Open(const VideoReaderOptions& options) {
+  // Container and stream.
+  int rc = avformat_open_input(&format, path.c_str(), nullptr, nullptr);
+  if (rc < 0) Fail("", "cannot open as a video: " + AvError(rc));
+  rc = avformat_find_stream_info(format, nullptr);
+  if (rc < 0) Fail("", "cannot read the stream information: " + AvError(rc));
+  const AVCodec* codec = nullptr;
+  stream = av_find_best_stream(format, AVMEDIA_TYPE_VIDEO, -1, -1, &codec, 0);
+  if (stream < 0 || codec == nullptr) Fail("", "no video stream that FFmpeg can decode");
+  AVStream* st = format->streams[stream];
+  time_base = st->time_base;
+
+  // Decoder, threaded.
+  decoder = avcodec_alloc_context3(codec);
+  if (decoder == nullptr) Fail("", "out of memory for the decoder");
+  rc = avcodec_parameters_to_context(decoder, st->codecpar);
+  if (rc < 0) Fail("", "bad codec parameters: " + AvError(rc));
+  decoder->thread_count = options.num_threads > 0
+                              ? options.num_threads
+                              : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  decoder->thread_type = FF_THREAD_FRAME | FF_THREAD_SLICE;
+  rc = avcodec_open2(decoder, codec, nullptr);
+  if (rc < 0) Fail("", "cannot open the " + std::string(codec->name) + " decoder: " + AvError(rc));
+  packet = av_packet_alloc();
+  frame = av_frame_alloc();
+
+  // What the file says about itself.
+  info.path = path;
+  info.container = format->iformat->name;
+  info.codec = codec->name;
+  info.coded_width = st->codecpar->width;
+  info.coded_height = st->codecpar->height;
+  info.rotation_deg = DisplayRotation(st);
+  const bool quarter = info.rotation_deg == 90 || info.rotation_deg == 270;
+  info.width = quarter ? info.coded_height : info.coded_width;
+  info.height = quarter ? info.coded_width : info.coded_height;
+  info.nominal_fps = st->r_frame_rate.den > 0 ? av_q2d(st->r_frame_rate) : 0.0;
+  for (unsigned s = 0; s < format->nb_streams; ++s) {
+    const AVCodecParameters* p = format->streams[s]->codecpar;
+    if (p->codec_type == AVMEDIA_TYPE_AUDIO) info.audio_codecs.push_back(avcodec_get_name(p->codec_id));
+  }
+  Index();
+}
+
+void VideoReader::Impl::Index() {
+  // Every packet of the video stream, in file order: its presentation time and whether it is a
+  // keyframe. Damage ends the index: the frames before it stay readable.
+  for (;;) {
+    const int rc = av_read_frame(format, packet);
+    if (rc < 0) break;
+    if (packet->stream_index == stream && packet->size > 0 &&
+        !(packet->flags & AV_PKT_FLAG_DISCARD)) {
+      const std::int64_t p = packet->pts != AV_NOPTS_VALUE ? packet->pts : packet->dts;
+      if (p != AV_NOPTS_VALUE) {
+        pts.push_back(p);
+        if (packet->flags & AV_PKT_FLAG_KEY) keyframe_pts.push_back(p);
+      }
+    }
+    av_packet_unref(packet);
+  }
+  if (pts.empty()) Fail("", "the video stream holds no frame");
+  std::sort(pts.begin(), pts.end());
+  pts.erase(std::unique(pts.begin(), pts.end()), pts.end());
+  std::sort(keyframe_pts.begin(), keyframe_pts.end());
+  if (keyframe_pts.empty() || keyframe_pts.front() > pts.front())
+    keyframe_pts.insert(keyframe_pts.begin(), pts.front());
+
+  // Times from the first frame, rates, regularity.
+  const double tb = av_q2d(time_base);
+  info.num_frames = static_cast<int>(pts.size());
+  info.num_keyframes = static_cast<int>(keyframe_pts.size());
+  info.start_time_s = pts.front() * tb;
+  times_s.resize(pts.size());
+  for (size_t i = 0; i < pts.size(); ++i) times_s[i] = (pts[i] - pts.front()) * tb;
+  std::vector<double> intervals;
+  for (size_t i = 1; i < times_s.size(); ++i) intervals.push_back(times_s[i] - times_s[i - 1]);
+  double median = info.nominal_fps > 0 ? 1.0 / info.nominal_fps : 0.0;
+  if (!intervals.empty()) {
+    std::vector<double> sorted = intervals;
+    std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
+    median = sorted[sorted.size() / 2];
+    const auto [lo, hi] = std::minmax_element(intervals.begin(), intervals.end());
+    info.variable_frame_rate = *hi - *lo > 0.1 * median;
+    info.average_fps = (info.num_frames - 1) / times_s.back();
+  } else {
+    info.average_fps = info.nominal_fps;
+  }
+  info.duration_s = times_s.back() + median;
+  Rewind(pts.front());
+}
+
+void VideoReader::Impl::Rewind(std::int64_t to_pts) {
+  const int rc = av_seek_frame(format, stream, to_pts, AVSEEK_FLAG_BACKWARD);
+  if (rc < 0) Fail(fmt::format("timestamp {}", to_pts), "cannot seek: " + AvError(rc));
+  avcodec_flush_buffers(decoder);
+  input_done = false;
+}
+
+bool VideoReader::Impl::DecodeNext() {
+  for (;;) {
+    const int rc = avcodec_receive_frame(decoder, frame);
+    if (rc == 0) return true;
+    if (rc == AVERROR_EOF) return false;
+    if (rc != AVERROR(EAGAIN)) Fail(fmt::format("frame {}", next_sequential), "cannot decode: " + AvError(rc));
+    // The decoder wants input: the next packet of the stream, or the end (drain).
+    if (input_done) return false;
+    int read = 0;
+    while ((read = av_read_frame(format, packet)) >= 0 && packet->stream_index != stream)
+      av_packet_unref(packet);
+    if (read < 0) {
+      input_done = true;
+      avcodec_send_packet(decoder, nullptr);
+      continue;
+    }
+    const std::int64_t byte = packet->pos;
+    const int sent = avcodec_send_packet(decoder, packet);
+    av_packet_unref(packet);
+    if (sent < 0 && sent != AVERROR(EAGAIN) && sent != AVERROR_INVALIDDATA)
+      Fail(fmt::format("byte {}", byte), "cannot decode: " + AvError(sent));
+  }
+}
+
+int VideoReader::Impl::IndexOfPts(std::int64_t p) const {
+  const auto it = std::lower_bound(pts.begin(), pts.end(), p);
+  return it != pts.end() && *it == p ? static_cast<int>(it - pts.begin()) : -1;
+}
+
+VideoFrame VideoReader::Impl::Convert(int index) {
+  VideoFrame out;
+  out.index = index;
+  out.time_s = times_s[static_cast<size_t>(index)];
+  out.width = frame->width;
+  out.height = frame->height;
+  out.rgb.resize(3 * static_cast<size_t>(out.width) * out.height);
+  scaler = sws_getCachedContext(scaler,
+                                frame->width,
+                                frame->height,
+                                static_cast<AVPixelFormat>(frame->format),
+                                frame->width,
+                                frame->height,
+                                AV_PIX_FMT_RGB24,
+                                SWS_BICUBIC,
+                                nullptr,
+                                nullptr,
+                                nullptr);
+  if (scaler == nullptr) Fail(fmt::format("frame {}", index), "no conversion of its pixel format to RGB");
+  // The frame's own matrix and range (the command line's scaler does the same, "auto").
+  const int colorspace =
+      frame->colorspace == AVCOL_SPC_UNSPECIFIED ? SWS_CS_DEFAULT : static_cast<int>(frame->colorspace);
+  sws_setColorspaceDetails(scaler,
+                           sws_getCoefficients(colorspace),
+                           frame->color_range == AVCOL_RANGE_JPEG ? 1 : 0,
+                           sws_getCoefficients(SWS_CS_DEFAULT),
+                           1,
+                           0,
+                           1 << 16,
+                           1 << 16);
+  std::uint8_t* dst[1] = {out.rgb.data()};
+  const int dst_stride[1] = {3 * out.width};
+  sws_scale(scaler, frame->data, frame->linesize, 0, frame->height, dst, dst_stride);
+  RotateRgb(info.rotation_deg, &out);
+  return out;
+}
+
+VideoReader::VideoReader(const std::filesystem::path& path, const VideoReaderOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->path = path.string();
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec))
+    throw InputError(impl_->path, "", "not a regular file");
+  impl_->Open(options);
+}
+
+VideoReader::~VideoReader() = default;
+VideoReader::VideoReader(VideoReader&&) noexcept = default;
+VideoReader& VideoReader::operator=(VideoReader&&) noexcept = default;
+
+const VideoInfo& VideoReader::info() const {
+  return impl_->info;
+}
+
+const std::vector<double>& VideoReader::frame_times_s() const {
+  return impl_->times_s;
+}
+
+int VideoReader::FrameAt(double time_s) const {
+  const std::vector<double>& t = impl_->times_s;
+  const auto it = std::upper_bound(t.begin(), t.end(), time_s + 1e-9);
+  return it == t.begin() ? 0 : static_cast<int>(it - t.begin()) - 1;
+}
+
+VideoFrame VideoReader::Frame(int index) {
+  Impl& m = *impl_;
+  if (index < 0 || index >= m.info.num_frames)
+    throw InputError(m.path, fmt::format("frame {}", index), fmt::format("not among the {} frames", m.info.num_frames));
+  const std::int64_t target = m.pts[static_cast<size_t>(index)];
+  // The keyframe at or before the target; one further back when the target is a leading picture.
+  auto key = std::upper_bound(m.keyframe_pts.begin(), m.keyframe_pts.end(), target) - 1;
+  for (;;) {
+    m.Rewind(*key);
+    bool overshot = false;
+    while (m.DecodeNext()) {
+      const std::int64_t p = m.frame->pts != AV_NOPTS_VALUE ? m.frame->pts : m.frame->best_effort_timestamp;
+      if (p == target) {
+        VideoFrame out = m.Convert(index);
+        m.next_sequential = index + 1;
+        return out;
+      }
+      if (p > target) {
+        overshot = true;
+        break;
+      }
+    }
+    if (overshot && key != m.keyframe_pts.begin()) {
+      --key;
+      continue;
+    }
+    throw InputError(m.path, fmt::format("frame {}", index), "the decoder does not produce this frame");
+  }
+}
+
+bool VideoReader::ReadNext(VideoFrame* out) {
+  Impl& m = *impl_;
+  if (m.next_sequential >= m.info.num_frames) return false;
+  while (m.DecodeNext()) {
+    const std::int64_t p = m.frame->pts != AV_NOPTS_VALUE ? m.frame->pts : m.frame->best_effort_timestamp;
+    const int index = m.IndexOfPts(p);
+    if (index < m.next_sequential) continue;  // before the pass's position (after a seek)
+    *out = m.Convert(index);
+    m.next_sequential = index + 1;
+    return true;
+  }
+  if (m.next_sequential < m.info.num_frames)
+    throw InputError(m.path,
+                     fmt::format("frame {}", m.next_sequential),
+                     fmt::format("the stream ends after {} of its {} indexed frames",
+                                 m.next_sequential,
+                                 m.info.num_frames));
+  return false;
+}
+
+std::uint64_t HashFrame(const VideoFrame& frame) {
+  std::uint64_t h = 1469598103934665603ull;
+  for (std::uint8_t b : frame.rgb) {
+    h ^= b;
+    h *= 1099511628211ull;
+  }
+  return h;
+}
+
+}  // namespace acro::capture
