@@ -89,6 +89,7 @@ struct VideoReader::Impl {
   std::vector<double> times_s;
   bool input_done = false;  // the demuxer is at its end: the decoder is being drained
   int next_sequential = 0;  // index the next ReadNext returns
+  std::vector<std::uint8_t> scratch;  // swscale's output, rows padded
 
   ~Impl() {
     sws_freeContext(scaler);
@@ -268,9 +269,17 @@ VideoFrame VideoReader::Impl::Convert(int index) {
                            0,
                            1 << 16,
                            1 << 16);
-  std::uint8_t* dst[1] = {out.rgb.data()};
-  const int dst_stride[1] = {3 * out.width};
+  // swscale's SIMD writes whole vectors: convert into rows padded to 64 bytes (and a padded end),
+  // then pack them.
+  const int stride = (3 * out.width + 63) / 64 * 64;
+  scratch.resize(static_cast<size_t>(stride) * out.height + 64);
+  std::uint8_t* dst[1] = {scratch.data()};
+  const int dst_stride[1] = {stride};
   sws_scale(scaler, frame->data, frame->linesize, 0, frame->height, dst, dst_stride);
+  for (int y = 0; y < out.height; ++y)
+    std::copy_n(scratch.data() + static_cast<size_t>(y) * stride,
+                3 * out.width,
+                out.rgb.data() + 3 * static_cast<size_t>(y) * out.width);
   RotateRgb(info.rotation_deg, &out);
   return out;
 }
