@@ -90,6 +90,7 @@ struct VideoReader::Impl {
   bool input_done = false;  // the demuxer is at its end: the decoder is being drained
   int next_sequential = 0;  // index the next ReadNext returns
   std::vector<std::uint8_t> scratch;  // swscale's output, rows padded
+  std::int64_t last_pts = AV_NOPTS_VALUE;  // of the last frame decoded since the last seek
 
   ~Impl() {
     sws_freeContext(scaler);
@@ -208,12 +209,16 @@ void VideoReader::Impl::Rewind(std::int64_t to_pts) {
   if (rc < 0) Fail(fmt::format("timestamp {}", to_pts), "cannot seek: " + AvError(rc));
   avcodec_flush_buffers(decoder);
   input_done = false;
+  last_pts = AV_NOPTS_VALUE;
 }
 
 bool VideoReader::Impl::DecodeNext() {
   for (;;) {
     const int rc = avcodec_receive_frame(decoder, frame);
-    if (rc == 0) return true;
+    if (rc == 0) {
+      last_pts = frame->pts != AV_NOPTS_VALUE ? frame->pts : frame->best_effort_timestamp;
+      return true;
+    }
     if (rc == AVERROR_EOF) return false;
     if (rc != AVERROR(EAGAIN)) Fail(fmt::format("frame {}", next_sequential), "cannot decode: " + AvError(rc));
     // The decoder wants input: the next packet of the stream, or the end (drain).
@@ -318,11 +323,22 @@ VideoFrame VideoReader::Frame(int index) {
   const std::int64_t target = m.pts[static_cast<size_t>(index)];
   // The keyframe at or before the target; one further back when the target is a leading picture.
   auto key = std::upper_bound(m.keyframe_pts.begin(), m.keyframe_pts.end(), target) - 1;
+  // Forward in the same group of pictures as the last decoded frame: go on decoding, no seek.
+  if (m.last_pts != AV_NOPTS_VALUE && m.last_pts < target && *key <= m.last_pts) {
+    while (m.DecodeNext()) {
+      if (m.last_pts == target) {
+        VideoFrame out = m.Convert(index);
+        m.next_sequential = index + 1;
+        return out;
+      }
+      if (m.last_pts > target) break;
+    }
+  }
   for (;;) {
     m.Rewind(*key);
     bool overshot = false;
     while (m.DecodeNext()) {
-      const std::int64_t p = m.frame->pts != AV_NOPTS_VALUE ? m.frame->pts : m.frame->best_effort_timestamp;
+      const std::int64_t p = m.last_pts;
       if (p == target) {
         VideoFrame out = m.Convert(index);
         m.next_sequential = index + 1;
@@ -345,8 +361,7 @@ bool VideoReader::ReadNext(VideoFrame* out) {
   Impl& m = *impl_;
   if (m.next_sequential >= m.info.num_frames) return false;
   while (m.DecodeNext()) {
-    const std::int64_t p = m.frame->pts != AV_NOPTS_VALUE ? m.frame->pts : m.frame->best_effort_timestamp;
-    const int index = m.IndexOfPts(p);
+    const int index = m.IndexOfPts(m.last_pts);
     if (index < m.next_sequential) continue;  // before the pass's position (after a seek)
     *out = m.Convert(index);
     m.next_sequential = index + 1;
