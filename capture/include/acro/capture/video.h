@@ -78,6 +78,39 @@ class VideoReader {
   std::unique_ptr<Impl> impl_;
 };
 
+struct VideoWriterOptions {
+  double fps = 30.0;
+  int crf = 18;                    ///< x264's constant rate factor: 18 is visually lossless
+  std::string preset = "medium";   ///< x264's speed/size trade-off
+  int num_threads = 0;             ///< encoder threads; 0: as many as the machine has
+};
+
+/// Writes H.264 in MP4 (libx264, yuv420p, the index at the front: "+faststart") to a temporary
+/// file beside `path`, renamed to `path` by Finish(): a reader never sees a half-written video, and
+/// a writer destroyed before Finish() leaves nothing. Odd sizes are padded to even ones by
+/// repeating the last column and row (yuv420p needs even sizes).
+class VideoWriter {
+ public:
+  /// Throws acro::InputError naming the file when the encoder or the file cannot be opened.
+  VideoWriter(const std::filesystem::path& path,
+              int width,
+              int height,
+              const VideoWriterOptions& options = {});
+  ~VideoWriter();
+  VideoWriter(const VideoWriter&) = delete;
+  VideoWriter& operator=(const VideoWriter&) = delete;
+
+  /// Appends one RGB frame (3 bytes per pixel, rows top to bottom, the size given on opening).
+  void Write(const std::vector<std::uint8_t>& rgb);
+  /// Flushes the encoder, writes the index and renames the file into place.
+  void Finish();
+  int frames_written() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 /// `acrolab video info`'s text: one "Name  value" line per field.
 std::string FormatVideoInfoText(const VideoInfo& info);
 

@@ -1,0 +1,207 @@
+// H.264 in MP4 with FFmpeg's libx264 wrapper: RGB frames padded to even sizes, converted to yuv420p
+// with swscale, encoded with a constant rate factor, muxed with the index at the front
+// (movflags +faststart), written to a temporary file and renamed when complete.
+
+#include "acro/capture/video.h"
+
+extern "C" {
+#include <libavcodec/avcodec.h>
+#include <libavformat/avformat.h>
+#include <libavutil/error.h>
+#include <libavutil/opt.h>
+#include <libswscale/swscale.h>
+}
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <thread>
+
+#include <fmt/format.h>
+
+#include "acro/base/input_error.h"
+
+namespace acro::capture {
+namespace {
+
+std::string AvError(int code) {
+  char buffer[AV_ERROR_MAX_STRING_SIZE] = {};
+  av_strerror(code, buffer, sizeof buffer);
+  return buffer;
+}
+
+}  // namespace
+
+struct VideoWriter::Impl {
+  std::filesystem::path path, temp;
+  int width = 0, height = 0;              // as given
+  int coded_width = 0, coded_height = 0;  // even
+  AVFormatContext* format = nullptr;
+  AVCodecContext* encoder = nullptr;
+  AVStream* stream = nullptr;
+  AVFrame* frame = nullptr;
+  AVPacket* packet = nullptr;
+  SwsContext* scaler = nullptr;
+  std::vector<std::uint8_t> padded;  // RGB at the even size
+  int written = 0;
+  bool finished = false;
+
+  ~Impl() {
+    sws_freeContext(scaler);
+    av_frame_free(&frame);
+    av_packet_free(&packet);
+    avcodec_free_context(&encoder);
+    if (format != nullptr) {
+      if (format->pb != nullptr) avio_closep(&format->pb);
+      avformat_free_context(format);
+    }
+    if (!finished && !temp.empty()) {
+      std::error_code ec;
+      std::filesystem::remove(temp, ec);
+    }
+  }
+
+  [[noreturn]] void Fail(const std::string& problem) const {
+    throw InputError(path.string(), "", problem);
+  }
+
+  // Sends a frame (or the end, nullptr) and writes every packet the encoder returns.
+  void Encode(AVFrame* input) {
+    int rc = avcodec_send_frame(encoder, input);
+    if (rc < 0) Fail("the encoder refused a frame: " + AvError(rc));
+    for (;;) {
+      rc = avcodec_receive_packet(encoder, packet);
+      if (rc == AVERROR(EAGAIN) || rc == AVERROR_EOF) return;
+      if (rc < 0) Fail("encoding failed: " + AvError(rc));
+      av_packet_rescale_ts(packet, encoder->time_base, stream->time_base);
+      packet->stream_index = stream->index;
+      rc = av_interleaved_write_frame(format, packet);
+      if (rc < 0) Fail("writing failed (disk full?): " + AvError(rc));
+    }
+  }
+};
+
+VideoWriter::VideoWriter(const std::filesystem::path& path,
+                         int width,
+                         int height,
+                         const VideoWriterOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+  Impl& m = *impl_;
+  m.path = path;
+  if (width <= 0 || height <= 0 || width > 16384 || height > 16384)
+    m.Fail(fmt::format("a video cannot be {} x {} pixels", width, height));
+  if (!(options.fps > 0.0 && options.fps <= 1000.0))
+    m.Fail(fmt::format("frame rate {} is not in (0, 1000]", options.fps));
+  m.width = width;
+  m.height = height;
+  m.coded_width = width + (width % 2);
+  m.coded_height = height + (height % 2);
+  std::random_device seed;
+  m.temp = path.parent_path() /
+           ("." + path.filename().string() + ".tmp" + std::to_string(seed() % 1000000) + ".mp4");
+
+  // The encoder: libx264, yuv420p, constant quality, one keyframe a second.
+  const AVCodec* codec = avcodec_find_encoder_by_name("libx264");
+  if (codec == nullptr) codec = avcodec_find_encoder(AV_CODEC_ID_H264);
+  if (codec == nullptr) m.Fail("this FFmpeg has no H.264 encoder");
+  int rc = avformat_alloc_output_context2(&m.format, nullptr, "mp4", m.temp.c_str());
+  if (rc < 0 || m.format == nullptr) m.Fail("cannot make an MP4 muxer: " + AvError(rc));
+  m.stream = avformat_new_stream(m.format, nullptr);
+  m.encoder = avcodec_alloc_context3(codec);
+  if (m.stream == nullptr || m.encoder == nullptr) m.Fail("out of memory for the encoder");
+  const AVRational rate = av_d2q(options.fps, 100000);
+  m.encoder->width = m.coded_width;
+  m.encoder->height = m.coded_height;
+  m.encoder->pix_fmt = AV_PIX_FMT_YUV420P;
+  m.encoder->time_base = av_inv_q(rate);
+  m.encoder->framerate = rate;
+  m.encoder->gop_size = std::max(1, static_cast<int>(std::lround(options.fps)));
+  m.encoder->thread_count =
+      options.num_threads > 0 ? options.num_threads
+                              : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  if (m.format->oformat->flags & AVFMT_GLOBALHEADER)
+    m.encoder->flags |= AV_CODEC_FLAG_GLOBAL_HEADER;
+  av_opt_set(m.encoder->priv_data, "preset", options.preset.c_str(), 0);
+  av_opt_set(m.encoder->priv_data, "crf", std::to_string(options.crf).c_str(), 0);
+  rc = avcodec_open2(m.encoder, codec, nullptr);
+  if (rc < 0) m.Fail("cannot open the H.264 encoder: " + AvError(rc));
+  rc = avcodec_parameters_from_context(m.stream->codecpar, m.encoder);
+  if (rc < 0) m.Fail("bad encoder parameters: " + AvError(rc));
+  m.stream->time_base = m.encoder->time_base;
+  m.stream->avg_frame_rate = rate;
+
+  // The file, index at the front.
+  rc = avio_open(&m.format->pb, m.temp.c_str(), AVIO_FLAG_WRITE);
+  if (rc < 0) m.Fail("cannot create the output: " + AvError(rc));
+  AVDictionary* muxer_options = nullptr;
+  av_dict_set(&muxer_options, "movflags", "+faststart", 0);
+  rc = avformat_write_header(m.format, &muxer_options);
+  av_dict_free(&muxer_options);
+  if (rc < 0) m.Fail("cannot write the MP4 header: " + AvError(rc));
+
+  m.frame = av_frame_alloc();
+  m.packet = av_packet_alloc();
+  m.frame->format = AV_PIX_FMT_YUV420P;
+  m.frame->width = m.coded_width;
+  m.frame->height = m.coded_height;
+  rc = av_frame_get_buffer(m.frame, 0);
+  if (rc < 0) m.Fail("out of memory for a frame: " + AvError(rc));
+  m.scaler = sws_getContext(m.coded_width,
+                            m.coded_height,
+                            AV_PIX_FMT_RGB24,
+                            m.coded_width,
+                            m.coded_height,
+                            AV_PIX_FMT_YUV420P,
+                            SWS_BICUBIC,
+                            nullptr,
+                            nullptr,
+                            nullptr);
+  if (m.scaler == nullptr) m.Fail("no RGB to yuv420p conversion");
+  // Padded rows (swscale reads whole vectors) at the even size.
+  m.padded.assign(3 * static_cast<size_t>(m.coded_width) * m.coded_height + 64, 0);
+}
+
+VideoWriter::~VideoWriter() = default;
+
+int VideoWriter::frames_written() const {
+  return impl_->written;
+}
+
+void VideoWriter::Write(const std::vector<std::uint8_t>& rgb) {
+  Impl& m = *impl_;
+  if (m.finished) m.Fail("a frame after Finish()");
+  if (rgb.size() != 3 * static_cast<size_t>(m.width) * m.height)
+    m.Fail(fmt::format("frame {} has {} bytes, not {} x {} RGB", m.written, rgb.size(), m.width, m.height));
+  // Copy into the even-sized picture, repeating the last column and row.
+  const size_t row = 3 * static_cast<size_t>(m.coded_width);
+  for (int y = 0; y < m.height; ++y) {
+    std::uint8_t* dst = m.padded.data() + y * row;
+    std::copy_n(rgb.data() + 3 * static_cast<size_t>(y) * m.width, 3 * m.width, dst);
+    if (m.coded_width > m.width) std::copy_n(dst + 3 * (m.width - 1), 3, dst + 3 * m.width);
+  }
+  if (m.coded_height > m.height)
+    std::copy_n(m.padded.data() + (m.height - 1) * row, row, m.padded.data() + m.height * row);
+  int rc = av_frame_make_writable(m.frame);
+  if (rc < 0) m.Fail("frame buffer: " + AvError(rc));
+  const std::uint8_t* src[1] = {m.padded.data()};
+  const int src_stride[1] = {static_cast<int>(row)};
+  sws_scale(m.scaler, src, src_stride, 0, m.coded_height, m.frame->data, m.frame->linesize);
+  m.frame->pts = m.written++;
+  m.Encode(m.frame);
+}
+
+void VideoWriter::Finish() {
+  Impl& m = *impl_;
+  if (m.finished) return;
+  if (m.written == 0) m.Fail("no frame was written");
+  m.Encode(nullptr);
+  int rc = av_write_trailer(m.format);
+  if (rc < 0) m.Fail("cannot write the MP4 index: " + AvError(rc));
+  avio_closep(&m.format->pb);
+  std::error_code ec;
+  std::filesystem::rename(m.temp, m.path, ec);
+  if (ec) m.Fail("cannot rename the finished video into place: " + ec.message());
+  m.finished = true;
+}
+
+}  // namespace acro::capture
