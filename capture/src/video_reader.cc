@@ -21,15 +21,13 @@ extern "C" {
 #include <fmt/format.h>
 
 #include "acro/base/input_error.h"
+#include "internal/ffmpeg.h"
 
 namespace acro::capture {
 namespace {
 
-std::string AvError(int code) {
-  char buffer[AV_ERROR_MAX_STRING_SIZE] = {};
-  av_strerror(code, buffer, sizeof buffer);
-  return buffer;
-}
+using internal::AvError;
+
 
 // The clockwise rotation (0, 90, 180, 270) that shows the stream upright, from its display
 // matrix, as the ffmpeg command line's autorotation reads it.
@@ -291,6 +289,7 @@ VideoFrame VideoReader::Impl::Convert(int index) {
 
 VideoReader::VideoReader(const std::filesystem::path& path, const VideoReaderOptions& options)
     : impl_(std::make_unique<Impl>()) {
+  internal::SilenceFfmpegLog();
   impl_->path = path.string();
   std::error_code ec;
   if (!std::filesystem::is_regular_file(path, ec))

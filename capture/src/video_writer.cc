@@ -20,15 +20,13 @@ extern "C" {
 #include <fmt/format.h>
 
 #include "acro/base/input_error.h"
+#include "internal/ffmpeg.h"
 
 namespace acro::capture {
 namespace {
 
-std::string AvError(int code) {
-  char buffer[AV_ERROR_MAX_STRING_SIZE] = {};
-  av_strerror(code, buffer, sizeof buffer);
-  return buffer;
-}
+using internal::AvError;
+
 
 }  // namespace
 
@@ -86,6 +84,7 @@ VideoWriter::VideoWriter(const std::filesystem::path& path,
                          int height,
                          const VideoWriterOptions& options)
     : impl_(std::make_unique<Impl>()) {
+  internal::SilenceFfmpegLog();
   Impl& m = *impl_;
   m.path = path;
   if (width <= 0 || height <= 0 || width > 16384 || height > 16384)
