@@ -12,6 +12,9 @@ find_package(yaml-cpp REQUIRED)
 find_package(nlohmann_json 3.10 REQUIRED)
 find_package(CLI11 REQUIRED)
 
+# toml++: camera calibrations in the Pose2Sim/Anipose format (analysis/vision only).
+pkg_check_modules(TOMLPLUSPLUS REQUIRED IMPORTED_TARGET tomlplusplus)
+
 # Cairo: every chart of every report, PNG and SVG, with no display (ui/report only).
 pkg_check_modules(CAIRO REQUIRED IMPORTED_TARGET cairo cairo-svg cairo-png)
 
@@ -50,6 +53,8 @@ endif()
 
 # Tests and benchmarks.
 if(ACRO_BUILD_TESTS)
+  # OpenCV as an oracle (projection) in the camera tests; analysis/vision will use it privately.
+  find_package(OpenCV 4 REQUIRED COMPONENTS core calib3d)
   find_package(GTest REQUIRED)
   # Simbody is a test oracle only (tests/dynamics); it is optional so that a build without it still
   # runs every other test, and the oracle test reports itself as skipped.

@@ -12,7 +12,7 @@ main_packages=(
   build-essential cmake pkg-config git ccache
   libeigen3-dev libceres-dev libopenmesh-dev
   libavformat-dev libavcodec-dev libswscale-dev libavutil-dev
-  libyaml-cpp-dev nlohmann-json3-dev libfmt-dev libcli11-dev libcairo2-dev
+  libyaml-cpp-dev nlohmann-json3-dev libfmt-dev libcli11-dev libcairo2-dev libtomlplusplus-dev
 )
 # Everything else: cameras (OpenCV), the 3D views and the window
 # (VTK, Qt, Xvfb), the tests and their oracles (GoogleTest, Simbody, pugixml for OpenSim's

@@ -1,0 +1,51 @@
+#pragma once
+
+// A calibrated camera (docs/formats/calibration.md): image size, intrinsic matrix K, OpenCV's
+// distortion (k1 k2 p1 p2 [k3]), and the pose world → camera, p_K = R_KW p_W + t_KW with the
+// camera looking along +z, x right and y down in the image (OpenCV's convention). Projection and
+// the Pose2Sim/Anipose TOML format; no OpenCV type in this header.
+
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace acro::vision {
+
+struct Camera {
+  std::string name;
+  int width_px = 0;
+  int height_px = 0;
+  Eigen::Matrix3d K = Eigen::Matrix3d::Identity();
+  /// k1 k2 p1 p2, optionally k3 (OpenCV's order); empty: no distortion.
+  std::vector<double> distortion;
+  Eigen::Matrix3d R_KW = Eigen::Matrix3d::Identity();
+  Eigen::Vector3d t_KW = Eigen::Vector3d::Zero();
+
+  /// The pixel of world point p_W (distortion applied), or nothing when the point is not in front
+  /// of the camera.
+  std::optional<Eigen::Vector2d> Project(const Eigen::Vector3d& p_W) const;
+  /// The camera centre in the world.
+  Eigen::Vector3d CentreInWorld() const { return -R_KW.transpose() * t_KW; }
+  /// True when K, the distortion and the pose make a camera (R_KW orthonormal with det +1 to 1e-6,
+  /// positive focal lengths, positive size); else false with the reason in *why.
+  bool IsValid(std::string* why) const;
+};
+
+/// Reads a Pose2Sim/Anipose calibration: one table per camera with `name`, `size` [w, h],
+/// `matrix` (3 × 3), `distortions` [k1 k2 p1 p2], `rotation` (Rodrigues vector, rad) and
+/// `translation` (m), world → camera; a `[metadata]` table is skipped. Throws acro::InputError
+/// naming the file, the camera and the key for anything missing or malformed, and for a camera
+/// that is not valid.
+std::vector<Camera> ReadPose2SimToml(const std::filesystem::path& path);
+
+/// Writes cameras in the same format, atomically.
+void WritePose2SimToml(const std::vector<Camera>& cameras, const std::filesystem::path& path);
+
+/// The rotation of a Rodrigues vector (angle = its norm, about its direction), and back.
+Eigen::Matrix3d RotationFromRodrigues(const Eigen::Vector3d& r);
+Eigen::Vector3d RodriguesFromRotation(const Eigen::Matrix3d& R);
+
+}  // namespace acro::vision

@@ -1,0 +1,158 @@
+#include "acro/vision/camera.h"
+
+#include <cmath>
+#include <sstream>
+
+#include <Eigen/Geometry>
+#include <fmt/format.h>
+#include <toml++/toml.h>
+
+#include "acro/base/file_io.h"
+#include "acro/base/input_error.h"
+
+namespace acro::vision {
+
+std::optional<Eigen::Vector2d> Camera::Project(const Eigen::Vector3d& p_W) const {
+  const Eigen::Vector3d p = R_KW * p_W + t_KW;
+  if (!(p.z() > 0.0)) return std::nullopt;
+  // Brown–Conrady distortion on normalised coordinates, as OpenCV's projectPoints applies it
+  // (OpenCV documentation, "Camera Calibration and 3D Reconstruction"):
+  //   x' = x (1 + k1 r² + k2 r⁴ + k3 r⁶) + 2 p1 x y + p2 (r² + 2 x²), y' likewise with p1 ↔ p2.
+  const double x = p.x() / p.z(), y = p.y() / p.z();
+  const double r2 = x * x + y * y;
+  const auto d = [&](size_t i) { return i < distortion.size() ? distortion[i] : 0.0; };
+  const double radial = 1.0 + d(0) * r2 + d(1) * r2 * r2 + d(4) * r2 * r2 * r2;
+  const double xd = x * radial + 2.0 * d(2) * x * y + d(3) * (r2 + 2.0 * x * x);
+  const double yd = y * radial + d(2) * (r2 + 2.0 * y * y) + 2.0 * d(3) * x * y;
+  return Eigen::Vector2d(K(0, 0) * xd + K(0, 1) * yd + K(0, 2), K(1, 1) * yd + K(1, 2));
+}
+
+bool Camera::IsValid(std::string* why) const {
+  auto fail = [&](const std::string& w) {
+    if (why) *why = w;
+    return false;
+  };
+  if (width_px <= 0 || height_px <= 0)
+    return fail(fmt::format("size {} x {} px is not positive", width_px, height_px));
+  if (!(K(0, 0) > 0 && K(1, 1) > 0) || !K.allFinite())
+    return fail("the focal lengths of the matrix are not positive");
+  if (!R_KW.allFinite() || (R_KW * R_KW.transpose() - Eigen::Matrix3d::Identity()).norm() > 1e-6 ||
+      std::abs(R_KW.determinant() - 1.0) > 1e-6)
+    return fail("the rotation is not orthonormal with determinant +1");
+  if (!t_KW.allFinite()) return fail("the translation is not finite");
+  for (double k : distortion)
+    if (!std::isfinite(k)) return fail("a distortion coefficient is not finite");
+  if (distortion.size() != 0 && distortion.size() != 4 && distortion.size() != 5)
+    return fail(fmt::format("{} distortion coefficients (4 or 5: k1 k2 p1 p2 [k3])", distortion.size()));
+  return true;
+}
+
+Eigen::Matrix3d RotationFromRodrigues(const Eigen::Vector3d& r) {
+  const double angle = r.norm();
+  if (angle < 1e-15) return Eigen::Matrix3d::Identity();
+  return Eigen::AngleAxisd(angle, r / angle).toRotationMatrix();
+}
+
+Eigen::Vector3d RodriguesFromRotation(const Eigen::Matrix3d& R) {
+  const Eigen::AngleAxisd a(R);
+  return a.angle() * a.axis();
+}
+
+namespace {
+
+// Reads `count` numbers of an array value `key` of `table`, naming file, camera and key on error.
+std::vector<double> Numbers(const toml::table& table,
+                            std::string_view key,
+                            size_t count,
+                            const std::string& file,
+                            const std::string& camera) {
+  const toml::array* array = table[key].as_array();
+  if (array == nullptr) throw InputError(file, camera, std::string(key) + ": missing or not an array");
+  std::vector<double> out;
+  for (const toml::node& n : *array) {
+    if (const toml::array* row = n.as_array()) {
+      for (const toml::node& m : *row) {
+        const std::optional<double> v = m.value<double>();
+        if (!v) throw InputError(file, camera, std::string(key) + ": an entry is not a number");
+        out.push_back(*v);
+      }
+    } else {
+      const std::optional<double> v = n.value<double>();
+      if (!v) throw InputError(file, camera, std::string(key) + ": an entry is not a number");
+      out.push_back(*v);
+    }
+  }
+  if (count != 0 && out.size() != count) {
+    throw InputError(
+        file, camera, fmt::format("{}: {} numbers, expected {}", key, out.size(), count));
+  }
+  return out;
+}
+
+}  // namespace
+
+std::vector<Camera> ReadPose2SimToml(const std::filesystem::path& path) {
+  const std::string file = path.string();
+  const std::vector<std::uint8_t> bytes = ReadFileBytes(path, std::int64_t(16) << 20);
+  toml::table root;
+  try {
+    root = toml::parse(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), file);
+  } catch (const toml::parse_error& e) {
+    throw InputError(file,
+                     fmt::format("line {}", e.source().begin.line),
+                     std::string(e.description()));
+  }
+  std::vector<Camera> cameras;
+  for (const auto& [key, node] : root) {
+    const toml::table* t = node.as_table();
+    if (t == nullptr || key.str() == "metadata") continue;
+    const std::string where = fmt::format("[{}]", key.str());
+    Camera c;
+    c.name = (*t)["name"].value_or(std::string(key.str()));
+    const std::vector<double> size = Numbers(*t, "size", 2, file, where);
+    c.width_px = static_cast<int>(std::lround(size[0]));
+    c.height_px = static_cast<int>(std::lround(size[1]));
+    const std::vector<double> k = Numbers(*t, "matrix", 9, file, where);
+    c.K = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(k.data());
+    c.distortion = Numbers(*t, "distortions", 0, file, where);
+    const std::vector<double> r = Numbers(*t, "rotation", 0, file, where);
+    if (r.size() == 3) {
+      c.R_KW = RotationFromRodrigues(Eigen::Vector3d(r[0], r[1], r[2]));
+    } else if (r.size() == 9) {
+      c.R_KW = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(r.data());
+    } else {
+      throw InputError(file, where, fmt::format("rotation: {} numbers (3: Rodrigues, or 9)", r.size()));
+    }
+    const std::vector<double> tr = Numbers(*t, "translation", 3, file, where);
+    c.t_KW = Eigen::Vector3d(tr[0], tr[1], tr[2]);
+    if ((*t)["fisheye"].value_or(false)) throw InputError(file, where, "fisheye cameras are not supported");
+    std::string why;
+    if (!c.IsValid(&why)) throw InputError(file, where, why);
+    cameras.push_back(std::move(c));
+  }
+  if (cameras.empty()) throw InputError(file, "", "no camera in the file");
+  return cameras;
+}
+
+void WritePose2SimToml(const std::vector<Camera>& cameras, const std::filesystem::path& path) {
+  std::ostringstream out;
+  out.precision(17);
+  for (const Camera& c : cameras) {
+    const Eigen::Vector3d r = RodriguesFromRotation(c.R_KW);
+    out << "[" << c.name << "]\n"
+        << "name = \"" << c.name << "\"\n"
+        << "size = [ " << double(c.width_px) << ", " << double(c.height_px) << "]\n"
+        << "matrix = [ [ " << c.K(0, 0) << ", " << c.K(0, 1) << ", " << c.K(0, 2) << "], [ "
+        << c.K(1, 0) << ", " << c.K(1, 1) << ", " << c.K(1, 2) << "], [ " << c.K(2, 0) << ", "
+        << c.K(2, 1) << ", " << c.K(2, 2) << "]]\n"
+        << "distortions = [";
+    for (size_t i = 0; i < c.distortion.size(); ++i) out << (i ? ", " : " ") << c.distortion[i];
+    out << "]\n"
+        << "rotation = [ " << r.x() << ", " << r.y() << ", " << r.z() << "]\n"
+        << "translation = [ " << c.t_KW.x() << ", " << c.t_KW.y() << ", " << c.t_KW.z() << "]\n"
+        << "fisheye = false\n\n";
+  }
+  WriteFileAtomically(path, out.str());
+}
+
+}  // namespace acro::vision
