@@ -26,6 +26,7 @@ void AddReconstructCommand(CLI::App& app, CommandRunner* run);
 void AddOptimizeCommand(CLI::App& app, CommandRunner* run);
 void AddAnalyzeCommand(CLI::App& app, CommandRunner* run);
 void AddVideoCommand(CLI::App& app, CommandRunner* run);
+void AddProjectCommand(CLI::App& app, CommandRunner* run);
 
 /// A command line that parses but does not make sense (contradictory options, an Options struct
 /// that is not valid): main() prints it with the usage hint and exits with status 2.

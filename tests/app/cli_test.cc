@@ -1,5 +1,9 @@
 // The acrolab command line as a user meets it: real processes, real files, exit codes and output.
+#include <algorithm>
 #include <array>
+#include <cmath>
+#include <map>
+#include <sstream>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -308,6 +312,69 @@ TEST(Samples, CommittedSampleTrialIsWhatTheGeneratorMakes) {
   EXPECT_EQ(Slurp(committed), Slurp(SampleC3d()))
       << "regenerate with: build/bin/make_sample_trial "
          "samples/trials/straight_jump/straight_jump.c3d";
+}
+
+}  // namespace
+
+namespace {
+
+// The balancing trial through `acrolab project --csv`, against the OpenPose detections of the same
+// video frames (../shared/refdata/pose2sim-demo/expected.md: medians 11.3, 7.7, 17.2, 8.5 px for an
+// independent projection; the TRC is Y-up, the lab's axes are its (z, x, y)).
+TEST(Cli, ProjectCsvLandsOnTheDetectionsAsExpected) {
+  const auto root = acro::testing::RefdataFile("pose2sim-demo");
+  const auto trc = root / "balancing-trial/pose-3d/S00_P00_T01_BalancingTrial_0-100.trc";
+  ACRO_REQUIRE_REFDATA_FILE(trc);
+  const auto csv = acro::testing::TempDir() / "projection.csv";
+  const ProcessResult run = Execute(std::string(ACROLAB_EXE) + " project " + Quote(trc) +
+                                    " --calib " + Quote(root / "calibration/Calib_qualisys.toml") +
+                                    " --axes zxy --csv " + Quote(csv));
+  ASSERT_EQ(run.status, 0) << run.err;
+  const std::map<std::string, int> body25b = {
+      {"Nose", 0},     {"LShoulder", 5}, {"RShoulder", 6}, {"LElbow", 7},     {"RElbow", 8},
+      {"LWrist", 9},   {"RWrist", 10},   {"LHip", 11},     {"RHip", 12},      {"LKnee", 13},
+      {"RKnee", 14},   {"LAnkle", 15},   {"RAnkle", 16},   {"Neck", 17},      {"Head", 18},
+      {"LBigToe", 19}, {"LSmallToe", 20}, {"LHeel", 21},   {"RBigToe", 22},   {"RSmallToe", 23},
+      {"RHeel", 24}};
+  std::map<std::string, std::vector<double>> errors;
+  std::map<std::string, nlohmann::json> detections;  // "cam_01/7" -> people
+  std::istringstream rows(Slurp(csv));
+  std::string line;
+  std::getline(rows, line);
+  ASSERT_EQ(line, "camera,frame,time_s,marker,u_px,v_px");
+  while (std::getline(rows, line)) {
+    std::istringstream fields(line);
+    std::string camera, frame, time, marker, u, v;
+    std::getline(fields, camera, ',');
+    std::getline(fields, frame, ',');
+    std::getline(fields, time, ',');
+    std::getline(fields, marker, ',');
+    std::getline(fields, u, ',');
+    std::getline(fields, v, ',');
+    const int cam = std::stoi(camera.substr(4)), f = std::stoi(frame);
+    const std::string key = camera + "/" + frame;
+    if (!detections.count(key)) {
+      char name[64];
+      std::snprintf(name, sizeof name, "cam%02d_json/cam%02d.%04d.json", cam, cam, f);
+      detections[key] = nlohmann::json::parse(Slurp(root / "balancing-trial/pose" / name))["people"];
+    }
+    const size_t i = 3 * static_cast<size_t>(body25b.at(marker));
+    double best = 1e300;
+    for (const nlohmann::json& person : detections[key]) {
+      const nlohmann::json& k = person["pose_keypoints_2d"];
+      if (k[i + 2].get<double>() <= 0.5) continue;
+      best = std::min(best, std::hypot(k[i].get<double>() - std::stod(u), k[i + 1].get<double>() - std::stod(v)));
+    }
+    if (best < 1e300) errors[camera].push_back(best);
+  }
+  const std::map<std::string, double> expected = {
+      {"cam_01", 11.3}, {"cam_02", 7.7}, {"cam_03", 17.2}, {"cam_04", 8.5}};
+  for (const auto& [camera, median] : expected) {
+    std::vector<double>& e = errors[camera];
+    ASSERT_GT(e.size(), 1000u) << camera;
+    std::nth_element(e.begin(), e.begin() + e.size() / 2, e.end());
+    EXPECT_NEAR(e[e.size() / 2], median, 0.5) << camera;
+  }
 }
 
 }  // namespace
