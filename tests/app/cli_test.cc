@@ -13,6 +13,7 @@
 #include <nlohmann/json.hpp>
 
 #include "acro/capture/trial_io.h"
+#include "body25b.h"
 #include "refdata.h"
 
 namespace {
@@ -330,12 +331,7 @@ TEST(Cli, ProjectCsvLandsOnTheDetectionsAsExpected) {
                                     " --calib " + Quote(root / "calibration/Calib_qualisys.toml") +
                                     " --axes zxy --csv " + Quote(csv));
   ASSERT_EQ(run.status, 0) << run.err;
-  const std::map<std::string, int> body25b = {
-      {"Nose", 0},     {"LShoulder", 5}, {"RShoulder", 6}, {"LElbow", 7},     {"RElbow", 8},
-      {"LWrist", 9},   {"RWrist", 10},   {"LHip", 11},     {"RHip", 12},      {"LKnee", 13},
-      {"RKnee", 14},   {"LAnkle", 15},   {"RAnkle", 16},   {"Neck", 17},      {"Head", 18},
-      {"LBigToe", 19}, {"LSmallToe", 20}, {"LHeel", 21},   {"RBigToe", 22},   {"RSmallToe", 23},
-      {"RHeel", 24}};
+  const std::map<std::string, int>& body25b = acro::testing::Body25bIndex();
   std::map<std::string, std::vector<double>> errors;
   std::map<std::string, nlohmann::json> detections;  // "cam_01/7" -> people
   std::istringstream rows(Slurp(csv));

@@ -21,6 +21,7 @@
 
 #include "acro/base/input_error.h"
 #include "acro/capture/trial_io.h"
+#include "body25b.h"
 #include "refdata.h"
 
 namespace acro::vision {
@@ -79,13 +80,6 @@ TEST(Camera, ProjectionEqualsOpenCvsProjectPoints) {
   }
 }
 
-// BODY_25B index of each TRC keypoint (pose2sim-demo/README.md).
-const std::map<std::string, int> kBody25b = {
-    {"Nose", 0},       {"LShoulder", 5}, {"RShoulder", 6}, {"LElbow", 7},    {"RElbow", 8},
-    {"LWrist", 9},     {"RWrist", 10},   {"LHip", 11},     {"RHip", 12},     {"LKnee", 13},
-    {"RKnee", 14},     {"LAnkle", 15},   {"RAnkle", 16},   {"Neck", 17},     {"Head", 18},
-    {"LBigToe", 19},   {"LSmallToe", 20}, {"LHeel", 21},   {"RBigToe", 22},  {"RSmallToe", 23},
-    {"RHeel", 24}};
 
 // The balancing trial projected into each camera: median distance to the OpenPose detections
 // (confidence > 0.5; of two people, the one nearer the projection). expected.md's figures come
@@ -106,8 +100,8 @@ TEST(Camera, BalancingTrialProjectsOntoItsDetectionsAsExpected) {
       ASSERT_TRUE(in) << name;
       const nlohmann::json people = nlohmann::json::parse(in)["people"];
       for (int p = 0; p < trial.num_points(); ++p) {
-        const auto index = kBody25b.find(trial.points[static_cast<size_t>(p)].label);
-        if (index == kBody25b.end() || !trial.valid(frame, p)) continue;
+        const auto index = acro::testing::Body25bIndex().find(trial.points[static_cast<size_t>(p)].label);
+        if (index == acro::testing::Body25bIndex().end() || !trial.valid(frame, p)) continue;
         // TRC (X, Y, Z), Y up, is the lab's (Z, X, Y).
         const Eigen::Vector3d v = trial.position(frame, p);
         const auto uv = cameras[static_cast<size_t>(cam)].Project(Eigen::Vector3d(v.z(), v.x(), v.y()));
