@@ -14,6 +14,8 @@ find_package(CLI11 REQUIRED)
 
 # toml++: camera calibrations in the Pose2Sim/Anipose format (analysis/vision only).
 pkg_check_modules(TOMLPLUSPLUS REQUIRED IMPORTED_TARGET tomlplusplus)
+# pugixml: Qualisys calibrations (analysis/vision) and OpenSim models (the OpenSim oracle test).
+find_package(pugixml REQUIRED)
 
 # Cairo: every chart of every report, PNG and SVG, with no display (ui/report only).
 pkg_check_modules(CAIRO REQUIRED IMPORTED_TARGET cairo cairo-svg cairo-png)
@@ -59,8 +61,6 @@ if(ACRO_BUILD_TESTS)
   # Simbody is a test oracle only (tests/dynamics); it is optional so that a build without it still
   # runs every other test, and the oracle test reports itself as skipped.
   find_package(Simbody QUIET)
-  # pugixml reads OpenSim's .osim model in the OpenSim oracle test (tests/dynamics).
-  find_package(pugixml REQUIRED)
 endif()
 if(ACRO_BUILD_BENCHMARKS)
   find_package(benchmark REQUIRED)

@@ -7,22 +7,24 @@
 set -euo pipefail
 
 # What the acrolab program needs to build: compiler, Eigen, Ceres, OpenMesh, FFmpeg's libraries
-# (video), YAML, JSON, formatting, argument parsing, and Cairo for the report's charts.
+# (video), YAML, JSON, TOML and XML (calibrations), formatting, argument parsing, and Cairo for the
+# report's charts.
 main_packages=(
   build-essential cmake pkg-config git ccache
   libeigen3-dev libceres-dev libopenmesh-dev
   libavformat-dev libavcodec-dev libswscale-dev libavutil-dev
   libyaml-cpp-dev nlohmann-json3-dev libfmt-dev libcli11-dev libcairo2-dev libtomlplusplus-dev
+  libpugixml-dev
 )
 # Everything else: cameras (OpenCV), the 3D views and the window
-# (VTK, Qt, Xvfb), the tests and their oracles (GoogleTest, Simbody, pugixml for OpenSim's
-# models, the ffmpeg command), the benchmarks, the trial library.
+# (VTK, Qt, Xvfb), the tests and their oracles (GoogleTest, Simbody, the ffmpeg command), the
+# benchmarks, the trial library.
 full_packages=(
   libopencv-dev
   libvtk9-dev libvtk9-qt-dev qtbase5-dev libjsoncpp-dev
   ffmpeg
   libgtest-dev libgmock-dev libbenchmark-dev
-  libsqlite3-dev libsimbody-dev libpugixml-dev
+  libsqlite3-dev libsimbody-dev
   xvfb xauth
 )
 

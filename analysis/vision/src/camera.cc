@@ -1,10 +1,12 @@
 #include "acro/vision/camera.h"
 
 #include <cmath>
+#include <cstdlib>
 #include <sstream>
 
 #include <Eigen/Geometry>
 #include <fmt/format.h>
+#include <pugixml.hpp>
 #include <toml++/toml.h>
 
 #include "acro/base/file_io.h"
@@ -131,6 +133,64 @@ std::vector<Camera> ReadPose2SimToml(const std::filesystem::path& path) {
     cameras.push_back(std::move(c));
   }
   if (cameras.empty()) throw InputError(file, "", "no camera in the file");
+  return cameras;
+}
+
+std::vector<Camera> ReadQualisysQca(const std::filesystem::path& path) {
+  const std::string file = path.string();
+  const std::vector<std::uint8_t> bytes = ReadFileBytes(path, std::int64_t(16) << 20);
+  pugi::xml_document doc;
+  const pugi::xml_parse_result parsed = doc.load_buffer(bytes.data(), bytes.size());
+  if (!parsed) {
+    throw InputError(file, fmt::format("byte {}", parsed.offset), parsed.description());
+  }
+  // A required numeric attribute of `node`, naming file, camera and attribute when absent.
+  auto number = [&](const pugi::xml_node& node, const char* name, const std::string& camera) {
+    const pugi::xml_attribute a = node.attribute(name);
+    char* end = nullptr;
+    const double v = a ? std::strtod(a.value(), &end) : 0.0;
+    if (!a || end == a.value() || !std::isfinite(v)) {
+      throw InputError(file,
+                       camera,
+                       fmt::format("{}.{}: missing or not a number", node.name(), name));
+    }
+    return v;
+  };
+  std::vector<Camera> cameras;
+  for (const pugi::xml_node cam : doc.child("calibration").child("cameras").children("camera")) {
+    Camera c;
+    c.name = cam.attribute("serial").value();
+    const std::string where = "camera '" + c.name + "'";
+    const pugi::xml_node transform = cam.child("transform");
+    const pugi::xml_node intrinsic = cam.child("intrinsic");
+    const pugi::xml_node fov = cam.child("fov_video");
+    if (!transform || !intrinsic || !fov)
+      throw InputError(file, where, "needs <transform>, <intrinsic> and <fov_video>");
+    Eigen::Matrix3d r;
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j)
+        r(i, j) = number(transform, fmt::format("r{}{}", i + 1, j + 1).c_str(), where);
+    c.R_KW = Eigen::Vector3d(1.0, -1.0, -1.0).asDiagonal() * r;
+    const Eigen::Vector3d centre_m(number(transform, "x", where) / 1000.0,
+                                   number(transform, "y", where) / 1000.0,
+                                   number(transform, "z", where) / 1000.0);
+    c.t_KW = -c.R_KW * centre_m;
+    c.width_px = static_cast<int>(number(fov, "right", where) - number(fov, "left", where)) + 1;
+    c.height_px = static_cast<int>(number(fov, "bottom", where) - number(fov, "top", where)) + 1;
+    c.K << number(intrinsic, "focalLengthU", where) / 64.0, 0.0,
+        number(intrinsic, "centerPointU", where) / 64.0, 0.0,
+        number(intrinsic, "focalLengthV", where) / 64.0,
+        number(intrinsic, "centerPointV", where) / 64.0, 0.0, 0.0, 1.0;
+    c.distortion = {number(intrinsic, "radialDistortion1", where),
+                    number(intrinsic, "radialDistortion2", where),
+                    number(intrinsic, "tangentalDistortion1", where),
+                    number(intrinsic, "tangentalDistortion2", where),
+                    number(intrinsic, "radialDistortion3", where)};
+    std::string why;
+    if (!c.IsValid(&why)) throw InputError(file, where, why);
+    cameras.push_back(std::move(c));
+  }
+  if (cameras.empty()) throw InputError(file, "", "no <camera> under <calibration><cameras>");
   return cameras;
 }
 

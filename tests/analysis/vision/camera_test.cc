@@ -82,22 +82,19 @@ TEST(Camera, ProjectionEqualsOpenCvsProjectPoints) {
 
 
 // The balancing trial projected into each camera: median distance to the OpenPose detections
-// (confidence > 0.5; of two people, the one nearer the projection). expected.md's figures come
-// from an independent projection of the same data.
-TEST(Camera, BalancingTrialProjectsOntoItsDetectionsAsExpected) {
+// (confidence > 0.5; of two people, the one nearer the projection), one per camera.
+std::vector<double> MedianDistancesToDetections(const std::vector<Camera>& cameras) {
   const fs::path root = acro::testing::RefdataFile("pose2sim-demo");
   const fs::path trc = root / "balancing-trial/pose-3d/S00_P00_T01_BalancingTrial_0-100.trc";
-  ACRO_REQUIRE_REFDATA_FILE(trc);
   const capture::Trial trial = capture::ReadTrial(trc);
-  const std::vector<Camera> cameras = ReadPose2SimToml(Calibration());
-  const double expected_median[4] = {11.3, 7.7, 17.2, 8.5};
+  std::vector<double> medians;
   for (int cam = 0; cam < 4; ++cam) {
     std::vector<double> errors;
     for (int frame = 0; frame < 100; ++frame) {
       char name[64];
       std::snprintf(name, sizeof name, "cam%02d_json/cam%02d.%04d.json", cam + 1, cam + 1, frame);
       std::ifstream in(root / "balancing-trial/pose" / name);
-      ASSERT_TRUE(in) << name;
+      EXPECT_TRUE(in) << name;
       const nlohmann::json people = nlohmann::json::parse(in)["people"];
       for (int p = 0; p < trial.num_points(); ++p) {
         const auto index = acro::testing::Body25bIndex().find(trial.points[static_cast<size_t>(p)].label);
@@ -116,11 +113,50 @@ TEST(Camera, BalancingTrialProjectsOntoItsDetectionsAsExpected) {
         if (std::isfinite(best)) errors.push_back(best);
       }
     }
-    ASSERT_GT(errors.size(), 1000u);
+    EXPECT_GT(errors.size(), 1000u);
     std::nth_element(errors.begin(), errors.begin() + errors.size() / 2, errors.end());
-    const double median = errors[errors.size() / 2];
-    RecordProperty("median_px_cam" + std::to_string(cam + 1), std::to_string(median));
-    EXPECT_NEAR(median, expected_median[cam], 0.5) << "cam " << cam + 1;
+    medians.push_back(errors[errors.size() / 2]);
+  }
+  return medians;
+}
+
+// expected.md's figures come from an independent projection of the same data with the same file.
+TEST(Camera, BalancingTrialProjectsOntoItsDetectionsAsExpected) {
+  ACRO_REQUIRE_REFDATA_FILE(acro::testing::RefdataFile("pose2sim-demo/balancing-trial"));
+  const std::vector<double> medians = MedianDistancesToDetections(ReadPose2SimToml(Calibration()));
+  const double expected_median[4] = {11.3, 7.7, 17.2, 8.5};
+  for (int cam = 0; cam < 4; ++cam) {
+    RecordProperty("median_px_cam" + std::to_string(cam + 1), std::to_string(medians[cam]));
+    EXPECT_NEAR(medians[cam], expected_median[cam], 0.5) << "cam " << cam + 1;
+  }
+  // With Qualisys' own distortion (64 times Pose2Sim's): 11.37, 7.93, 17.27, 8.78 px, a little
+  // worse in three cameras, but these keypoints were triangulated with Pose2Sim's file, so this does
+  // not settle which is right (docs/formats/calibration.md): recorded, not asserted.
+  const fs::path qca = acro::testing::RefdataFile("pose2sim-demo/calibration/Calib.qca.txt");
+  const std::vector<double> qualisys = MedianDistancesToDetections(ReadQualisysQca(qca));
+  for (int cam = 0; cam < 4; ++cam)
+    RecordProperty("qca_median_px_cam" + std::to_string(cam + 1), std::to_string(qualisys[cam]));
+}
+
+// The same four cameras from Qualisys' own file and from Pose2Sim's conversion of it: the pose and
+// K agree (the QCA reader's axis convention, diag(1, −1, −1), and its units, mm and 1/64 px, are
+// what makes them agree). The distortion does not: Pose2Sim's file holds Qualisys' coefficients
+// divided by 64 (see the balancing-trial test for what projection says about it).
+TEST(Camera, QualisysFileAgreesWithItsPose2SimConversionButForTheDistortion) {
+  const fs::path qca = acro::testing::RefdataFile("pose2sim-demo/calibration/Calib.qca.txt");
+  ACRO_REQUIRE_REFDATA_FILE(qca);
+  const std::vector<Camera> qualisys = ReadQualisysQca(qca);
+  const std::vector<Camera> pose2sim = ReadPose2SimToml(Calibration());
+  ASSERT_EQ(qualisys.size(), 4u);
+  for (size_t i = 0; i < 4; ++i) {
+    SCOPED_TRACE(qualisys[i].name);
+    EXPECT_EQ(qualisys[i].width_px, 1088);
+    EXPECT_EQ(qualisys[i].height_px, 1920);
+    EXPECT_LT((qualisys[i].R_KW - pose2sim[i].R_KW).norm(), 1e-9);
+    EXPECT_LT((qualisys[i].CentreInWorld() - pose2sim[i].CentreInWorld()).norm(), 1e-6);
+    EXPECT_LT((qualisys[i].K - pose2sim[i].K).norm(), 1e-6);
+    for (size_t k = 0; k < 4; ++k)
+      EXPECT_NEAR(qualisys[i].distortion[k] / 64.0, pose2sim[i].distortion[k], 1e-9) << k;
   }
 }
 

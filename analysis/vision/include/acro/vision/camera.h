@@ -41,6 +41,14 @@ struct Camera {
 /// that is not valid.
 std::vector<Camera> ReadPose2SimToml(const std::filesystem::path& path);
 
+/// Reads a Qualisys Track Manager calibration (.qca, XML), one camera per `<camera>` named by its
+/// `serial`: the `<transform>` r11..r33 (row by row) maps the lab into Qualisys' camera axes (x
+/// right, y up, z backwards), so R_KW = diag(1, −1, −1) r; its x y z are the camera centre in mm;
+/// the `<intrinsic>` centre and focal lengths are in sensor sub-pixels (÷ 64 for pixels), its
+/// distortion coefficients radial 1–3 and tangential 1–2 are OpenCV's k1 k2 k3 p1 p2. The image
+/// size is `fov_video`'s. Throws acro::InputError naming the file, the camera and the attribute.
+std::vector<Camera> ReadQualisysQca(const std::filesystem::path& path);
+
 /// Writes cameras in the same format, atomically.
 void WritePose2SimToml(const std::vector<Camera>& cameras, const std::filesystem::path& path);
 
