@@ -9,9 +9,9 @@
 #include <filesystem>
 #include <string>
 
+#include "acro/base/file_io.h"
 #include "acro/base/input_error.h"
 #include "acro/capture/c3d.h"
-#include "acro/base/file_io.h"
 #include "sample_routine.h"
 
 int main(int argc, char** argv) {

@@ -13,14 +13,14 @@
 
 #include "acro/athlete/athlete_profile.h"
 #include "acro/athlete/orientation.h"
-#include "acro/reconstruct/markerset.h"
-#include "acro/design/skill_file.h"
 #include "acro/athlete/standard_human.h"
 #include "acro/base/demand.h"
+#include "acro/design/skill_file.h"
 #include "acro/dynamics/configuration.h"
 #include "acro/dynamics/flight_simulation.h"
 #include "acro/dynamics/kinematics.h"
 #include "acro/dynamics/workspace.h"
+#include "acro/reconstruct/markerset.h"
 
 namespace acro::samples {
 namespace {
@@ -65,7 +65,6 @@ Matrix3d RightJacobian(const Vector3d& u) {
   return Matrix3d::Identity() - (1.0 - std::cos(theta)) / t2 * S +
          (theta - std::sin(theta)) / (t2 * theta) * S * S;
 }
-
 
 // Septic smoothstep S(u) = u⁴(35 − 84u + 70u² − 20u³): S′, S″ and S‴ vanish at both ends, so
 // the prescribed joint motion is C³ and the RK4 root integration keeps its full order across

@@ -1,15 +1,15 @@
 #include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
-#include <cmath>
 #include <memory>
 #include <optional>
 
+#include "acro/assess/trial_analysis.h"
 #include "acro/athlete/athlete_profile.h"
 #include "acro/athlete/de_leva.h"
 #include "acro/athlete/motion.h"
 #include "acro/athlete/standard_human.h"
-#include "acro/assess/trial_analysis.h"
 #include "acro/capture/trial_io.h"
 #include "acro/dynamics/configuration.h"
 #include "acro/report/analysis_report.h"

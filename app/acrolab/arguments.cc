@@ -12,14 +12,17 @@ namespace acro::app {
 void TrialArguments::Declare(CLI::App* command, analysis::ReconstructionOptions* options) {
   command->add_option("TRIAL", trial_path, "markers or keypoints: C3D, TRC or CSV")->required();
   command->add_option("-o,--output", out_dir, "output folder (created)")->required();
-  command->add_option("--static", static_path, "static trial for scaling (otherwise a window of the motion)");
-  CLI::Option* athlete = command->add_option(
-      "--athlete", athlete_path, "athlete profile (docs/formats/athlete.md)");
+  command->add_option(
+      "--static", static_path, "static trial for scaling (otherwise a window of the motion)");
+  CLI::Option* athlete =
+      command->add_option("--athlete", athlete_path, "athlete profile (docs/formats/athlete.md)");
   CLI::Option* height =
-      command->add_option("--height", height_m, "without --athlete: stature of a de Leva athlete (m)")
+      command
+          ->add_option("--height", height_m, "without --athlete: stature of a de Leva athlete (m)")
           ->check(CLI::Range(0.5, 2.6));
   CLI::Option* mass =
-      command->add_option("--mass", mass_kg, "without --athlete: body mass of a de Leva athlete (kg)")
+      command
+          ->add_option("--mass", mass_kg, "without --athlete: body mass of a de Leva athlete (kg)")
           ->check(CLI::Range(10.0, 300.0));
   CLI::Option* sex_option =
       command->add_option("--sex", sex, "without --athlete: f or m (de Leva's tables)")
@@ -33,13 +36,14 @@ void TrialArguments::Declare(CLI::App* command, analysis::ReconstructionOptions*
       },
       "plug_in_gait | helen_hayes | coco17 | trampoline | FILE.yaml (default: detected from the "
       "labels)");
-  command->add_option_function<double>(
-      "--cutoff",
-      [options](double hz) {
-        options->cutoff_hz = hz;
-        options->filter = hz > 0;
-      },
-      "marker low-pass cutoff in Hz (default: Winter's residual analysis); 0: no filter")
+  command
+      ->add_option_function<double>(
+          "--cutoff",
+          [options](double hz) {
+            options->cutoff_hz = hz;
+            options->filter = hz > 0;
+          },
+          "marker low-pass cutoff in Hz (default: Winter's residual analysis); 0: no filter")
       ->check(CLI::NonNegativeNumber);
   command->add_flag_callback(
       "--no-scale",

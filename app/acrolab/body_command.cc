@@ -19,7 +19,8 @@ struct BodyArguments {
 };
 
 int RunBody(const BodyArguments& args) {
-  const int sources = !args.measurements.empty() + !args.profile_path.empty() + (args.height || !args.sex.empty());
+  const int sources =
+      !args.measurements.empty() + !args.profile_path.empty() + (args.height || !args.sex.empty());
   if (sources != 1)
     throw UsageError{"give one of --measurements FILE, --profile FILE, or --height/--mass/--sex"};
 
@@ -47,7 +48,8 @@ int RunBody(const BodyArguments& args) {
       rest = analysis::MakeAthleteBody(profile);
     }
   } else {
-    if (!args.height || !args.mass || args.sex.empty()) throw UsageError{"--height, --mass and --sex go together"};
+    if (!args.height || !args.mass || args.sex.empty())
+      throw UsageError{"--height, --mass and --sex go together"};
     if (!args.density.empty() || args.yeadon_package)
       throw UsageError{"--density and --yeadon-package apply to Yeadon measurements only"};
     rest = analysis::MakeDeLevaBody(
@@ -60,7 +62,7 @@ int RunBody(const BodyArguments& args) {
       rest, analysis::ParseBodyPose(args.pose_spec.empty() ? "straight" : args.pose_spec));
   const analysis::ShapeInertias shapes = analysis::CalcShapeInertias(rest, posed);
   const std::string report = args.json ? ui::FormatBodyReportJson(posed, shapes, args.pose_spec)
-                                  : ui::FormatBodyReportText(posed, shapes, args.pose_spec);
+                                       : ui::FormatBodyReportText(posed, shapes, args.pose_spec);
   std::fputs(report.c_str(), stdout);
 
   // Mesh: Yeadon's solids, or inertia-equivalent ellipsoids for de Leva; skinned to the pose.
@@ -94,11 +96,13 @@ void AddBodyCommand(CLI::App& app, CommandRunner* run) {
                       args->measurements,
                       "Yeadon (1990) geometric model from a yeadon measurement file (--mass, if "
                       "given, scales its densities to that mass)");
-  command->add_option("--profile", args->profile_path, "an athlete profile (docs/formats/athlete.md)");
+  command->add_option(
+      "--profile", args->profile_path, "an athlete profile (docs/formats/athlete.md)");
   command->add_option("--height", args->height, "de Leva (1996) regression: stature (m)")
       ->check(CLI::Range(0.5, 2.6));
   command->add_option("--mass", args->mass, "body mass (kg)")->check(CLI::Range(10.0, 300.0));
-  command->add_option("--sex", args->sex, "f or m (de Leva's tables)")->check(CLI::IsMember({"f", "m"}));
+  command->add_option("--sex", args->sex, "f or m (de Leva's tables)")
+      ->check(CLI::IsMember({"f", "m"}));
   command->add_option("--density", args->density, "Yeadon's density set")
       ->check(CLI::IsMember({"dempster", "chandler", "clauser"}));
   command->add_option("--pose",

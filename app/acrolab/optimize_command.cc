@@ -3,9 +3,9 @@
 #include <optional>
 #include <string>
 
-#include "acro/report/skill_report.h"
 #include "acro/design/skill_optimization.h"
 #include "acro/design/skill_simulation.h"
+#include "acro/report/skill_report.h"
 #include "commands.h"
 
 namespace acro::app {
@@ -89,9 +89,10 @@ void AddOptimizeCommand(CLI::App& app, CommandRunner* run) {
   command->add_option("-o,--output", args->out_dir, "output folder (created)")->required();
   const std::map<std::string, analysis::SkillModel> models = {
       {"1", analysis::SkillModel::kTrajectory}, {"2", analysis::SkillModel::kTiming}};
-  command->add_option("--model",
-                      args->options.model,
-                      "2 (default): keyframe times only; 1: times and trajectory coefficients")
+  command
+      ->add_option("--model",
+                   args->options.model,
+                   "2 (default): keyframe times only; 1: times and trajectory coefficients")
       ->transform(CLI::CheckedTransformer(models));
   command->add_flag_callback(
       "--fixed-joints",

@@ -6,10 +6,10 @@
 
 #include "acro/athlete/athlete_profile.h"
 #include "acro/athlete/de_leva.h"
-#include "acro/reconstruct/motion_export.h"
-#include "acro/reconstruct/reconstruction.h"
 #include "acro/base/file_io.h"
 #include "acro/capture/trial_io.h"
+#include "acro/reconstruct/motion_export.h"
+#include "acro/reconstruct/reconstruction.h"
 #include "commands.h"
 
 namespace acro::app {
@@ -58,7 +58,7 @@ int RunReconstruct(ReconstructArguments& args) {
   analysis::WriteMotionCsv(result.motion, dir / (stem + "_angles.csv"));
   analysis::WriteMotionC3d(result, trial, dir / (stem + "_model.c3d"));
   WriteFileAtomically(dir / (stem + "_residuals.csv"),
-                               analysis::FormatMarkerResidualsCsv(result.motion));
+                      analysis::FormatMarkerResidualsCsv(result.motion));
   const std::string summary = "trial " + trial_path + " (" + std::to_string(trial.num_frames) +
                               " frames at " + std::to_string(trial.point_rate_hz) + " Hz)\n" +
                               "athlete " + body.model + ", " + std::to_string(body.height_m) +
@@ -84,11 +84,13 @@ void AddReconstructCommand(CLI::App& app, CommandRunner* run) {
       "(processed markers and joint angles as Vicon-style angle points), <trial>_residuals.csv "
       "and <trial>_summary.txt; prints the summary. docs/reconstruction.md.");
   args->common.Declare(command, &args->options);
-  command->add_option("--order", args->options.filter_order, "Butterworth order per pass (default 2)")
+  command
+      ->add_option("--order", args->options.filter_order, "Butterworth order per pass (default 2)")
       ->check(CLI::Range(1, 8));
-  command->add_option("--max-gap",
-                      args->options.gaps.max_spline_gap_frames,
-                      "longest gap filled by a cubic spline, frames (default 20)")
+  command
+      ->add_option("--max-gap",
+                   args->options.gaps.max_spline_gap_frames,
+                   "longest gap filled by a cubic spline, frames (default 20)")
       ->check(CLI::NonNegativeNumber);
   command->add_option_function<std::string>(
       "--window",

@@ -72,7 +72,8 @@ void AddVideoCommand(CLI::App& app, CommandRunner* run) {
   index->excludes(time);
   frame_command->add_option("-o,--output", frame->out, "the PNG to write")->required();
   frame_command->callback([frame, run] {
-    if (!frame->frame && !frame->time_s) throw CLI::ValidationError("--frame or --time", "give one");
+    if (!frame->frame && !frame->time_s)
+      throw CLI::ValidationError("--frame or --time", "give one");
     *run = [frame] { return RunVideoFrame(*frame); };
   });
 }

@@ -2,8 +2,8 @@
 
 #include <algorithm>
 
-#include "acro/base/input_error.h"
 #include "acro/base/file_io.h"
+#include "acro/base/input_error.h"
 #include "internal/text.h"
 
 namespace acro::capture {

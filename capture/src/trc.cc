@@ -6,8 +6,8 @@
 #include <string>
 #include <vector>
 
-#include "acro/base/input_error.h"
 #include "acro/base/file_io.h"
+#include "acro/base/input_error.h"
 #include "internal/text.h"
 
 namespace acro::capture {

@@ -1,9 +1,9 @@
 #include "acro/capture/trial_io.h"
 
+#include "acro/base/file_io.h"
 #include "acro/base/input_error.h"
 #include "acro/capture/c3d.h"
 #include "acro/capture/csv.h"
-#include "acro/base/file_io.h"
 #include "acro/capture/trc.h"
 
 namespace acro::capture {

@@ -26,7 +26,8 @@ std::string FormatVideoInfoText(const VideoInfo& v) {
                      v.average_fps,
                      v.nominal_fps,
                      v.variable_frame_rate ? "variable" : "constant");
-  out += fmt::format("Duration    {:.3f} s, first frame at {:.3f} s\n", v.duration_s, v.start_time_s);
+  out +=
+      fmt::format("Duration    {:.3f} s, first frame at {:.3f} s\n", v.duration_s, v.start_time_s);
   out += fmt::format("Audio       {}\n", audio.empty() ? "none" : audio);
   return out;
 }

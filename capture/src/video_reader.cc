@@ -28,13 +28,13 @@ namespace {
 
 using internal::AvError;
 
-
 // The clockwise rotation (0, 90, 180, 270) that shows the stream upright, from its display
 // matrix, as the ffmpeg command line's autorotation reads it.
 int DisplayRotation(const AVStream* stream) {
   const std::uint8_t* matrix = av_stream_get_side_data(stream, AV_PKT_DATA_DISPLAYMATRIX, nullptr);
   if (matrix == nullptr) return 0;
-  double theta = -std::round(av_display_rotation_get(reinterpret_cast<const std::int32_t*>(matrix)));
+  double theta =
+      -std::round(av_display_rotation_get(reinterpret_cast<const std::int32_t*>(matrix)));
   theta -= 360.0 * std::floor(theta / 360.0 + 0.9 / 360.0);
   for (int r : {90, 180, 270})
     if (std::abs(theta - r) < 1.0) return r;
@@ -85,8 +85,8 @@ struct VideoReader::Impl {
   std::vector<std::int64_t> pts;           // presentation order
   std::vector<std::int64_t> keyframe_pts;  // ascending
   std::vector<double> times_s;
-  bool input_done = false;  // the demuxer is at its end: the decoder is being drained
-  int next_sequential = 0;  // index the next ReadNext returns
+  bool input_done = false;            // the demuxer is at its end: the decoder is being drained
+  int next_sequential = 0;            // index the next ReadNext returns
   std::vector<std::uint8_t> scratch;  // swscale's output, rows padded
   std::int64_t last_pts = AV_NOPTS_VALUE;  // of the last frame decoded since the last seek
 
@@ -150,7 +150,8 @@ void VideoReader::Impl::Open(const VideoReaderOptions& options) {
   info.nominal_fps = st->r_frame_rate.den > 0 ? av_q2d(st->r_frame_rate) : 0.0;
   for (unsigned s = 0; s < format->nb_streams; ++s) {
     const AVCodecParameters* p = format->streams[s]->codecpar;
-    if (p->codec_type == AVMEDIA_TYPE_AUDIO) info.audio_codecs.push_back(avcodec_get_name(p->codec_id));
+    if (p->codec_type == AVMEDIA_TYPE_AUDIO)
+      info.audio_codecs.push_back(avcodec_get_name(p->codec_id));
   }
   Index();
 }
@@ -218,7 +219,8 @@ bool VideoReader::Impl::DecodeNext() {
       return true;
     }
     if (rc == AVERROR_EOF) return false;
-    if (rc != AVERROR(EAGAIN)) Fail(fmt::format("frame {}", next_sequential), "cannot decode: " + AvError(rc));
+    if (rc != AVERROR(EAGAIN))
+      Fail(fmt::format("frame {}", next_sequential), "cannot decode: " + AvError(rc));
     // The decoder wants input: the next packet of the stream, or the end (drain).
     if (input_done) return false;
     int read = 0;
@@ -260,10 +262,12 @@ VideoFrame VideoReader::Impl::Convert(int index) {
                                 nullptr,
                                 nullptr,
                                 nullptr);
-  if (scaler == nullptr) Fail(fmt::format("frame {}", index), "no conversion of its pixel format to RGB");
+  if (scaler == nullptr)
+    Fail(fmt::format("frame {}", index), "no conversion of its pixel format to RGB");
   // The frame's own matrix and range (the command line's scaler does the same, "auto").
-  const int colorspace =
-      frame->colorspace == AVCOL_SPC_UNSPECIFIED ? SWS_CS_DEFAULT : static_cast<int>(frame->colorspace);
+  const int colorspace = frame->colorspace == AVCOL_SPC_UNSPECIFIED
+                             ? SWS_CS_DEFAULT
+                             : static_cast<int>(frame->colorspace);
   sws_setColorspaceDetails(scaler,
                            sws_getCoefficients(colorspace),
                            frame->color_range == AVCOL_RANGE_JPEG ? 1 : 0,
@@ -318,7 +322,9 @@ int VideoReader::FrameAt(double time_s) const {
 VideoFrame VideoReader::Frame(int index) {
   Impl& m = *impl_;
   if (index < 0 || index >= m.info.num_frames)
-    throw InputError(m.path, fmt::format("frame {}", index), fmt::format("not among the {} frames", m.info.num_frames));
+    throw InputError(m.path,
+                     fmt::format("frame {}", index),
+                     fmt::format("not among the {} frames", m.info.num_frames));
   const std::int64_t target = m.pts[static_cast<size_t>(index)];
   // The keyframe at or before the target; one further back when the target is a leading picture.
   auto key = std::upper_bound(m.keyframe_pts.begin(), m.keyframe_pts.end(), target) - 1;
@@ -352,7 +358,8 @@ VideoFrame VideoReader::Frame(int index) {
       --key;
       continue;
     }
-    throw InputError(m.path, fmt::format("frame {}", index), "the decoder does not produce this frame");
+    throw InputError(
+        m.path, fmt::format("frame {}", index), "the decoder does not produce this frame");
   }
 }
 

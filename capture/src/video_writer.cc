@@ -27,7 +27,6 @@ namespace {
 
 using internal::AvError;
 
-
 }  // namespace
 
 struct VideoWriter::Impl {
@@ -170,7 +169,8 @@ void VideoWriter::Write(const std::vector<std::uint8_t>& rgb) {
   Impl& m = *impl_;
   if (m.finished) m.Fail("a frame after Finish()");
   if (rgb.size() != 3 * static_cast<size_t>(m.width) * m.height)
-    m.Fail(fmt::format("frame {} has {} bytes, not {} x {} RGB", m.written, rgb.size(), m.width, m.height));
+    m.Fail(fmt::format(
+        "frame {} has {} bytes, not {} x {} RGB", m.written, rgb.size(), m.width, m.height));
   // Copy into the even-sized picture, repeating the last column and row.
   const size_t row = 3 * static_cast<size_t>(m.coded_width);
   for (int y = 0; y < m.height; ++y) {

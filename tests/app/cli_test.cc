@@ -2,11 +2,11 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <map>
-#include <sstream>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
+#include <sstream>
 #include <string>
 
 #include <gtest/gtest.h>
@@ -209,8 +209,12 @@ TEST(Cli, AnalyzeWritesTheReportAndTablesAndSaysWhere) {
   for (const char* code : {"00", "40o", "40&lt;", "41/", "42/", "800o"})
     EXPECT_NE(html.find("<b>" + std::string(code) + "</b>"), std::string::npos) << code;
   // The plots, as PNG for the page and SVG for papers.
-  for (const char* f : {"com_height", "residual_force", "residual_moment", "angular_momentum",
-                        "joint_angle", "joint_torque"}) {
+  for (const char* f : {"com_height",
+                        "residual_force",
+                        "residual_moment",
+                        "angular_momentum",
+                        "joint_angle",
+                        "joint_torque"}) {
     EXPECT_TRUE(HasFile(out / (std::string(f) + ".png"))) << f;
     EXPECT_TRUE(HasFile(out / (std::string(f) + ".svg"))) << f;
   }
@@ -219,7 +223,9 @@ TEST(Cli, AnalyzeWritesTheReportAndTablesAndSaysWhere) {
 
 // Every number and text of `actual` equals `expected` (numbers to 1e-9), naming the first
 // difference by its JSON path.
-void ExpectSameJson(const nlohmann::json& expected, const nlohmann::json& actual, const std::string& path) {
+void ExpectSameJson(const nlohmann::json& expected,
+                    const nlohmann::json& actual,
+                    const std::string& path) {
   if (expected.is_number() && actual.is_number()) {
     EXPECT_NEAR(actual.get<double>(), expected.get<double>(), 1e-9) << path;
     return;
@@ -252,8 +258,9 @@ TEST(Cli, AnalyzeWithoutAnyDisplayWritesTheMilestoneOneNumbersAndTheCharts) {
   EXPECT_TRUE(HasFile(out / "com_height.png"));
   EXPECT_TRUE(HasFile(out / "com_height.svg"));
   // jumps.json as milestone 1 wrote it (tests/data, made by the milestone-1 build on this sample).
-  const nlohmann::json expected = nlohmann::json::parse(
-      Slurp(std::filesystem::path(ACRO_DEFAULT_SOURCE_DIR) / "tests/data/sample_routine_jumps_milestone1.json"));
+  const nlohmann::json expected =
+      nlohmann::json::parse(Slurp(std::filesystem::path(ACRO_DEFAULT_SOURCE_DIR) /
+                                  "tests/data/sample_routine_jumps_milestone1.json"));
   const nlohmann::json actual = nlohmann::json::parse(Slurp(out / "jumps.json"));
   ASSERT_EQ(expected.size(), 6u);
   ExpectSameJson(expected, actual, "jumps");
@@ -327,9 +334,9 @@ TEST(Cli, ProjectCsvLandsOnTheDetectionsAsExpected) {
   const auto trc = root / "balancing-trial/pose-3d/S00_P00_T01_BalancingTrial_0-100.trc";
   ACRO_REQUIRE_REFDATA_FILE(trc);
   const auto csv = acro::testing::TempDir() / "projection.csv";
-  const ProcessResult run = Execute(std::string(ACROLAB_EXE) + " project " + Quote(trc) +
-                                    " --calib " + Quote(root / "calibration/Calib_qualisys.toml") +
-                                    " --axes zxy --csv " + Quote(csv));
+  const ProcessResult run =
+      Execute(std::string(ACROLAB_EXE) + " project " + Quote(trc) + " --calib " +
+              Quote(root / "calibration/Calib_qualisys.toml") + " --axes zxy --csv " + Quote(csv));
   ASSERT_EQ(run.status, 0) << run.err;
   const std::map<std::string, int>& body25b = acro::testing::Body25bIndex();
   std::map<std::string, std::vector<double>> errors;
@@ -352,14 +359,17 @@ TEST(Cli, ProjectCsvLandsOnTheDetectionsAsExpected) {
     if (!detections.count(key)) {
       char name[64];
       std::snprintf(name, sizeof name, "cam%02d_json/cam%02d.%04d.json", cam, cam, f);
-      detections[key] = nlohmann::json::parse(Slurp(root / "balancing-trial/pose" / name))["people"];
+      detections[key] =
+          nlohmann::json::parse(Slurp(root / "balancing-trial/pose" / name))["people"];
     }
     const size_t i = 3 * static_cast<size_t>(body25b.at(marker));
     double best = 1e300;
     for (const nlohmann::json& person : detections[key]) {
       const nlohmann::json& k = person["pose_keypoints_2d"];
       if (k[i + 2].get<double>() <= 0.5) continue;
-      best = std::min(best, std::hypot(k[i].get<double>() - std::stod(u), k[i + 1].get<double>() - std::stod(v)));
+      best = std::min(
+          best,
+          std::hypot(k[i].get<double>() - std::stod(u), k[i + 1].get<double>() - std::stod(v)));
     }
     if (best < 1e300) errors[camera].push_back(best);
   }

@@ -9,7 +9,6 @@
 namespace acro {
 namespace {
 
-
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 
 const std::vector<double> kT = {0.0, 0.13, 0.4, 0.55, 0.9, 1.2, 1.6};
@@ -61,7 +60,6 @@ TEST(CubicSpline, ReproducesAStraightLine) {
     EXPECT_NEAR(s.Eval(t).d2, 0.0, 1024 * kEps);
   }
 }
-
 
 }  // namespace
 }  // namespace acro

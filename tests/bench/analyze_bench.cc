@@ -11,13 +11,13 @@
 #include <filesystem>
 #include <random>
 
-#include "acro/athlete/athlete_profile.h"
-#include "acro/reconstruct/markerset.h"
 #include "acro/assess/trial_analysis.h"
+#include "acro/athlete/athlete_profile.h"
 #include "acro/capture/c3d.h"
 #include "acro/dynamics/configuration.h"
 #include "acro/dynamics/kinematics.h"
 #include "acro/dynamics/workspace.h"
+#include "acro/reconstruct/markerset.h"
 #include "acro/report/analysis_report.h"
 #include "refdata.h"
 #include "sample_routine.h"

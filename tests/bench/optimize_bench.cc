@@ -42,7 +42,8 @@ void BM_Model2Gradient(benchmark::State& state) {
   const SkillTrajectory t = MakeKeyframeTrajectory(Example(), Example().EvenTimes());
   const Eigen::VectorXd x = InitialSkillParameters(Example(), t, SkillModel::kTiming);
   Eigen::VectorXd g;
-  for (auto _ : state) benchmark::DoNotOptimize(CalcSkillObjective(Example(), t, SkillModel::kTiming, x, 40, &g));
+  for (auto _ : state)
+    benchmark::DoNotOptimize(CalcSkillObjective(Example(), t, SkillModel::kTiming, x, 40, &g));
 }
 BENCHMARK(BM_Model2Gradient)->Unit(benchmark::kMillisecond);
 
@@ -54,7 +55,8 @@ void BM_Model1Gradient(benchmark::State& state) {
       MakeKnotTrajectory(MakeKeyframeTrajectory(Example(), Example().EvenTimes()), 1);
   const Eigen::VectorXd x = InitialSkillParameters(Example(), t, SkillModel::kTrajectory);
   Eigen::VectorXd g;
-  for (auto _ : state) benchmark::DoNotOptimize(CalcSkillObjective(Example(), t, SkillModel::kTrajectory, x, 8, &g));
+  for (auto _ : state)
+    benchmark::DoNotOptimize(CalcSkillObjective(Example(), t, SkillModel::kTrajectory, x, 8, &g));
 }
 BENCHMARK(BM_Model1Gradient)->Unit(benchmark::kMillisecond);
 

@@ -9,11 +9,11 @@
 #include <random>
 
 #include "acro/athlete/de_leva.h"
-#include "acro/reconstruct/inverse_kinematics.h"
-#include "acro/reconstruct/markerset.h"
 #include "acro/athlete/standard_human.h"
 #include "acro/dynamics/configuration.h"
 #include "acro/dynamics/kinematics.h"
+#include "acro/reconstruct/inverse_kinematics.h"
+#include "acro/reconstruct/markerset.h"
 
 namespace {
 

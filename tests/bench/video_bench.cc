@@ -59,8 +59,8 @@ void BM_DecodeSequential(benchmark::State& state) {
     while (reader.ReadNext(&frame)) ++frames;
   }
   state.SetLabel(kNames[state.range(0)]);
-  state.counters["fps"] =
-      benchmark::Counter(static_cast<double>(frames), benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["fps"] = benchmark::Counter(static_cast<double>(frames),
+                                             benchmark::Counter::kIsIterationInvariantRate);
 }
 BENCHMARK(BM_DecodeSequential)->DenseRange(0, 2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
@@ -79,9 +79,10 @@ void BM_FfmpegCommand(benchmark::State& state) {
   for (auto _ : state) {
     if (std::system(command.c_str()) != 0) state.SkipWithError("ffmpeg failed");
   }
-  state.SetLabel(std::string(kNames[state.range(0)]) + (state.range(1) ? " rgb24" : " decode only"));
-  state.counters["fps"] =
-      benchmark::Counter(static_cast<double>(frames), benchmark::Counter::kIsIterationInvariantRate);
+  state.SetLabel(std::string(kNames[state.range(0)]) +
+                 (state.range(1) ? " rgb24" : " decode only"));
+  state.counters["fps"] = benchmark::Counter(static_cast<double>(frames),
+                                             benchmark::Counter::kIsIterationInvariantRate);
 }
 BENCHMARK(BM_FfmpegCommand)
     ->ArgsProduct({{0, 1, 2}, {0, 1}})

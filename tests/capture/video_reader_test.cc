@@ -64,7 +64,8 @@ std::vector<std::uint64_t> FfmpegFrameHashes(const fs::path& file, int width, in
 }
 
 fs::path TempDir(const std::string& name) {
-  const fs::path dir = fs::temp_directory_path() / ("acro_video_" + name + "_" + std::to_string(getpid()));
+  const fs::path dir =
+      fs::temp_directory_path() / ("acro_video_" + name + "_" + std::to_string(getpid()));
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
@@ -109,7 +110,8 @@ TEST(VideoReader, ReferenceVideosHaveTheirFramesAndRates) {
 // Random access (200 frames at random, seed 7), a sequential pass and the command line's decode
 // give the same pixels, bit for bit.
 TEST(VideoReader, RandomAccessEqualsSequentialAndTheFfmpegCommandLine) {
-  if (!HaveFfmpeg()) GTEST_SKIP() << "the ffmpeg command is not installed (scripts/install-deps.sh)";
+  if (!HaveFfmpeg())
+    GTEST_SKIP() << "the ffmpeg command is not installed (scripts/install-deps.sh)";
   std::mt19937 rng(7);
   for (const ReferenceVideo& v : kReferenceVideos) {
     const fs::path path = acro::testing::RefdataFile(v.path);
@@ -142,7 +144,8 @@ TEST(VideoReader, RandomAccessEqualsSequentialAndTheFfmpegCommandLine) {
 // A variable-frame-rate file (frames kept irregularly, timestamps kept) and a rotated one (a 90°
 // display matrix), made here with the ffmpeg command line.
 TEST(VideoReader, VariableFrameRateTimestampsAndDisplayRotation) {
-  if (!HaveFfmpeg()) GTEST_SKIP() << "the ffmpeg command is not installed (scripts/install-deps.sh)";
+  if (!HaveFfmpeg())
+    GTEST_SKIP() << "the ffmpeg command is not installed (scripts/install-deps.sh)";
   const fs::path dir = TempDir("vfr");
   const fs::path vfr = dir / "vfr.mp4";
   ASSERT_EQ(std::system(("ffmpeg -v error -y -f lavfi -i testsrc=size=320x240:rate=30 -t 3 "
@@ -159,9 +162,10 @@ TEST(VideoReader, VariableFrameRateTimestampsAndDisplayRotation) {
   EXPECT_NEAR(t[1] - t[0], 1.0 / 30, 1e-4);
   EXPECT_NEAR(t[40] - t[39], 1.0 / 10, 1e-4);
   // ffprobe's own list of presentation times.
-  std::istringstream probe(CommandOutput("ffprobe -v error -select_streams v:0 -show_entries frame=pts_time "
-                               "-of csv=p=0 " +
-                               Quote(vfr)));
+  std::istringstream probe(
+      CommandOutput("ffprobe -v error -select_streams v:0 -show_entries frame=pts_time "
+                    "-of csv=p=0 " +
+                    Quote(vfr)));
   std::vector<double> probed;
   for (std::string line; std::getline(probe, line);) {
     line = line.substr(0, line.find(','));  // ffprobe may end a row with a comma
@@ -187,8 +191,9 @@ TEST(VideoReader, VariableFrameRateTimestampsAndDisplayRotation) {
   const VideoFrame ours = turned.Frame(5);
   ASSERT_EQ(ours.width, 240);
   ASSERT_EQ(ours.height, 320);
-  const std::string cli = CommandOutput("ffmpeg -v error -i " + Quote(rotated) +
-                              " -vf \"select=eq(n\\,5)\" -vframes 1 -f rawvideo -pix_fmt rgb24 -");
+  const std::string cli =
+      CommandOutput("ffmpeg -v error -i " + Quote(rotated) +
+                    " -vf \"select=eq(n\\,5)\" -vframes 1 -f rawvideo -pix_fmt rgb24 -");
   ASSERT_EQ(cli.size(), ours.rgb.size());
   // The command line turns the YUV planes before converting, we the RGB picture after: the same
   // picture to chroma interpolation; a wrong turn would differ by whole colour bars.

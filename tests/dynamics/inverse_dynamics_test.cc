@@ -41,7 +41,8 @@ TEST(InverseDynamicsTest, EqualsMassMatrixTimesAccelerationPlusBias) {
       const double err = (tau - (M * a + h)).norm() / tau.norm();
       worst = std::max(worst, err);
       EXPECT_LE(err, 1e-9) << "tree " << tree << " state " << state;
-      // M is positive definite (its symmetry is by construction: CalcMassMatrix writes both halves).
+      // M is positive definite (its symmetry is by construction: CalcMassMatrix writes both
+      // halves).
       EXPECT_GT(Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd>(M).eigenvalues().minCoeff(), 0.0);
     }
   }
@@ -117,7 +118,8 @@ TEST(InverseDynamicsTest, RootWrenchWithOneJointChangedEqualsFullPass) {
 TEST(InverseDynamicsTest, MassMatrixEqualsJacobianEnergyForm) {
   std::mt19937 rng(7);
   for (int tree = 0; tree < 4; ++tree) {
-    const Model<double> model = tree < 3 ? MakeRandomTree(rng, 20, 7 * tree) : testing::MakeStandardHuman();
+    const Model<double> model =
+        tree < 3 ? MakeRandomTree(rng, 20, 7 * tree) : testing::MakeStandardHuman();
     Workspace<double> ws(model);
     const Eigen::VectorXd q = RandomConfiguration(model, rng);
     const Eigen::MatrixXd M = CalcMassMatrix(model, ws, q);
@@ -265,7 +267,8 @@ TEST(InverseDynamicsTest, ExternalWrenchesEnterThroughJacobianTranspose) {
 TEST(InverseDynamicsTest, KineticEnergyRateIsPowerOfNonGravityForces) {
   std::mt19937 rng(21);
   for (int tree = 0; tree < 4; ++tree) {
-    const Model<double> model = tree < 3 ? MakeRandomTree(rng, 20, 6 * tree) : testing::MakeStandardHuman();
+    const Model<double> model =
+        tree < 3 ? MakeRandomTree(rng, 20, 6 * tree) : testing::MakeStandardHuman();
     Workspace<double> ws(model);
     const Eigen::VectorXd q = RandomConfiguration(model, rng);
     const Eigen::VectorXd v = RandomVelocity(model, rng, 2.0);

@@ -88,7 +88,8 @@ void RunFrame(const Model<double>& model,
 
 TEST(NoMallocTest, PerFrameLoopsDoNotAllocate) {
   std::mt19937 rng(1);
-  std::vector<Model<double>> models = {testing::MakeStandardHuman(), testing::MakeRandomTree(rng, 20, 3)};
+  std::vector<Model<double>> models = {testing::MakeStandardHuman(),
+                                       testing::MakeRandomTree(rng, 20, 3)};
   for (const Model<double>& model : models) {
     // Everything the loop needs, allocated up front.
     Workspace<double> ws(model);

@@ -154,7 +154,8 @@ TEST(OpenSimOracleTest, Arm26JointMomentsMatchOpenSimsInverseDynamics) {
   ASSERT_EQ(model.nv(), 8);
 
   // The coordinates (degrees in the file) and their spline derivatives.
-  const capture::Storage ik = capture::ReadStorage(dir / "InverseKinematics/arm26_InverseKinematics.mot");
+  const capture::Storage ik =
+      capture::ReadStorage(dir / "InverseKinematics/arm26_InverseKinematics.mot");
   const capture::Storage reference =
       capture::ReadStorage(dir / "InverseDynamics/UnfilteredResults/arm26_InverseDynamics.sto");
   const int n = static_cast<int>(ik.time_s.size());
@@ -206,7 +207,8 @@ TEST(OpenSimOracleTest, Arm26JointMomentsMatchOpenSimsInverseDynamics) {
     EXPECT_NEAR(reference.time_s[k], ik.time_s[k], 1e-6);
     const Eigen::Vector2d ours = moments(k, false);
     const Eigen::Vector2d second = moments(k, true);
-    const Eigen::Vector2d opensim(reference.data(k, shoulder_column), reference.data(k, elbow_column));
+    const Eigen::Vector2d opensim(reference.data(k, shoulder_column),
+                                  reference.data(k, elbow_column));
     for (int j = 0; j < 2; ++j) {
       const double error = std::abs(ours[j] - opensim[j]);
       errors.push_back(error);

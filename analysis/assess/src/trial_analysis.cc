@@ -10,13 +10,13 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "acro/reconstruct/motion_export.h"
 #include "acro/base/demand.h"
-#include "acro/base/input_error.h"
 #include "acro/base/file_io.h"
+#include "acro/base/input_error.h"
 #include "acro/capture/storage.h"
 #include "acro/dynamics/kinematics.h"
 #include "acro/dynamics/workspace.h"
+#include "acro/reconstruct/motion_export.h"
 
 namespace acro::analysis {
 namespace {

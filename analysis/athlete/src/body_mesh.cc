@@ -13,8 +13,8 @@
 #include <Eigen/Eigenvalues>
 
 #include "acro/base/demand.h"
-#include "acro/base/input_error.h"
 #include "acro/base/file_io.h"
+#include "acro/base/input_error.h"
 
 namespace acro::analysis {
 

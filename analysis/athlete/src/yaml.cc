@@ -7,9 +7,9 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "acro/base/file_io.h"
 #include "acro/base/input_error.h"
 #include "acro/base/text.h"
-#include "acro/base/file_io.h"
 
 namespace acro::analysis {
 
@@ -148,10 +148,10 @@ bool ParseYamlNumber(std::string_view text, double* value) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// The parser is yaml-cpp; this converts its tree into YamlNode, keeping each node's line (YAML::Mark
-// is 0-based) and whether a scalar was quoted, and refuses what a settings file never needs: a
-// second document, duplicate keys, non-scalar keys, nesting deeper than kMaxDepth, and more than
-// kMaxNodes nodes (aliases can expand a small file into a huge tree).
+// The parser is yaml-cpp; this converts its tree into YamlNode, keeping each node's line
+// (YAML::Mark is 0-based) and whether a scalar was quoted, and refuses what a settings file never
+// needs: a second document, duplicate keys, non-scalar keys, nesting deeper than kMaxDepth, and
+// more than kMaxNodes nodes (aliases can expand a small file into a huge tree).
 
 namespace {
 
@@ -169,7 +169,8 @@ class YamlParser {
   explicit YamlParser(std::string file) : file_(std::move(file)) {}
 
   YamlNode Convert(const YAML::Node& node, int line, const std::string& key, int depth) {
-    if (depth > kMaxDepth) Fail(line, "nested deeper than " + std::to_string(kMaxDepth) + " levels");
+    if (depth > kMaxDepth)
+      Fail(line, "nested deeper than " + std::to_string(kMaxDepth) + " levels");
     if (++count_ > kMaxNodes) {
       Fail(line, "more than " + std::to_string(kMaxNodes) + " values (aliases expanding?)");
     }

@@ -15,13 +15,13 @@ namespace acro::analysis {
 namespace internal {
 
 void CalcKnotMotion(const SkillTrajectory& tr,
-                        double t,
-                        Eigen::Ref<Eigen::VectorXd> qj,
-                        Eigen::Ref<Eigen::VectorXd> vj,
-                        Eigen::Ref<Eigen::VectorXd> aj,
-                        Eigen::Quaterniond* q_WB,
-                        Eigen::Vector3d* w_WB_B,
-                        Eigen::Vector3d* wdot_WB_B) {
+                    double t,
+                    Eigen::Ref<Eigen::VectorXd> qj,
+                    Eigen::Ref<Eigen::VectorXd> vj,
+                    Eigen::Ref<Eigen::VectorXd> aj,
+                    Eigen::Quaterniond* q_WB,
+                    Eigen::Vector3d* w_WB_B,
+                    Eigen::Vector3d* wdot_WB_B) {
   ACRO_DEMAND(tr.has_knots());
   const int n = static_cast<int>(tr.times_s.size());
   const int P = tr.knots_per_interval;

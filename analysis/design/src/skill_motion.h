@@ -11,8 +11,8 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "acro/base/demand.h"
 #include "acro/base/cubic_spline.h"
+#include "acro/base/demand.h"
 #include "acro/design/quaternion_spline.h"
 #include "acro/design/skill_design.h"
 #include "acro/dynamics/configuration.h"
@@ -121,13 +121,13 @@ struct ScalarKit {
 /// Joint angles, rates, accelerations and the root orientation, body angular velocity and
 /// acceleration of a trajectory with knots at time t (double).
 void CalcKnotMotion(const SkillTrajectory& trajectory,
-                        double t,
-                        Eigen::Ref<Eigen::VectorXd> qj,
-                        Eigen::Ref<Eigen::VectorXd> vj,
-                        Eigen::Ref<Eigen::VectorXd> aj,
-                        Eigen::Quaterniond* q_WB,
-                        Eigen::Vector3d* w_WB_B,
-                        Eigen::Vector3d* wdot_WB_B);
+                    double t,
+                    Eigen::Ref<Eigen::VectorXd> qj,
+                    Eigen::Ref<Eigen::VectorXd> vj,
+                    Eigen::Ref<Eigen::VectorXd> aj,
+                    Eigen::Quaterniond* q_WB,
+                    Eigen::Vector3d* w_WB_B,
+                    Eigen::Vector3d* wdot_WB_B);
 
 // A double-precision evaluator of the designed motion: Model 2's keyframe splines (built once) or
 // Model 1's local form.
@@ -160,8 +160,7 @@ class MotionEvaluator {
     const int ndof = design_.num_joint_dofs();
     Eigen::Quaterniond q_WB;
     Eigen::Vector3d w, wdot;
-    CalcKnotMotion(
-        trajectory_, t, q.tail(ndof), v.tail(ndof), a.tail(ndof), &q_WB, &w, &wdot);
+    CalcKnotMotion(trajectory_, t, q.tail(ndof), v.tail(ndof), a.tail(ndof), &q_WB, &w, &wdot);
     q.head<3>().setZero();
     dynamics::SetRootQuaternion<double>(q_WB, q);
     v.head<3>().setZero();

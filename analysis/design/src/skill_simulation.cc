@@ -42,7 +42,11 @@ SkillSimulationResult SimulateSkill(const SkillDesign& design,
     const dynamics::Vector6<double> v_root0 = dynamics::CalcRootVelocityFromMomentum(
         m, ws, s0.q, s0.v, Eigen::Vector3d(design.skill().takeoff_com_velocity_mps), H);
     return dynamics::SimulateFlight(
-        m, fo, Eigen::Matrix<double, dynamics::kRootNq, 1>(s0.q.head<dynamics::kRootNq>()), v_root0, joints);
+        m,
+        fo,
+        Eigen::Matrix<double, dynamics::kRootNq, 1>(s0.q.head<dynamics::kRootNq>()),
+        v_root0,
+        joints);
   };
   out.H_Scm_W = out.H_mean_W;
   out.flight = simulate(out.H_Scm_W);

@@ -68,7 +68,7 @@ inline int SkillSolverThreads(const SkillOptimizationOptions& options) {
 
 /// The stage's summary from Ceres' and the wall time since `start`.
 inline SkillOptimizationSummary MakeStageSummary(const ceres::Solver::Summary& s,
-                                                  std::chrono::steady_clock::time_point start) {
+                                                 std::chrono::steady_clock::time_point start) {
   SkillOptimizationSummary out;
   out.success = s.IsSolutionUsable();
   out.message = s.message;

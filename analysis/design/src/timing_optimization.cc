@@ -12,14 +12,14 @@
 #include <numbers>
 #include <sstream>
 
-#include "acro/base/cubic_spline.h"
-#include "acro/design/quaternion_spline.h"
 #include "acro/athlete/standard_human.h"
+#include "acro/base/cubic_spline.h"
 #include "acro/base/text_format.h"
+#include "acro/design/quaternion_spline.h"
 #include "acro/dynamics/inverse_dynamics.h"
 #include "acro/dynamics/kinematics.h"
-#include "skill_solver.h"
 #include "skill_motion.h"
+#include "skill_solver.h"
 
 namespace acro::analysis::internal {
 namespace {
@@ -160,10 +160,10 @@ double CalcModel2Objective(const SkillDesign& design,
 }
 
 Eigen::VectorXd SolveModel2(const SkillDesign& design,
-                      const SkillTrajectory& base,
-                      int intervals,
-                      const SkillOptimizationOptions& options,
-                      SkillOptimizationSummary* summary) {
+                            const SkillTrajectory& base,
+                            int intervals,
+                            const SkillOptimizationOptions& options,
+                            SkillOptimizationSummary* summary) {
   const auto start = std::chrono::steady_clock::now();
   // The gap-scale residual pins Σ g = T, a direction J does not see (J depends on the ratios).
   ResidualData data = MakeResidualData(design, base, intervals, 1e-2);

@@ -15,7 +15,6 @@ bool Valid(const Eigen::Matrix3Xd& p, int frame, int marker, int M) {
   return !std::isnan(p(0, Eigen::Index(frame) * M + marker));
 }
 
-
 /// A frame from three points: origin a, x along b − a, z normal to the plane (a, b, c).
 bool TriadFrame(const Eigen::Vector3d& a,
                 const Eigen::Vector3d& b,

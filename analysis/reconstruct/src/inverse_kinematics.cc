@@ -35,9 +35,10 @@ struct MarkerKinematics {
   /// Brings positions (and Jacobians if asked) up to date for parameters (p, quat, joints).
   void Update(const double* const* parameters, bool need_jacobians) {
     const int n = model.num_joint_dofs();
-    const bool same = std::memcmp(q.data(), parameters[0], 3 * sizeof(double)) == 0 &&
-                      std::memcmp(q.data() + 3, parameters[1], 4 * sizeof(double)) == 0 &&
-                      std::memcmp(q.data() + dynamics::kRootNq, parameters[2], size_t(n) * sizeof(double)) == 0;
+    const bool same =
+        std::memcmp(q.data(), parameters[0], 3 * sizeof(double)) == 0 &&
+        std::memcmp(q.data() + 3, parameters[1], 4 * sizeof(double)) == 0 &&
+        std::memcmp(q.data() + dynamics::kRootNq, parameters[2], size_t(n) * sizeof(double)) == 0;
     if (!same) {
       std::memcpy(q.data(), parameters[0], 3 * sizeof(double));
       std::memcpy(q.data() + 3, parameters[1], 4 * sizeof(double));

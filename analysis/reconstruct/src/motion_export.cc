@@ -6,8 +6,8 @@
 
 #include <fmt/format.h>
 
-#include "acro/capture/c3d.h"
 #include "acro/base/file_io.h"
+#include "acro/capture/c3d.h"
 
 namespace acro::analysis {
 

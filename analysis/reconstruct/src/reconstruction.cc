@@ -10,11 +10,11 @@
 
 #include <fmt/format.h>
 
-#include "acro/athlete/standard_human.h"
 #include "acro/athlete/orientation.h"
-#include "acro/reconstruct/phases.h"
+#include "acro/athlete/standard_human.h"
 #include "acro/base/input_error.h"
 #include "acro/dynamics/configuration.h"
+#include "acro/reconstruct/phases.h"
 
 namespace acro::analysis {
 
@@ -37,7 +37,8 @@ std::pair<double, double> ConfigurationDistance(const Eigen::VectorXd& a,
 
 /// Adds multiples of 2π to q's joint angles so that each is nearest to the reference's.
 void UnwrapJoints(const Eigen::VectorXd& reference, Eigen::VectorXd& q) {
-  for (Eigen::Index i = dynamics::kRootNq; i < q.size(); ++i) q[i] = UnwrapAngle(reference[i], q[i]);
+  for (Eigen::Index i = dynamics::kRootNq; i < q.size(); ++i)
+    q[i] = UnwrapAngle(reference[i], q[i]);
 }
 
 }  // namespace

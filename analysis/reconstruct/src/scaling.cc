@@ -229,9 +229,10 @@ ScalingResult ScaleModel(const dynamics::Model<double>& model,
       cost->AddParameterBlock(static_cast<int>(scales.size()));
       cost->AddParameterBlock(3);
       cost->SetNumResiduals(3);
-      problem.AddResidualBlock(cost,
-                               new ceres::HuberLoss(ik_options.robust_scale_m),
-                               {pk, pk + 3, pk + dynamics::kRootNq, scales.data(), delta[size_t(m)].data()});
+      problem.AddResidualBlock(
+          cost,
+          new ceres::HuberLoss(ik_options.robust_scale_m),
+          {pk, pk + 3, pk + dynamics::kRootNq, scales.data(), delta[size_t(m)].data()});
     }
   }
   {

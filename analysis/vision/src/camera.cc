@@ -4,10 +4,10 @@
 #include <cstdlib>
 #include <sstream>
 
-#include <Eigen/Geometry>
 #include <fmt/format.h>
-#include <pugixml.hpp>
 #include <toml++/toml.h>
+#include <Eigen/Geometry>
+#include <pugixml.hpp>
 
 #include "acro/base/file_io.h"
 #include "acro/base/input_error.h"
@@ -45,7 +45,8 @@ bool Camera::IsValid(std::string* why) const {
   for (double k : distortion)
     if (!std::isfinite(k)) return fail("a distortion coefficient is not finite");
   if (distortion.size() != 0 && distortion.size() != 4 && distortion.size() != 5)
-    return fail(fmt::format("{} distortion coefficients (4 or 5: k1 k2 p1 p2 [k3])", distortion.size()));
+    return fail(
+        fmt::format("{} distortion coefficients (4 or 5: k1 k2 p1 p2 [k3])", distortion.size()));
   return true;
 }
 
@@ -69,7 +70,8 @@ std::vector<double> Numbers(const toml::table& table,
                             const std::string& file,
                             const std::string& camera) {
   const toml::array* array = table[key].as_array();
-  if (array == nullptr) throw InputError(file, camera, std::string(key) + ": missing or not an array");
+  if (array == nullptr)
+    throw InputError(file, camera, std::string(key) + ": missing or not an array");
   std::vector<double> out;
   for (const toml::node& n : *array) {
     if (const toml::array* row = n.as_array()) {
@@ -98,11 +100,11 @@ std::vector<Camera> ReadPose2SimToml(const std::filesystem::path& path) {
   const std::vector<std::uint8_t> bytes = ReadFileBytes(path, std::int64_t(16) << 20);
   toml::table root;
   try {
-    root = toml::parse(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), file);
+    root = toml::parse(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()),
+                       file);
   } catch (const toml::parse_error& e) {
-    throw InputError(file,
-                     fmt::format("line {}", e.source().begin.line),
-                     std::string(e.description()));
+    throw InputError(
+        file, fmt::format("line {}", e.source().begin.line), std::string(e.description()));
   }
   std::vector<Camera> cameras;
   for (const auto& [key, node] : root) {
@@ -123,11 +125,13 @@ std::vector<Camera> ReadPose2SimToml(const std::filesystem::path& path) {
     } else if (r.size() == 9) {
       c.R_KW = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(r.data());
     } else {
-      throw InputError(file, where, fmt::format("rotation: {} numbers (3: Rodrigues, or 9)", r.size()));
+      throw InputError(
+          file, where, fmt::format("rotation: {} numbers (3: Rodrigues, or 9)", r.size()));
     }
     const std::vector<double> tr = Numbers(*t, "translation", 3, file, where);
     c.t_KW = Eigen::Vector3d(tr[0], tr[1], tr[2]);
-    if ((*t)["fisheye"].value_or(false)) throw InputError(file, where, "fisheye cameras are not supported");
+    if ((*t)["fisheye"].value_or(false))
+      throw InputError(file, where, "fisheye cameras are not supported");
     std::string why;
     if (!c.IsValid(&why)) throw InputError(file, where, why);
     cameras.push_back(std::move(c));
@@ -150,9 +154,8 @@ std::vector<Camera> ReadQualisysQca(const std::filesystem::path& path) {
     char* end = nullptr;
     const double v = a ? std::strtod(a.value(), &end) : 0.0;
     if (!a || end == a.value() || !std::isfinite(v)) {
-      throw InputError(file,
-                       camera,
-                       fmt::format("{}.{}: missing or not a number", node.name(), name));
+      throw InputError(
+          file, camera, fmt::format("{}.{}: missing or not a number", node.name(), name));
     }
     return v;
   };

@@ -18,7 +18,8 @@ AxisMapping ParseAxisMapping(const std::string& text) {
     }
     const int axis = c == 'x' ? 0 : c == 'y' ? 1 : c == 'z' ? 2 : -1;
     if (axis < 0 || k >= 3 || used[axis])
-      throw InputError("", "--axes", "'" + text + "' is not three of x, y, z, each once, a minus flipping one");
+      throw InputError(
+          "", "--axes", "'" + text + "' is not three of x, y, z, each once, a minus flipping one");
     used[axis] = true;
     m.index[k] = axis;
     m.sign[k] = sign;

@@ -125,8 +125,10 @@ TEST(Yaml, SyntaxErrorsNameFileAndLine) {
   EXPECT_NE(ErrorOf("a:\n  - 1\n  b: 2\n").find("f.yaml: line 3:"), std::string::npos);
   EXPECT_EQ(ErrorOf("just text\nmore: 1\n"), "f.yaml: line 2: illegal map value");
   // What a settings file never needs is refused by us, with the line.
-  EXPECT_EQ(ErrorOf("a: 1\n---\nb: 2\n"), "f.yaml: line 3: a second document: one document per file");
-  EXPECT_EQ(ErrorOf("a: 1\n...\nb: 2\n"), "f.yaml: line 3: a second document: one document per file");
+  EXPECT_EQ(ErrorOf("a: 1\n---\nb: 2\n"),
+            "f.yaml: line 3: a second document: one document per file");
+  EXPECT_EQ(ErrorOf("a: 1\n...\nb: 2\n"),
+            "f.yaml: line 3: a second document: one document per file");
   EXPECT_EQ(ErrorOf("a: 1\nb: 2\na: 3\n"), "f.yaml: line 3: duplicate key 'a'");
   EXPECT_EQ(ErrorOf("a: 1\n[1, 2]: 3\n"), "f.yaml: line 2: a key must be a plain name");
 }

@@ -60,7 +60,8 @@ TEST(SkillOptimization, ForcesVanishAndTheTwoEvaluationsOfJAgree) {
   const SkillMotionProfile p = CalcSkillMotionProfile(d, t, 80);
   // Force / weight is a difference of O(1) terms: a few hundred ε.
   EXPECT_LT(p.force_per_weight.cwiseAbs().maxCoeff(), 1e-12);
-  const double J = CalcSkillObjective(d, t, SkillModel::kTiming, InitialSkillParameters(d, t, SkillModel::kTiming), 80);
+  const double J = CalcSkillObjective(
+      d, t, SkillModel::kTiming, InitialSkillParameters(d, t, SkillModel::kTiming), 80);
   EXPECT_NEAR(p.objective, J, 1e-12 * J);
   EXPECT_GT(J, 0.0);
 }

@@ -11,12 +11,12 @@
 #include <random>
 
 #include "acro/athlete/de_leva.h"
-#include "acro/reconstruct/motion_export.h"
 #include "acro/athlete/standard_human.h"
 #include "acro/capture/c3d.h"
 #include "acro/capture/trial_io.h"
 #include "acro/dynamics/flight_simulation.h"
 #include "acro/dynamics/kinematics.h"
+#include "acro/reconstruct/motion_export.h"
 #include "refdata.h"
 
 namespace acro::analysis {

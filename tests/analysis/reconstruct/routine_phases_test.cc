@@ -7,11 +7,11 @@
 #include <gtest/gtest.h>
 
 #include "acro/athlete/de_leva.h"
-#include "acro/reconstruct/phases.h"
-#include "acro/reconstruct/reconstruction.h"
 #include "acro/capture/trc.h"
 #include "acro/dynamics/kinematics.h"
 #include "acro/dynamics/workspace.h"
+#include "acro/reconstruct/phases.h"
+#include "acro/reconstruct/reconstruction.h"
 #include "refdata.h"
 
 namespace acro::analysis {

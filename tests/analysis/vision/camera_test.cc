@@ -80,7 +80,6 @@ TEST(Camera, ProjectionEqualsOpenCvsProjectPoints) {
   }
 }
 
-
 // The balancing trial projected into each camera: median distance to the OpenPose detections
 // (confidence > 0.5; of two people, the one nearer the projection), one per camera.
 std::vector<double> MedianDistancesToDetections(const std::vector<Camera>& cameras) {
@@ -97,18 +96,21 @@ std::vector<double> MedianDistancesToDetections(const std::vector<Camera>& camer
       EXPECT_TRUE(in) << name;
       const nlohmann::json people = nlohmann::json::parse(in)["people"];
       for (int p = 0; p < trial.num_points(); ++p) {
-        const auto index = acro::testing::Body25bIndex().find(trial.points[static_cast<size_t>(p)].label);
+        const auto index =
+            acro::testing::Body25bIndex().find(trial.points[static_cast<size_t>(p)].label);
         if (index == acro::testing::Body25bIndex().end() || !trial.valid(frame, p)) continue;
         // TRC (X, Y, Z), Y up, is the lab's (Z, X, Y).
         const Eigen::Vector3d v = trial.position(frame, p);
-        const auto uv = cameras[static_cast<size_t>(cam)].Project(Eigen::Vector3d(v.z(), v.x(), v.y()));
+        const auto uv =
+            cameras[static_cast<size_t>(cam)].Project(Eigen::Vector3d(v.z(), v.x(), v.y()));
         if (!uv) continue;
         double best = std::numeric_limits<double>::infinity();
         for (const nlohmann::json& person : people) {
           const nlohmann::json& k = person["pose_keypoints_2d"];
           const size_t i = 3 * static_cast<size_t>(index->second);
           if (k[i + 2].get<double>() <= 0.5) continue;
-          best = std::min(best, (Eigen::Vector2d(k[i].get<double>(), k[i + 1].get<double>()) - *uv).norm());
+          best = std::min(
+              best, (Eigen::Vector2d(k[i].get<double>(), k[i + 1].get<double>()) - *uv).norm());
         }
         if (std::isfinite(best)) errors.push_back(best);
       }
@@ -130,8 +132,8 @@ TEST(Camera, BalancingTrialProjectsOntoItsDetectionsAsExpected) {
     EXPECT_NEAR(medians[cam], expected_median[cam], 0.5) << "cam " << cam + 1;
   }
   // With Qualisys' own distortion (64 times Pose2Sim's): 11.37, 7.93, 17.27, 8.78 px, a little
-  // worse in three cameras, but these keypoints were triangulated with Pose2Sim's file, so this does
-  // not settle which is right (docs/formats/calibration.md): recorded, not asserted.
+  // worse in three cameras, but these keypoints were triangulated with Pose2Sim's file, so this
+  // does not settle which is right (docs/formats/calibration.md): recorded, not asserted.
   const fs::path qca = acro::testing::RefdataFile("pose2sim-demo/calibration/Calib.qca.txt");
   const std::vector<double> qualisys = MedianDistancesToDetections(ReadQualisysQca(qca));
   for (int cam = 0; cam < 4; ++cam)
@@ -187,8 +189,9 @@ TEST(Camera, WritesWhatItReadsAndRefusesBrokenFiles) {
       "[cam_a]\nname = \"cam_a\"\nsize = [ 640.0, 480.0]\n"
       "matrix = [ [ 500.0, 0.0, 320.0], [ 0.0, 500.0, 240.0], [ 0.0, 0.0, 1.0]]\n"
       "distortions = [ 0.0, 0.0, 0.0, 0.0]\n";
-  EXPECT_NE(error_of(camera + "rotation = [ 0.1, 0.2, 0.3]\n").find("[cam_a]: translation: missing"),
-            std::string::npos);
+  EXPECT_NE(
+      error_of(camera + "rotation = [ 0.1, 0.2, 0.3]\n").find("[cam_a]: translation: missing"),
+      std::string::npos);
   EXPECT_NE(error_of(camera + "rotation = [ 1.0, 0.0, 0.0, 0.0, 2.0, 0.0, 0.0, 0.0, 1.0]\n"
                               "translation = [ 0.0, 0.0, 1.0]\n")
                 .find("not orthonormal"),

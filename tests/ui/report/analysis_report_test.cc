@@ -8,11 +8,11 @@
 #include <filesystem>
 #include <fstream>
 
+#include <cstdlib>
 #include "acro/athlete/athlete_profile.h"
 #include "acro/base/input_error.h"
 #include "acro/base/text_format.h"
 #include "acro/capture/c3d.h"
-#include <cstdlib>
 #include "refdata.h"
 
 namespace acro::ui {

@@ -343,8 +343,7 @@ bool LegendMeetsData(const Chart& chart, const ChartLayout& l) {
     for (std::size_t i = 0; i < s.x.size(); ++i) {
       const double x = l.plot_left + (s.x[i] - l.x_range.min) / (l.x_range.max - l.x_range.min) *
                                          (l.plot_right - l.plot_left);
-      const double y = l.plot_bottom - (s.y[i] - l.y_range.min) /
-                                           (l.y_range.max - l.y_range.min) *
+      const double y = l.plot_bottom - (s.y[i] - l.y_range.min) / (l.y_range.max - l.y_range.min) *
                                            (l.plot_bottom - l.plot_top);
       if (x >= l.legend_left && x <= l.legend_right && y >= l.legend_top && y <= l.legend_bottom)
         return true;

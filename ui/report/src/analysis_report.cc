@@ -6,9 +6,9 @@
 #include <numbers>
 #include <sstream>
 
+#include "acro/base/file_io.h"
 #include "acro/base/input_error.h"
 #include "acro/base/text_format.h"
-#include "acro/base/file_io.h"
 #include "acro/dynamics/configuration.h"
 
 namespace acro::ui {
@@ -350,8 +350,7 @@ AnalysisReportOutcome WriteAnalysisReport(const analysis::TrialAnalysis& a,
       outcome.reason = std::string("rendering failed: ") + e.what();
     }
   }
-  WriteFileAtomically(dir / "report.html",
-                               FormatAnalysisReportHtml(a, figures, options, outcome));
+  WriteFileAtomically(dir / "report.html", FormatAnalysisReportHtml(a, figures, options, outcome));
   return outcome;
 }
 

@@ -27,9 +27,9 @@ constexpr double kTitleSize = 15.0;
 constexpr double kLabelSize = 13.0;
 constexpr double kTickSize = 11.5;
 constexpr double kLegendSize = 12.0;
-constexpr double kPad = 10.0;       // outer margin
-constexpr double kGap = 6.0;        // between a text and what it labels
-constexpr double kTickLen = 5.0;    // tick marks outside the plot area
+constexpr double kPad = 10.0;        // outer margin
+constexpr double kGap = 6.0;         // between a text and what it labels
+constexpr double kTickLen = 5.0;     // tick marks outside the plot area
 constexpr double kSwatchLen = 24.0;  // legend line sample
 constexpr double kLegendRow = 17.0;
 constexpr const char* kFontFamily = "DejaVu Sans";
@@ -170,14 +170,8 @@ std::vector<LegendEntry> LegendEntries(const Chart& chart) {
   if (!chart.show_legend) return entries;
   for (const LineSeries& s : chart.series) {
     if (s.name.empty()) continue;
-    entries.push_back({LegendEntry::Kind::kLine,
-                       s.name,
-                       s.color,
-                       1.0,
-                       s.width_px,
-                       s.dashed,
-                       s.markers,
-                       s.line});
+    entries.push_back(
+        {LegendEntry::Kind::kLine, s.name, s.color, 1.0, s.width_px, s.dashed, s.markers, s.line});
   }
   for (const ReferenceLine& r : chart.reference_lines) {
     if (r.label.empty()) continue;
@@ -234,13 +228,13 @@ struct Mapping {
   ChartLayout layout;
   double X(double x) const {
     const ChartLayout& l = layout;
-    return l.plot_left + (x - l.x_range.min) / (l.x_range.max - l.x_range.min) *
-                             (l.plot_right - l.plot_left);
+    return l.plot_left +
+           (x - l.x_range.min) / (l.x_range.max - l.x_range.min) * (l.plot_right - l.plot_left);
   }
   double Y(double y) const {
     const ChartLayout& l = layout;
-    return l.plot_bottom - (y - l.y_range.min) / (l.y_range.max - l.y_range.min) *
-                               (l.plot_bottom - l.plot_top);
+    return l.plot_bottom -
+           (y - l.y_range.min) / (l.y_range.max - l.y_range.min) * (l.plot_bottom - l.plot_top);
   }
 };
 
@@ -299,8 +293,8 @@ ChartLayout Layout(cairo_t* cr, const Chart& chart) {
   double y_tick_width = 0.0;
   for (double v : y_ticks.values)
     y_tick_width = std::max(y_tick_width, TextWidth(cr, TickText(v, y_ticks.decimals)));
-  l.plot_left = kPad + (chart.y_label.empty() ? 0.0 : kLabelSize + kGap) + y_tick_width + kGap +
-                kTickLen;
+  l.plot_left =
+      kPad + (chart.y_label.empty() ? 0.0 : kLabelSize + kGap) + y_tick_width + kGap + kTickLen;
   l.plot_top = kPad + (chart.title.empty() ? kTickSize / 2 : kTitleSize + 2 * kGap);
   l.plot_bottom =
       h - kPad - (chart.x_label.empty() ? 0.0 : kLabelSize + kGap) - kTickSize - kGap - kTickLen;
@@ -402,8 +396,11 @@ void DrawSeries(cairo_t* cr, const LineSeries& s, const Mapping& m) {
 void DrawLegend(cairo_t* cr, const Chart& chart, const ChartLayout& l) {
   const std::vector<LegendEntry> entries = LegendEntries(chart);
   cairo_set_dash(cr, nullptr, 0, 0.0);
-  cairo_rectangle(
-      cr, l.legend_left, l.legend_top, l.legend_right - l.legend_left, l.legend_bottom - l.legend_top);
+  cairo_rectangle(cr,
+                  l.legend_left,
+                  l.legend_top,
+                  l.legend_right - l.legend_left,
+                  l.legend_bottom - l.legend_top);
   cairo_set_source_rgba(cr, 1.0, 1.0, 1.0, 0.9);
   cairo_fill_preserve(cr);
   cairo_set_source_rgb(cr, 0.75, 0.75, 0.75);
@@ -448,7 +445,8 @@ void Draw(cairo_t* cr, const Chart& chart, const ChartLayout& layout) {
 
   // Inside the plot area: bands, grid, reference lines, series, clipped to it.
   cairo_save(cr);
-  cairo_rectangle(cr, l.plot_left, l.plot_top, l.plot_right - l.plot_left, l.plot_bottom - l.plot_top);
+  cairo_rectangle(
+      cr, l.plot_left, l.plot_top, l.plot_right - l.plot_left, l.plot_bottom - l.plot_top);
   cairo_clip(cr);
   for (const ShadedInterval& band : chart.bands) {
     SetColor(cr, band.color, band.alpha);
@@ -493,14 +491,19 @@ void Draw(cairo_t* cr, const Chart& chart, const ChartLayout& layout) {
     cairo_move_to(cr, x, l.plot_bottom);
     cairo_line_to(cr, x, l.plot_bottom + kTickLen);
     cairo_stroke(cr);
-    DrawText(cr, TickText(v, x_ticks.decimals), x, l.plot_bottom + kTickLen + kGap / 2 + kTickSize, 0.5);
+    DrawText(
+        cr, TickText(v, x_ticks.decimals), x, l.plot_bottom + kTickLen + kGap / 2 + kTickSize, 0.5);
   }
   for (double v : y_ticks.values) {
     const double y = std::round(m.Y(v)) + 0.5;
     cairo_move_to(cr, l.plot_left - kTickLen, y);
     cairo_line_to(cr, l.plot_left, y);
     cairo_stroke(cr);
-    DrawText(cr, TickText(v, y_ticks.decimals), l.plot_left - kTickLen - kGap / 2, y + 0.35 * kTickSize, 1.0);
+    DrawText(cr,
+             TickText(v, y_ticks.decimals),
+             l.plot_left - kTickLen - kGap / 2,
+             y + 0.35 * kTickSize,
+             1.0);
   }
 
   // Axis labels and the title.
@@ -564,7 +567,8 @@ std::string RenderPngString(const Chart& chart) {
     DemandOk(cairo_status(cr.get()), chart, "drawing");
   }
   std::string png;
-  DemandOk(cairo_surface_write_to_png_stream(surface.get(), AppendBytes, &png), chart, "PNG encoding");
+  DemandOk(
+      cairo_surface_write_to_png_stream(surface.get(), AppendBytes, &png), chart, "PNG encoding");
   return png;
 }
 
@@ -583,8 +587,9 @@ bool Chart::IsValid(std::string* why) const {
     const LineSeries& line = series[s];
     const std::string where = Describe("series", s, line.name);
     if (line.x.size() != line.y.size()) {
-      return Fail(why,
-                  fmt::format("{}: x has {} values but y has {}", where, line.x.size(), line.y.size()));
+      return Fail(
+          why,
+          fmt::format("{}: x has {} values but y has {}", where, line.x.size(), line.y.size()));
     }
     if (!ColorIsValid(line.color))
       return Fail(why, where + ": colour components must be in [0, 1]");

@@ -16,9 +16,10 @@ void WriteRgbPng(int width,
                  std::span<const std::uint8_t> rgb,
                  const std::filesystem::path& path) {
   if (width <= 0 || height <= 0 || rgb.size() != 3 * static_cast<size_t>(width) * height) {
-    throw InputError(path.string(),
-                     "",
-                     fmt::format("{} bytes are not a {} x {} RGB image", rgb.size(), width, height));
+    throw InputError(
+        path.string(),
+        "",
+        fmt::format("{} bytes are not a {} x {} RGB image", rgb.size(), width, height));
   }
   // Cairo's RGB24 pixels are 32-bit words 0x00RRGGBB.
   cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_RGB24, width, height);
@@ -29,7 +30,8 @@ void WriteRgbPng(int width,
     auto* row = reinterpret_cast<std::uint32_t*>(data + static_cast<size_t>(y) * stride);
     const std::uint8_t* src = rgb.data() + 3 * static_cast<size_t>(y) * width;
     for (int x = 0; x < width; ++x)
-      row[x] = (std::uint32_t{src[3 * x]} << 16) | (std::uint32_t{src[3 * x + 1]} << 8) | src[3 * x + 2];
+      row[x] =
+          (std::uint32_t{src[3 * x]} << 16) | (std::uint32_t{src[3 * x + 1]} << 8) | src[3 * x + 2];
   }
   cairo_surface_mark_dirty(surface);
   std::string png;
@@ -42,7 +44,8 @@ void WriteRgbPng(int width,
       &png);
   cairo_surface_destroy(surface);
   if (status != CAIRO_STATUS_SUCCESS)
-    throw InputError(path.string(), "", std::string("PNG encoding failed: ") + cairo_status_to_string(status));
+    throw InputError(
+        path.string(), "", std::string("PNG encoding failed: ") + cairo_status_to_string(status));
   WriteFileAtomically(path, png);
 }
 

@@ -9,11 +9,11 @@
 
 #include "acro/athlete/motion.h"
 #include "acro/athlete/orientation.h"
-#include "acro/report/chart.h"
+#include "acro/base/file_io.h"
 #include "acro/base/text_format.h"
 #include "acro/capture/c3d.h"
-#include "acro/base/file_io.h"
 #include "acro/dynamics/kinematics.h"
+#include "acro/report/chart.h"
 
 namespace acro::ui {
 
@@ -266,7 +266,8 @@ std::vector<std::string> WriteSkillOutputs(const std::filesystem::path& dir,
           "</style></head><body>\n";
   html << "<h1>" << Html(design.skill().name)
        << "</h1>\n<p>Athlete: " << Html(design.skill().athlete.name) << ". Flight time "
-       << fmt::format("{:.3f}", design.flight_time_s()) << " s. Model (" << SkillModelNumber(r.model) << ").</p>\n";
+       << fmt::format("{:.3f}", design.flight_time_s()) << " s. Model ("
+       << SkillModelNumber(r.model) << ").</p>\n";
   html << "<table><tr><th></th><th>initial timing</th><th>optimised</th></tr>\n"
        << "<tr><td>J = T⁻¹∫|L̇/(m g h)|² dt</td><td>" << r.objective_initial << "</td><td>"
        << r.objective << "</td></tr>\n<tr><td>angular momentum variation</td><td>"

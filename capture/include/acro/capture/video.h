@@ -80,9 +80,9 @@ class VideoReader {
 
 struct VideoWriterOptions {
   double fps = 30.0;
-  int crf = 18;                    ///< x264's constant rate factor: 18 is visually lossless
-  std::string preset = "medium";   ///< x264's speed/size trade-off
-  int num_threads = 0;             ///< encoder threads; 0: as many as the machine has
+  int crf = 18;                   ///< x264's constant rate factor: 18 is visually lossless
+  std::string preset = "medium";  ///< x264's speed/size trade-off
+  int num_threads = 0;            ///< encoder threads; 0: as many as the machine has
 };
 
 /// Writes H.264 in MP4 (libx264, yuv420p, the index at the front: "+faststart") to a temporary

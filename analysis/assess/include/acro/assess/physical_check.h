@@ -13,10 +13,10 @@
 
 #include <Eigen/Core>
 
-#include "acro/reconstruct/markerset.h"
 #include "acro/athlete/motion.h"
-#include "acro/reconstruct/phases.h"
 #include "acro/dynamics/model.h"
+#include "acro/reconstruct/markerset.h"
+#include "acro/reconstruct/phases.h"
 
 namespace acro::analysis {
 

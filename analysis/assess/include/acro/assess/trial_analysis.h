@@ -15,14 +15,14 @@
 
 #include <Eigen/Core>
 
-#include "acro/athlete/athlete_body.h"
 #include "acro/assess/fig_skill.h"
 #include "acro/assess/jump_rotation.h"
-#include "acro/reconstruct/phases.h"
 #include "acro/assess/physical_check.h"
-#include "acro/reconstruct/reconstruction.h"
+#include "acro/athlete/athlete_body.h"
 #include "acro/capture/storage.h"
 #include "acro/capture/trial.h"
+#include "acro/reconstruct/phases.h"
+#include "acro/reconstruct/reconstruction.h"
 
 namespace acro::analysis {
 

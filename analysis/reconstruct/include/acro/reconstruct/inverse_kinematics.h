@@ -15,8 +15,8 @@
 
 #include <Eigen/Core>
 
-#include "acro/reconstruct/markerset.h"
 #include "acro/dynamics/model.h"
+#include "acro/reconstruct/markerset.h"
 
 namespace acro::analysis {
 

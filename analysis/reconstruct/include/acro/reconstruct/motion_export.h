@@ -10,9 +10,9 @@
 #include <string>
 
 #include "acro/athlete/motion.h"
-#include "acro/reconstruct/reconstruction.h"
 #include "acro/capture/storage.h"
 #include "acro/capture/trial.h"
+#include "acro/reconstruct/reconstruction.h"
 
 namespace acro::analysis {
 

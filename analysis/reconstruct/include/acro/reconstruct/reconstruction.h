@@ -12,14 +12,14 @@
 #include <vector>
 
 #include "acro/athlete/athlete_body.h"
+#include "acro/athlete/motion.h"
+#include "acro/capture/trial.h"
+#include "acro/dynamics/model.h"
 #include "acro/reconstruct/butterworth.h"
 #include "acro/reconstruct/gap_filling.h"
 #include "acro/reconstruct/inverse_kinematics.h"
 #include "acro/reconstruct/markerset.h"
-#include "acro/athlete/motion.h"
 #include "acro/reconstruct/scaling.h"
-#include "acro/capture/trial.h"
-#include "acro/dynamics/model.h"
 
 namespace acro::analysis {
 

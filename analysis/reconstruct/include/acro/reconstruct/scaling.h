@@ -15,9 +15,9 @@
 
 #include <Eigen/Core>
 
+#include "acro/dynamics/model.h"
 #include "acro/reconstruct/inverse_kinematics.h"
 #include "acro/reconstruct/markerset.h"
-#include "acro/dynamics/model.h"
 
 namespace acro::analysis {
 

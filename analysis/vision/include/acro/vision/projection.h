@@ -29,9 +29,9 @@ AxisMapping ParseAxisMapping(const std::string& text);
 
 /// One projected point.
 struct ProjectedPoint {
-  int frame = 0;       ///< the trial's sample, 0-based
-  double time_s = 0;   ///< the trial's time of that sample + the offset (the video time)
-  int marker = 0;      ///< index into the trial's points
+  int frame = 0;      ///< the trial's sample, 0-based
+  double time_s = 0;  ///< the trial's time of that sample + the offset (the video time)
+  int marker = 0;     ///< index into the trial's points
   Eigen::Vector2d uv_px = Eigen::Vector2d::Zero();  ///< distortion applied
 };
 

@@ -9,10 +9,10 @@
 #include <string>
 #include <vector>
 
-#include "acro/design/skill_optimization.h"
-#include "acro/design/skill_simulation.h"
 #include "acro/capture/storage.h"
 #include "acro/capture/trial.h"
+#include "acro/design/skill_optimization.h"
+#include "acro/design/skill_simulation.h"
 
 namespace acro::ui {
 
