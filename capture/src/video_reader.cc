@@ -108,7 +108,8 @@ struct VideoReader::Impl {
   // The next decoded frame in presentation order into `frame`; false at the end of the stream.
   bool DecodeNext();
   int IndexOfPts(std::int64_t p) const;
-  VideoFrame Convert(int index);
+  // The decoded frame as RGB into *out (whose pixel buffer is reused).
+  void Convert(int index, VideoFrame* out);
 };
 
 void VideoReader::Impl::Open(const VideoReaderOptions& options) {
@@ -244,8 +245,8 @@ int VideoReader::Impl::IndexOfPts(std::int64_t p) const {
   return it != pts.end() && *it == p ? static_cast<int>(it - pts.begin()) : -1;
 }
 
-VideoFrame VideoReader::Impl::Convert(int index) {
-  VideoFrame out;
+void VideoReader::Impl::Convert(int index, VideoFrame* frame_out) {
+  VideoFrame& out = *frame_out;  // its pixel buffer is reused from call to call
   out.index = index;
   out.time_s = times_s[static_cast<size_t>(index)];
   out.width = frame->width;
@@ -288,7 +289,6 @@ VideoFrame VideoReader::Impl::Convert(int index) {
                 3 * out.width,
                 out.rgb.data() + 3 * static_cast<size_t>(y) * out.width);
   RotateRgb(info.rotation_deg, &out);
-  return out;
 }
 
 VideoReader::VideoReader(const std::filesystem::path& path, const VideoReaderOptions& options)
@@ -332,7 +332,8 @@ VideoFrame VideoReader::Frame(int index) {
   if (m.last_pts != AV_NOPTS_VALUE && m.last_pts < target && *key <= m.last_pts) {
     while (m.DecodeNext()) {
       if (m.last_pts == target) {
-        VideoFrame out = m.Convert(index);
+        VideoFrame out;
+        m.Convert(index, &out);
         m.next_sequential = index + 1;
         return out;
       }
@@ -345,7 +346,8 @@ VideoFrame VideoReader::Frame(int index) {
     while (m.DecodeNext()) {
       const std::int64_t p = m.last_pts;
       if (p == target) {
-        VideoFrame out = m.Convert(index);
+        VideoFrame out;
+        m.Convert(index, &out);
         m.next_sequential = index + 1;
         return out;
       }
@@ -369,7 +371,7 @@ bool VideoReader::ReadNext(VideoFrame* out) {
   while (m.DecodeNext()) {
     const int index = m.IndexOfPts(m.last_pts);
     if (index < m.next_sequential) continue;  // before the pass's position (after a seek)
-    *out = m.Convert(index);
+    m.Convert(index, out);
     m.next_sequential = index + 1;
     return true;
   }

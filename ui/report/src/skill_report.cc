@@ -213,12 +213,16 @@ std::vector<std::string> WriteSkillOutputs(const std::filesystem::path& dir,
   timing.title = "Keyframe timing: " + design.skill().name;
   timing.x_label = "keyframe";
   timing.y_label = "time (s)";
+  const std::string optimised =
+      "optimised (model " + std::to_string(SkillModelNumber(r.model)) + ")";
   ui::LineSeries even{.name = "initial (even)",
+                      .x = {},
                       .y = ToStd(r.times_initial_s),
                       .color = kInitialGrey,
                       .dashed = true,
                       .markers = true};
-  ui::LineSeries opt{.name = "optimised (model " + std::to_string(SkillModelNumber(r.model)) + ")",
+  ui::LineSeries opt{.name = optimised,
+                     .x = {},
                      .y = ToStd(r.optimized.times_s),
                      .color = kOptimisedRed,
                      .markers = true};
@@ -237,10 +241,8 @@ std::vector<std::string> WriteSkillOutputs(const std::filesystem::path& dir,
   h.x_label = "time (s)";
   h.y_label = "|H| (kg·m²/s)";
   ui::LineSeries h0{
-      .name = "initial timing", .x = ToStd(p0.t_s), .color = kInitialGrey, .dashed = true};
-  ui::LineSeries h1{.name = "optimised (model " + std::to_string(SkillModelNumber(r.model)) + ")",
-                    .x = ToStd(p1.t_s),
-                    .color = kOptimisedRed};
+      .name = "initial timing", .x = ToStd(p0.t_s), .y = {}, .color = kInitialGrey, .dashed = true};
+  ui::LineSeries h1{.name = optimised, .x = ToStd(p1.t_s), .y = {}, .color = kOptimisedRed};
   for (int k = 0; k < p0.t_s.size(); ++k) {
     h0.y.push_back(p0.H_Scm_W.col(k).norm());
     h1.y.push_back(p1.H_Scm_W.col(k).norm());
