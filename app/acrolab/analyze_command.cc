@@ -48,7 +48,7 @@ int RunAnalyze(AnalyzeArguments& args) {
   ui::AnalysisReportOptions& report = args.report;
   const bool images = args.images;
   const bool quiet = common.quiet;
-  DemandValidOptions(options);
+  DemandValidCommandLine(options);
 
   // Inputs: trial, static trial, athlete.
   auto say = [quiet](const std::string& line) {

@@ -51,7 +51,7 @@ struct TrialArguments {
 
 /// Throws UsageError with `why` when `options.IsValid` fails (the reason reaches the user).
 template <typename Options>
-void DemandValidOptions(const Options& options) {
+void DemandValidCommandLine(const Options& options) {
   std::string why;
   if (!options.IsValid(&why)) throw UsageError{why};
 }

@@ -22,7 +22,7 @@ int RunOptimize(OptimizeArguments& args) {
   const std::string& skill_path = args.skill_path;
   const std::string& out_dir = args.out_dir;
   analysis::SkillOptimizationOptions& options = args.options;
-  DemandValidOptions(options);
+  DemandValidCommandLine(options);
 
   // Read, optimise, simulate, write.
   const analysis::Skill skill = analysis::ReadSkill(skill_path);

@@ -35,7 +35,7 @@ void ParseWindow(const std::string& text, analysis::ReconstructionOptions* optio
 int RunReconstruct(ReconstructArguments& args) {
   const TrialArguments& common = args.common;
   analysis::ReconstructionOptions& options = args.options;
-  DemandValidOptions(options);
+  DemandValidCommandLine(options);
 
   // Inputs: trial, static trial, athlete.
   const capture::Trial trial = capture::ReadTrial(common.trial_path);
