@@ -17,6 +17,11 @@ pkg_check_modules(TOMLPLUSPLUS REQUIRED IMPORTED_TARGET tomlplusplus)
 # pugixml: Qualisys calibrations (analysis/vision) and OpenSim models (the OpenSim oracle test).
 find_package(pugixml REQUIRED)
 
+# OpenCV: camera calibration (analysis/vision only; board detection, calibrateCamera, solvePnP).
+# ChArUco boards need the contrib module aruco (libopencv-contrib-dev, in the full install only:
+# it brings VTK, Qt and Tesseract with it); without it a ChArUco board is refused with that reason.
+find_package(OpenCV 4 REQUIRED COMPONENTS core imgproc imgcodecs calib3d OPTIONAL_COMPONENTS aruco)
+
 # Cairo: every chart of every report, PNG and SVG, with no display (ui/report only).
 pkg_check_modules(CAIRO REQUIRED IMPORTED_TARGET cairo cairo-svg cairo-png)
 
@@ -55,8 +60,6 @@ endif()
 
 # Tests and benchmarks.
 if(ACRO_BUILD_TESTS)
-  # OpenCV as an oracle (projection) in the camera tests; analysis/vision will use it privately.
-  find_package(OpenCV 4 REQUIRED COMPONENTS core calib3d)
   find_package(GTest REQUIRED)
   # Simbody is a test oracle only (tests/dynamics); it is optional so that a build without it still
   # runs every other test, and the oracle test reports itself as skipped.

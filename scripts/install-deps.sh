@@ -7,20 +7,21 @@
 set -euo pipefail
 
 # What the acrolab program needs to build: compiler, Eigen, Ceres, OpenMesh, FFmpeg's libraries
-# (video), YAML, JSON, TOML and XML (calibrations), formatting, argument parsing, and Cairo for the
-# report's charts.
+# (video), OpenCV's calibration modules (cameras), YAML, JSON, TOML and XML (calibrations),
+# formatting, argument parsing, and Cairo for the report's charts.
 main_packages=(
   build-essential cmake pkg-config git ccache
   libeigen3-dev libceres-dev libopenmesh-dev
   libavformat-dev libavcodec-dev libswscale-dev libavutil-dev
   libyaml-cpp-dev nlohmann-json3-dev libfmt-dev libcli11-dev libcairo2-dev libtomlplusplus-dev
   libpugixml-dev
+  libopencv-calib3d-dev libopencv-imgproc-dev libopencv-imgcodecs-dev
 )
-# Everything else: cameras (OpenCV), the 3D views and the window
+# Everything else: ChArUco boards (OpenCV's contrib modules), the 3D views and the window
 # (VTK, Qt, Xvfb), the tests and their oracles (GoogleTest, Simbody, the ffmpeg command), the
 # benchmarks, the trial library.
 full_packages=(
-  libopencv-dev
+  libopencv-contrib-dev
   libvtk9-dev libvtk9-qt-dev qtbase5-dev libjsoncpp-dev
   ffmpeg
   libgtest-dev libgmock-dev libbenchmark-dev

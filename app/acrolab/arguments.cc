@@ -74,21 +74,35 @@ analysis::AthleteBody TrialArguments::MakeBody(const std::string& command,
       height_m, mass_kg, sex == "f" ? analysis::Sex::kFemale : analysis::Sex::kMale);
 }
 
-std::function<void(int, int)> MakeFrameProgress() {
+std::function<void(int, int)> MakeProgressBar(const std::string& label, const std::string& unit) {
   const bool tty = isatty(fileno(stderr)) != 0;
-  return [tty](int done, int total) {
+  return [tty, label, unit](int done, int total) {
     if (!tty && done < total) return;
     const int width = 40;
     const int filled = total > 0 ? done * width / total : width;
     std::fprintf(stderr,
-                 "\rinverse kinematics [%s%s] %3d%% (%d/%d frames)",
+                 "\r%s [%s%s] %3d%% (%d/%d %s)",
+                 label.c_str(),
                  std::string(size_t(filled), '#').c_str(),
                  std::string(size_t(width - filled), ' ').c_str(),
                  total > 0 ? done * 100 / total : 100,
                  done,
-                 total);
+                 total,
+                 unit.c_str());
     if (done >= total) std::fputc('\n', stderr);
     std::fflush(stderr);
+  };
+}
+
+std::function<void(int, int)> MakeFrameProgress() {
+  return MakeProgressBar("inverse kinematics", "frames");
+}
+
+std::function<bool(int, int)> MakeCancellableProgress(const std::string& label,
+                                                      const std::string& unit) {
+  return [bar = MakeProgressBar(label, unit)](int done, int total) {
+    bar(done, total);
+    return true;
   };
 }
 

@@ -27,6 +27,8 @@ void AddOptimizeCommand(CLI::App& app, CommandRunner* run);
 void AddAnalyzeCommand(CLI::App& app, CommandRunner* run);
 void AddVideoCommand(CLI::App& app, CommandRunner* run);
 void AddProjectCommand(CLI::App& app, CommandRunner* run);
+void AddCalibrateCommand(CLI::App& app, CommandRunner* run);
+void AddSyncCommand(CLI::App& app, CommandRunner* run);
 
 /// A command line that parses but does not make sense (contradictory options, an Options struct
 /// that is not valid): main() prints it with the usage hint and exits with status 2.
@@ -56,8 +58,14 @@ void DemandValidCommandLine(const Options& options) {
   if (!options.IsValid(&why)) throw UsageError{why};
 }
 
-/// Inverse-kinematics progress on stderr: a bar redrawn in place on a terminal, one line at the end
-/// otherwise (logs, pipes).
+/// Progress on stderr: "LABEL [####    ] 42% (done/total UNIT)" redrawn in place on a terminal, one
+/// line at the end otherwise (logs, pipes).
+std::function<void(int, int)> MakeProgressBar(const std::string& label, const std::string& unit);
+/// The inverse-kinematics bar.
 std::function<void(int, int)> MakeFrameProgress();
+/// The same bar for library calls that can be cancelled through their progress callback (a
+/// command line does not cancel: Ctrl-C stops the program).
+std::function<bool(int, int)> MakeCancellableProgress(const std::string& label,
+                                                      const std::string& unit);
 
 }  // namespace acro::app

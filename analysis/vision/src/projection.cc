@@ -41,7 +41,26 @@ std::vector<ProjectedPoint> ProjectTrial(const capture::Trial& trial,
       if (!trial.valid(f, p)) continue;
       const auto uv = camera.Project(axes.ToWorld(trial.position(f, p)));
       if (!uv) continue;
-      out.push_back({f, offset_s + f * dt, p, *uv});
+      out.push_back({f, offset_s + f * dt, p, *uv, f});
+    }
+  }
+  return out;
+}
+
+std::vector<ProjectedPoint> ProjectTrialOnFrames(const capture::Trial& trial,
+                                                 const Camera& camera,
+                                                 const std::vector<double>& frame_times_s,
+                                                 const VideoSync& sync,
+                                                 const AxisMapping& axes) {
+  std::vector<ProjectedPoint> out;
+  for (size_t k = 0; k < frame_times_s.size(); ++k) {
+    const int f = sync.NearestSample(trial, frame_times_s[k]);
+    if (f < 0) continue;
+    for (int p = 0; p < trial.num_points(); ++p) {
+      if (!trial.valid(f, p)) continue;
+      const auto uv = camera.Project(axes.ToWorld(trial.position(f, p)));
+      if (!uv) continue;
+      out.push_back({static_cast<int>(k), frame_times_s[k], p, *uv, f});
     }
   }
   return out;

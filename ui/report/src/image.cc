@@ -8,6 +8,7 @@
 
 #include "acro/base/file_io.h"
 #include "acro/base/input_error.h"
+#include "rgb_surface.h"
 
 namespace acro::ui {
 
@@ -21,19 +22,7 @@ void WriteRgbPng(int width,
         "",
         fmt::format("{} bytes are not a {} x {} RGB image", rgb.size(), width, height));
   }
-  // Cairo's RGB24 pixels are 32-bit words 0x00RRGGBB.
-  cairo_surface_t* surface = cairo_image_surface_create(CAIRO_FORMAT_RGB24, width, height);
-  const int stride = cairo_image_surface_get_stride(surface);
-  cairo_surface_flush(surface);
-  std::uint8_t* data = cairo_image_surface_get_data(surface);
-  for (int y = 0; y < height; ++y) {
-    auto* row = reinterpret_cast<std::uint32_t*>(data + static_cast<size_t>(y) * stride);
-    const std::uint8_t* src = rgb.data() + 3 * static_cast<size_t>(y) * width;
-    for (int x = 0; x < width; ++x)
-      row[x] =
-          (std::uint32_t{src[3 * x]} << 16) | (std::uint32_t{src[3 * x + 1]} << 8) | src[3 * x + 2];
-  }
-  cairo_surface_mark_dirty(surface);
+  cairo_surface_t* surface = internal::SurfaceFromRgb(width, height, rgb);
   std::string png;
   const cairo_status_t status = cairo_surface_write_to_png_stream(
       surface,

@@ -49,7 +49,28 @@ std::vector<Camera> ReadPose2SimToml(const std::filesystem::path& path);
 /// size is `fov_video`'s. Throws acro::InputError naming the file, the camera and the attribute.
 std::vector<Camera> ReadQualisysQca(const std::filesystem::path& path);
 
-/// Writes cameras in the same format, atomically.
+/// Reads an OpenCV FileStorage file (YAML, XML or JSON) in either layout in use:
+/// - one camera, as OpenCV's calibration sample writes it: `image_width`, `image_height`,
+///   `camera_matrix`, `distortion_coefficients`, and optionally a pose `rvec` (Rodrigues) or `R`
+///   (3 × 3) with `tvec` or `T`; the camera is named after the file;
+/// - several, as EasyMocap's intri.yml/extri.yml: `names` (a sequence), then per name N `K_N`,
+///   `dist_N` (or `D_N`), `W_N`/`H_N` (size), `Rot_N` (3 × 3) or `R_N` (Rodrigues) and `T_N`. A
+///   file named intri.* is read with the extri.* beside it when there is one.
+/// A camera without a pose gets the identity. Throws acro::InputError naming the file, the camera
+/// and the key.
+std::vector<Camera> ReadOpenCvStorage(const std::filesystem::path& path);
+
+/// Any of the formats above, by extension and content: .toml (Pose2Sim), .qca or a `<calibration>`
+/// XML document (Qualisys), .yml/.yaml/.xml/.json (OpenCV).
+std::vector<Camera> ReadCameras(const std::filesystem::path& path);
+
+/// The camera named `name` of a list, or (empty name) the only one. Throws acro::InputError
+/// (file, where "--camera") naming the cameras there are.
+const Camera& FindCamera(const std::vector<Camera>& cameras,
+                         const std::string& name,
+                         const std::string& file);
+
+/// Writes cameras in the Pose2Sim/Anipose TOML format, atomically.
 void WritePose2SimToml(const std::vector<Camera>& cameras, const std::filesystem::path& path);
 
 /// The rotation of a Rodrigues vector (angle = its norm, about its direction), and back.

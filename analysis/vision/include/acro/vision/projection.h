@@ -10,6 +10,7 @@
 
 #include "acro/capture/trial.h"
 #include "acro/vision/camera.h"
+#include "acro/vision/video_sync.h"
 
 namespace acro::vision {
 
@@ -29,10 +30,11 @@ AxisMapping ParseAxisMapping(const std::string& text);
 
 /// One projected point.
 struct ProjectedPoint {
-  int frame = 0;      ///< the trial's sample, 0-based
-  double time_s = 0;  ///< the trial's time of that sample + the offset (the video time)
+  int frame = 0;      ///< the trial's sample, 0-based, or the video frame (ProjectTrialOnFrames)
+  double time_s = 0;  ///< the video time: of that sample + the offset, or of that frame
   int marker = 0;     ///< index into the trial's points
   Eigen::Vector2d uv_px = Eigen::Vector2d::Zero();  ///< distortion applied
+  int sample = 0;  ///< the trial's sample the point comes from
 };
 
 /// Every non-gap point of every sample in front of the camera, in sample then point order.
@@ -41,6 +43,15 @@ std::vector<ProjectedPoint> ProjectTrial(const capture::Trial& trial,
                                          const Camera& camera,
                                          const AxisMapping& axes = {},
                                          double offset_s = 0.0);
+
+/// The points on the frames of a video: for each frame time (s from the first frame), the trial
+/// sample the sync puts nearest to it; `frame` is the video frame, `time_s` its time. Frames
+/// outside the trial get no points.
+std::vector<ProjectedPoint> ProjectTrialOnFrames(const capture::Trial& trial,
+                                                 const Camera& camera,
+                                                 const std::vector<double>& frame_times_s,
+                                                 const VideoSync& sync,
+                                                 const AxisMapping& axes = {});
 
 /// CSV rows "camera,frame,time_s,marker,u_px,v_px" (with that header) for the points.
 std::string FormatProjectionCsv(const capture::Trial& trial,

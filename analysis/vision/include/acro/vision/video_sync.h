@@ -1,0 +1,24 @@
+#pragma once
+
+// The time line between a trial and a video (docs/sync.md): video_time = offset + rate ×
+// trial_time, trial time counted from the trial's first sample, video time from the first frame.
+
+#include "acro/capture/trial.h"
+
+namespace acro::vision {
+
+struct VideoSync {
+  double offset_s = 0.0;  ///< the video time of the trial's first sample
+  double rate = 1.0;      ///< video seconds per trial second (clock drift, slow-motion video)
+
+  double VideoTime(double trial_time_s) const { return offset_s + rate * trial_time_s; }
+  double TrialTime(double video_time_s) const { return (video_time_s - offset_s) / rate; }
+  /// The trial sample nearest to `video_time_s`, or −1 when it falls outside the trial (more than
+  /// half a sample before the first or after the last).
+  int NearestSample(const capture::Trial& trial, double video_time_s) const;
+};
+
+/// The sync that puts an event at `trial_time_s` in the trial on `video_time_s` in the video.
+VideoSync SyncFromEvent(double trial_time_s, double video_time_s, double rate = 1.0);
+
+}  // namespace acro::vision

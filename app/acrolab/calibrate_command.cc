@@ -1,0 +1,119 @@
+#include <cstdio>
+#include <memory>
+
+#include "acro/base/input_error.h"
+#include "acro/vision/calibration.h"
+#include "commands.h"
+
+namespace acro::app {
+
+namespace {
+
+struct IntrinsicsArguments {
+  std::string board, out, name = "cam";
+  std::vector<std::string> inputs;
+  vision::IntrinsicCalibrationOptions options;
+  bool no_k3 = false;
+};
+
+struct ExtrinsicsArguments {
+  std::string points3d, points2d, intrinsics, camera, out;
+};
+
+int RunIntrinsics(IntrinsicsArguments args) {
+  const vision::CalibrationBoard board = vision::ParseCalibrationBoard(args.board);
+  args.options.estimate_k3 = !args.no_k3;
+  args.options.progress = MakeCancellableProgress("calibration", "inputs");
+  DemandValidCommandLine(args.options);
+  const std::vector<std::filesystem::path> inputs(args.inputs.begin(), args.inputs.end());
+  vision::IntrinsicCalibration result = vision::CalibrateIntrinsics(inputs, board, args.options);
+  for (const vision::CalibrationView& v : result.views) {
+    if (v.used) {
+      std::printf("  %s: %d corners, %.3f px RMS\n", v.source.c_str(), v.points, v.rms_px);
+    } else {
+      std::printf("  %s: skipped, %s\n", v.source.c_str(), v.note.c_str());
+    }
+  }
+  const vision::Camera& c = result.camera;
+  std::printf("%s: %d x %d px, fx %.2f fy %.2f, cx %.2f cy %.2f, reprojection RMS %.3f px\n",
+              args.name.c_str(),
+              c.width_px,
+              c.height_px,
+              c.K(0, 0),
+              c.K(1, 1),
+              c.K(0, 2),
+              c.K(1, 2),
+              result.rms_px);
+  result.camera.name = args.name;
+  vision::WritePose2SimToml({result.camera}, args.out);
+  std::printf("wrote %s\n", args.out.c_str());
+  return 0;
+}
+
+int RunExtrinsics(const ExtrinsicsArguments& args) {
+  const std::vector<vision::Camera> cameras = vision::ReadCameras(args.intrinsics);
+  const vision::Camera& intrinsics = vision::FindCamera(cameras, args.camera, args.intrinsics);
+  const vision::ExtrinsicCalibration result = vision::CalibrateExtrinsics(
+      intrinsics, vision::ReadPoints3dCsv(args.points3d), vision::ReadPoints2dCsv(args.points2d));
+  for (size_t i = 0; i < result.names.size(); ++i)
+    std::printf("  %s: %.3f px\n", result.names[i].c_str(), result.residuals_px[i]);
+  const Eigen::Vector3d centre = result.camera.CentreInWorld();
+  std::printf("%s: centre (%.4f, %.4f, %.4f) m, reprojection RMS %.3f px over %zu points\n",
+              result.camera.name.c_str(),
+              centre.x(),
+              centre.y(),
+              centre.z(),
+              result.rms_px,
+              result.names.size());
+  vision::WritePose2SimToml({result.camera}, args.out);
+  std::printf("wrote %s\n", args.out.c_str());
+  return 0;
+}
+
+}  // namespace
+
+void AddCalibrateCommand(CLI::App& app, CommandRunner* run) {
+  CLI::App* calibrate = app.add_subcommand(
+      "calibrate", "Camera calibration: intrinsics from a board, pose from known points (docs/calibration.md).");
+  calibrate->require_subcommand(1);
+
+  auto in = std::make_shared<IntrinsicsArguments>();
+  CLI::App* intrinsics = calibrate->add_subcommand(
+      "intrinsics",
+      "Focal lengths, principal point and distortion from photos or videos of a checkerboard or "
+      "ChArUco board (OpenCV calibrateCamera); views without a board are reported and skipped, "
+      "views far worse than the rest rejected.");
+  intrinsics->add_option("IMAGES", in->inputs, "photos (JPEG, PNG, …) or videos of the board")
+      ->required();
+  intrinsics
+      ->add_option("--board",
+                   in->board,
+                   "checkerboard:COLSxROWS:SQUARE (inner corners, e.g. checkerboard:4x7:60mm) or "
+                   "charuco:COLSxROWS:SQUARE:MARKER[:DICT_4X4_50] (squares)")
+      ->required();
+  intrinsics->add_option("-o,--output", in->out, "the camera, Pose2Sim TOML")->required();
+  intrinsics->add_option("--name", in->name, "the camera's name in the file (default cam)");
+  intrinsics->add_option(
+      "--video-step-s", in->options.video_step_s, "videos: one frame every this many seconds");
+  intrinsics->add_option("--reject-factor",
+                         in->options.reject_factor,
+                         "reject a view whose RMS exceeds this many times the median (default 3)");
+  intrinsics->add_flag("--no-k3", in->no_k3, "estimate k1 k2 p1 p2 only");
+  intrinsics->callback([in, run] { *run = [in] { return RunIntrinsics(*in); }; });
+
+  auto ex = std::make_shared<ExtrinsicsArguments>();
+  CLI::App* extrinsics = calibrate->add_subcommand(
+      "extrinsics",
+      "A camera's pose in the lab from points known in 3D and clicked or detected in its image "
+      "(SQPnP, then Levenberg–Marquardt): the trampoline's corners, markers, measured spots.");
+  extrinsics->add_option("--points3d", ex->points3d, "CSV name,x_m,y_m,z_m in the lab")->required();
+  extrinsics->add_option("--points2d", ex->points2d, "CSV name,u_px,v_px in the image")->required();
+  extrinsics->add_option("--intrinsics", ex->intrinsics, "the camera's calibration (any format)")
+      ->required();
+  extrinsics->add_option("--camera", ex->camera, "which camera of the file (when it has several)");
+  extrinsics->add_option("-o,--output", ex->out, "the camera with its pose, Pose2Sim TOML")
+      ->required();
+  extrinsics->callback([ex, run] { *run = [ex] { return RunExtrinsics(*ex); }; });
+}
+
+}  // namespace acro::app

@@ -1,0 +1,42 @@
+#pragma once
+
+// 2D keypoint detections of a video, one set per frame, as pose estimators write them
+// (docs/formats/detections.md): OpenPose's JSON per frame (also written by Pose2Sim, RTMPose
+// through Sports2D, MMPose's OpenPose-style export). Keypoint sets are named here because the files
+// are not self-describing: a JSON file holds numbers in the order of the model that made it.
+
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace acro::capture {
+
+/// The keypoint names of a set, in its order: "body25" (OpenPose BODY_25), "body25b" (OpenPose's
+/// BODY_25B, Pose2Sim's default), "coco17" (COCO, also the first 17 of HALPE), "halpe26". Throws
+/// acro::InputError (where "--keypoints") for another name.
+const std::vector<std::string>& KeypointSetNames(const std::string& set);
+
+/// One person in one frame: a column (u px, v px, confidence) per keypoint of the set.
+using DetectedPerson = Eigen::Matrix3Xd;
+
+struct KeypointDetections {
+  std::string source;              ///< the directory read
+  std::vector<std::string> names;  ///< the keypoint set's names
+  /// frames[k]: the people detected in video frame k (0-based, from the file names); a frame with
+  /// no file or nobody in it is empty.
+  std::vector<std::vector<DetectedPerson>> frames;
+
+  int num_frames() const { return static_cast<int>(frames.size()); }
+};
+
+/// Reads a directory of OpenPose JSON files, one per frame, whose frame number is the last number
+/// in the file name (cam01.0042.json, video_000000000042_keypoints.json); `people[i]
+/// .pose_keypoints_2d` holds 3 numbers per keypoint of `keypoint_set`. Throws acro::InputError
+/// naming the file and the key for malformed JSON, a keypoint count that does not match the set,
+/// or a directory with no JSON file; at most 1 000 000 frames.
+KeypointDetections ReadOpenPoseJson(const std::filesystem::path& directory,
+                                    const std::string& keypoint_set);
+
+}  // namespace acro::capture
