@@ -383,4 +383,108 @@ TEST(Cli, ProjectCsvLandsOnTheDetectionsAsExpected) {
   }
 }
 
+// `calibrate intrinsics` on one phone's photos: the photo without a board is named and skipped,
+// the reprojection error printed, and the camera written where `project` reads it.
+TEST(Cli, CalibrateIntrinsicsReportsEachPhotoAndWritesTheCamera) {
+  const auto dir = acro::testing::RefdataFile("pose2sim-demo/calibration/intrinsics/cam02");
+  ACRO_REQUIRE_REFDATA_FILE(dir);
+  const auto out = acro::testing::TempDir() / "cam02_intrinsics.toml";
+  const ProcessResult run = Execute(std::string(ACROLAB_EXE) +
+                                    " calibrate intrinsics --board checkerboard:4x7:60mm " +
+                                    Quote(dir) + "/*.jpg --name cam02 -o " + Quote(out));
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_NE(run.out.find("cam02_06_int.jpg: skipped, no board found"), std::string::npos)
+      << run.out;
+  EXPECT_NE(run.out.find("cam02: 1088 x 1920 px, fx 1675."), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("reprojection RMS 0.2"), std::string::npos) << run.out;
+  EXPECT_NE(Slurp(out).find("[cam02]"), std::string::npos);
+  // Extrinsics from points: four corners of a 2 m square on the floor, seen by this camera as the
+  // test places them (3 m in front of it), come back with a tiny error.
+  const auto p3 = acro::testing::TempDir() / "p3.csv";
+  const auto p2 = acro::testing::TempDir() / "p2.csv";
+  std::ofstream(p3) << "name,x_m,y_m,z_m\nA,-1,-1,0\nB,1,-1,0\nC,1,1,0\nD,-1,1,0\nE,0,0,0.5\n";
+  // Camera at (0, 0, 3) looking down (R_KW = diag(1, −1, −1)): u = cx + f x / (3 − z),
+  // v = cy − f y / (3 − z), with no distortion for this check.
+  std::ofstream(acro::testing::TempDir() / "pin.toml")
+      << "[pin]\nsize = [ 1000.0, 1000.0]\nmatrix = [ [ 800.0, 0.0, 500.0], [ 0.0, 800.0, "
+         "500.0], [ 0.0, 0.0, 1.0]]\ndistortions = [ 0.0, 0.0, 0.0, 0.0]\nrotation = [ 0.0, "
+         "0.0, 0.0]\ntranslation = [ 0.0, 0.0, 0.0]\n";
+  std::ofstream(p2) << "name,u_px,v_px\nA,233.333,766.667\nB,766.667,766.667\nC,766.667,233.333\n"
+                       "D,233.333,233.333\nE,500,500\n";
+  const ProcessResult ex = Execute(
+      std::string(ACROLAB_EXE) + " calibrate extrinsics --points3d " + Quote(p3) +
+      " --points2d " + Quote(p2) + " --intrinsics " +
+      Quote(acro::testing::TempDir() / "pin.toml") + " -o " +
+      Quote(acro::testing::TempDir() / "posed.toml"));
+  ASSERT_EQ(ex.status, 0) << ex.err;
+  EXPECT_NE(ex.out.find("0000, 3.0000) m, reprojection RMS 0.000 px over 5 points"), std::string::npos)
+      << ex.out;
+}
+
+// The acceptance's bad inputs: one line on stderr naming the file and what is wrong, status 1.
+TEST(Cli, BadVideosAndCalibrationsAreOneLineAndStatus1) {
+  const auto dir = acro::testing::TempDir() / "bad_inputs";
+  std::filesystem::create_directories(dir);
+  auto expect_one_line = [](const ProcessResult& run, const std::string& needle) {
+    EXPECT_EQ(run.status, 1) << run.err;
+    EXPECT_NE(run.err.find(needle), std::string::npos) << run.err;
+    EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
+  };
+  std::ofstream(dir / "notes.mp4") << "this is a text file\n";
+  expect_one_line(Execute(std::string(ACROLAB_EXE) + " video info " + Quote(dir / "notes.mp4")),
+                  "notes.mp4");
+  // A zero-frame MP4: a video stream with no packet (ffmpeg's command line writes it).
+  const ProcessResult made = Execute("ffmpeg -v error -y -f lavfi -i color=c=black:s=64x64:r=25 "
+                                     "-frames:v 0 -c:v libx264 " + Quote(dir / "empty.mp4"));
+  if (made.status == 0 && std::filesystem::exists(dir / "empty.mp4")) {
+    expect_one_line(
+        Execute(std::string(ACROLAB_EXE) + " video info " + Quote(dir / "empty.mp4")),
+        "empty.mp4");
+  }
+  const auto video = acro::testing::RefdataFile("pose2sim-demo/videos/cam01.mp4");
+  if (std::filesystem::exists(video)) {
+    const std::string bytes = Slurp(video);
+    std::ofstream(dir / "cut.mp4", std::ios::binary)
+        .write(bytes.data(), static_cast<std::streamsize>(bytes.size() / 3));
+    const ProcessResult cut = Execute(std::string(ACROLAB_EXE) + " video frame " +
+                                      Quote(dir / "cut.mp4") + " --frame 99 -o " +
+                                      Quote(dir / "f.png"));
+    expect_one_line(cut, "cut.mp4");
+    EXPECT_FALSE(std::filesystem::exists(dir / "f.png"));
+  }
+  const auto calib = acro::testing::RefdataFile("pose2sim-demo/calibration/Calib_qualisys.toml");
+  const auto trc = acro::testing::RefdataFile(
+      "pose2sim-demo/balancing-trial/pose-3d/S00_P00_T01_BalancingTrial_0-100.trc");
+  if (std::filesystem::exists(calib)) {
+    expect_one_line(Execute(std::string(ACROLAB_EXE) + " project " + Quote(trc) + " --calib " +
+                            Quote(calib) + " --camera cam_07 --axes zxy"),
+                    "Calib_qualisys.toml: --camera: no camera named 'cam_07' (there are cam_01");
+  }
+  std::ofstream(dir / "skewed.toml")
+      << "[cam_a]\nsize = [ 640.0, 480.0]\nmatrix = [ [ 500.0, 0.0, 320.0], [ 0.0, 500.0, "
+         "240.0], [ 0.0, 0.0, 1.0]]\ndistortions = [ 0.0, 0.0, 0.0, 0.0]\nrotation = [ 1.0, "
+         "0.0, 0.0, 0.0, 1.5, 0.0, 0.0, 0.0, 1.0]\ntranslation = [ 0.0, 0.0, 1.0]\n";
+  expect_one_line(Execute(std::string(ACROLAB_EXE) + " project " + Quote(SampleC3d()) +
+                          " --calib " + Quote(dir / "skewed.toml")),
+                  "skewed.toml: [cam_a]: the rotation is not orthonormal");
+}
+
+// `sync` from the four cameras' OpenPose detections: the balancing trial as recorded is in sync.
+TEST(Cli, SyncFromDetectionsFindsTheRecordedTrialInSync) {
+  const auto root = acro::testing::RefdataFile("pose2sim-demo");
+  const auto trc = root / "balancing-trial/pose-3d/S00_P00_T01_BalancingTrial_0-100.trc";
+  ACRO_REQUIRE_REFDATA_FILE(trc);
+  std::string command = std::string(ACROLAB_EXE) + " sync " + Quote(trc) + " --calib " +
+                        Quote(root / "calibration/Calib_qualisys.toml") +
+                        " --axes zxy --fps 60 --search-s -0.5:0.5";
+  for (int cam = 1; cam <= 4; ++cam)
+    command += " --detections cam_0" + std::to_string(cam) + "=" +
+               Quote(root / "balancing-trial/pose" / ("cam0" + std::to_string(cam) + "_json"));
+  const ProcessResult run = Execute(command);
+  ASSERT_EQ(run.status, 0) << run.err;
+  const size_t at = run.out.find("use: --offset-s ");
+  ASSERT_NE(at, std::string::npos) << run.out;
+  EXPECT_NEAR(std::stod(run.out.substr(at + 16)) * 60.0, 0.0, 1.0 / 3.0) << run.out;
+}
+
 }  // namespace
