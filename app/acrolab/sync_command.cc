@@ -10,6 +10,7 @@
 #include "acro/capture/detections.h"
 #include "acro/capture/trial_io.h"
 #include "acro/capture/video.h"
+#include "acro/report/sync_report.h"
 #include "acro/vision/sync.h"
 #include "commands.h"
 
@@ -19,7 +20,7 @@ namespace {
 
 struct SyncArguments {
   std::string trial, calibration, camera, axes = "xyz", keypoints = "body25b", search = "-2:2",
-                                          csv;
+                                          csv, plot;
   std::vector<std::string> videos, detections;
   double fps = 0.0, rate = 1.0;
 };
@@ -102,6 +103,10 @@ int RunSync(const SyncArguments& args) {
       result.offsets_s.back() <= result.sync.offset_s + frame_s)
     std::printf("  warning: the offset is at the edge of --search-s %s: widen it\n", args.search.c_str());
   std::printf("use: --offset-s %.4f\n", result.sync.offset_s);
+  if (!args.plot.empty()) {
+    ui::WriteChart(ui::MakeSyncCostChart(result, frame_s), args.plot);
+    std::printf("wrote %s\n", args.plot.c_str());
+  }
   if (!args.csv.empty()) {
     std::string text = "offset_s,cost\n";
     for (size_t i = 0; i < result.offsets_s.size(); ++i)
@@ -134,6 +139,7 @@ void AddSyncCommand(CLI::App& app, CommandRunner* run) {
   command->add_option("--search-s", args->search, "offsets searched, MIN:MAX seconds (default -2:2)");
   command->add_option("--rate", args->rate, "video seconds per trial second (default 1)");
   command->add_option("--csv", args->csv, "write the cost at every offset searched");
+  command->add_option("--plot", args->plot, "draw the cost at every offset searched (.png or .svg)");
   command->callback([args, run] { *run = [args] { return RunSync(*args); }; });
 }
 

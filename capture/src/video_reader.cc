@@ -89,6 +89,12 @@ struct VideoReader::Impl {
   int next_sequential = 0;            // index the next ReadNext returns
   std::vector<std::uint8_t> scratch;  // swscale's output, rows padded
   std::int64_t last_pts = AV_NOPTS_VALUE;  // of the last frame decoded since the last seek
+  // Random access: the frame wanted. Packets of frames shown before it are sent with
+  // skip_frame = AVDISCARD_NONREF: a frame no other frame refers to is not decoded at all, which
+  // cannot change any frame that is decoded (by definition of a non-reference frame), so the
+  // output stays bit-exact; frames shown after it are all decoded, so that a sequential pass or a
+  // forward step can go on from the target. AV_NOPTS_VALUE: decode everything.
+  std::int64_t wanted_pts = AV_NOPTS_VALUE;
 
   ~Impl() {
     sws_freeContext(scaler);
@@ -233,6 +239,11 @@ bool VideoReader::Impl::DecodeNext() {
       continue;
     }
     const std::int64_t byte = packet->pos;
+    // Frame threads copy this setting from our context when the packet is submitted.
+    decoder->skip_frame = wanted_pts != AV_NOPTS_VALUE && packet->pts != AV_NOPTS_VALUE &&
+                                  packet->pts < wanted_pts
+                              ? AVDISCARD_NONREF
+                              : AVDISCARD_DEFAULT;
     const int sent = avcodec_send_packet(decoder, packet);
     av_packet_unref(packet);
     if (sent < 0 && sent != AVERROR(EAGAIN) && sent != AVERROR_INVALIDDATA)
@@ -326,6 +337,11 @@ VideoFrame VideoReader::Frame(int index) {
                      fmt::format("frame {}", index),
                      fmt::format("not among the {} frames", m.info.num_frames));
   const std::int64_t target = m.pts[static_cast<size_t>(index)];
+  m.wanted_pts = target;
+  struct Reset {
+    Impl& m;
+    ~Reset() { m.wanted_pts = AV_NOPTS_VALUE; }
+  } reset{m};
   // The keyframe at or before the target; one further back when the target is a leading picture.
   auto key = std::upper_bound(m.keyframe_pts.begin(), m.keyframe_pts.end(), target) - 1;
   // Forward in the same group of pictures as the last decoded frame: go on decoding, no seek.

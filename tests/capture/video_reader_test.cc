@@ -138,6 +138,16 @@ TEST(VideoReader, RandomAccessEqualsSequentialAndTheFfmpegCommandLine) {
       if (HashFrame(f) != reference[static_cast<size_t>(i)]) ++mismatches;
     }
     EXPECT_EQ(mismatches, 0);
+    // Random access skips the frames nothing refers to before the target, never after it: a
+    // sequential pass goes on from the target frame by frame.
+    for (int start : {v.frames / 2, v.frames / 3, 7}) {
+      reader.Frame(start);
+      for (int i = start + 1; i < std::min(v.frames, start + 12); ++i) {
+        ASSERT_TRUE(reader.ReadNext(&frame));
+        ASSERT_EQ(frame.index, i);
+        EXPECT_EQ(HashFrame(frame), reference[static_cast<size_t>(i)]) << "frame " << i;
+      }
+    }
   }
 }
 
