@@ -17,10 +17,29 @@ pkg_check_modules(TOMLPLUSPLUS REQUIRED IMPORTED_TARGET tomlplusplus)
 # pugixml: Qualisys calibrations (analysis/vision) and OpenSim models (the OpenSim oracle test).
 find_package(pugixml REQUIRED)
 
-# OpenCV: camera calibration (analysis/vision only; board detection, calibrateCamera, solvePnP).
-# ChArUco boards need the contrib module aruco (libopencv-contrib-dev, in the full install only:
-# it brings VTK, Qt and Tesseract with it); without it a ChArUco board is refused with that reason.
-find_package(OpenCV 4 REQUIRED COMPONENTS core imgproc imgcodecs calib3d OPTIONAL_COMPONENTS aruco)
+# OpenCV: camera calibration (analysis/vision only; board detection, calibrateCamera, solvePnP)
+# and the camera tests' oracles. Debian 12 ships OpenCV's CMake config (and opencv4.pc) only in
+# libopencv-dev, which depends on every module — contrib, and viz with VTK and Qt; the main job
+# installs only the four modules it uses (libopencv-{core,imgproc,imgcodecs,calib3d}-dev), so they
+# are found here by hand, as the imported target acro::opencv. ChArUco boards need the contrib
+# module aruco (libopencv-contrib-dev, in the full install only): found when present, and without
+# it a ChArUco board is refused with that reason (ACRO_HAVE_ARUCO).
+find_path(ACRO_OPENCV_INCLUDE_DIR opencv2/calib3d.hpp PATH_SUFFIXES opencv4 REQUIRED)
+add_library(acro::opencv INTERFACE IMPORTED)
+target_include_directories(acro::opencv INTERFACE ${ACRO_OPENCV_INCLUDE_DIR})
+foreach(module calib3d imgcodecs imgproc core)
+  find_library(ACRO_OPENCV_${module}_LIBRARY opencv_${module} REQUIRED)
+  target_link_libraries(acro::opencv INTERFACE ${ACRO_OPENCV_${module}_LIBRARY})
+endforeach()
+find_library(ACRO_OPENCV_aruco_LIBRARY opencv_aruco)
+find_path(ACRO_OPENCV_ARUCO_INCLUDE_DIR opencv2/aruco/charuco.hpp PATH_SUFFIXES opencv4)
+set(ACRO_HAVE_ARUCO OFF)
+if(ACRO_OPENCV_aruco_LIBRARY AND ACRO_OPENCV_ARUCO_INCLUDE_DIR)
+  set(ACRO_HAVE_ARUCO ON)
+  target_link_libraries(acro::opencv INTERFACE ${ACRO_OPENCV_aruco_LIBRARY})
+  target_compile_definitions(acro::opencv INTERFACE ACRO_HAVE_ARUCO=1)
+endif()
+message(STATUS "OpenCV modules in ${ACRO_OPENCV_INCLUDE_DIR}; ChArUco (aruco): ${ACRO_HAVE_ARUCO}")
 
 # Cairo: every chart of every report, PNG and SVG, with no display (ui/report only).
 pkg_check_modules(CAIRO REQUIRED IMPORTED_TARGET cairo cairo-svg cairo-png)

@@ -54,7 +54,7 @@ int RunExtrinsics(const ExtrinsicsArguments& args) {
   const std::vector<vision::Camera> cameras = vision::ReadCameras(args.intrinsics);
   const vision::Camera& intrinsics = vision::FindCamera(cameras, args.camera, args.intrinsics);
   const vision::ExtrinsicCalibration result = vision::CalibrateExtrinsics(
-      intrinsics, vision::ReadPoints3dCsv(args.points3d), vision::ReadPoints2dCsv(args.points2d));
+      intrinsics, vision::ReadPoints3d(args.points3d), vision::ReadPoints2dCsv(args.points2d));
   for (size_t i = 0; i < result.names.size(); ++i)
     std::printf("  %s: %.3f px\n", result.names[i].c_str(), result.residuals_px[i]);
   const Eigen::Vector3d centre = result.camera.CentreInWorld();
@@ -106,7 +106,13 @@ void AddCalibrateCommand(CLI::App& app, CommandRunner* run) {
       "extrinsics",
       "A camera's pose in the lab from points known in 3D and clicked or detected in its image "
       "(SQPnP, then Levenberg–Marquardt): the trampoline's corners, markers, measured spots.");
-  extrinsics->add_option("--points3d", ex->points3d, "CSV name,x_m,y_m,z_m in the lab")->required();
+  extrinsics
+      ->add_option("--points3d",
+                   ex->points3d,
+                   "the points in the lab: a CSV name,x_m,y_m,z_m; a C3D or TRC (each marker's mean "
+                   "position, e.g. BED_C1…C4); or fig-trampoline (the FIG trampoline's corners in "
+                   "its own frame)")
+      ->required();
   extrinsics->add_option("--points2d", ex->points2d, "CSV name,u_px,v_px in the image")->required();
   extrinsics->add_option("--intrinsics", ex->intrinsics, "the camera's calibration (any format)")
       ->required();

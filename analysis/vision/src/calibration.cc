@@ -15,6 +15,7 @@
 #include "acro/base/file_io.h"
 #include "acro/base/input_error.h"
 #include "acro/base/text.h"
+#include "acro/capture/trial_io.h"
 #include "acro/capture/video.h"
 
 #if ACRO_HAVE_ARUCO
@@ -401,6 +402,41 @@ std::vector<NamedPoint3> ReadPoints3dCsv(const std::filesystem::path& path) {
 
 std::vector<NamedPoint2> ReadPoints2dCsv(const std::filesystem::path& path) {
   return ReadNamedRows<NamedPoint2>(path, 2);
+}
+
+std::vector<NamedPoint3> FigTrampolinePoints() {
+  // FIG Apparatus Norms (trampoline): bed 4.28 m × 2.14 m, frame 5.05 m × 2.91 m outside, height
+  // 1.155 m.
+  std::vector<NamedPoint3> points;
+  const double sx[4] = {1, -1, -1, 1}, sy[4] = {1, 1, -1, -1};
+  for (int k = 0; k < 4; ++k)
+    points.push_back({fmt::format("BED_C{}", k + 1), {sx[k] * 2.14, sy[k] * 1.07, 0.0}});
+  for (int k = 0; k < 4; ++k)
+    points.push_back({fmt::format("FRAME_C{}", k + 1), {sx[k] * 2.525, sy[k] * 1.455, 0.0}});
+  for (int k = 0; k < 4; ++k)
+    points.push_back({fmt::format("FLOOR_C{}", k + 1), {sx[k] * 2.525, sy[k] * 1.455, -1.155}});
+  return points;
+}
+
+std::vector<NamedPoint3> ReadPoints3d(const std::string& source) {
+  if (source == "fig-trampoline") return FigTrampolinePoints();
+  const std::string ext = LowerExtension(source);
+  if (ext != "c3d" && ext != "trc") return ReadPoints3dCsv(source);
+  const capture::Trial trial = capture::ReadTrial(source);
+  std::vector<NamedPoint3> points;
+  for (int p = 0; p < trial.num_points(); ++p) {
+    if (trial.points[static_cast<size_t>(p)].type != capture::PointType::kMarker) continue;
+    Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+    int n = 0;
+    for (int f = 0; f < trial.num_frames; ++f)
+      if (trial.valid(f, p)) {
+        sum += trial.position(f, p);
+        ++n;
+      }
+    if (n > 0) points.push_back({trial.points[static_cast<size_t>(p)].label, sum / n});
+  }
+  if (points.empty()) throw InputError(source, "", "no marker with a valid sample");
+  return points;
 }
 
 ExtrinsicCalibration CalibrateExtrinsics(const Camera& intrinsics,

@@ -14,19 +14,49 @@
 
 namespace acro::vision {
 
+namespace {
+
+// The distortion of normalised coordinates (x, y), as Project applies it.
+Eigen::Vector2d Distort(const std::vector<double>& distortion, double x, double y) {
+  const auto d = [&](size_t i) { return i < distortion.size() ? distortion[i] : 0.0; };
+  const double r2 = x * x + y * y;
+  const double radial = 1.0 + d(0) * r2 + d(1) * r2 * r2 + d(4) * r2 * r2 * r2;
+  return {x * radial + 2.0 * d(2) * x * y + d(3) * (r2 + 2.0 * x * x),
+          y * radial + d(2) * (r2 + 2.0 * y * y) + 2.0 * d(3) * x * y};
+}
+
+}  // namespace
+
 std::optional<Eigen::Vector2d> Camera::Project(const Eigen::Vector3d& p_W) const {
   const Eigen::Vector3d p = R_KW * p_W + t_KW;
   if (!(p.z() > 0.0)) return std::nullopt;
   // Brown–Conrady distortion on normalised coordinates, as OpenCV's projectPoints applies it
   // (OpenCV documentation, "Camera Calibration and 3D Reconstruction"):
   //   x' = x (1 + k1 r² + k2 r⁴ + k3 r⁶) + 2 p1 x y + p2 (r² + 2 x²), y' likewise with p1 ↔ p2.
-  const double x = p.x() / p.z(), y = p.y() / p.z();
-  const double r2 = x * x + y * y;
-  const auto d = [&](size_t i) { return i < distortion.size() ? distortion[i] : 0.0; };
-  const double radial = 1.0 + d(0) * r2 + d(1) * r2 * r2 + d(4) * r2 * r2 * r2;
-  const double xd = x * radial + 2.0 * d(2) * x * y + d(3) * (r2 + 2.0 * x * x);
-  const double yd = y * radial + d(2) * (r2 + 2.0 * y * y) + 2.0 * d(3) * x * y;
-  return Eigen::Vector2d(K(0, 0) * xd + K(0, 1) * yd + K(0, 2), K(1, 1) * yd + K(1, 2));
+  const Eigen::Vector2d xd = Distort(distortion, p.x() / p.z(), p.y() / p.z());
+  return Eigen::Vector2d(K(0, 0) * xd.x() + K(0, 1) * xd.y() + K(0, 2), K(1, 1) * xd.y() + K(1, 2));
+}
+
+
+Eigen::Vector2d Camera::Undistort(const Eigen::Vector2d& uv_px) const {
+  // Distorted normalised coordinates, then x ← x_d − (distort(x) − x) until it stops moving.
+  const double yd = (uv_px.y() - K(1, 2)) / K(1, 1);
+  const double xd = (uv_px.x() - K(0, 2) - K(0, 1) * yd) / K(0, 0);
+  Eigen::Vector2d x(xd, yd);
+  for (int i = 0; i < 100 && !distortion.empty(); ++i) {
+    const Eigen::Vector2d step = Eigen::Vector2d(xd, yd) - (Distort(distortion, x.x(), x.y()) - x);
+    const bool done = (step - x).norm() < 1e-12;
+    x = step;
+    if (done) break;
+  }
+  return {K(0, 0) * x.x() + K(0, 1) * x.y() + K(0, 2), K(1, 1) * x.y() + K(1, 2)};
+}
+
+Eigen::Vector3d Camera::RayInWorld(const Eigen::Vector2d& uv_px) const {
+  const Eigen::Vector2d u = Undistort(uv_px);
+  const double y = (u.y() - K(1, 2)) / K(1, 1);
+  const double x = (u.x() - K(0, 2) - K(0, 1) * y) / K(0, 0);
+  return (R_KW.transpose() * Eigen::Vector3d(x, y, 1.0)).normalized();
 }
 
 bool Camera::IsValid(std::string* why) const {

@@ -301,6 +301,53 @@ TEST(Calibration, PoseFromKnownPointsIsQualisysPose) {
   EXPECT_NE(few.find("points: 3 points are named in both"), std::string::npos) << few;
 }
 
+// The trampoline as the calibration object: the sample routine's BED_C1…C4 markers (their mean
+// over the trial) and the FIG apparatus' twelve corners, seen by a camera beside the trampoline,
+// give back that camera's pose.
+TEST(Calibration, PoseFromTheTrampolineItself) {
+  Camera truth;
+  truth.name = "side";
+  truth.width_px = 1920;
+  truth.height_px = 1080;
+  truth.K << 1400, 0, 960, 0, 1400, 540, 0, 0, 1;
+  truth.distortion = {-0.08, 0.02, 0.0, 0.0};
+  // 9 m to the side and 2 m up, looking at the bed, a little from the front.
+  const Eigen::Vector3d eye(1.5, -9.0, 3.0), at(0.0, 0.0, 1.0);
+  const Eigen::Vector3d z = (at - eye).normalized();
+  const Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ()).normalized();
+  const Eigen::Vector3d y = z.cross(x);
+  truth.R_KW.row(0) = x;
+  truth.R_KW.row(1) = y;
+  truth.R_KW.row(2) = z;
+  truth.t_KW = -truth.R_KW * eye;
+  std::string why;
+  ASSERT_TRUE(truth.IsValid(&why)) << why;
+  const fs::path c3d =
+      acro::testing::SourceDir() / "samples/trials/trampoline_routine/trampoline_routine.c3d";
+  for (const std::string& source : {c3d.string(), std::string("fig-trampoline")}) {
+    SCOPED_TRACE(source);
+    std::vector<NamedPoint3> points = ReadPoints3d(source);
+    if (source == "fig-trampoline") {
+      ASSERT_EQ(points.size(), 12u);
+      EXPECT_DOUBLE_EQ(points[0].p_W.x() - points[1].p_W.x(), 4.28);  // the bed's length
+      EXPECT_DOUBLE_EQ(points[4].p_W.y() - points[7].p_W.y(), 2.91);  // the frame's width
+      for (NamedPoint3& p : points) p.p_W.z() += 1.155;  // the trampoline stands on the floor
+    }
+    std::vector<NamedPoint2> pixels;
+    for (const NamedPoint3& p : points)
+      if (p.name.rfind("BED_", 0) == 0 || p.name.rfind("FRAME_", 0) == 0 ||
+          p.name.rfind("FLOOR_", 0) == 0)
+        pixels.push_back({p.name, *truth.Project(p.p_W)});
+    ASSERT_GE(pixels.size(), 4u);
+    Camera intrinsics = truth;
+    intrinsics.R_KW.setIdentity();
+    intrinsics.t_KW.setZero();
+    const ExtrinsicCalibration found = CalibrateExtrinsics(intrinsics, points, pixels);
+    EXPECT_LT(found.rms_px, 0.01);
+    EXPECT_LT((found.camera.CentreInWorld() - eye).norm(), 1e-3);
+  }
+}
+
 TEST(Calibration, PointFilesAreReadOrRefusedWithTheLine) {
   const fs::path dir = Scratch("points");
   std::ofstream(dir / "p3.csv") << "name,x_m,y_m,z_m\nBED_C1,2.14,1.07,1.155\nBED_C2,-2.14,1.07,1.155\n";

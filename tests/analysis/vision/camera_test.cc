@@ -80,6 +80,35 @@ TEST(Camera, ProjectionEqualsOpenCvsProjectPoints) {
   }
 }
 
+// Undistortion against OpenCV's undistortPoints (iterated to convergence), and the ray through a
+// pixel projecting back onto it.
+TEST(Camera, UndistortionEqualsOpenCvsAndRaysProjectBack) {
+  ACRO_REQUIRE_REFDATA_FILE(Calibration());
+  std::mt19937 rng(4);
+  for (Camera c : ReadPose2SimToml(Calibration())) {
+    c.distortion = {-0.12, 0.05, 0.001, -0.002, 0.01};
+    cv::Mat K(3, 3, CV_64F);
+    for (int i = 0; i < 3; ++i)
+      for (int j = 0; j < 3; ++j) K.at<double>(i, j) = c.K(i, j);
+    std::uniform_real_distribution<double> u(0.0, c.width_px), v(0.0, c.height_px);
+    std::vector<cv::Point2d> pixels, expected;
+    for (int k = 0; k < 50; ++k) pixels.emplace_back(u(rng), v(rng));
+    cv::undistortPoints(pixels, expected, K, cv::Mat(c.distortion, true), cv::noArray(), K,
+                        cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 100, 1e-14));
+    for (size_t k = 0; k < pixels.size(); ++k) {
+      const Eigen::Vector2d ours = c.Undistort({pixels[k].x, pixels[k].y});
+      EXPECT_NEAR(ours.x(), expected[k].x, 1e-6) << c.name;
+      EXPECT_NEAR(ours.y(), expected[k].y, 1e-6) << c.name;
+      // A point 4 m along the ray lands on the pixel again.
+      const Eigen::Vector3d p = c.CentreInWorld() + 4.0 * c.RayInWorld({pixels[k].x, pixels[k].y});
+      const auto back = c.Project(p);
+      ASSERT_TRUE(back.has_value());
+      EXPECT_NEAR(back->x(), pixels[k].x, 1e-6);
+      EXPECT_NEAR(back->y(), pixels[k].y, 1e-6);
+    }
+  }
+}
+
 // The balancing trial projected into each camera: median distance to the OpenPose detections
 // (confidence > 0.5; of two people, the one nearer the projection), one per camera.
 std::vector<double> MedianDistancesToDetections(const std::vector<Camera>& cameras) {

@@ -90,6 +90,17 @@ struct NamedPoint2 {
 /// Reads "name,x_m,y_m,z_m" rows (a header line starting with "name" is skipped). Throws
 /// acro::InputError naming the file and line.
 std::vector<NamedPoint3> ReadPoints3dCsv(const std::filesystem::path& path);
+/// The FIG trampoline's corners in the trampoline's own frame (origin at the centre of the bed at
+/// rest, x along its length, z up, metres): the bed's BED_C1 (+x, +y), BED_C2 (−x, +y), BED_C3
+/// (−x, −y), BED_C4 (+x, −y) at 4.28 m × 2.14 m, the frame's outer corners FRAME_C1…C4 (same order)
+/// at 5.05 m × 2.91 m, level with the bed, and the floor under them, FLOOR_C1…C4, 1.155 m below
+/// (FIG Apparatus Norms, trampoline). The names of the bed corners are the sample trials' markers.
+std::vector<NamedPoint3> FigTrampolinePoints();
+
+/// 3D points from `source`: "fig-trampoline" (above), a C3D or TRC trial (each marker's mean
+/// position over its valid samples), or a points CSV (ReadPoints3dCsv). Throws acro::InputError.
+std::vector<NamedPoint3> ReadPoints3d(const std::string& source);
+
 /// Reads "name,u_px,v_px" rows likewise.
 std::vector<NamedPoint2> ReadPoints2dCsv(const std::filesystem::path& path);
 

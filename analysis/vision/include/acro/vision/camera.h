@@ -27,6 +27,12 @@ struct Camera {
   /// The pixel of world point p_W (distortion applied), or nothing when the point is not in front
   /// of the camera.
   std::optional<Eigen::Vector2d> Project(const Eigen::Vector3d& p_W) const;
+  /// The inverse of the distortion: the pixel a distortion-free camera with the same K would
+  /// show for what this camera shows at `uv_px` (OpenCV's undistortPoints with P = K). Solved by
+  /// fixed-point iteration on the normalised coordinates to 1e-12, as OpenCV does, at most 100 steps.
+  Eigen::Vector2d Undistort(const Eigen::Vector2d& uv_px) const;
+  /// The unit direction, in the world, of the ray through pixel `uv_px` (distortion removed).
+  Eigen::Vector3d RayInWorld(const Eigen::Vector2d& uv_px) const;
   /// The camera centre in the world.
   Eigen::Vector3d CentreInWorld() const { return -R_KW.transpose() * t_KW; }
   /// True when K, the distortion and the pose make a camera (R_KW orthonormal with det +1 to 1e-6,
