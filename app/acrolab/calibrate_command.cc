@@ -74,7 +74,8 @@ int RunExtrinsics(const ExtrinsicsArguments& args) {
 
 void AddCalibrateCommand(CLI::App& app, CommandRunner* run) {
   CLI::App* calibrate = app.add_subcommand(
-      "calibrate", "Camera calibration: intrinsics from a board, pose from known points (docs/calibration.md).");
+      "calibrate",
+      "Camera calibration: intrinsics from a board, pose from known points (docs/calibration.md).");
   calibrate->require_subcommand(1);
 
   auto in = std::make_shared<IntrinsicsArguments>();
@@ -107,11 +108,12 @@ void AddCalibrateCommand(CLI::App& app, CommandRunner* run) {
       "A camera's pose in the lab from points known in 3D and clicked or detected in its image "
       "(SQPnP, then Levenberg–Marquardt): the trampoline's corners, markers, measured spots.");
   extrinsics
-      ->add_option("--points3d",
-                   ex->points3d,
-                   "the points in the lab: a CSV name,x_m,y_m,z_m; a C3D or TRC (each marker's mean "
-                   "position, e.g. BED_C1…C4); or fig-trampoline (the FIG trampoline's corners in "
-                   "its own frame)")
+      ->add_option(
+          "--points3d",
+          ex->points3d,
+          "the points in the lab: a CSV name,x_m,y_m,z_m; a C3D or TRC (each marker's mean "
+          "position, e.g. BED_C1…C4); or fig-trampoline (the FIG trampoline's corners in "
+          "its own frame)")
       ->required();
   extrinsics->add_option("--points2d", ex->points2d, "CSV name,u_px,v_px in the image")->required();
   extrinsics->add_option("--intrinsics", ex->intrinsics, "the camera's calibration (any format)")

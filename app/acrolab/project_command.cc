@@ -32,7 +32,8 @@ int RunProject(const ProjectArguments& args) {
   if (!(args.rate > 0)) throw UsageError{"--rate must be positive"};
   if (!args.video.empty() && args.out.empty() && args.csv.empty())
     throw UsageError{"--video needs -o OUT.mp4|OUT_DIR or --csv"};
-  if (!args.out.empty() && args.video.empty()) throw UsageError{"-o draws on a video: give --video"};
+  if (!args.out.empty() && args.video.empty())
+    throw UsageError{"-o draws on a video: give --video"};
   const capture::Trial trial = capture::ReadTrial(args.trial);
   const std::vector<vision::Camera> cameras = vision::ReadCameras(args.calibration);
   const vision::AxisMapping axes = vision::ParseAxisMapping(args.axes);

@@ -19,8 +19,8 @@ namespace acro::app {
 namespace {
 
 struct SyncArguments {
-  std::string trial, calibration, camera, axes = "xyz", keypoints = "body25b", search = "-2:2",
-                                          csv, plot;
+  std::string trial, calibration, camera, axes = "xyz", keypoints = "body25b", search = "-2:2", csv,
+                                          plot;
   std::vector<std::string> videos, detections;
   double fps = 0.0, rate = 1.0;
 };
@@ -44,7 +44,9 @@ int RunSync(const SyncArguments& args) {
   options.axes = vision::ParseAxisMapping(args.axes);
   options.rate = args.rate;
   char end = 0;
-  if (std::sscanf(args.search.c_str(), "%lf:%lf%c", &options.min_offset_s, &options.max_offset_s, &end) != 2)
+  if (std::sscanf(
+          args.search.c_str(), "%lf:%lf%c", &options.min_offset_s, &options.max_offset_s, &end) !=
+      2)
     throw UsageError{"--search-s '" + args.search + "' is not MIN:MAX, e.g. -2:2"};
   DemandValidCommandLine(options);
 
@@ -66,7 +68,7 @@ int RunSync(const SyncArguments& args) {
       const auto [name, path] = SplitCameraPath(d, cameras);
       vision::CameraDetections c;
       c.camera = &camera_of(name);
-      detections.push_back(capture::ReadOpenPoseJson(path, args.keypoints));
+      detections.push_back(capture::ReadDetections(path, args.keypoints, c.camera->name));
       c.detections = &detections.back();
       for (const auto& [camera, video] : videos)
         if (camera == c.camera) c.frame_times_s = capture::VideoReader(video).frame_times_s();
@@ -74,7 +76,8 @@ int RunSync(const SyncArguments& args) {
         if (!(args.fps > 0))
           throw UsageError{"detections of " + c.camera->name +
                            " need the camera's --video (frame times) or --fps"};
-        for (int k = 0; k < c.detections->num_frames(); ++k) c.frame_times_s.push_back(k / args.fps);
+        for (int k = 0; k < c.detections->num_frames(); ++k)
+          c.frame_times_s.push_back(k / args.fps);
       }
       per_camera.push_back(std::move(c));
     }
@@ -101,7 +104,8 @@ int RunSync(const SyncArguments& args) {
               result.method == "detections" ? "point–detection pairs" : "frames");
   if (result.offsets_s.front() >= result.sync.offset_s - frame_s ||
       result.offsets_s.back() <= result.sync.offset_s + frame_s)
-    std::printf("  warning: the offset is at the edge of --search-s %s: widen it\n", args.search.c_str());
+    std::printf("  warning: the offset is at the edge of --search-s %s: widen it\n",
+                args.search.c_str());
   std::printf("use: --offset-s %.4f\n", result.sync.offset_s);
   if (!args.plot.empty()) {
     ui::WriteChart(ui::MakeSyncCostChart(result, frame_s), args.plot);
@@ -127,19 +131,27 @@ void AddSyncCommand(CLI::App& app, CommandRunner* run) {
       "keypoint detections (OpenPose JSON) when given, else from the image motion inside the "
       "athlete's projected box. docs/sync.md.");
   command->add_option("TRIAL", args->trial, "markers or keypoints: C3D, TRC or CSV")->required();
-  command
-      ->add_option("--calib", args->calibration, "cameras: .toml, .qca, OpenCV .yml/.xml")
+  command->add_option("--calib", args->calibration, "cameras: .toml, .qca, OpenCV .yml/.xml")
       ->required();
-  command->add_option("--camera", args->camera, "the camera of a --video or --detections without CAM=");
+  command->add_option(
+      "--camera", args->camera, "the camera of a --video or --detections without CAM=");
   command->add_option("--video", args->videos, "[CAM=]FILE: a camera's video");
-  command->add_option("--detections", args->detections, "[CAM=]DIR: a camera's OpenPose JSON files");
-  command->add_option("--keypoints", args->keypoints, "the detections' keypoint set: body25, body25b (default), coco17, halpe26");
+  command->add_option("--detections",
+                      args->detections,
+                      "[CAM=]DIR|FILE.csv: a camera's OpenPose JSON files, or a CSV of "
+                      "frame,marker,u_px,v_px[,confidence] rows");
+  command->add_option("--keypoints",
+                      args->keypoints,
+                      "the detections' keypoint set: body25, body25b (default), coco17, halpe26");
   command->add_option("--fps", args->fps, "frame rate of detections without a --video");
-  command->add_option("--axes", args->axes, "how the trial's axes map to the lab's (zxy: Y-up TRC)");
-  command->add_option("--search-s", args->search, "offsets searched, MIN:MAX seconds (default -2:2)");
+  command->add_option(
+      "--axes", args->axes, "how the trial's axes map to the lab's (zxy: Y-up TRC)");
+  command->add_option(
+      "--search-s", args->search, "offsets searched, MIN:MAX seconds (default -2:2)");
   command->add_option("--rate", args->rate, "video seconds per trial second (default 1)");
   command->add_option("--csv", args->csv, "write the cost at every offset searched");
-  command->add_option("--plot", args->plot, "draw the cost at every offset searched (.png or .svg)");
+  command->add_option(
+      "--plot", args->plot, "draw the cost at every offset searched (.png or .svg)");
   command->callback([args, run] { *run = [args] { return RunSync(*args); }; });
 }
 

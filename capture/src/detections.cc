@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <map>
 
 #include <fmt/format.h>
@@ -9,6 +10,7 @@
 
 #include "acro/base/file_io.h"
 #include "acro/base/input_error.h"
+#include "acro/base/text.h"
 
 namespace acro::capture {
 
@@ -16,24 +18,36 @@ const std::vector<std::string>& KeypointSetNames(const std::string& set) {
   // OpenPose's output formats (openpose doc/02_output.md; BODY_25B from its experimental models
   // page) and HALPE's 26 keypoints (Fang et al., AlphaPose, 2022); COCO's 17 are HALPE's first.
   static const std::map<std::string, std::vector<std::string>> sets = {
-      {"body25",
-       {"Nose",      "Neck",      "RShoulder", "RElbow",  "RWrist",   "LShoulder", "LElbow",
-        "LWrist",    "MidHip",    "RHip",      "RKnee",   "RAnkle",   "LHip",      "LKnee",
-        "LAnkle",    "REye",      "LEye",      "REar",    "LEar",     "LBigToe",   "LSmallToe",
-        "LHeel",     "RBigToe",   "RSmallToe", "RHeel"}},
-      {"body25b",
-       {"Nose",      "LEye",      "REye",      "LEar",    "REar",     "LShoulder", "RShoulder",
-        "LElbow",    "RElbow",    "LWrist",    "RWrist",  "LHip",     "RHip",      "LKnee",
-        "RKnee",     "LAnkle",    "RAnkle",    "Neck",    "Head",     "LBigToe",   "LSmallToe",
-        "LHeel",     "RBigToe",   "RSmallToe", "RHeel"}},
+      {"body25", {"Nose",   "Neck",    "RShoulder", "RElbow", "RWrist", "LShoulder", "LElbow",
+                  "LWrist", "MidHip",  "RHip",      "RKnee",  "RAnkle", "LHip",      "LKnee",
+                  "LAnkle", "REye",    "LEye",      "REar",   "LEar",   "LBigToe",   "LSmallToe",
+                  "LHeel",  "RBigToe", "RSmallToe", "RHeel"}},
+      {"body25b", {"Nose",   "LEye",    "REye",      "LEar",   "REar", "LShoulder", "RShoulder",
+                   "LElbow", "RElbow",  "LWrist",    "RWrist", "LHip", "RHip",      "LKnee",
+                   "RKnee",  "LAnkle",  "RAnkle",    "Neck",   "Head", "LBigToe",   "LSmallToe",
+                   "LHeel",  "RBigToe", "RSmallToe", "RHeel"}},
       {"coco17",
-       {"Nose", "LEye", "REye", "LEar", "REar", "LShoulder", "RShoulder", "LElbow", "RElbow",
-        "LWrist", "RWrist", "LHip", "RHip", "LKnee", "RKnee", "LAnkle", "RAnkle"}},
-      {"halpe26",
-       {"Nose",    "LEye",    "REye",      "LEar",      "REar",   "LShoulder", "RShoulder",
-        "LElbow",  "RElbow",  "LWrist",    "RWrist",    "LHip",   "RHip",      "LKnee",
-        "RKnee",   "LAnkle",  "RAnkle",    "Head",      "Neck",   "Hip",       "LBigToe",
-        "RBigToe", "LSmallToe", "RSmallToe", "LHeel",   "RHeel"}}};
+       {"Nose",
+        "LEye",
+        "REye",
+        "LEar",
+        "REar",
+        "LShoulder",
+        "RShoulder",
+        "LElbow",
+        "RElbow",
+        "LWrist",
+        "RWrist",
+        "LHip",
+        "RHip",
+        "LKnee",
+        "RKnee",
+        "LAnkle",
+        "RAnkle"}},
+      {"halpe26", {"Nose",    "LEye",      "REye",      "LEar",   "REar", "LShoulder", "RShoulder",
+                   "LElbow",  "RElbow",    "LWrist",    "RWrist", "LHip", "RHip",      "LKnee",
+                   "RKnee",   "LAnkle",    "RAnkle",    "Head",   "Neck", "Hip",       "LBigToe",
+                   "RBigToe", "LSmallToe", "RSmallToe", "LHeel",  "RHeel"}}};
   const auto it = sets.find(set);
   if (it == sets.end())
     throw InputError(
@@ -103,16 +117,14 @@ KeypointDetections ReadOpenPoseJson(const std::filesystem::path& directory,
     for (size_t i = 0; i < doc["people"].size(); ++i) {
       const nlohmann::json& k = doc["people"][i]["pose_keypoints_2d"];
       const std::string where = fmt::format("people[{}].pose_keypoints_2d", i);
-      if (!k.is_array())
-        throw InputError(file, where, "missing or not an array");
+      if (!k.is_array()) throw InputError(file, where, "missing or not an array");
       if (k.empty()) continue;  // OpenPose writes an empty list for a person it dropped
       if (k.size() != 3 * K) {
-        throw InputError(file,
-                         where,
-                         fmt::format("{} numbers, but the {} set has {} keypoints × 3",
-                                     k.size(),
-                                     keypoint_set,
-                                     K));
+        throw InputError(
+            file,
+            where,
+            fmt::format(
+                "{} numbers, but the {} set has {} keypoints × 3", k.size(), keypoint_set, K));
       }
       DetectedPerson person(3, static_cast<Eigen::Index>(K));
       for (size_t j = 0; j < 3 * K; ++j) {
@@ -125,6 +137,96 @@ KeypointDetections ReadOpenPoseJson(const std::filesystem::path& directory,
     }
   }
   return out;
+}
+
+KeypointDetections ReadDetectionsCsv(const std::filesystem::path& path, const std::string& camera) {
+  const std::string file = path.string();
+  const std::vector<std::uint8_t> bytes = ReadFileBytes(path, std::int64_t(1) << 30);
+  LineCursor lines(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+  std::string_view line;
+  std::vector<std::string_view> f;
+  if (!lines.Next(&line)) throw InputError(file, "", "empty file");
+  Split(Trim(line), ',', &f);
+  std::map<std::string, size_t> column;
+  for (size_t i = 0; i < f.size(); ++i) column[std::string(Trim(f[i]))] = i;
+  const auto find = [&](std::initializer_list<const char*> names, bool required) -> long {
+    for (const char* n : names)
+      if (const auto it = column.find(n); it != column.end()) return static_cast<long>(it->second);
+    if (required) {
+      throw InputError(
+          file,
+          "line 1",
+          fmt::format("no '{}' column in the header (frame, marker, u_px, v_px)", *names.begin()));
+    }
+    return -1;
+  };
+  const long c_frame = find({"frame"}, true), c_name = find({"marker", "keypoint"}, true),
+             c_u = find({"u_px"}, true), c_v = find({"v_px"}, true),
+             c_conf = find({"confidence"}, false), c_camera = find({"camera"}, false);
+  KeypointDetections out;
+  out.source = file;
+  std::map<std::string, int> index;
+  struct Row {
+    long frame;
+    int keypoint;
+    Eigen::Vector3d value;
+  };
+  std::vector<Row> rows;
+  long last_frame = -1;
+  while (lines.Next(&line)) {
+    if (Trim(line).empty()) continue;
+    Split(Trim(line), ',', &f);
+    const std::string where = fmt::format("line {}", lines.line_number());
+    if (f.size() != column.size())
+      throw InputError(
+          file, where, fmt::format("{} fields, the header has {}", f.size(), column.size()));
+    if (c_camera >= 0 && !camera.empty() && Trim(f[size_t(c_camera)]) != camera) continue;
+    auto number = [&](long c) {
+      const std::string text(Trim(f[size_t(c)]));
+      char* end = nullptr;
+      const double v = std::strtod(text.c_str(), &end);
+      if (text.empty() || end != text.c_str() + text.size() || !std::isfinite(v))
+        throw InputError(file, where, fmt::format("'{}' is not a number", text));
+      return v;
+    };
+    const double frame = number(c_frame);
+    if (frame < 0 || frame >= 1000000 || frame != std::floor(frame))
+      throw InputError(
+          file, where, fmt::format("frame {} is not a frame number (0 to 999999)", frame));
+    const std::string name(Trim(f[size_t(c_name)]));
+    const auto [it, added] = index.emplace(name, static_cast<int>(out.names.size()));
+    if (added) out.names.push_back(name);
+    rows.push_back({static_cast<long>(frame),
+                    it->second,
+                    {number(c_u), number(c_v), c_conf >= 0 ? number(c_conf) : 1.0}});
+    last_frame = std::max(last_frame, rows.back().frame);
+  }
+  if (rows.empty())
+    throw InputError(file, "", camera.empty() ? "no rows" : "no rows of camera " + camera);
+  out.frames.resize(static_cast<size_t>(last_frame + 1));
+  const Eigen::Index K = static_cast<Eigen::Index>(out.names.size());
+  for (const Row& r : rows) {
+    std::vector<DetectedPerson>& people = out.frames[static_cast<size_t>(r.frame)];
+    if (people.empty()) {
+      // Keypoints not in a frame's rows are absent: confidence 0.
+      people.emplace_back(DetectedPerson::Zero(3, K));
+    }
+    people.front().col(r.keypoint) = r.value;
+  }
+  for (std::vector<DetectedPerson>& people : out.frames)
+    for (DetectedPerson& p : people)
+      if (p.cols() < K) p.conservativeResizeLike(DetectedPerson::Zero(3, K));
+  return out;
+}
+
+KeypointDetections ReadDetections(const std::filesystem::path& path,
+                                  const std::string& keypoint_set,
+                                  const std::string& camera) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) return ReadOpenPoseJson(path, keypoint_set);
+  if (LowerExtension(path) == "csv") return ReadDetectionsCsv(path, camera);
+  throw InputError(
+      path.string(), "", "detections are a directory of OpenPose JSON files or a .csv");
 }
 
 }  // namespace acro::capture

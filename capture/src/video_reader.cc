@@ -240,10 +240,10 @@ bool VideoReader::Impl::DecodeNext() {
     }
     const std::int64_t byte = packet->pos;
     // Frame threads copy this setting from our context when the packet is submitted.
-    decoder->skip_frame = wanted_pts != AV_NOPTS_VALUE && packet->pts != AV_NOPTS_VALUE &&
-                                  packet->pts < wanted_pts
-                              ? AVDISCARD_NONREF
-                              : AVDISCARD_DEFAULT;
+    decoder->skip_frame =
+        wanted_pts != AV_NOPTS_VALUE && packet->pts != AV_NOPTS_VALUE && packet->pts < wanted_pts
+            ? AVDISCARD_NONREF
+            : AVDISCARD_DEFAULT;
     const int sent = avcodec_send_packet(decoder, packet);
     av_packet_unref(packet);
     if (sent < 0 && sent != AVERROR(EAGAIN) && sent != AVERROR_INVALIDDATA)

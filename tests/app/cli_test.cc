@@ -389,9 +389,9 @@ TEST(Cli, CalibrateIntrinsicsReportsEachPhotoAndWritesTheCamera) {
   const auto dir = acro::testing::RefdataFile("pose2sim-demo/calibration/intrinsics/cam02");
   ACRO_REQUIRE_REFDATA_FILE(dir);
   const auto out = acro::testing::TempDir() / "cam02_intrinsics.toml";
-  const ProcessResult run = Execute(std::string(ACROLAB_EXE) +
-                                    " calibrate intrinsics --board checkerboard:4x7:60mm " +
-                                    Quote(dir) + "/*.jpg --name cam02 -o " + Quote(out));
+  const ProcessResult run =
+      Execute(std::string(ACROLAB_EXE) + " calibrate intrinsics --board checkerboard:4x7:60mm " +
+              Quote(dir) + "/*.jpg --name cam02 -o " + Quote(out));
   ASSERT_EQ(run.status, 0) << run.err;
   EXPECT_NE(run.out.find("cam02_06_int.jpg: skipped, no board found"), std::string::npos)
       << run.out;
@@ -411,13 +411,13 @@ TEST(Cli, CalibrateIntrinsicsReportsEachPhotoAndWritesTheCamera) {
          "0.0, 0.0]\ntranslation = [ 0.0, 0.0, 0.0]\n";
   std::ofstream(p2) << "name,u_px,v_px\nA,233.333,766.667\nB,766.667,766.667\nC,766.667,233.333\n"
                        "D,233.333,233.333\nE,500,500\n";
-  const ProcessResult ex = Execute(
-      std::string(ACROLAB_EXE) + " calibrate extrinsics --points3d " + Quote(p3) +
-      " --points2d " + Quote(p2) + " --intrinsics " +
-      Quote(acro::testing::TempDir() / "pin.toml") + " -o " +
-      Quote(acro::testing::TempDir() / "posed.toml"));
+  const ProcessResult ex = Execute(std::string(ACROLAB_EXE) + " calibrate extrinsics --points3d " +
+                                   Quote(p3) + " --points2d " + Quote(p2) + " --intrinsics " +
+                                   Quote(acro::testing::TempDir() / "pin.toml") + " -o " +
+                                   Quote(acro::testing::TempDir() / "posed.toml"));
   ASSERT_EQ(ex.status, 0) << ex.err;
-  EXPECT_NE(ex.out.find("0000, 3.0000) m, reprojection RMS 0.000 px over 5 points"), std::string::npos)
+  EXPECT_NE(ex.out.find("0000, 3.0000) m, reprojection RMS 0.000 px over 5 points"),
+            std::string::npos)
       << ex.out;
 }
 
@@ -434,21 +434,22 @@ TEST(Cli, BadVideosAndCalibrationsAreOneLineAndStatus1) {
   expect_one_line(Execute(std::string(ACROLAB_EXE) + " video info " + Quote(dir / "notes.mp4")),
                   "notes.mp4");
   // A zero-frame MP4: a video stream with no packet (ffmpeg's command line writes it).
-  const ProcessResult made = Execute("ffmpeg -v error -y -f lavfi -i color=c=black:s=64x64:r=25 "
-                                     "-frames:v 0 -c:v libx264 " + Quote(dir / "empty.mp4"));
+  const ProcessResult made = Execute(
+      "ffmpeg -v error -y -f lavfi -i color=c=black:s=64x64:r=25 "
+      "-frames:v 0 -c:v libx264 " +
+      Quote(dir / "empty.mp4"));
   if (made.status == 0 && std::filesystem::exists(dir / "empty.mp4")) {
-    expect_one_line(
-        Execute(std::string(ACROLAB_EXE) + " video info " + Quote(dir / "empty.mp4")),
-        "empty.mp4");
+    expect_one_line(Execute(std::string(ACROLAB_EXE) + " video info " + Quote(dir / "empty.mp4")),
+                    "empty.mp4");
   }
   const auto video = acro::testing::RefdataFile("pose2sim-demo/videos/cam01.mp4");
   if (std::filesystem::exists(video)) {
     const std::string bytes = Slurp(video);
     std::ofstream(dir / "cut.mp4", std::ios::binary)
         .write(bytes.data(), static_cast<std::streamsize>(bytes.size() / 3));
-    const ProcessResult cut = Execute(std::string(ACROLAB_EXE) + " video frame " +
-                                      Quote(dir / "cut.mp4") + " --frame 99 -o " +
-                                      Quote(dir / "f.png"));
+    const ProcessResult cut =
+        Execute(std::string(ACROLAB_EXE) + " video frame " + Quote(dir / "cut.mp4") +
+                " --frame 99 -o " + Quote(dir / "f.png"));
     expect_one_line(cut, "cut.mp4");
     EXPECT_FALSE(std::filesystem::exists(dir / "f.png"));
   }

@@ -49,16 +49,23 @@ std::optional<double> ParseLength(std::string_view text) {
 // OpenCV's predefined ArUco dictionaries by name.
 const std::map<std::string, int>& ArucoDictionaries() {
   using namespace cv::aruco;
-  static const std::map<std::string, int> names = {
-      {"DICT_4X4_50", DICT_4X4_50},           {"DICT_4X4_100", DICT_4X4_100},
-      {"DICT_4X4_250", DICT_4X4_250},         {"DICT_4X4_1000", DICT_4X4_1000},
-      {"DICT_5X5_50", DICT_5X5_50},           {"DICT_5X5_100", DICT_5X5_100},
-      {"DICT_5X5_250", DICT_5X5_250},         {"DICT_5X5_1000", DICT_5X5_1000},
-      {"DICT_6X6_50", DICT_6X6_50},           {"DICT_6X6_100", DICT_6X6_100},
-      {"DICT_6X6_250", DICT_6X6_250},         {"DICT_6X6_1000", DICT_6X6_1000},
-      {"DICT_7X7_50", DICT_7X7_50},           {"DICT_7X7_100", DICT_7X7_100},
-      {"DICT_7X7_250", DICT_7X7_250},         {"DICT_7X7_1000", DICT_7X7_1000},
-      {"DICT_ARUCO_ORIGINAL", DICT_ARUCO_ORIGINAL}};
+  static const std::map<std::string, int> names = {{"DICT_4X4_50", DICT_4X4_50},
+                                                   {"DICT_4X4_100", DICT_4X4_100},
+                                                   {"DICT_4X4_250", DICT_4X4_250},
+                                                   {"DICT_4X4_1000", DICT_4X4_1000},
+                                                   {"DICT_5X5_50", DICT_5X5_50},
+                                                   {"DICT_5X5_100", DICT_5X5_100},
+                                                   {"DICT_5X5_250", DICT_5X5_250},
+                                                   {"DICT_5X5_1000", DICT_5X5_1000},
+                                                   {"DICT_6X6_50", DICT_6X6_50},
+                                                   {"DICT_6X6_100", DICT_6X6_100},
+                                                   {"DICT_6X6_250", DICT_6X6_250},
+                                                   {"DICT_6X6_1000", DICT_6X6_1000},
+                                                   {"DICT_7X7_50", DICT_7X7_50},
+                                                   {"DICT_7X7_100", DICT_7X7_100},
+                                                   {"DICT_7X7_250", DICT_7X7_250},
+                                                   {"DICT_7X7_1000", DICT_7X7_1000},
+                                                   {"DICT_ARUCO_ORIGINAL", DICT_ARUCO_ORIGINAL}};
   return names;
 }
 
@@ -83,17 +90,14 @@ std::optional<Detection> DetectBoard(const cv::Mat& grey, const CalibrationBoard
   Detection d;
   if (board.kind == CalibrationBoard::Kind::kCheckerboard) {
     const cv::Size pattern(board.columns, board.rows);
-    if (!cv::findChessboardCorners(grey,
-                                   pattern,
-                                   d.image,
-                                   cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE))
+    if (!cv::findChessboardCorners(
+            grey, pattern, d.image, cv::CALIB_CB_ADAPTIVE_THRESH | cv::CALIB_CB_NORMALIZE_IMAGE))
       return std::nullopt;
-    cv::cornerSubPix(
-        grey,
-        d.image,
-        cv::Size(11, 11),
-        cv::Size(-1, -1),
-        cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 30, 0.001));
+    cv::cornerSubPix(grey,
+                     d.image,
+                     cv::Size(11, 11),
+                     cv::Size(-1, -1),
+                     cv::TermCriteria(cv::TermCriteria::EPS + cv::TermCriteria::COUNT, 30, 0.001));
     for (const Eigen::Vector3d& p : board.ObjectPoints())
       d.object.emplace_back(static_cast<float>(p.x()), static_cast<float>(p.y()), 0.0f);
     return d;
@@ -324,8 +328,8 @@ IntrinsicCalibration CalibrateIntrinsics(const std::vector<std::filesystem::path
     std::nth_element(sorted.begin(), sorted.begin() + sorted.size() / 2, sorted.end());
     const double threshold =
         std::max(options.reject_factor * sorted[sorted.size() / 2], options.reject_floor_px);
-    const size_t worst = static_cast<size_t>(
-        std::max_element(view_rms.begin(), view_rms.end()) - view_rms.begin());
+    const size_t worst =
+        static_cast<size_t>(std::max_element(view_rms.begin(), view_rms.end()) - view_rms.begin());
     for (size_t j = 0; j < used.size(); ++j)
       result.views[view_of_detection[used[j]]].rms_px = view_rms[j];
     if (view_rms[worst] <= threshold || static_cast<int>(used.size()) <= options.min_views) {
@@ -333,10 +337,8 @@ IntrinsicCalibration CalibrateIntrinsics(const std::vector<std::filesystem::path
       break;
     }
     active[used[worst]] = false;
-    result.views[view_of_detection[used[worst]]].note =
-        fmt::format("rejected: {:.2f} px RMS against a {:.2f} px threshold",
-                    view_rms[worst],
-                    threshold);
+    result.views[view_of_detection[used[worst]]].note = fmt::format(
+        "rejected: {:.2f} px RMS against a {:.2f} px threshold", view_rms[worst], threshold);
   }
 
   Camera& c = result.camera;
@@ -367,9 +369,8 @@ std::vector<Row> ReadNamedRows(const std::filesystem::path& path, int columns) {
     if (rows.empty() && Trim(f[0]) == "name") continue;
     const std::string where = fmt::format("line {}", lines.line_number());
     if (static_cast<int>(f.size()) != columns + 1)
-      throw InputError(file,
-                       where,
-                       fmt::format("{} fields, expected a name and {} numbers", f.size(), columns));
+      throw InputError(
+          file, where, fmt::format("{} fields, expected a name and {} numbers", f.size(), columns));
     Row row;
     row.name = std::string(Trim(f[0]));
     double v[3] = {0, 0, 0};
@@ -470,8 +471,8 @@ ExtrinsicCalibration CalibrateExtrinsics(const Camera& intrinsics,
   cv::solvePnPRefineLM(object, image, K, dist, rvec, tvec);
 
   result.camera = intrinsics;
-  result.camera.R_KW =
-      RotationFromRodrigues(Eigen::Vector3d(rvec.at<double>(0), rvec.at<double>(1), rvec.at<double>(2)));
+  result.camera.R_KW = RotationFromRodrigues(
+      Eigen::Vector3d(rvec.at<double>(0), rvec.at<double>(1), rvec.at<double>(2)));
   result.camera.t_KW = Eigen::Vector3d(tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2));
   double sum = 0.0;
   for (size_t k = 0; k < object.size(); ++k) {

@@ -37,7 +37,6 @@ std::optional<Eigen::Vector2d> Camera::Project(const Eigen::Vector3d& p_W) const
   return Eigen::Vector2d(K(0, 0) * xd.x() + K(0, 1) * xd.y() + K(0, 2), K(1, 1) * xd.y() + K(1, 2));
 }
 
-
 Eigen::Vector2d Camera::Undistort(const Eigen::Vector2d& uv_px) const {
   // Distorted normalised coordinates, then x ← x_d − (distort(x) − x) until it stops moving.
   const double yd = (uv_px.y() - K(1, 2)) / K(1, 1);

@@ -58,7 +58,9 @@ class Storage {
     if (cols == 1 && m.rows == 1) m = m.t();
     if (m.rows != rows || m.cols != cols) {
       throw InputError(
-          file_, camera, fmt::format("{}: {} × {}, expected {} × {}", key, m.rows, m.cols, rows, cols));
+          file_,
+          camera,
+          fmt::format("{}: {} × {}, expected {} × {}", key, m.rows, m.cols, rows, cols));
     }
     return m;
   }
@@ -74,7 +76,9 @@ class Storage {
     m.convertTo(m, CV_64F);
     if (m.total() != 4 && m.total() != 5 && m.total() != 8) {
       throw InputError(
-          file_, camera, fmt::format("{}: {} coefficients (4, 5 or 8: k1 k2 p1 p2 [k3 …])", key, m.total()));
+          file_,
+          camera,
+          fmt::format("{}: {} coefficients (4, 5 or 8: k1 k2 p1 p2 [k3 …])", key, m.total()));
     }
     std::vector<double> d(m.begin<double>(), m.end<double>());
     if (d.size() == 8) {
@@ -137,8 +141,9 @@ void ReadPose(const Storage& s,
     if (!R && !r && !t) continue;
     if (!t) throw InputError(st->file(), where, translation_key + ": missing beside the rotation");
     if (!R && !r)
-      throw InputError(
-          st->file(), where, rodrigues_key + " or " + matrix_key + ": missing beside the translation");
+      throw InputError(st->file(),
+                       where,
+                       rodrigues_key + " or " + matrix_key + ": missing beside the translation");
     c->R_KW = R ? ToEigen3(*R) : RotationFromRodrigues(ToEigenVector(*r));
     c->t_KW = ToEigenVector(*t);
     return;
@@ -155,11 +160,13 @@ std::vector<Camera> ReadOpenCvStorage(const std::filesystem::path& path) {
     c.name = path.stem().string();
     const std::string where = "camera '" + c.name + "'";
     const std::optional<cv::Mat> K = s.Matrix("camera_matrix", 3, 3, where);
-    if (!K) throw InputError(s.file(), "camera_matrix", "missing (and no `names` of several cameras)");
+    if (!K)
+      throw InputError(s.file(), "camera_matrix", "missing (and no `names` of several cameras)");
     c.K = ToEigen3(*K);
     c.width_px = s.Integer("image_width", where);
     c.height_px = s.Integer("image_height", where);
-    if (s.Has("distortion_coefficients")) c.distortion = s.Distortion("distortion_coefficients", where);
+    if (s.Has("distortion_coefficients"))
+      c.distortion = s.Distortion("distortion_coefficients", where);
     ReadPose(s, "rvec", "R", s.Has("tvec") ? "tvec" : "T", where, nullptr, &c);
     std::string why;
     if (!c.IsValid(&why)) throw InputError(s.file(), where, why);
@@ -222,7 +229,8 @@ const Camera& FindCamera(const std::vector<Camera>& cameras,
     names += (names.empty() ? "" : ", ") + c.name;
   }
   if (name.empty())
-    throw InputError(file, "--camera", fmt::format("{} cameras ({}): name one", cameras.size(), names));
+    throw InputError(
+        file, "--camera", fmt::format("{} cameras ({}): name one", cameras.size(), names));
   throw InputError(file, "--camera", "no camera named '" + name + "' (there are " + names + ")");
 }
 

@@ -6,8 +6,8 @@
 #include <limits>
 #include <optional>
 
-#include <Eigen/Geometry>
 #include <fmt/format.h>
+#include <Eigen/Geometry>
 
 #include "acro/base/input_error.h"
 
@@ -31,8 +31,9 @@ bool AutoSyncOptions::IsValid(std::string* why) const {
   }
   if (!(max_offset_s > min_offset_s) || !std::isfinite(min_offset_s) ||
       !std::isfinite(max_offset_s) || max_offset_s - min_offset_s > 3600.0) {
-    *why = fmt::format(
-        "the offsets searched, {} to {} s, are not an interval of at most an hour", min_offset_s, max_offset_s);
+    *why = fmt::format("the offsets searched, {} to {} s, are not an interval of at most an hour",
+                       min_offset_s,
+                       max_offset_s);
     return false;
   }
   if (!(max_error_px > 0.0) || analysis_width_px < 32 || analysis_width_px > 1024 ||
@@ -86,12 +87,15 @@ AutoSyncResult SearchOffset(const std::function<Cost(double)>& cost,
   int most = 0;
   for (const Cost& c : costs) most = std::max(most, c.count);
   if (most == 0)
-    throw InputError("", "sync", "no offset in the searched range overlaps the trial with the video");
+    throw InputError(
+        "", "sync", "no offset in the searched range overlaps the trial with the video");
   auto trusted = [&](const Cost& c) { return c.count * 2 >= most && std::isfinite(c.value); };
   size_t best = 0;
   for (size_t i = 0; i < costs.size(); ++i) {
-    r.costs.push_back(trusted(costs[i]) ? costs[i].value : std::numeric_limits<double>::quiet_NaN());
-    if (trusted(costs[i]) && (!trusted(costs[best]) || costs[i].value < costs[best].value)) best = i;
+    r.costs.push_back(trusted(costs[i]) ? costs[i].value
+                                        : std::numeric_limits<double>::quiet_NaN());
+    if (trusted(costs[i]) && (!trusted(costs[best]) || costs[i].value < costs[best].value))
+      best = i;
   }
   r.runner_up_cost = std::numeric_limits<double>::infinity();
   for (size_t i = 0; i < costs.size(); ++i)
@@ -133,23 +137,27 @@ AutoSyncResult SyncFromDetections(const capture::Trial& trial,
                                   const AutoSyncOptions& options) {
   DemandValidOptions(options, "sync");
   if (cameras.empty()) throw InputError("", "sync", "no camera with detections");
-  // Trial point ↔ keypoint, by name.
-  std::vector<std::pair<int, int>> matches;
-  const std::vector<std::string>& names = cameras.front().detections->names;
-  for (int p = 0; p < trial.num_points(); ++p) {
-    const std::string label = Lower(trial.points[static_cast<size_t>(p)].label);
-    for (size_t j = 0; j < names.size(); ++j)
-      if (Lower(names[j]) == label) matches.emplace_back(p, static_cast<int>(j));
+  // Trial point ↔ keypoint, by name, per camera (a CSV's names are its own, in its order).
+  std::vector<std::vector<std::pair<int, int>>> matches(cameras.size());
+  bool any = false;
+  for (size_t c = 0; c < cameras.size(); ++c) {
+    const std::vector<std::string>& names = cameras[c].detections->names;
+    for (int p = 0; p < trial.num_points(); ++p) {
+      const std::string label = Lower(trial.points[static_cast<size_t>(p)].label);
+      for (size_t j = 0; j < names.size(); ++j)
+        if (Lower(names[j]) == label) matches[c].emplace_back(p, static_cast<int>(j));
+    }
+    any = any || !matches[c].empty();
   }
-  if (matches.empty())
+  if (!any) {
+    const std::vector<std::string>& names = cameras.front().detections->names;
     throw InputError(trial.source.path,
                      "sync",
                      "no point of the trial is named like a keypoint of the detections (" +
-                         names.front() + ", …)");
+                         (names.empty() ? std::string("none") : names.front()) + ", …)");
+  }
   double frame_s = 0.0;
   for (const CameraDetections& c : cameras) {
-    if (c.detections->names != names)
-      throw InputError(c.detections->source, "sync", "the cameras' keypoint sets differ");
     if (static_cast<int>(c.frame_times_s.size()) < c.detections->num_frames())
       throw InputError(c.detections->source,
                        "sync",
@@ -165,13 +173,14 @@ AutoSyncResult SyncFromDetections(const capture::Trial& trial,
     Cost out;
     double sum = 0.0;
     const VideoSync sync{offset, options.rate};
-    for (const CameraDetections& c : cameras) {
+    for (size_t ci = 0; ci < cameras.size(); ++ci) {
+      const CameraDetections& c = cameras[ci];
       for (int k = 0; k < c.detections->num_frames(); ++k) {
         const std::vector<capture::DetectedPerson>& people =
             c.detections->frames[static_cast<size_t>(k)];
         if (people.empty()) continue;
         const double t = sync.TrialTime(c.frame_times_s[static_cast<size_t>(k)]);
-        for (const auto& [p, j] : matches) {
+        for (const auto& [p, j] : matches[ci]) {
           const std::optional<Eigen::Vector3d> x = PositionAt(trial, p, t);
           if (!x) continue;
           const std::optional<Eigen::Vector2d> uv = c.camera->Project(options.axes.ToWorld(*x));
@@ -211,7 +220,8 @@ AutoSyncResult SyncFromImageMotion(const capture::Trial& trial,
   // frame from the one before less twice its mean (the sensor noise and flicker everywhere), and
   // per row the running sums of what is left, so that any box's motion is a sum over its rows.
   const int n = info.num_frames;
-  int factor = std::max(1, (info.width + options.analysis_width_px - 1) / options.analysis_width_px);
+  int factor =
+      std::max(1, (info.width + options.analysis_width_px - 1) / options.analysis_width_px);
   // At most 512 MiB of row sums: a long video is analysed at a coarser scale.
   auto bytes = [&](int f) {
     return std::int64_t(n) * (info.height / f) * (info.width / f + 1) * std::int64_t(4);
@@ -239,7 +249,8 @@ AutoSyncResult SyncFromImageMotion(const capture::Trial& trial,
         float s = 0;
         for (int dy = 0; dy < factor; ++dy) {
           const std::uint8_t* px =
-              frame.rgb.data() + (static_cast<size_t>(y * factor + dy) * frame.width + x * factor) * 3;
+              frame.rgb.data() +
+              (static_cast<size_t>(y * factor + dy) * frame.width + x * factor) * 3;
           for (int dx = 0; dx < factor; ++dx, px += 3)
             s += 0.299f * px[0] + 0.587f * px[1] + 0.114f * px[2];
         }
@@ -279,7 +290,8 @@ AutoSyncResult SyncFromImageMotion(const capture::Trial& trial,
   auto project = [&](int f, std::vector<std::optional<Eigen::Vector2d>>* out) {
     out->assign(static_cast<size_t>(trial.num_points()), std::nullopt);
     for (int p = 0; p < trial.num_points(); ++p)
-      if (trial.valid(f, p)) (*out)[static_cast<size_t>(p)] = camera.Project(options.axes.ToWorld(trial.position(f, p)));
+      if (trial.valid(f, p))
+        (*out)[static_cast<size_t>(p)] = camera.Project(options.axes.ToWorld(trial.position(f, p)));
   };
   project(0, &uv);
   for (int f = 0; f + 1 < trial.num_frames; ++f) {
@@ -314,7 +326,8 @@ AutoSyncResult SyncFromImageMotion(const capture::Trial& trial,
     double sm = 0, ss = 0, smm = 0, sss = 0, sms = 0;
     int count = 0;
     for (int k = 1; k < n; ++k) {
-      const double t = sync.TrialTime(0.5 * (times[static_cast<size_t>(k - 1)] + times[static_cast<size_t>(k)]));
+      const double t =
+          sync.TrialTime(0.5 * (times[static_cast<size_t>(k - 1)] + times[static_cast<size_t>(k)]));
       const double x = t * trial.point_rate_hz;
       if (!(x >= 0.0) || x >= trial.num_frames - 1) continue;
       const Sample& s = samples[static_cast<size_t>(x)];
@@ -325,7 +338,9 @@ AutoSyncResult SyncFromImageMotion(const capture::Trial& trial,
         m += double(row[s.x1]) - double(row[s.x0]);
       }
       // The trial's speed over one video frame, not one sample.
-      const double v = s.speed * trial.point_rate_hz * (times[static_cast<size_t>(k)] - times[static_cast<size_t>(k - 1)]) / options.rate;
+      const double v = s.speed * trial.point_rate_hz *
+                       (times[static_cast<size_t>(k)] - times[static_cast<size_t>(k - 1)]) /
+                       options.rate;
       sm += m;
       ss += v;
       smm += m * m;

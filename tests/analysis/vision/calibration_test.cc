@@ -84,7 +84,8 @@ TEST(Calibration, PhonesFromTheirCheckerboardPhotosAgreeWithQualisys) {
     EXPECT_LT(result.rms_px, 0.5);
     int skipped = 0;
     for (const CalibrationView& v : result.views) {
-      const bool expected_missing = *no_board[cam] && v.source.find(no_board[cam]) != std::string::npos;
+      const bool expected_missing =
+          *no_board[cam] && v.source.find(no_board[cam]) != std::string::npos;
       EXPECT_EQ(v.board_found, !expected_missing) << v.source;
       if (!v.board_found) {
         EXPECT_EQ(v.note, "no board found");
@@ -110,7 +111,8 @@ TEST(Calibration, CheckerboardSaysQualisysDistortionNeedsNoDivisionBy64) {
   for (int cam = 0; cam < 4; ++cam) {
     const std::string name = "cam0" + std::to_string(cam + 1);
     std::vector<fs::path> photos;
-    for (const auto& e : fs::directory_iterator(root / "intrinsics" / name)) photos.push_back(e.path());
+    for (const auto& e : fs::directory_iterator(root / "intrinsics" / name))
+      photos.push_back(e.path());
     const IntrinsicCalibration r =
         CalibrateIntrinsics(photos, ParseCalibrationBoard("checkerboard:4x7:60mm"), options);
     const double k1 = r.camera.distortion[0];
@@ -124,8 +126,8 @@ TEST(Calibration, CheckerboardSaysQualisysDistortionNeedsNoDivisionBy64) {
 }
 
 // A camera with known K and distortion looking at a printed board from eight poses: the pixels
-// come from OpenCV's projectPoints, the board is drawn by warping its picture with the homography of
-// each pose, and the distortion applied by remapping (initUndistortRectifyMap's inverse map).
+// come from OpenCV's projectPoints, the board is drawn by warping its picture with the homography
+// of each pose, and the distortion applied by remapping (initUndistortRectifyMap's inverse map).
 cv::Mat RenderBoardView(const cv::Mat& board_image,
                         double board_px_per_m,
                         const cv::Mat& K,
@@ -140,8 +142,8 @@ cv::Mat RenderBoardView(const cv::Mat& board_image,
   const cv::Matx33d S(board_px_per_m, 0, 0, 0, board_px_per_m, 0, 0, 0, 1);
   const cv::Matx33d H = cv::Matx33d(K) * M * S.inv();
   cv::Mat ideal;
-  cv::warpPerspective(board_image, ideal, cv::Mat(H), size, cv::INTER_AREA, cv::BORDER_CONSTANT,
-                      cv::Scalar(255));
+  cv::warpPerspective(
+      board_image, ideal, cv::Mat(H), size, cv::INTER_AREA, cv::BORDER_CONSTANT, cv::Scalar(255));
   // Distort: each output (distorted) pixel samples the ideal image where its undistorted
   // position is.
   cv::Mat map_x(size, CV_32F), map_y(size, CV_32F);
@@ -159,16 +161,23 @@ cv::Mat RenderBoardView(const cv::Mat& board_image,
   return view;
 }
 
-void CheckSyntheticCalibration(const CalibrationBoard& board, const cv::Mat& board_image, double px_per_m) {
+void CheckSyntheticCalibration(const CalibrationBoard& board,
+                               const cv::Mat& board_image,
+                               double px_per_m) {
   const cv::Size size(800, 600);
   const cv::Mat K = (cv::Mat_<double>(3, 3) << 700, 0, 410, 0, 700, 290, 0, 0, 1);
   const cv::Mat dist = (cv::Mat_<double>(1, 5) << -0.15, 0.05, 0.0, 0.0, 0.0);
   const fs::path dir = Scratch("synthetic_board");
   std::vector<fs::path> views;
   const double width_m = board_image.cols / px_per_m, height_m = board_image.rows / px_per_m;
-  const cv::Vec3d tilts[8] = {{0.3, 0.0, 0.0}, {-0.3, 0.1, 0.05}, {0.0, 0.35, 0.0},
-                              {0.1, -0.35, 0.1}, {0.25, 0.25, -0.1}, {-0.25, -0.2, 0.0},
-                              {0.05, 0.05, 0.3}, {-0.1, 0.3, -0.2}};
+  const cv::Vec3d tilts[8] = {{0.3, 0.0, 0.0},
+                              {-0.3, 0.1, 0.05},
+                              {0.0, 0.35, 0.0},
+                              {0.1, -0.35, 0.1},
+                              {0.25, 0.25, -0.1},
+                              {-0.25, -0.2, 0.0},
+                              {0.05, 0.05, 0.3},
+                              {-0.1, 0.3, -0.2}};
   for (int i = 0; i < 8; ++i) {
     // The board's centre 0.4–0.5 m in front of the camera, off axis so that the views cover the
     // image's corners, where the distortion shows.
@@ -231,15 +240,20 @@ TEST(Calibration, BoardsAreParsedOrRefusedInOneLine) {
   EXPECT_EQ(b.ObjectPoints().size(), 28u);
   EXPECT_DOUBLE_EQ(b.ObjectPoints()[5].x(), 0.06);  // row by row: (1, 1)
   EXPECT_DOUBLE_EQ(b.ObjectPoints()[5].y(), 0.06);
-  auto error = [](const std::string& text) { return ErrorOf([&] { ParseCalibrationBoard(text); }); };
-  EXPECT_NE(error("checkerboard:4x7").find("--board: 'checkerboard:4x7': expected"), std::string::npos);
+  auto error = [](const std::string& text) {
+    return ErrorOf([&] { ParseCalibrationBoard(text); });
+  };
+  EXPECT_NE(error("checkerboard:4x7").find("--board: 'checkerboard:4x7': expected"),
+            std::string::npos);
   EXPECT_NE(error("checkerboard:4by7:60mm").find("grid '4by7'"), std::string::npos);
   EXPECT_NE(error("checkerboard:1x7:60mm").find("needs 2 to 100"), std::string::npos);
   EXPECT_NE(error("checkerboard:4x7:sixty").find("square size 'sixty'"), std::string::npos);
-  EXPECT_NE(error("circles:4x7:60mm").find("starts with checkerboard: or charuco:"), std::string::npos);
+  EXPECT_NE(error("circles:4x7:60mm").find("starts with checkerboard: or charuco:"),
+            std::string::npos);
 #if ACRO_HAVE_ARUCO
   EXPECT_NE(error("charuco:5x7:40mm:50mm").find("smaller than the square"), std::string::npos);
-  EXPECT_NE(error("charuco:5x7:40mm:30mm:DICT_9X9").find("unknown ArUco dictionary"), std::string::npos);
+  EXPECT_NE(error("charuco:5x7:40mm:30mm:DICT_9X9").find("unknown ArUco dictionary"),
+            std::string::npos);
 #endif
 }
 
@@ -249,14 +263,17 @@ TEST(Calibration, TooFewViewsAndMixedSizesAreRefused) {
   cv::imwrite((dir / "b.png").string(), cv::Mat(400, 640, CV_8UC1, cv::Scalar(128)));
   std::ofstream(dir / "c.jpg") << "not a picture";
   const CalibrationBoard board = ParseCalibrationBoard("checkerboard:4x7:60mm");
-  EXPECT_NE(ErrorOf([&] { CalibrateIntrinsics({dir / "a.png"}, board); })
-                .find("the board was usable in 0 of 1 images; 3 are needed"),
+  EXPECT_NE(ErrorOf([&] {
+              CalibrateIntrinsics({dir / "a.png"}, board);
+            }).find("the board was usable in 0 of 1 images; 3 are needed"),
             std::string::npos);
-  EXPECT_NE(ErrorOf([&] { CalibrateIntrinsics({dir / "a.png", dir / "b.png"}, board); })
-                .find("b.png: image is 640 x 400 px but"),
+  EXPECT_NE(ErrorOf([&] {
+              CalibrateIntrinsics({dir / "a.png", dir / "b.png"}, board);
+            }).find("b.png: image is 640 x 400 px but"),
             std::string::npos);
-  EXPECT_NE(ErrorOf([&] { CalibrateIntrinsics({dir / "c.jpg"}, board); })
-                .find("c.jpg: not an image OpenCV can read"),
+  EXPECT_NE(ErrorOf([&] {
+              CalibrateIntrinsics({dir / "c.jpg"}, board);
+            }).find("c.jpg: not an image OpenCV can read"),
             std::string::npos);
   fs::remove_all(dir);
 }
@@ -266,9 +283,14 @@ TEST(Calibration, TooFewViewsAndMixedSizesAreRefused) {
 TEST(Calibration, PoseFromKnownPointsIsQualisysPose) {
   const fs::path qca = acro::testing::RefdataFile("pose2sim-demo/calibration/Calib.qca.txt");
   ACRO_REQUIRE_REFDATA_FILE(qca);
-  const std::vector<Eigen::Vector3d> scene = {{-2.0, 0.3, 0.0}, {-2.0, 0.0, 0.0}, {-2.0, 0.0, 0.05},
-                                              {-2.0, -0.3, 0.0}, {0.0, 0.3, 0.0}, {0.0, 0.0, 0.0},
-                                              {0.0, 0.0, 0.05},  {0.0, -0.3, 0.0}};
+  const std::vector<Eigen::Vector3d> scene = {{-2.0, 0.3, 0.0},
+                                              {-2.0, 0.0, 0.0},
+                                              {-2.0, 0.0, 0.05},
+                                              {-2.0, -0.3, 0.0},
+                                              {0.0, 0.3, 0.0},
+                                              {0.0, 0.0, 0.0},
+                                              {0.0, 0.0, 0.05},
+                                              {0.0, -0.3, 0.0}};
   std::mt19937 rng(11);
   std::normal_distribution<double> noise(0.0, 0.3);
   for (const Camera& truth : ReadQualisysQca(qca)) {
@@ -291,12 +313,15 @@ TEST(Calibration, PoseFromKnownPointsIsQualisysPose) {
     EXPECT_LT((found.camera.CentreInWorld() - truth.CentreInWorld()).norm(), 0.05);
     const double angle = Eigen::AngleAxisd(found.camera.R_KW * truth.R_KW.transpose()).angle();
     EXPECT_LT(angle, 0.5 * M_PI / 180.0);
-    RecordProperty(truth.name + "_centre_error_mm",
-                   std::to_string(1000 * (found.camera.CentreInWorld() - truth.CentreInWorld()).norm()));
+    RecordProperty(
+        truth.name + "_centre_error_mm",
+        std::to_string(1000 * (found.camera.CentreInWorld() - truth.CentreInWorld()).norm()));
   }
   const Camera c = ReadQualisysQca(qca)[0];
   const std::string few = ErrorOf([&] {
-    CalibrateExtrinsics(c, {{"a", {0, 0, 0}}, {"b", {1, 0, 0}}, {"c", {0, 1, 0}}}, {{"a", {1, 1}}, {"b", {2, 2}}, {"c", {3, 1}}});
+    CalibrateExtrinsics(c,
+                        {{"a", {0, 0, 0}}, {"b", {1, 0, 0}}, {"c", {0, 1, 0}}},
+                        {{"a", {1, 1}}, {"b", {2, 2}}, {"c", {3, 1}}});
   });
   EXPECT_NE(few.find("points: 3 points are named in both"), std::string::npos) << few;
 }
@@ -350,7 +375,8 @@ TEST(Calibration, PoseFromTheTrampolineItself) {
 
 TEST(Calibration, PointFilesAreReadOrRefusedWithTheLine) {
   const fs::path dir = Scratch("points");
-  std::ofstream(dir / "p3.csv") << "name,x_m,y_m,z_m\nBED_C1,2.14,1.07,1.155\nBED_C2,-2.14,1.07,1.155\n";
+  std::ofstream(dir / "p3.csv")
+      << "name,x_m,y_m,z_m\nBED_C1,2.14,1.07,1.155\nBED_C2,-2.14,1.07,1.155\n";
   const std::vector<NamedPoint3> p = ReadPoints3dCsv(dir / "p3.csv");
   ASSERT_EQ(p.size(), 2u);
   EXPECT_EQ(p[1].name, "BED_C2");
@@ -400,8 +426,10 @@ TEST(Calibration, OpenCvFileStorageFilesAreReadInBothLayouts) {
     {
       cv::FileStorage intri((dir / ("intri" + ext)).string(), cv::FileStorage::WRITE);
       cv::FileStorage extri((dir / ("extri" + ext)).string(), cv::FileStorage::WRITE);
-      intri << "names" << "[";
-      extri << "names" << "[";
+      intri << "names"
+            << "[";
+      extri << "names"
+            << "[";
       for (const Camera& c : cameras) {
         intri << c.name;
         extri << c.name;
@@ -411,7 +439,8 @@ TEST(Calibration, OpenCvFileStorageFilesAreReadInBothLayouts) {
       for (const Camera& c : cameras) {
         intri << "K_" + c.name << mat(c.K) << "dist_" + c.name << cv::Mat(c.distortion, true).t();
         intri << "W_" + c.name << c.width_px << "H_" + c.name << c.height_px;
-        extri << "Rot_" + c.name << mat(c.R_KW) << "R_" + c.name << mat(RodriguesFromRotation(c.R_KW));
+        extri << "Rot_" + c.name << mat(c.R_KW) << "R_" + c.name
+              << mat(RodriguesFromRotation(c.R_KW));
         extri << "T_" + c.name << mat(c.t_KW);
       }
     }
@@ -428,9 +457,13 @@ TEST(Calibration, OpenCvFileStorageFilesAreReadInBothLayouts) {
   // Broken files: a missing matrix, a rotation that is not one, not FileStorage at all.
   {
     cv::FileStorage bad((dir / "bad.yml").string(), cv::FileStorage::WRITE);
-    bad << "names" << "[" << "a" << "]";
+    bad << "names"
+        << "["
+        << "a"
+        << "]";
     bad << "K_a" << cv::Mat::eye(3, 3, CV_64F) << "W_a" << 640 << "H_a" << 480;
-    bad << "Rot_a" << (cv::Mat_<double>(3, 3) << 1, 0, 0, 0, 2, 0, 0, 0, 1) << "T_a" << cv::Mat::zeros(3, 1, CV_64F);
+    bad << "Rot_a" << (cv::Mat_<double>(3, 3) << 1, 0, 0, 0, 2, 0, 0, 0, 1) << "T_a"
+        << cv::Mat::zeros(3, 1, CV_64F);
   }
   std::string e = ErrorOf([&] { ReadCameras(dir / "bad.yml"); });
   EXPECT_NE(e.find("bad.yml: camera 'a': the rotation is not orthonormal"), std::string::npos) << e;
@@ -445,7 +478,8 @@ TEST(Calibration, OpenCvFileStorageFilesAreReadInBothLayouts) {
   EXPECT_NE(e.find("text.yml: not an OpenCV FileStorage file"), std::string::npos) << e;
   EXPECT_EQ(e.find('\n'), std::string::npos);
   e = ErrorOf([&] { FindCamera(cameras, "cam_09", "calib.toml"); });
-  EXPECT_NE(e.find("calib.toml: --camera: no camera named 'cam_09' (there are cam_01, cam_02, cam_03, cam_04)"),
+  EXPECT_NE(e.find("calib.toml: --camera: no camera named 'cam_09' (there are cam_01, cam_02, "
+                   "cam_03, cam_04)"),
             std::string::npos)
       << e;
   fs::remove_all(dir);

@@ -93,8 +93,14 @@ TEST(Camera, UndistortionEqualsOpenCvsAndRaysProjectBack) {
     std::uniform_real_distribution<double> u(0.0, c.width_px), v(0.0, c.height_px);
     std::vector<cv::Point2d> pixels, expected;
     for (int k = 0; k < 50; ++k) pixels.emplace_back(u(rng), v(rng));
-    cv::undistortPoints(pixels, expected, K, cv::Mat(c.distortion, true), cv::noArray(), K,
-                        cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 100, 1e-14));
+    cv::undistortPoints(
+        pixels,
+        expected,
+        K,
+        cv::Mat(c.distortion, true),
+        cv::noArray(),
+        K,
+        cv::TermCriteria(cv::TermCriteria::COUNT + cv::TermCriteria::EPS, 100, 1e-14));
     for (size_t k = 0; k < pixels.size(); ++k) {
       const Eigen::Vector2d ours = c.Undistort({pixels[k].x, pixels[k].y});
       EXPECT_NEAR(ours.x(), expected[k].x, 1e-6) << c.name;

@@ -92,8 +92,8 @@ Balancing LoadBalancing() {
   b.cameras = ReadPose2SimToml(root / "calibration/Calib_qualisys.toml");
   for (int cam = 1; cam <= 4; ++cam) {
     const std::string name = "cam0" + std::to_string(cam);
-    b.detections.push_back(capture::ReadOpenPoseJson(
-        root / "balancing-trial/pose" / (name + "_json"), "body25b"));
+    b.detections.push_back(
+        capture::ReadOpenPoseJson(root / "balancing-trial/pose" / (name + "_json"), "body25b"));
   }
   for (int cam = 0; cam < 4; ++cam) {
     CameraDetections c;
@@ -137,6 +137,54 @@ TEST(AutoSync, DetectionsRecoverASevenFrameShiftWithinAThirdOfAFrame) {
   fs::remove_all(dir);
 }
 
+// The same detections as one CSV of all four cameras (the rows `project --csv` writes, with a
+// confidence column): the CSV reader feeds the same search.
+TEST(AutoSync, DetectionsFromACsvFindTheSameShift) {
+  const fs::path root = acro::testing::RefdataFile("pose2sim-demo");
+  ACRO_REQUIRE_REFDATA_FILE(root / "balancing-trial");
+  Balancing b = LoadBalancing();
+  const fs::path dir = Scratch("sync_csv");
+  std::ofstream csv(dir / "detections.csv");
+  csv << "camera,frame,time_s,marker,u_px,v_px,confidence\n";
+  for (size_t cam = 0; cam < 4; ++cam) {
+    const capture::KeypointDetections& d = b.detections[cam];
+    for (int k = 0; k < d.num_frames(); ++k) {
+      if (d.frames[size_t(k)].empty()) continue;
+      const capture::DetectedPerson& person = d.frames[size_t(k)].front();  // the first person
+      for (Eigen::Index j = 0; j < person.cols(); ++j)
+        if (person(2, j) > 0.5)
+          csv << b.cameras[cam].name << "," << k << "," << k / 60.0 << "," << d.names[size_t(j)]
+              << "," << person(0, j) << "," << person(1, j) << "," << person(2, j) << "\n";
+    }
+  }
+  csv.close();
+  std::vector<capture::KeypointDetections> from_csv;
+  for (size_t cam = 0; cam < 4; ++cam)
+    from_csv.push_back(
+        capture::ReadDetections(dir / "detections.csv", "body25b", b.cameras[cam].name));
+  EXPECT_EQ(from_csv[0].names.front(), "Nose");
+  for (size_t cam = 0; cam < 4; ++cam) b.per_camera[cam].detections = &from_csv[cam];
+  AutoSyncOptions options;
+  options.axes = ParseAxisMapping("zxy");
+  options.min_offset_s = -0.5;
+  options.max_offset_s = 0.5;
+  const fs::path trc = root / "balancing-trial/pose-3d/S00_P00_T01_BalancingTrial_0-100.trc";
+  const AutoSyncResult r =
+      SyncFromDetections(capture::ReadTrial(ShiftedTrc(trc, 7, dir)), b.per_camera, options);
+  RecordProperty("csv_shifted_offset_frames", std::to_string(r.sync.offset_s * 60));
+  EXPECT_NEAR(r.sync.offset_s * 60.0, 7.0, 1.0 / 3.0);
+  // A broken row names its line.
+  std::ofstream(dir / "bad.csv") << "frame,marker,u_px,v_px\n0,Nose,1,2\n1,Nose,x,2\n";
+  std::string e;
+  try {
+    capture::ReadDetections(dir / "bad.csv", "body25b");
+  } catch (const InputError& error) {
+    e = error.what();
+  }
+  EXPECT_NE(e.find("bad.csv: line 3: 'x' is not a number"), std::string::npos) << e;
+  fs::remove_all(dir);
+}
+
 TEST(AutoSync, DetectionsWithNoSharedNameAreRefused) {
   const fs::path root = acro::testing::RefdataFile("pose2sim-demo");
   ACRO_REQUIRE_REFDATA_FILE(root / "balancing-trial");
@@ -158,7 +206,8 @@ TEST(AutoSync, DetectionsWithNoSharedNameAreRefused) {
 // A virtual camera 10 m beside the trampoline films the sample routine's markers, drawn as white
 // discs on a noisy grey background; the video starts 0.37 s after the trial.
 TEST(AutoSync, ImageMotionFindsAVideoStarting037sLateWithinAFrame) {
-  const fs::path c3d = acro::testing::SourceDir() / "samples/trials/trampoline_routine/trampoline_routine.c3d";
+  const fs::path c3d =
+      acro::testing::SourceDir() / "samples/trials/trampoline_routine/trampoline_routine.c3d";
   const capture::Trial trial = capture::ReadTrial(c3d);
   // The bed's centre from its corner markers.
   Eigen::Vector3d bed = Eigen::Vector3d::Zero();
@@ -206,7 +255,8 @@ TEST(AutoSync, ImageMotionFindsAVideoStarting037sLateWithinAFrame) {
         for (int dy = -3; dy <= 3; ++dy)
           for (int dx = -3; dx <= 3; ++dx) {
             const int x = int(std::lround(uv->x())) + dx, y = int(std::lround(uv->y())) + dy;
-            if (dx * dx + dy * dy > 9 || x < 0 || y < 0 || x >= camera.width_px || y >= camera.height_px)
+            if (dx * dx + dy * dy > 9 || x < 0 || y < 0 || x >= camera.width_px ||
+                y >= camera.height_px)
               continue;
             std::uint8_t* px = &rgb[(size_t(y) * camera.width_px + x) * 3];
             px[0] = px[1] = px[2] = 250;

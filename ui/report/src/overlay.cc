@@ -31,9 +31,9 @@ constexpr double kPalette[10][3] = {{0.12, 0.47, 0.71},
                                     {0.09, 0.75, 0.81}};
 
 bool IsFrameFileName(const std::string& name) {
-  return name.size() == 16 && name.rfind("frame_", 0) == 0 &&
-         name.substr(12) == ".png" &&
-         std::all_of(name.begin() + 6, name.begin() + 12, [](char c) { return c >= '0' && c <= '9'; });
+  return name.size() == 16 && name.rfind("frame_", 0) == 0 && name.substr(12) == ".png" &&
+         std::all_of(
+             name.begin() + 6, name.begin() + 12, [](char c) { return c >= '0' && c <= '9'; });
 }
 
 }  // namespace
@@ -72,8 +72,8 @@ int WriteProjectionOverlay(capture::VideoReader& video,
   const std::vector<double>& times = video.frame_times_s();
   const std::vector<vision::ProjectedPoint> points =
       vision::ProjectTrialOnFrames(trial, camera, times, options.sync, options.axes);
-  const double radius =
-      options.radius_px > 0 ? options.radius_px
+  const double radius = options.radius_px > 0
+                            ? options.radius_px
                             : std::max(3.0, 0.004 * std::hypot(info.width, info.height));
   const bool mp4 = output.extension() == ".mp4";
 
@@ -142,7 +142,8 @@ int WriteProjectionOverlay(capture::VideoReader& video,
     std::error_code ec;
     if (fs::exists(output)) fs::remove_all(output, ec);
     fs::rename(staging, output, ec);
-    if (ec) throw InputError(output.string(), "", "cannot move the frames into place: " + ec.message());
+    if (ec)
+      throw InputError(output.string(), "", "cannot move the frames into place: " + ec.message());
     cleanup.dir.clear();
   }
   return written;

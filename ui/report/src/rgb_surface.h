@@ -37,7 +37,8 @@ inline void RgbFromSurface(cairo_surface_t* surface, std::vector<std::uint8_t>* 
   const std::uint8_t* data = cairo_image_surface_get_data(surface);
   rgb->resize(3 * static_cast<size_t>(width) * height);
   for (int y = 0; y < height; ++y) {
-    const auto* row = reinterpret_cast<const std::uint32_t*>(data + static_cast<size_t>(y) * stride);
+    const auto* row =
+        reinterpret_cast<const std::uint32_t*>(data + static_cast<size_t>(y) * stride);
     std::uint8_t* dst = rgb->data() + 3 * static_cast<size_t>(y) * width;
     for (int x = 0; x < width; ++x) {
       dst[3 * x] = static_cast<std::uint8_t>(row[x] >> 16);

@@ -20,9 +20,10 @@ Chart MakeSyncCostChart(const vision::AutoSyncResult& result, double frame_s) {
   chart.series.push_back(cost);
   ShadedInterval found;
   const double x = result.sync.offset_s / unit;
-  const double half = frame_s > 0 ? 0.5 : 0.5 * (result.offsets_s.size() > 1
-                                                     ? result.offsets_s[1] - result.offsets_s[0]
-                                                     : 0.01);
+  const double half =
+      frame_s > 0
+          ? 0.5
+          : 0.5 * (result.offsets_s.size() > 1 ? result.offsets_s[1] - result.offsets_s[0] : 0.01);
   found.x0 = x - half;
   found.x1 = x + half;
   found.color = {0.84, 0.15, 0.16};

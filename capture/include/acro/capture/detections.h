@@ -39,4 +39,18 @@ struct KeypointDetections {
 KeypointDetections ReadOpenPoseJson(const std::filesystem::path& directory,
                                     const std::string& keypoint_set);
 
+/// Reads 2D detections from a CSV with a header naming at least the columns `frame` (the video
+/// frame, 0-based), `marker` (or `keypoint`), `u_px` and `v_px`, and optionally `confidence`
+/// (default 1) and `camera` (rows of other cameras than `camera` are skipped when both are given):
+/// the rows `acrolab project --csv` writes, or a hand-labelled or tracked set (one person per
+/// frame). The names are the file's, in order of first appearance. Throws acro::InputError naming
+/// the file and line.
+KeypointDetections ReadDetectionsCsv(const std::filesystem::path& path,
+                                     const std::string& camera = "");
+
+/// A directory: ReadOpenPoseJson; a .csv file: ReadDetectionsCsv.
+KeypointDetections ReadDetections(const std::filesystem::path& path,
+                                  const std::string& keypoint_set,
+                                  const std::string& camera = "");
+
 }  // namespace acro::capture

@@ -39,11 +39,11 @@ CalibrationBoard ParseCalibrationBoard(const std::string& text);
 struct CalibrationView {
   std::string source;  ///< the file, with "@frame N" for a video frame
   bool board_found = false;
-  bool used = false;      ///< in the final calibration
-  int points = 0;         ///< corners detected
-  double rms_px = 0.0;    ///< this view's reprojection RMS (final calibration, or the one that
-                          ///< rejected it)
-  std::string note;       ///< why it was skipped or rejected; empty when used
+  bool used = false;    ///< in the final calibration
+  int points = 0;       ///< corners detected
+  double rms_px = 0.0;  ///< this view's reprojection RMS (final calibration, or the one that
+                        ///< rejected it)
+  std::string note;     ///< why it was skipped or rejected; empty when used
 };
 
 struct IntrinsicCalibrationOptions {

@@ -29,7 +29,8 @@ struct Camera {
   std::optional<Eigen::Vector2d> Project(const Eigen::Vector3d& p_W) const;
   /// The inverse of the distortion: the pixel a distortion-free camera with the same K would
   /// show for what this camera shows at `uv_px` (OpenCV's undistortPoints with P = K). Solved by
-  /// fixed-point iteration on the normalised coordinates to 1e-12, as OpenCV does, at most 100 steps.
+  /// fixed-point iteration on the normalised coordinates to 1e-12, as OpenCV does, at most 100
+  /// steps.
   Eigen::Vector2d Undistort(const Eigen::Vector2d& uv_px) const;
   /// The unit direction, in the world, of the ray through pixel `uv_px` (distortion removed).
   Eigen::Vector3d RayInWorld(const Eigen::Vector2d& uv_px) const;

@@ -34,7 +34,7 @@ struct ProjectedPoint {
   double time_s = 0;  ///< the video time: of that sample + the offset, or of that frame
   int marker = 0;     ///< index into the trial's points
   Eigen::Vector2d uv_px = Eigen::Vector2d::Zero();  ///< distortion applied
-  int sample = 0;  ///< the trial's sample the point comes from
+  int sample = 0;                                   ///< the trial's sample the point comes from
 };
 
 /// Every non-gap point of every sample in front of the camera, in sample then point order.
