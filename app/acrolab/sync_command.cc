@@ -85,7 +85,7 @@ int RunSync(const SyncArguments& args) {
   } else {
     if (videos.size() != 1)
       throw UsageError{"without --detections, give one --video to sync from its image motion"};
-    capture::VideoReader video(videos[0].second);
+    capture::VideoReader video(videos[0].second, {.pixels = capture::VideoPixels::kGrey});
     options.progress = MakeCancellableProgress("image motion", "frames");
     result = vision::SyncFromImageMotion(trial, *videos[0].first, video, options);
   }

@@ -33,7 +33,7 @@ int RunVideoFrame(const VideoFrameArguments& args) {
   capture::VideoReader reader(args.file);
   const int index = args.frame ? *args.frame : reader.FrameAt(*args.time_s);
   const capture::VideoFrame frame = reader.Frame(index);
-  ui::WriteRgbPng(frame.width, frame.height, frame.rgb, args.out);
+  ui::WriteRgbPng(frame.width, frame.height, frame.pixels, args.out);
   std::printf("frame %d at %.6f s (%d x %d) -> %s\n",
               frame.index,
               frame.time_s,

@@ -15,6 +15,7 @@ extern "C" {
 }
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <thread>
 
@@ -42,10 +43,10 @@ int DisplayRotation(const AVStream* stream) {
 }
 
 // Rotates an RGB image clockwise by 90, 180 or 270 degrees.
-void RotateRgb(int rotation_deg, VideoFrame* f) {
+void RotatePixels(int rotation_deg, VideoFrame* f) {
   if (rotation_deg == 0) return;
-  const int w = f->width, h = f->height;
-  std::vector<std::uint8_t> out(f->rgb.size());
+  const int w = f->width, h = f->height, c = f->channels;
+  std::vector<std::uint8_t> out(f->pixels.size());
   const bool quarter = rotation_deg != 180;
   const int ow = quarter ? h : w;
   for (int y = 0; y < h; ++y) {
@@ -61,12 +62,12 @@ void RotateRgb(int rotation_deg, VideoFrame* f) {
         ox = y;
         oy = w - 1 - x;
       }
-      std::copy_n(&f->rgb[3 * (static_cast<size_t>(y) * w + x)],
-                  3,
-                  &out[3 * (static_cast<size_t>(oy) * ow + ox)]);
+      std::copy_n(&f->pixels[c * (static_cast<size_t>(y) * w + x)],
+                  c,
+                  &out[c * (static_cast<size_t>(oy) * ow + ox)]);
     }
   }
-  f->rgb.swap(out);
+  f->pixels.swap(out);
   if (quarter) std::swap(f->width, f->height);
 }
 
@@ -95,6 +96,11 @@ struct VideoReader::Impl {
   // output stays bit-exact; frames shown after it are all decoded, so that a sequential pass or a
   // forward step can go on from the target. AV_NOPTS_VALUE: decode everything.
   std::int64_t wanted_pts = AV_NOPTS_VALUE;
+  VideoPixels pixels = VideoPixels::kRgb;  // what Convert hands out
+  // GreyFromLuma's table, for one pixel format and range.
+  std::array<std::uint8_t, 256> grey_table{};
+  AVPixelFormat grey_table_format = AV_PIX_FMT_NONE;
+  int grey_table_range = -1;
 
   ~Impl() {
     sws_freeContext(scaler);
@@ -109,6 +115,8 @@ struct VideoReader::Impl {
   }
 
   void Open(const VideoReaderOptions& options);
+  // Grey straight from the luma plane when the format allows; false: use swscale.
+  bool GreyFromLuma(VideoFrame* out);
   void Index();
   void Rewind(std::int64_t to_pts);
   // The next decoded frame in presentation order into `frame`; false at the end of the stream.
@@ -135,6 +143,7 @@ void VideoReader::Impl::Open(const VideoReaderOptions& options) {
   if (decoder == nullptr) Fail("", "out of memory for the decoder");
   rc = avcodec_parameters_to_context(decoder, st->codecpar);
   if (rc < 0) Fail("", "bad codec parameters: " + AvError(rc));
+  pixels = options.pixels;
   decoder->thread_count = options.num_threads > 0
                               ? options.num_threads
                               : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
@@ -256,20 +265,93 @@ int VideoReader::Impl::IndexOfPts(std::int64_t p) const {
   return it != pts.end() && *it == p ? static_cast<int>(it - pts.begin()) : -1;
 }
 
+bool VideoReader::Impl::GreyFromLuma(VideoFrame* out) {
+  // 8-bit formats whose first plane is the luma: grey is that plane through a table of what
+  // swscale makes of each of the 256 values with this frame's range — the same numbers as its
+  // GRAY8 conversion (which maps each pixel alone), at the cost of a table lookup.
+  const auto pix = static_cast<AVPixelFormat>(frame->format);
+  static const AVPixelFormat kLumaFirst[] = {AV_PIX_FMT_YUV420P,
+                                             AV_PIX_FMT_YUVJ420P,
+                                             AV_PIX_FMT_YUV422P,
+                                             AV_PIX_FMT_YUVJ422P,
+                                             AV_PIX_FMT_YUV444P,
+                                             AV_PIX_FMT_YUVJ444P,
+                                             AV_PIX_FMT_NV12,
+                                             AV_PIX_FMT_NV21};
+  if (std::find(std::begin(kLumaFirst), std::end(kLumaFirst), pix) == std::end(kLumaFirst))
+    return false;
+  const int range = frame->color_range == AVCOL_RANGE_JPEG || pix == AV_PIX_FMT_YUVJ420P ||
+                            pix == AV_PIX_FMT_YUVJ422P || pix == AV_PIX_FMT_YUVJ444P
+                        ? 1
+                        : 0;
+  if (grey_table_format != pix || grey_table_range != frame->color_range) {
+    // A 256 × 2 frame of this format holding every luma value once per row, through swscale.
+    const int w = 256, h = 2;
+    AVFrame* probe = av_frame_alloc();
+    if (probe == nullptr) return false;
+    probe->format = pix;
+    probe->width = w;
+    probe->height = h;
+    if (av_frame_get_buffer(probe, 0) < 0) {
+      av_frame_free(&probe);
+      return false;
+    }
+    for (int y = 0; y < h; ++y)
+      for (int x = 0; x < w; ++x) probe->data[0][y * probe->linesize[0] + x] = std::uint8_t(x);
+    for (int p = 1; p < 4 && probe->data[p] != nullptr; ++p)
+      std::fill_n(probe->data[p], probe->linesize[p] * h, std::uint8_t(128));
+    SwsContext* sws =
+        sws_getContext(w, h, pix, w, h, AV_PIX_FMT_GRAY8, SWS_BICUBIC, nullptr, nullptr, nullptr);
+    if (sws == nullptr) {
+      av_frame_free(&probe);
+      return false;
+    }
+    sws_setColorspaceDetails(sws,
+                             sws_getCoefficients(SWS_CS_DEFAULT),
+                             range,
+                             sws_getCoefficients(SWS_CS_DEFAULT),
+                             1,
+                             0,
+                             1 << 16,
+                             1 << 16);
+    std::vector<std::uint8_t> row(static_cast<size_t>(w) * h + 64);
+    std::uint8_t* dst[1] = {row.data()};
+    const int dst_stride[1] = {w};
+    sws_scale(sws, probe->data, probe->linesize, 0, h, dst, dst_stride);
+    sws_freeContext(sws);
+    av_frame_free(&probe);
+    std::copy_n(row.begin(), 256, grey_table.begin());
+    grey_table_format = pix;
+    grey_table_range = frame->color_range;
+  }
+  for (int y = 0; y < out->height; ++y) {
+    const std::uint8_t* src = frame->data[0] + static_cast<std::ptrdiff_t>(y) * frame->linesize[0];
+    std::uint8_t* dst = out->pixels.data() + static_cast<size_t>(y) * out->width;
+    for (int x = 0; x < out->width; ++x) dst[x] = grey_table[src[x]];
+  }
+  return true;
+}
+
 void VideoReader::Impl::Convert(int index, VideoFrame* frame_out) {
   VideoFrame& out = *frame_out;  // its pixel buffer is reused from call to call
   out.index = index;
   out.time_s = times_s[static_cast<size_t>(index)];
   out.width = frame->width;
   out.height = frame->height;
-  out.rgb.resize(3 * static_cast<size_t>(out.width) * out.height);
+  const bool grey = pixels == VideoPixels::kGrey;
+  out.channels = grey ? 1 : 3;
+  out.pixels.resize(out.channels * static_cast<size_t>(out.width) * out.height);
+  if (grey && GreyFromLuma(&out)) {
+    RotatePixels(info.rotation_deg, &out);
+    return;
+  }
   scaler = sws_getCachedContext(scaler,
                                 frame->width,
                                 frame->height,
                                 static_cast<AVPixelFormat>(frame->format),
                                 frame->width,
                                 frame->height,
-                                AV_PIX_FMT_RGB24,
+                                grey ? AV_PIX_FMT_GRAY8 : AV_PIX_FMT_RGB24,
                                 SWS_BICUBIC,
                                 nullptr,
                                 nullptr,
@@ -277,7 +359,9 @@ void VideoReader::Impl::Convert(int index, VideoFrame* frame_out) {
   if (scaler == nullptr)
     Fail(fmt::format("frame {}", index), "no conversion of its pixel format to RGB");
   // The frame's own matrix and range (the command line's scaler does the same, "auto").
-  const int colorspace = frame->colorspace == AVCOL_SPC_UNSPECIFIED
+  // Grey is luma alone: no matrix applies, only the range (with a matrix set, swscale leaves its
+  // exact luma path for a dithered one).
+  const int colorspace = frame->colorspace == AVCOL_SPC_UNSPECIFIED || grey
                              ? SWS_CS_DEFAULT
                              : static_cast<int>(frame->colorspace);
   sws_setColorspaceDetails(scaler,
@@ -290,16 +374,17 @@ void VideoReader::Impl::Convert(int index, VideoFrame* frame_out) {
                            1 << 16);
   // swscale's SIMD writes whole vectors: convert into rows padded to 64 bytes (and a padded end),
   // then pack them.
-  const int stride = (3 * out.width + 63) / 64 * 64;
+  const int row_bytes = out.channels * out.width;
+  const int stride = (row_bytes + 63) / 64 * 64;
   scratch.resize(static_cast<size_t>(stride) * out.height + 64);
   std::uint8_t* dst[1] = {scratch.data()};
   const int dst_stride[1] = {stride};
   sws_scale(scaler, frame->data, frame->linesize, 0, frame->height, dst, dst_stride);
   for (int y = 0; y < out.height; ++y)
     std::copy_n(scratch.data() + static_cast<size_t>(y) * stride,
-                3 * out.width,
-                out.rgb.data() + 3 * static_cast<size_t>(y) * out.width);
-  RotateRgb(info.rotation_deg, &out);
+                row_bytes,
+                out.pixels.data() + static_cast<size_t>(y) * row_bytes);
+  RotatePixels(info.rotation_deg, &out);
 }
 
 VideoReader::VideoReader(const std::filesystem::path& path, const VideoReaderOptions& options)
@@ -402,7 +487,7 @@ bool VideoReader::ReadNext(VideoFrame* out) {
 
 std::uint64_t HashFrame(const VideoFrame& frame) {
   std::uint64_t h = 1469598103934665603ull;
-  for (std::uint8_t b : frame.rgb) {
+  for (std::uint8_t b : frame.pixels) {
     h ^= b;
     h *= 1099511628211ull;
   }

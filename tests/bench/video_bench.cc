@@ -44,7 +44,8 @@ fs::path File(int which) {
 
 const char* kNames[] = {"pose2sim_h264_1080x1920", "pose2sim_vp9_1080x1920", "h264_1920x1080"};
 
-// Our reader: every frame to RGB, in order.
+// Our reader: every frame in order, to RGB (second argument 0) or to grey (1: luma only, what
+// calibration and the image-motion sync read).
 void BM_DecodeSequential(benchmark::State& state) {
   const fs::path path = File(static_cast<int>(state.range(0)));
   if (path.empty() || !fs::exists(path)) {
@@ -53,16 +54,21 @@ void BM_DecodeSequential(benchmark::State& state) {
   }
   int frames = 0;
   for (auto _ : state) {
-    acro::capture::VideoReader reader(path, {.num_threads = kThreads});
+    const auto pixels =
+        state.range(1) ? acro::capture::VideoPixels::kGrey : acro::capture::VideoPixels::kRgb;
+    acro::capture::VideoReader reader(path, {.num_threads = kThreads, .pixels = pixels});
     acro::capture::VideoFrame frame;
     frames = 0;
     while (reader.ReadNext(&frame)) ++frames;
   }
-  state.SetLabel(kNames[state.range(0)]);
+  state.SetLabel(std::string(kNames[state.range(0)]) + (state.range(1) ? " grey" : " rgb"));
   state.counters["fps"] = benchmark::Counter(static_cast<double>(frames),
                                              benchmark::Counter::kIsIterationInvariantRate);
 }
-BENCHMARK(BM_DecodeSequential)->DenseRange(0, 2)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK(BM_DecodeSequential)
+    ->ArgsProduct({{0, 1, 2}, {0, 1}})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 // The command line on the same file and threads: decode only (range 1 = 0) or with the RGB
 // conversion (1).
@@ -102,7 +108,7 @@ void BM_RandomAccess2sAfterKeyframe1080p(benchmark::State& state) {
     state.PauseTiming();
     reader.Frame(200);
     state.ResumeTiming();
-    benchmark::DoNotOptimize(reader.Frame(60).rgb.data());
+    benchmark::DoNotOptimize(reader.Frame(60).pixels.data());
   }
 }
 BENCHMARK(BM_RandomAccess2sAfterKeyframe1080p)->Unit(benchmark::kMillisecond)->UseRealTime();

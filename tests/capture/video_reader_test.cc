@@ -48,7 +48,7 @@ bool HaveFfmpeg() {
 // FNV-1a of a byte range, as HashFrame computes it over a frame's pixels.
 std::uint64_t Hash(const std::uint8_t* data, size_t size) {
   VideoFrame f;
-  f.rgb.assign(data, data + size);
+  f.pixels.assign(data, data + size);
   return HashFrame(f);
 }
 
@@ -204,14 +204,61 @@ TEST(VideoReader, VariableFrameRateTimestampsAndDisplayRotation) {
   const std::string cli =
       CommandOutput("ffmpeg -v error -i " + Quote(rotated) +
                     " -vf \"select=eq(n\\,5)\" -vframes 1 -f rawvideo -pix_fmt rgb24 -");
-  ASSERT_EQ(cli.size(), ours.rgb.size());
+  ASSERT_EQ(cli.size(), ours.pixels.size());
   // The command line turns the YUV planes before converting, we the RGB picture after: the same
   // picture to chroma interpolation; a wrong turn would differ by whole colour bars.
   double sum = 0.0;
   for (size_t k = 0; k < cli.size(); ++k)
-    sum += std::abs(static_cast<int>(static_cast<std::uint8_t>(cli[k])) - ours.rgb[k]);
+    sum += std::abs(static_cast<int>(static_cast<std::uint8_t>(cli[k])) - ours.pixels[k]);
   EXPECT_LT(sum / cli.size(), 3.0);
   fs::remove_all(dir);
+}
+
+// Grey frames (luma, for calibration and the image-motion sync) are the ffmpeg command line's
+// `-pix_fmt gray` frames bit for bit, for a portrait H.264 and a VP9 file.
+TEST(VideoReader, GreyFramesEqualTheFfmpegCommandLinesGray) {
+  if (!HaveFfmpeg())
+    GTEST_SKIP() << "the ffmpeg command is not installed (scripts/install-deps.sh)";
+  for (const char* relative : {"pose2sim-demo/videos/cam01.mp4", "sports2d-demo/demo.mp4"}) {
+    const fs::path path = acro::testing::RefdataFile(relative);
+    ACRO_REQUIRE_REFDATA_FILE(path);
+    SCOPED_TRACE(relative);
+    VideoReader reader(path, {.num_threads = 2, .pixels = VideoPixels::kGrey});
+    const int w = reader.info().width, h = reader.info().height;
+    const std::string raw =
+        CommandOutput("ffmpeg -v error -i " + Quote(path) + " -f rawvideo -pix_fmt gray -");
+    const size_t frame_bytes = static_cast<size_t>(w) * h;
+    ASSERT_EQ(raw.size(), frame_bytes * static_cast<size_t>(reader.num_frames()));
+    VideoFrame frame;
+    int mismatches = 0;
+    while (reader.ReadNext(&frame)) {
+      ASSERT_EQ(frame.channels, 1);
+      ASSERT_EQ(frame.pixels.size(), frame_bytes);
+      const auto* expected =
+          reinterpret_cast<const std::uint8_t*>(raw.data()) + frame_bytes * size_t(frame.index);
+      if (HashFrame(frame) != Hash(expected, frame_bytes)) {
+        ++mismatches;
+        if (mismatches == 1) {
+          int worst = 0;
+          long sum = 0;
+          for (size_t k = 0; k < frame_bytes; ++k) {
+            const int d = std::abs(int(frame.pixels[k]) - int(expected[k]));
+            worst = std::max(worst, d);
+            sum += d;
+          }
+          ADD_FAILURE() << "frame " << frame.index << ": max " << worst << ", mean "
+                        << double(sum) / frame_bytes;
+        }
+      }
+    }
+    EXPECT_EQ(mismatches, 0);
+    // Random access gives the same grey frame.
+    const VideoFrame f = reader.Frame(reader.num_frames() / 2);
+    EXPECT_EQ(HashFrame(f),
+              Hash(reinterpret_cast<const std::uint8_t*>(raw.data()) +
+                       frame_bytes * size_t(reader.num_frames() / 2),
+                   frame_bytes));
+  }
 }
 
 TEST(VideoReader, BadInputIsOneLineNamingTheFile) {

@@ -73,7 +73,7 @@ TEST(VideoWriter, WritesH264Mp4ThatReadsBack) {
     for (int y = 0; y < h; ++y)
       for (int x = 0; x < w; ++x)
         for (int c = 0; c < 3; ++c) {
-          const double d = f.rgb[3 * (static_cast<size_t>(y) * f.width + x) + c] -
+          const double d = f.pixels[3 * (static_cast<size_t>(y) * f.width + x) + c] -
                            original[3 * (static_cast<size_t>(y) * w + x) + c];
           se += d * d;
         }

@@ -144,7 +144,7 @@ std::vector<Image> LoadImages(const std::filesystem::path& path, double step_s) 
     images.push_back({path.string(), grey});
     return images;
   }
-  capture::VideoReader reader(path);
+  capture::VideoReader reader(path, {.pixels = capture::VideoPixels::kGrey});
   const capture::VideoInfo& info = reader.info();
   capture::VideoFrame frame;
   double next_s = -1.0;
@@ -152,9 +152,7 @@ std::vector<Image> LoadImages(const std::filesystem::path& path, double step_s) 
     if (!reader.ReadNext(&frame)) break;
     if (frame.time_s + 1e-9 < next_s) continue;
     next_s = frame.time_s + step_s;
-    const cv::Mat rgb(frame.height, frame.width, CV_8UC3, frame.rgb.data());
-    cv::Mat grey;
-    cv::cvtColor(rgb, grey, cv::COLOR_RGB2GRAY);
+    const cv::Mat grey = cv::Mat(frame.height, frame.width, CV_8UC1, frame.pixels.data()).clone();
     images.push_back({fmt::format("{}@frame {}", path.string(), frame.index), grey});
   }
   return images;

@@ -246,13 +246,15 @@ AutoSyncResult SyncFromImageMotion(const capture::Trial& trial,
     }
     for (int y = 0; y < h; ++y) {
       for (int x = 0; x < w; ++x) {
+        // Grey readers hand out luma; RGB frames are weighted as Rec. 601 luma.
         float s = 0;
+        const int c = frame.channels;
         for (int dy = 0; dy < factor; ++dy) {
           const std::uint8_t* px =
-              frame.rgb.data() +
-              (static_cast<size_t>(y * factor + dy) * frame.width + x * factor) * 3;
-          for (int dx = 0; dx < factor; ++dx, px += 3)
-            s += 0.299f * px[0] + 0.587f * px[1] + 0.114f * px[2];
+              frame.pixels.data() +
+              (static_cast<size_t>(y * factor + dy) * frame.width + x * factor) * c;
+          for (int dx = 0; dx < factor; ++dx, px += c)
+            s += c == 1 ? float(px[0]) : 0.299f * px[0] + 0.587f * px[1] + 0.114f * px[2];
         }
         grey[static_cast<size_t>(y) * w + x] = s / float(factor * factor);
       }

@@ -266,7 +266,7 @@ TEST(AutoSync, ImageMotionFindsAVideoStarting037sLateWithinAFrame) {
     }
     writer.Finish();
   }
-  capture::VideoReader video(video_path);
+  capture::VideoReader video(video_path, {.pixels = capture::VideoPixels::kGrey});
   AutoSyncOptions options;
   options.min_offset_s = -2.0;
   options.max_offset_s = 2.0;

@@ -111,7 +111,7 @@ TEST(Overlay, PointsLandOnTheirSyncedFramesInPngsAndMp4) {
   EXPECT_EQ(result.num_frames(), 20);
   EXPECT_NEAR(result.info().average_fps, 20.0, 1e-6);
   const capture::VideoFrame f4 = result.Frame(4);
-  const std::uint8_t* px = &f4.rgb[(60 * 160 + 60) * 3];
+  const std::uint8_t* px = &f4.pixels[(60 * 160 + 60) * 3];
   EXPECT_NEAR(px[2], 0xB5, 12);  // blue channel, after H.264
   EXPECT_LT(px[0], 60);
 

@@ -10,6 +10,7 @@
 
 #include <fmt/format.h>
 
+#include "acro/base/demand.h"
 #include "acro/base/input_error.h"
 #include "acro/report/image.h"
 #include "rgb_surface.h"
@@ -116,6 +117,7 @@ int WriteProjectionOverlay(capture::VideoReader& video,
   std::vector<int> colour;
   int written = 0;
   while (video.ReadNext(&frame)) {
+    ACRO_DEMAND(frame.channels == 3);  // the caller opened the reader for RGB
     uv.clear();
     colour.clear();
     while (next < points.size() && points[next].frame < frame.index) ++next;
@@ -123,13 +125,13 @@ int WriteProjectionOverlay(capture::VideoReader& video,
       uv.push_back(points[next].uv_px);
       colour.push_back(points[next].marker);
     }
-    DrawPoints(frame.width, frame.height, uv, colour, radius, &frame.rgb);
+    DrawPoints(frame.width, frame.height, uv, colour, radius, &frame.pixels);
     if (writer) {
-      writer->Write(frame.rgb);
+      writer->Write(frame.pixels);
     } else {
       WriteRgbPng(frame.width,
                   frame.height,
-                  frame.rgb,
+                  frame.pixels,
                   staging / fmt::format("frame_{:06d}.png", frame.index));
     }
     ++written;

@@ -34,17 +34,24 @@ struct VideoInfo {
   std::vector<std::string> audio_codecs;  ///< one per audio track
 };
 
-/// One decoded frame: RGB, 3 bytes per pixel, rows top to bottom, width × height as displayed.
+/// One decoded frame, rows top to bottom, width × height as displayed: RGB, 3 bytes per pixel, or
+/// grey (full-range luma), 1 byte per pixel, as the reader was opened.
 struct VideoFrame {
   int index = -1;
   double time_s = 0.0;  ///< from the first frame (the first frame is at 0)
   int width = 0;
   int height = 0;
-  std::vector<std::uint8_t> rgb;
+  int channels = 3;  ///< 3: RGB; 1: grey
+  std::vector<std::uint8_t> pixels;
 };
+
+/// What a reader hands out: RGB for pictures and overlays, grey for the analyses that need only
+/// luma (board detection, image motion), which skips the colour conversion.
+enum class VideoPixels { kRgb, kGrey };
 
 struct VideoReaderOptions {
   int num_threads = 0;  ///< decoder threads; 0: as many as the machine has
+  VideoPixels pixels = VideoPixels::kRgb;
 };
 
 /// Reads one video file. Not thread-safe: one reader per thread.
