@@ -1,10 +1,14 @@
 // Argument helpers shared by the commands.
+#include <pthread.h>
 #include <unistd.h>
 
+#include <csignal>
 #include <cstdio>
+#include <thread>
 
 #include "acro/athlete/athlete_profile.h"
 #include "acro/athlete/de_leva.h"
+#include "acro/base/temporaries.h"
 #include "commands.h"
 
 namespace acro::app {
@@ -72,6 +76,26 @@ analysis::AthleteBody TrialArguments::MakeBody(const std::string& command,
                sex.c_str());
   return analysis::MakeDeLevaBody(
       height_m, mass_kg, sex == "f" ? analysis::Sex::kFemale : analysis::Sex::kMale);
+}
+
+void InstallInterruptCleanup() {
+  sigset_t signals;
+  sigemptyset(&signals);
+  sigaddset(&signals, SIGINT);
+  sigaddset(&signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
+  std::thread([signals] {
+    int received = 0;
+    if (sigwait(&signals, &received) != 0) return;
+    const int removed = RemoveRegisteredTemporaries();
+    std::fprintf(stderr,
+                 "\nacrolab: interrupted (%s); %d unfinished output%s removed\n",
+                 received == SIGINT ? "SIGINT" : "SIGTERM",
+                 removed,
+                 removed == 1 ? "" : "s");
+    std::fflush(stderr);
+    _exit(128 + received);
+  }).detach();
 }
 
 std::function<void(int, int)> MakeProgressBar(const std::string& label, const std::string& unit) {

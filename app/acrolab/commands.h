@@ -58,6 +58,11 @@ void DemandValidCommandLine(const Options& options) {
   if (!options.IsValid(&why)) throw UsageError{why};
 }
 
+/// Ctrl-C and SIGTERM: from here on both are received by one thread of their own (every thread the
+/// program starts later inherits the blocked mask), which removes every unfinished output
+/// (acro/base/temporaries.h), says so in one line and exits with 128 + the signal (130, 143).
+void InstallInterruptCleanup();
+
 /// Progress on stderr: "LABEL [####    ] 42% (done/total UNIT)" redrawn in place on a terminal, one
 /// line at the end otherwise (logs, pipes).
 std::function<void(int, int)> MakeProgressBar(const std::string& label, const std::string& unit);

@@ -25,6 +25,7 @@ std::string CommandName(const CLI::App& app) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  acro::app::InstallInterruptCleanup();
   CLI::App app(
       "Acrolab: training analysis for trampoline and other aerial sports. docs/cli.md has every "
       "command and output.",

@@ -10,6 +10,7 @@
 #include <system_error>
 
 #include "acro/base/input_error.h"
+#include "acro/base/temporaries.h"
 
 namespace acro {
 
@@ -42,6 +43,7 @@ void WriteFileAtomically(const std::filesystem::path& path, std::string_view byt
   std::random_device seed;
   const std::filesystem::path temp = path.parent_path() / ("." + path.filename().string() + ".tmp" +
                                                            std::to_string(seed() % 1000000));
+  const ScopedTemporary registered(temp);  // removed if the program is interrupted
   {
     std::ofstream out(temp, std::ios::binary | std::ios::trunc);
     if (!out) {

@@ -14,12 +14,15 @@ extern "C" {
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
+#include <optional>
 #include <random>
 #include <thread>
 
 #include <fmt/format.h>
 
 #include "acro/base/input_error.h"
+#include "acro/base/temporaries.h"
 #include "internal/ffmpeg.h"
 
 namespace acro::capture {
@@ -42,6 +45,7 @@ struct VideoWriter::Impl {
   std::vector<std::uint8_t> padded;  // RGB at the even size
   int written = 0;
   bool finished = false;
+  std::optional<ScopedTemporary> registered;  // the temporary file, while it exists
 
   ~Impl() {
     sws_freeContext(scaler);
@@ -97,6 +101,7 @@ VideoWriter::VideoWriter(const std::filesystem::path& path,
   std::random_device seed;
   m.temp = path.parent_path() /
            ("." + path.filename().string() + ".tmp" + std::to_string(seed() % 1000000) + ".mp4");
+  m.registered.emplace(m.temp);
 
   // The encoder: libx264, yuv420p, constant quality, one keyframe a second.
   const AVCodec* codec = avcodec_find_encoder_by_name("libx264");

@@ -488,4 +488,35 @@ TEST(Cli, SyncFromDetectionsFindsTheRecordedTrialInSync) {
   EXPECT_NEAR(std::stod(run.out.substr(at + 16)) * 60.0, 0.0, 1.0 / 3.0) << run.out;
 }
 
+// SIGTERM in the middle of an overlay: exit 143, one line saying so, and neither the output nor
+// its staging directory left behind.
+TEST(Cli, TerminatedOverlayLeavesNothingBehind) {
+  const auto root = acro::testing::RefdataFile("pose2sim-demo");
+  const auto trc = root / "balancing-trial/pose-3d/S00_P00_T01_BalancingTrial_0-100.trc";
+  ACRO_REQUIRE_REFDATA_FILE(trc);
+  const auto dir = acro::testing::TempDir() / "terminated";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const auto out = dir / "frames";
+  const std::string command = std::string(ACROLAB_EXE) + " project " + Quote(trc) + " --calib " +
+                              Quote(root / "calibration/Calib_qualisys.toml") +
+                              " --camera cam_02 --axes zxy --video " +
+                              Quote(root / "videos/cam02.mp4") + " -o " + Quote(out);
+  // Start it, wait until its staging directory holds a frame, then SIGTERM it.
+  std::ofstream(dir / "run.sh") << command << " 2>" << Quote(dir / "err.txt")
+                                << " >/dev/null &\npid=$!\nfor i in $(seq 400); do\n  ls "
+                                << Quote(dir) << "/frames.tmp-*/frame_000002.png >/dev/null 2>&1"
+                                << " && break\n  sleep 0.05\ndone\nkill -TERM $pid\nwait $pid\n"
+                                << "echo status=$?\n";
+  const ProcessResult run = Execute("bash " + Quote(dir / "run.sh"));
+  EXPECT_NE(run.out.find("status=143"), std::string::npos) << run.out << run.err;
+  const std::string err = Slurp(dir / "err.txt");
+  EXPECT_NE(err.find("acrolab: interrupted (SIGTERM); 1 unfinished output removed"),
+            std::string::npos)
+      << err;
+  EXPECT_FALSE(std::filesystem::exists(out));
+  for (const auto& e : std::filesystem::directory_iterator(dir))
+    EXPECT_EQ(e.path().filename().string().find("frames.tmp-"), std::string::npos) << e.path();
+}
+
 }  // namespace

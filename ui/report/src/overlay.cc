@@ -12,6 +12,7 @@
 
 #include "acro/base/demand.h"
 #include "acro/base/input_error.h"
+#include "acro/base/temporaries.h"
 #include "acro/report/image.h"
 #include "rgb_surface.h"
 
@@ -102,7 +103,10 @@ int WriteProjectionOverlay(capture::VideoReader& video,
     if (!fs::create_directories(staging, ec))
       throw InputError(staging.string(), "", "cannot create the directory: " + ec.message());
   }
-  // On any failure the staging directory goes (the MP4 writer removes its own temporary file).
+  // On any failure the staging directory goes (the MP4 writer removes its own temporary file), and
+  // an interrupt removes it too.
+  std::optional<ScopedTemporary> registered;
+  if (!staging.empty()) registered.emplace(staging);
   struct Cleanup {
     fs::path dir;
     ~Cleanup() {

@@ -1,0 +1,40 @@
+#pragma once
+
+// The vocabulary of what to draw: meshes, line segments and points in the lab frame W (metres),
+// with colours by meaning. Plain data, so that a scene is built and tested without a display and
+// any renderer (ui/views, VTK) draws it the same way.
+
+#include <string>
+
+#include <Eigen/Core>
+
+namespace acro::analysis {
+
+/// A colour with components in [0, 1] and an opacity (1 opaque).
+struct Rgba {
+  float r = 0.6f;
+  float g = 0.6f;
+  float b = 0.6f;
+  float a = 1.0f;
+};
+
+/// A triangle mesh: vertices (3 × V, W) and triangles (3 × T vertex indices, counter-clockwise seen
+/// from outside).
+struct SceneMesh {
+  std::string name;
+  Eigen::Matrix3Xd vertices_W;
+  Eigen::Matrix3Xi triangles;
+  Rgba colour;
+};
+
+/// Line segments: points 2k and 2k + 1 are the ends of segment k (3 × 2N, W).
+struct SceneLines {
+  std::string name;
+  Eigen::Matrix3Xd points_W;
+  Rgba colour;
+  double width_px = 2.0;
+
+  int num_segments() const { return static_cast<int>(points_W.cols() / 2); }
+};
+
+}  // namespace acro::analysis
