@@ -1,0 +1,69 @@
+#pragma once
+
+// Silhouettes (issue "virtual against real"): the athlete's, cut out of a video by a background
+// model, and a virtual body's, by projecting its mesh with the camera model and filling the
+// triangles (no renderer needed); their intersection over union says how well the two agree — a
+// wrong sync or calibration shows as a drop.
+
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "acro/capture/video.h"
+#include "acro/vision/camera.h"
+
+namespace acro::vision {
+
+/// A binary image, rows top to bottom, one byte per pixel: 255 inside, 0 outside.
+struct Mask {
+  int width = 0;
+  int height = 0;
+  std::vector<std::uint8_t> pixels;
+
+  int CountInside() const;
+};
+
+/// The silhouette of a triangle mesh (vertices in W, 3 × V; triangles 3 × T) in the camera's
+/// image: every triangle with all three vertices in front of the camera, its vertices projected
+/// (distortion applied) and the triangle filled. Triangles crossing the camera plane are left out.
+Mask RenderSilhouette(const Camera& camera,
+                      const Eigen::Matrix3Xd& vertices_W,
+                      const Eigen::Matrix3Xi& triangles);
+
+/// |A ∩ B| / |A ∪ B| of two masks of one size (1 when both are empty). Throws
+/// std::invalid_argument for masks of different sizes.
+double IntersectionOverUnion(const Mask& a, const Mask& b);
+
+struct BackgroundOptions {
+  /// A pixel is foreground where it differs from the background by more than this (grey levels).
+  int threshold = 25;
+  /// Morphological opening then closing with a square of this side (px) removes speckle and fills
+  /// small holes; 0 leaves the raw difference.
+  int clean_px = 5;
+};
+
+/// The static background of a fixed camera: the per-pixel median of grey frames spread over the
+/// video (where the athlete moves, every pixel shows the background in most of them).
+class BackgroundModel {
+ public:
+  /// Reads `num_samples` frames spread evenly over the video (a grey reader is fastest). Throws
+  /// acro::InputError when the video has fewer than 3 frames.
+  BackgroundModel(capture::VideoReader& video, int num_samples = 25);
+  /// The background from frames given directly (grey or RGB, one size).
+  explicit BackgroundModel(const std::vector<capture::VideoFrame>& frames);
+
+  int width() const { return width_; }
+  int height() const { return height_; }
+  const std::vector<std::uint8_t>& grey() const { return grey_; }
+
+  /// The foreground of one frame (grey or RGB, the background's size).
+  Mask Foreground(const capture::VideoFrame& frame, const BackgroundOptions& options = {}) const;
+
+ private:
+  int width_ = 0;
+  int height_ = 0;
+  std::vector<std::uint8_t> grey_;
+};
+
+}  // namespace acro::vision
