@@ -10,6 +10,7 @@
 #include "acro/athlete/de_leva.h"
 #include "acro/athlete/motion.h"
 #include "acro/athlete/standard_human.h"
+#include "acro/base/file_io.h"
 #include "acro/capture/trial_io.h"
 #include "acro/dynamics/configuration.h"
 #include "acro/report/analysis_report.h"
@@ -49,6 +50,7 @@ int RunAnalyze(AnalyzeArguments& args) {
   const bool images = args.images;
   const bool quiet = common.quiet;
   DemandValidCommandLine(options);
+  CheckOutputDirectory(common.out_dir);  // before any work: a bad -o costs nothing
 
   // Inputs: trial, static trial, athlete.
   auto say = [quiet](const std::string& line) {
@@ -79,7 +81,7 @@ int RunAnalyze(AnalyzeArguments& args) {
 
   // Outputs: the tables, then the report (with plots when rendering works here).
   const std::filesystem::path dir(common.out_dir);
-  std::filesystem::create_directories(dir);
+  CreateOutputDirectory(dir);
   analysis::WriteAnalysisTables(result, dir);
   report.trial_path = common.trial_path;
   report.render_images = images;

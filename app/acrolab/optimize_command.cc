@@ -3,6 +3,7 @@
 #include <optional>
 #include <string>
 
+#include "acro/base/file_io.h"
 #include "acro/design/skill_optimization.h"
 #include "acro/design/skill_simulation.h"
 #include "acro/report/skill_report.h"
@@ -23,6 +24,7 @@ int RunOptimize(OptimizeArguments& args) {
   const std::string& out_dir = args.out_dir;
   analysis::SkillOptimizationOptions& options = args.options;
   DemandValidCommandLine(options);
+  CheckOutputDirectory(out_dir);  // before any work: a bad -o costs nothing
 
   // Read, optimise, simulate, write.
   const analysis::Skill skill = analysis::ReadSkill(skill_path);

@@ -36,6 +36,7 @@ int RunReconstruct(ReconstructArguments& args) {
   const TrialArguments& common = args.common;
   analysis::ReconstructionOptions& options = args.options;
   DemandValidCommandLine(options);
+  CheckOutputDirectory(common.out_dir);  // before any work: a bad -o costs nothing
 
   // Inputs: trial, static trial, athlete.
   const capture::Trial trial = capture::ReadTrial(common.trial_path);
@@ -51,9 +52,9 @@ int RunReconstruct(ReconstructArguments& args) {
       analysis::Reconstruct(trial, static_trial ? &*static_trial : nullptr, body, options);
 
   // Outputs.
-  std::filesystem::create_directories(out_dir);
   const std::string stem = std::filesystem::path(trial_path).stem().string();
   const std::filesystem::path dir(out_dir);
+  CreateOutputDirectory(dir);
   analysis::WriteMotionMot(result.motion, dir / (stem + ".mot"));
   analysis::WriteMotionCsv(result.motion, dir / (stem + "_angles.csv"));
   analysis::WriteMotionC3d(result, trial, dir / (stem + "_model.c3d"));

@@ -38,6 +38,49 @@ std::vector<std::uint8_t> ReadFileBytes(const std::filesystem::path& path, std::
   return bytes;
 }
 
+void CheckOutputDirectory(const std::filesystem::path& dir) {
+  std::error_code ec;
+  // The directory itself, or the nearest ancestor that exists (where it would be created).
+  std::filesystem::path at = dir.empty() ? std::filesystem::path(".") : dir;
+  bool exists = true;
+  while (!std::filesystem::exists(at, ec)) {
+    exists = false;
+    const std::filesystem::path up = at.parent_path();
+    if (up.empty()) {
+      at = ".";
+      break;
+    }
+    if (up == at) break;
+    at = up;
+  }
+  if (!std::filesystem::is_directory(at, ec)) {
+    throw InputError(dir.string(),
+                     "",
+                     exists
+                         ? "is a file, not a directory for the outputs"
+                         : at.string() + " is a file: the output directory cannot be made in it");
+  }
+  // A probe file: permissions and read-only or virtual file systems show only when writing.
+  std::random_device seed;
+  const std::filesystem::path probe = at / (".acrolab-probe" + std::to_string(seed() % 1000000));
+  std::FILE* file = std::fopen(probe.string().c_str(), "wb");
+  if (file == nullptr) {
+    throw InputError(dir.string(),
+                     "",
+                     std::string(exists ? "cannot write in the output directory: "
+                                        : "cannot create the output directory: ") +
+                         std::strerror(errno));
+  }
+  std::fclose(file);
+  std::filesystem::remove(probe, ec);
+}
+
+void CreateOutputDirectory(const std::filesystem::path& dir) {
+  std::error_code ec;
+  std::filesystem::create_directories(dir, ec);
+  if (ec) throw InputError(dir.string(), "", "cannot create the output directory: " + ec.message());
+}
+
 void WriteFileAtomically(const std::filesystem::path& path, std::string_view bytes) {
   // A unique temporary name in the same directory, so that the rename stays on one file system.
   std::random_device seed;

@@ -12,6 +12,7 @@
 #include <type_traits>
 
 #include "acro/base/demand.h"
+#include "acro/base/file_io.h"
 #include "acro/base/input_error.h"
 #include "acro/capture/c3d.h"
 #include "c3d_internal.h"
@@ -767,28 +768,10 @@ std::vector<std::uint8_t> WriteC3dToMemory(const Trial& trial) {
 
 void WriteC3d(const Trial& trial, const std::filesystem::path& path) {
   const std::vector<std::uint8_t> bytes = WriteC3dToMemory(trial);
-  // Written beside the target under a temporary name, then renamed: never a partial output file.
-  std::filesystem::path temp = path;
-  temp += ".partial";
-  std::FILE* file = std::fopen(temp.string().c_str(), "wb");
-  if (file == nullptr) throw InputError(path.string(), "", "cannot open for writing");
-  const std::size_t written = std::fwrite(bytes.data(), 1, bytes.size(), file);
-  const bool closed = std::fclose(file) == 0;
-  if (written != bytes.size() || !closed) {
-    std::error_code ignore;
-    std::filesystem::remove(temp, ignore);
-    throw InputError(path.string(),
-                     "",
-                     "write failed after " + std::to_string(written) + " of " +
-                         std::to_string(bytes.size()) + " bytes");
-  }
-  std::error_code ec;
-  std::filesystem::rename(temp, path, ec);
-  if (ec) {
-    std::error_code ignore;
-    std::filesystem::remove(temp, ignore);
-    throw InputError(path.string(), "", "cannot rename the temporary file: " + ec.message());
-  }
+  // A unique temporary name beside the target, renamed when complete (two writers of one file at
+  // once never splice), and removed if the program is interrupted.
+  WriteFileAtomically(path,
+                      std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
 }
 
 }  // namespace acro::capture

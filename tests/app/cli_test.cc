@@ -519,4 +519,23 @@ TEST(Cli, TerminatedOverlayLeavesNothingBehind) {
     EXPECT_EQ(e.path().filename().string().find("frames.tmp-"), std::string::npos) << e.path();
 }
 
+// An output directory that cannot be one is refused before any work, in one line, exit 1.
+TEST(Cli, UnusableOutputDirectoryIsRefusedFirst) {
+  const auto file = acro::testing::TempDir() / "not_a_dir";
+  std::ofstream(file) << "x";
+  for (const std::string command : {"analyze", "reconstruct"}) {
+    const ProcessResult run = Execute(std::string(ACROLAB_EXE) + " " + command + " " +
+                                      Quote(SampleC3d()) + " -o " + Quote(file) + " --quiet");
+    EXPECT_EQ(run.status, 1) << command << ": " << run.err;
+    EXPECT_NE(run.err.find("not_a_dir: is a file, not a directory for the outputs"),
+              std::string::npos)
+        << run.err;
+    EXPECT_EQ(run.err.find("reconstruct:"), std::string::npos) << "work was done: " << run.err;
+  }
+  const ProcessResult proc = Execute(std::string(ACROLAB_EXE) + " analyze " + Quote(SampleC3d()) +
+                                     " -o /proc/acrolab_cannot_be_here --quiet");
+  EXPECT_EQ(proc.status, 1) << proc.err;
+  EXPECT_NE(proc.err.find("cannot create the output directory"), std::string::npos) << proc.err;
+}
+
 }  // namespace

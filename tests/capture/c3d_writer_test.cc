@@ -417,7 +417,10 @@ TEST(C3dWriter, WriteC3dRenamesIntoPlace) {
   const fs::path out = acro::testing::TempDir() / "writer_eb015.c3d";
   WriteC3d(t, out);
   EXPECT_TRUE(fs::exists(out));
-  EXPECT_FALSE(fs::exists(fs::path(out.string() + ".partial")));
+  // No temporary left beside it (WriteFileAtomically's unique ".<name>.tmpNNN").
+  for (const auto& e : fs::directory_iterator(out.parent_path()))
+    EXPECT_NE(e.path().filename().string().rfind("." + out.filename().string() + ".tmp", 0), 0u)
+        << e.path();
   const Trial back = ReadC3d(out);
   EXPECT_EQ(back.num_frames, 450);
   EXPECT_TRUE(back.positions.cwiseEqual(t.positions).count() +

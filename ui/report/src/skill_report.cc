@@ -175,7 +175,7 @@ std::vector<std::string> WriteSkillOutputs(const std::filesystem::path& dir,
                                            const SkillDesign& design,
                                            const SkillOptimizationResult& r,
                                            const SkillSimulationResult* sim) {
-  std::filesystem::create_directories(dir);
+  CreateOutputDirectory(dir);
   std::vector<std::string> written;
   auto write = [&](const std::string& name, std::string_view bytes) {
     WriteFileAtomically(dir / name, bytes);

@@ -18,6 +18,15 @@ std::vector<std::uint8_t> ReadFileBytes(const std::filesystem::path& path,
 /// the temporary file).
 void WriteFileAtomically(const std::filesystem::path& path, std::string_view bytes);
 
+/// Checks, before any work starts, that `dir` can take outputs, leaving nothing behind: it is a
+/// directory, or it does not exist and its nearest existing ancestor is one; and a file can be
+/// created there (a probe, removed at once). Throws acro::InputError (file `dir`) saying why not:
+/// a file of that name, no permission, a read-only or virtual file system.
+void CheckOutputDirectory(const std::filesystem::path& dir);
+
+/// Creates `dir` and its parents when missing; acro::InputError (file `dir`) when that fails.
+void CreateOutputDirectory(const std::filesystem::path& dir);
+
 /// Lower-case extension without the dot ("c3d", "trc"), or empty.
 std::string LowerExtension(const std::filesystem::path& path);
 
