@@ -17,8 +17,12 @@ namespace acro {
 std::vector<std::uint8_t> ReadFileBytes(const std::filesystem::path& path, std::int64_t max_bytes) {
   const std::string name = path.string();
   std::error_code ec;
-  if (std::filesystem::is_directory(path, ec))
+  const std::filesystem::file_status status = std::filesystem::status(path, ec);
+  if (status.type() == std::filesystem::file_type::directory)
     throw InputError(name, "", "is a directory, not a file");
+  // A FIFO, socket or device would block or never end: refuse it before opening.
+  if (std::filesystem::exists(status) && status.type() != std::filesystem::file_type::regular)
+    throw InputError(name, "", "is not a regular file (a pipe, socket or device)");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(name, "", std::string("cannot open: ") + std::strerror(errno));
   in.seekg(0, std::ios::end);
