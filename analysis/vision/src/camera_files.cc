@@ -216,8 +216,9 @@ std::vector<Camera> ReadCameras(const std::filesystem::path& path) {
   if (ext == "yml" || ext == "yaml" || ext == "json") return ReadOpenCvStorage(path);
   throw InputError(path.string(),
                    "",
-                   "unknown calibration format '." + ext +
-                       "' (.toml Pose2Sim, .qca Qualisys, .yml/.yaml/.xml/.json OpenCV)");
+                   "unknown calibration format " +
+                       (ext.empty() ? std::string("(no extension)") : "'." + ext + "'") +
+                       " (.toml Pose2Sim, .qca Qualisys, .yml/.yaml/.xml/.json OpenCV)");
 }
 
 const Camera& FindCamera(const std::vector<Camera>& cameras,
