@@ -538,4 +538,34 @@ TEST(Cli, UnusableOutputDirectoryIsRefusedFirst) {
   EXPECT_NE(proc.err.find("cannot create the output directory"), std::string::npos) << proc.err;
 }
 
+// Image-motion sync from the command line: the sample routine's markers drawn by `project` on a
+// noise video 0.37 s late, then `sync` finds the offset within a frame.
+TEST(Cli, SyncFromImageMotionFindsALateVideo) {
+  const auto dir = acro::testing::TempDir() / "sync_motion";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const ProcessResult noise = Execute(
+      "ffmpeg -v error -y -f lavfi -i "
+      "'color=c=0x6e6e6e:s=480x360:r=30:d=10.2,noise=alls=12:allf=t' -c:v libx264 "
+      "-preset ultrafast -pix_fmt yuv420p " +
+      Quote(dir / "grey.mp4"));
+  if (noise.status != 0) GTEST_SKIP() << "the ffmpeg command is not installed";
+  const std::string trial =
+      Quote(RepoFile("samples/trials/trampoline_routine/trampoline_routine.c3d"));
+  const std::string calib = Quote(RepoFile("tests/data/sample_routine_side_camera.toml"));
+  const ProcessResult drawn = Execute(std::string(ACROLAB_EXE) + " project " + trial + " --calib " +
+                                      calib + " --offset-s -0.37 --video " +
+                                      Quote(dir / "grey.mp4") + " -o " + Quote(dir / "late.mp4"));
+  ASSERT_EQ(drawn.status, 0) << drawn.err;
+  const ProcessResult run =
+      Execute(std::string(ACROLAB_EXE) + " sync " + trial + " --calib " + calib + " --video " +
+              Quote(dir / "late.mp4") + " --plot " + Quote(dir / "cost.svg"));
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_NE(run.out.find("sync from image motion"), std::string::npos) << run.out;
+  const size_t at = run.out.find("use: --offset-s ");
+  ASSERT_NE(at, std::string::npos) << run.out;
+  EXPECT_NEAR(std::stod(run.out.substr(at + 16)), -0.37, 1.0 / 30.0) << run.out;
+  EXPECT_NE(Slurp(dir / "cost.svg").find("<svg"), std::string::npos);
+}
+
 }  // namespace
