@@ -72,6 +72,21 @@ struct Cost {
   int count = 0;
 };
 
+// Each offset costs a pass over the video's frames: a range of many thousands of frames would run
+// for minutes. Refused with the way out, before any decoding.
+void DemandSearchableRange(const AutoSyncOptions& options, double frame_s) {
+  const double steps = (options.max_offset_s - options.min_offset_s) / frame_s;
+  if (steps > 20000) {
+    throw InputError("",
+                     "--search-s",
+                     fmt::format("{:.0f} to {:.0f} s is {:.0f} frames of offsets to try; narrow it "
+                                 "to at most 20000 (an event or a rough offset by hand first)",
+                                 options.min_offset_s,
+                                 options.max_offset_s,
+                                 steps));
+  }
+}
+
 // The search common to both methods: every offset one frame apart, then a tenth of a frame around
 // the best, then the vertex of a parabola through the best fine point and its neighbours. Offsets
 // resting on less than half the largest count are not trusted (their overlap is too short).
@@ -80,7 +95,9 @@ AutoSyncResult SearchOffset(const std::function<Cost(double)>& cost,
                             const AutoSyncOptions& options) {
   AutoSyncResult r;
   std::vector<Cost> costs;
-  for (double o = options.min_offset_s; o <= options.max_offset_s + 1e-12; o += frame_s) {
+  DemandSearchableRange(options, frame_s);
+  for (int i = 0; options.min_offset_s + i * frame_s <= options.max_offset_s + 1e-12; ++i) {
+    const double o = options.min_offset_s + i * frame_s;
     r.offsets_s.push_back(o);
     costs.push_back(cost(o));
   }
@@ -167,6 +184,7 @@ AutoSyncResult SyncFromDetections(const capture::Trial& trial,
     if (frame_s == 0.0) frame_s = MedianInterval(c.frame_times_s);
   }
   if (!(frame_s > 0.0)) throw InputError("", "sync", "the video has fewer than two frames");
+  DemandSearchableRange(options, frame_s);
 
   const double cap = options.max_error_px;
   auto cost = [&](double offset) {
@@ -213,6 +231,7 @@ AutoSyncResult SyncFromImageMotion(const capture::Trial& trial,
   const std::vector<double>& times = video.frame_times_s();
   const double frame_s = MedianInterval(times);
   if (!(frame_s > 0.0)) throw InputError(info.path, "sync", "the video has fewer than two frames");
+  DemandSearchableRange(options, frame_s);
   if (trial.num_frames < 2 || !(trial.point_rate_hz > 0))
     throw InputError(trial.source.path, "sync", "the trial has fewer than two samples");
 
