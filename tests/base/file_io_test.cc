@@ -14,43 +14,32 @@
 
 #include "acro/base/input_error.h"
 #include "acro/base/temporaries.h"
+#include "input_errors.h"
+#include "refdata.h"
 
 namespace acro {
 namespace {
 
 namespace fs = std::filesystem;
 
-fs::path Scratch() {
-  const fs::path dir = fs::temp_directory_path() / ("acro_file_io_" + std::to_string(getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
-
-std::string ErrorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
-
 TEST(FileIo, AFifoIsRefusedWithoutBlocking) {
-  const fs::path dir = Scratch();
+  const fs::path dir = acro::testing::ScratchDir("file_io");
   const fs::path fifo = dir / "trial.trc";
   ASSERT_EQ(mkfifo(fifo.c_str(), 0600), 0);
-  const std::string e = ErrorOf([&] { ReadFileBytes(fifo, 1 << 20); });
+  const std::string e = acro::testing::InputErrorOf([&] { ReadFileBytes(fifo, 1 << 20); });
   EXPECT_NE(e.find("trial.trc: is not a regular file"), std::string::npos) << e;
-  EXPECT_NE(ErrorOf([&] { ReadFileBytes(dir, 1 << 20); }).find("is a directory"),
-            std::string::npos);
-  EXPECT_NE(ErrorOf([&] { ReadFileBytes(dir / "missing.trc", 1 << 20); }).find("cannot open"),
+  EXPECT_NE(
+      acro::testing::InputErrorOf([&] { ReadFileBytes(dir, 1 << 20); }).find("is a directory"),
+      std::string::npos);
+  EXPECT_NE(acro::testing::InputErrorOf([&] {
+              ReadFileBytes(dir / "missing.trc", 1 << 20);
+            }).find("cannot open"),
             std::string::npos);
   fs::remove_all(dir);
 }
 
 TEST(FileIo, AtomicWritesLeaveOnlyTheFile) {
-  const fs::path dir = Scratch();
+  const fs::path dir = acro::testing::ScratchDir("file_io");
   WriteFileAtomically(dir / "a.txt", "hello");
   int files = 0;
   for (const auto& e : fs::directory_iterator(dir)) {
@@ -64,15 +53,18 @@ TEST(FileIo, AtomicWritesLeaveOnlyTheFile) {
 }
 
 TEST(FileIo, OutputDirectoriesAreCheckedWithoutBeingMade) {
-  const fs::path dir = Scratch();
+  const fs::path dir = acro::testing::ScratchDir("file_io");
   CheckOutputDirectory(dir / "new" / "deeper");  // creatable: fine, and nothing made
   EXPECT_FALSE(fs::exists(dir / "new"));
   std::ofstream(dir / "file") << "x";
-  EXPECT_NE(ErrorOf([&] { CheckOutputDirectory(dir / "file"); }).find("is a file, not a directory"),
+  EXPECT_NE(acro::testing::InputErrorOf([&] {
+              CheckOutputDirectory(dir / "file");
+            }).find("is a file, not a directory"),
             std::string::npos);
-  EXPECT_NE(
-      ErrorOf([&] { CheckOutputDirectory(dir / "file" / "sub"); }).find("is a file: the output"),
-      std::string::npos);
+  EXPECT_NE(acro::testing::InputErrorOf([&] {
+              CheckOutputDirectory(dir / "file" / "sub");
+            }).find("is a file: the output"),
+            std::string::npos);
   // No probe file is left behind.
   int files = 0;
   for (const auto& e : fs::directory_iterator(dir)) files += e.path().filename() != "file";
@@ -83,7 +75,7 @@ TEST(FileIo, OutputDirectoriesAreCheckedWithoutBeingMade) {
 }
 
 TEST(FileIo, RegisteredTemporariesAreRemovedOnRequest) {
-  const fs::path dir = Scratch();
+  const fs::path dir = acro::testing::ScratchDir("file_io");
   std::ofstream(dir / ".out.tmp1") << "half";
   fs::create_directories(dir / "frames.tmp-1");
   std::ofstream(dir / "frames.tmp-1" / "frame_000000.png") << "png";

@@ -5,6 +5,7 @@
 #include <string>
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 namespace acro::testing {
 
@@ -29,6 +30,14 @@ inline std::filesystem::path RefdataFile(const std::string& relative) {
 /// The directory with test outputs of this run.
 inline std::filesystem::path TempDir() {
   auto dir = std::filesystem::path(::testing::TempDir()) / "acrolab_tests";
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+/// A fresh, empty directory `<name>_<pid>` under TempDir() for one test's files.
+inline std::filesystem::path ScratchDir(const std::string& name) {
+  const auto dir = TempDir() / (name + "_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   return dir;
 }

@@ -404,16 +404,17 @@ std::vector<NamedPoint2> ReadPoints2dCsv(const std::filesystem::path& path) {
 }
 
 std::vector<NamedPoint3> FigTrampolinePoints() {
-  // FIG Apparatus Norms (trampoline): bed 4.28 m × 2.14 m, frame 5.05 m × 2.91 m outside, height
-  // 1.155 m.
   std::vector<NamedPoint3> points;
   const double sx[4] = {1, -1, -1, 1}, sy[4] = {1, 1, -1, -1};
+  const double bx = kFigBedLength_m / 2, by = kFigBedWidth_m / 2;
+  const double fx = kFigFrameLength_m / 2, fy = kFigFrameWidth_m / 2;
   for (int k = 0; k < 4; ++k)
-    points.push_back({fmt::format("BED_C{}", k + 1), {sx[k] * 2.14, sy[k] * 1.07, 0.0}});
+    points.push_back({fmt::format("BED_C{}", k + 1), {sx[k] * bx, sy[k] * by, 0.0}});
   for (int k = 0; k < 4; ++k)
-    points.push_back({fmt::format("FRAME_C{}", k + 1), {sx[k] * 2.525, sy[k] * 1.455, 0.0}});
-  for (int k = 0; k < 4; ++k)
-    points.push_back({fmt::format("FLOOR_C{}", k + 1), {sx[k] * 2.525, sy[k] * 1.455, -1.155}});
+    points.push_back({fmt::format("FRAME_C{}", k + 1), {sx[k] * fx, sy[k] * fy, 0.0}});
+  for (int k = 0; k < 4; ++k) {
+    points.push_back({fmt::format("FLOOR_C{}", k + 1), {sx[k] * fx, sy[k] * fy, -kFigBedHeight_m}});
+  }
   return points;
 }
 

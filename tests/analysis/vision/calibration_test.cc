@@ -6,7 +6,6 @@
 #include "acro/vision/calibration.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -22,6 +21,7 @@
 
 #include "acro/base/input_error.h"
 #include "acro/vision/camera.h"
+#include "input_errors.h"
 #include "refdata.h"
 
 #if ACRO_HAVE_ARUCO
@@ -32,21 +32,6 @@ namespace acro::vision {
 namespace {
 
 namespace fs = std::filesystem;
-
-fs::path Scratch(const std::string& name) {
-  const fs::path dir = acro::testing::TempDir() / (name + "_" + std::to_string(getpid()));
-  fs::create_directories(dir);
-  return dir;
-}
-
-std::string ErrorOf(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  return "";
-}
 
 // The acceptance: fx and fy within 1 % of Qualisys', the principal point within 50 px (six or
 // seven views constrain it weakly), and the photos without a board reported and skipped
@@ -167,7 +152,7 @@ void CheckSyntheticCalibration(const CalibrationBoard& board,
   const cv::Size size(800, 600);
   const cv::Mat K = (cv::Mat_<double>(3, 3) << 700, 0, 410, 0, 700, 290, 0, 0, 1);
   const cv::Mat dist = (cv::Mat_<double>(1, 5) << -0.15, 0.05, 0.0, 0.0, 0.0);
-  const fs::path dir = Scratch("synthetic_board");
+  const fs::path dir = acro::testing::ScratchDir("synthetic_board");
   std::vector<fs::path> views;
   const double width_m = board_image.cols / px_per_m, height_m = board_image.rows / px_per_m;
   const cv::Vec3d tilts[8] = {{0.3, 0.0, 0.0},
@@ -241,7 +226,7 @@ TEST(Calibration, BoardsAreParsedOrRefusedInOneLine) {
   EXPECT_DOUBLE_EQ(b.ObjectPoints()[5].x(), 0.06);  // row by row: (1, 1)
   EXPECT_DOUBLE_EQ(b.ObjectPoints()[5].y(), 0.06);
   auto error = [](const std::string& text) {
-    return ErrorOf([&] { ParseCalibrationBoard(text); });
+    return acro::testing::InputErrorOf([&] { ParseCalibrationBoard(text); });
   };
   EXPECT_NE(error("checkerboard:4x7").find("--board: 'checkerboard:4x7': expected"),
             std::string::npos);
@@ -258,20 +243,20 @@ TEST(Calibration, BoardsAreParsedOrRefusedInOneLine) {
 }
 
 TEST(Calibration, TooFewViewsAndMixedSizesAreRefused) {
-  const fs::path dir = Scratch("few_views");
+  const fs::path dir = acro::testing::ScratchDir("few_views");
   cv::imwrite((dir / "a.png").string(), cv::Mat(480, 640, CV_8UC1, cv::Scalar(128)));
   cv::imwrite((dir / "b.png").string(), cv::Mat(400, 640, CV_8UC1, cv::Scalar(128)));
   std::ofstream(dir / "c.jpg") << "not a picture";
   const CalibrationBoard board = ParseCalibrationBoard("checkerboard:4x7:60mm");
-  EXPECT_NE(ErrorOf([&] {
+  EXPECT_NE(acro::testing::InputErrorOf([&] {
               CalibrateIntrinsics({dir / "a.png"}, board);
             }).find("the board was usable in 0 of 1 images; 3 are needed"),
             std::string::npos);
-  EXPECT_NE(ErrorOf([&] {
+  EXPECT_NE(acro::testing::InputErrorOf([&] {
               CalibrateIntrinsics({dir / "a.png", dir / "b.png"}, board);
             }).find("b.png: image is 640 x 400 px but"),
             std::string::npos);
-  EXPECT_NE(ErrorOf([&] {
+  EXPECT_NE(acro::testing::InputErrorOf([&] {
               CalibrateIntrinsics({dir / "c.jpg"}, board);
             }).find("c.jpg: not an image OpenCV can read"),
             std::string::npos);
@@ -318,7 +303,7 @@ TEST(Calibration, PoseFromKnownPointsIsQualisysPose) {
         std::to_string(1000 * (found.camera.CentreInWorld() - truth.CentreInWorld()).norm()));
   }
   const Camera c = ReadQualisysQca(qca)[0];
-  const std::string few = ErrorOf([&] {
+  const std::string few = acro::testing::InputErrorOf([&] {
     CalibrateExtrinsics(c,
                         {{"a", {0, 0, 0}}, {"b", {1, 0, 0}}, {"c", {0, 1, 0}}},
                         {{"a", {1, 1}}, {"b", {2, 2}}, {"c", {3, 1}}});
@@ -374,7 +359,7 @@ TEST(Calibration, PoseFromTheTrampolineItself) {
 }
 
 TEST(Calibration, PointFilesAreReadOrRefusedWithTheLine) {
-  const fs::path dir = Scratch("points");
+  const fs::path dir = acro::testing::ScratchDir("points");
   std::ofstream(dir / "p3.csv")
       << "name,x_m,y_m,z_m\nBED_C1,2.14,1.07,1.155\nBED_C2,-2.14,1.07,1.155\n";
   const std::vector<NamedPoint3> p = ReadPoints3dCsv(dir / "p3.csv");
@@ -382,13 +367,19 @@ TEST(Calibration, PointFilesAreReadOrRefusedWithTheLine) {
   EXPECT_EQ(p[1].name, "BED_C2");
   EXPECT_DOUBLE_EQ(p[1].p_W.z(), 1.155);
   std::ofstream(dir / "p2.csv") << "name,u_px,v_px\nBED_C1,100,200,3\n";
-  EXPECT_NE(ErrorOf([&] { ReadPoints2dCsv(dir / "p2.csv"); }).find("p2.csv: line 2: 4 fields"),
+  EXPECT_NE(acro::testing::InputErrorOf([&] {
+              ReadPoints2dCsv(dir / "p2.csv");
+            }).find("p2.csv: line 2: 4 fields"),
             std::string::npos);
   std::ofstream(dir / "p2.csv") << "BED_C1,100,abc\n";
-  EXPECT_NE(ErrorOf([&] { ReadPoints2dCsv(dir / "p2.csv"); }).find("line 1: 'abc' is not a number"),
+  EXPECT_NE(acro::testing::InputErrorOf([&] {
+              ReadPoints2dCsv(dir / "p2.csv");
+            }).find("line 1: 'abc' is not a number"),
             std::string::npos);
   std::ofstream(dir / "p2.csv") << "A,1,2\nA,3,4\n";
-  EXPECT_NE(ErrorOf([&] { ReadPoints2dCsv(dir / "p2.csv"); }).find("'A' appears twice"),
+  EXPECT_NE(acro::testing::InputErrorOf([&] {
+              ReadPoints2dCsv(dir / "p2.csv");
+            }).find("'A' appears twice"),
             std::string::npos);
   fs::remove_all(dir);
 }
@@ -399,7 +390,7 @@ TEST(Calibration, OpenCvFileStorageFilesAreReadInBothLayouts) {
   const fs::path toml = acro::testing::RefdataFile("pose2sim-demo/calibration/Calib_qualisys.toml");
   ACRO_REQUIRE_REFDATA_FILE(toml);
   const std::vector<Camera> cameras = ReadPose2SimToml(toml);
-  const fs::path dir = Scratch("filestorage");
+  const fs::path dir = acro::testing::ScratchDir("filestorage");
   auto mat = [](const Eigen::MatrixXd& m) {
     cv::Mat out(int(m.rows()), int(m.cols()), CV_64F);
     for (int i = 0; i < m.rows(); ++i)
@@ -465,19 +456,19 @@ TEST(Calibration, OpenCvFileStorageFilesAreReadInBothLayouts) {
     bad << "Rot_a" << (cv::Mat_<double>(3, 3) << 1, 0, 0, 0, 2, 0, 0, 0, 1) << "T_a"
         << cv::Mat::zeros(3, 1, CV_64F);
   }
-  std::string e = ErrorOf([&] { ReadCameras(dir / "bad.yml"); });
+  std::string e = acro::testing::InputErrorOf([&] { ReadCameras(dir / "bad.yml"); });
   EXPECT_NE(e.find("bad.yml: camera 'a': the rotation is not orthonormal"), std::string::npos) << e;
   {
     cv::FileStorage bad((dir / "nok.yml").string(), cv::FileStorage::WRITE);
     bad << "image_width" << 640;
   }
-  e = ErrorOf([&] { ReadCameras(dir / "nok.yml"); });
+  e = acro::testing::InputErrorOf([&] { ReadCameras(dir / "nok.yml"); });
   EXPECT_NE(e.find("nok.yml: camera_matrix: missing"), std::string::npos) << e;
   std::ofstream(dir / "text.yml") << "%YAML:1.0\n---\nkey: [unclosed\n";
-  e = ErrorOf([&] { ReadCameras(dir / "text.yml"); });
+  e = acro::testing::InputErrorOf([&] { ReadCameras(dir / "text.yml"); });
   EXPECT_NE(e.find("text.yml: not an OpenCV FileStorage file"), std::string::npos) << e;
   EXPECT_EQ(e.find('\n'), std::string::npos);
-  e = ErrorOf([&] { FindCamera(cameras, "cam_09", "calib.toml"); });
+  e = acro::testing::InputErrorOf([&] { FindCamera(cameras, "cam_09", "calib.toml"); });
   EXPECT_NE(e.find("calib.toml: --camera: no camera named 'cam_09' (there are cam_01, cam_02, "
                    "cam_03, cam_04)"),
             std::string::npos)

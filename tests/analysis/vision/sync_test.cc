@@ -5,7 +5,6 @@
 #include "acro/vision/sync.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
 #include <filesystem>
@@ -25,12 +24,6 @@ namespace acro::vision {
 namespace {
 
 namespace fs = std::filesystem;
-
-fs::path Scratch(const std::string& name) {
-  const fs::path dir = acro::testing::TempDir() / (name + "_" + std::to_string(getpid()));
-  fs::create_directories(dir);
-  return dir;
-}
 
 TEST(VideoSync, EventAndNearestSample) {
   const VideoSync s = SyncFromEvent(2.0, 2.5);
@@ -122,7 +115,7 @@ TEST(AutoSync, DetectionsRecoverASevenFrameShiftWithinAThirdOfAFrame) {
   const AutoSyncResult as_is = SyncFromDetections(capture::ReadTrial(trc), b.per_camera, options);
   RecordProperty("unshifted_offset_frames", std::to_string(as_is.sync.offset_s * 60));
   EXPECT_NEAR(as_is.sync.offset_s * 60.0, 0.0, 1.0 / 3.0);
-  const fs::path dir = Scratch("sync_shift");
+  const fs::path dir = acro::testing::ScratchDir("sync_shift");
   const capture::Trial shifted = capture::ReadTrial(ShiftedTrc(trc, 7, dir));
   ASSERT_EQ(shifted.num_frames, 93);
   const AutoSyncResult r = SyncFromDetections(shifted, b.per_camera, options);
@@ -143,7 +136,7 @@ TEST(AutoSync, DetectionsFromACsvFindTheSameShift) {
   const fs::path root = acro::testing::RefdataFile("pose2sim-demo");
   ACRO_REQUIRE_REFDATA_FILE(root / "balancing-trial");
   Balancing b = LoadBalancing();
-  const fs::path dir = Scratch("sync_csv");
+  const fs::path dir = acro::testing::ScratchDir("sync_csv");
   std::ofstream csv(dir / "detections.csv");
   csv << "camera,frame,time_s,marker,u_px,v_px,confidence\n";
   for (size_t cam = 0; cam < 4; ++cam) {
@@ -233,7 +226,7 @@ TEST(AutoSync, ImageMotionFindsAVideoStarting037sLateWithinAFrame) {
   ASSERT_TRUE(camera.IsValid(&why)) << why;
 
   const double fps = 30.0, late_s = 0.37;
-  const fs::path dir = Scratch("sync_motion");
+  const fs::path dir = acro::testing::ScratchDir("sync_motion");
   const fs::path video_path = dir / "side.mp4";
   {
     capture::VideoWriterOptions w;

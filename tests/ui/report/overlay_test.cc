@@ -5,7 +5,6 @@
 
 #include <cairo.h>
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -20,13 +19,6 @@ namespace acro::ui {
 namespace {
 
 namespace fs = std::filesystem;
-
-fs::path Scratch(const std::string& name) {
-  const fs::path dir = acro::testing::TempDir() / (name + "_" + std::to_string(getpid()));
-  fs::remove_all(dir);
-  fs::create_directories(dir);
-  return dir;
-}
 
 // A 10-sample trial at 10 Hz with one marker moving along x in the plane z = 5 m in front of a
 // camera at the origin looking along +z.
@@ -61,7 +53,7 @@ std::uint32_t PngPixel(const fs::path& png, int x, int y) {
 }
 
 TEST(Overlay, PointsLandOnTheirSyncedFramesInPngsAndMp4) {
-  const fs::path dir = Scratch("overlay");
+  const fs::path dir = acro::testing::ScratchDir("overlay");
   // A black 20-frame video at 20 fps: video time k/20.
   {
     capture::VideoWriterOptions w;
