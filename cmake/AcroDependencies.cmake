@@ -71,9 +71,10 @@ if(ACRO_BUILD_UI)
       target_link_libraries(JsonCpp::JsonCpp INTERFACE PkgConfig::JSONCPP)
     endif()
   endif()
+  find_package(X11 REQUIRED)  # ui/views asks the X server whether it answers (display.h)
   find_package(Qt5 REQUIRED COMPONENTS Widgets)
   find_package(VTK 9 REQUIRED COMPONENTS
-    CommonCore CommonDataModel RenderingCore RenderingOpenGL2 RenderingFreeType
+    CommonCore CommonDataModel FiltersSources RenderingCore RenderingOpenGL2 RenderingFreeType
     InteractionStyle IOImage GUISupportQt)
 endif()
 

@@ -2,6 +2,7 @@
 #include <pthread.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <thread>
@@ -78,6 +79,17 @@ analysis::AthleteBody TrialArguments::MakeBody(const std::string& command,
       height_m, mass_kg, sex == "f" ? analysis::Sex::kFemale : analysis::Sex::kMale);
 }
 
+vision::VideoSync ParseVideoSync(double offset_s, const std::string& event, double rate) {
+  if (!(rate > 0) || !std::isfinite(rate)) throw UsageError{"--rate must be a positive number"};
+  if (event.empty()) return {offset_s, rate};
+  double trial_s = 0, video_s = 0;
+  char end = 0;
+  if (std::sscanf(event.c_str(), "%lf:%lf%c", &trial_s, &video_s, &end) != 2 ||
+      !std::isfinite(trial_s) || !std::isfinite(video_s))
+    throw UsageError{"--event '" + event + "' is not TRIAL_S:VIDEO_S, e.g. 3.52:3.89"};
+  return vision::SyncFromEvent(trial_s, video_s, rate);
+}
+
 void InstallInterruptCleanup() {
   sigset_t signals;
   sigemptyset(&signals);
@@ -88,6 +100,7 @@ void InstallInterruptCleanup() {
     int received = 0;
     if (sigwait(&signals, &received) != 0) return;
     const int removed = RemoveRegisteredTemporaries();
+    StopRegisteredChildren();
     std::fprintf(stderr,
                  "\nacrolab: interrupted (%s); %d unfinished output%s removed\n",
                  received == SIGINT ? "SIGINT" : "SIGTERM",

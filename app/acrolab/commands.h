@@ -11,6 +11,7 @@
 
 #include "acro/athlete/athlete_body.h"
 #include "acro/reconstruct/reconstruction.h"
+#include "acro/vision/video_sync.h"
 
 namespace acro::app {
 
@@ -29,6 +30,9 @@ void AddVideoCommand(CLI::App& app, CommandRunner* run);
 void AddProjectCommand(CLI::App& app, CommandRunner* run);
 void AddCalibrateCommand(CLI::App& app, CommandRunner* run);
 void AddSyncCommand(CLI::App& app, CommandRunner* run);
+/// `acrolab overlay`: with the 3D views (ACRO_HAVE_VIEWS), else a command that says how to get
+/// them.
+void AddOverlayCommand(CLI::App& app, CommandRunner* run);
 
 /// A command line that parses but does not make sense (contradictory options, an Options struct
 /// that is not valid): main() prints it with the usage hint and exits with status 2.
@@ -62,6 +66,10 @@ void DemandValidCommandLine(const Options& options) {
 /// program starts later inherits the blocked mask), which removes every unfinished output
 /// (acro/base/temporaries.h), says so in one line and exits with 128 + the signal (130, 143).
 void InstallInterruptCleanup();
+
+/// The sync of the command line: --event TRIAL_S:VIDEO_S when given, else --offset-s; --rate for
+/// both. Throws UsageError for a malformed --event or a rate that is not positive.
+vision::VideoSync ParseVideoSync(double offset_s, const std::string& event, double rate);
 
 /// Progress on stderr: "LABEL [####    ] 42% (done/total UNIT)" redrawn in place on a terminal, one
 /// line at the end otherwise (logs, pipes).

@@ -18,18 +18,7 @@ struct ProjectArguments {
   double offset_s = 0.0, rate = 1.0;
 };
 
-// The sync of the command line: --event TRIAL_S:VIDEO_S, else --offset-s; --rate for both.
-vision::VideoSync ParseSync(const ProjectArguments& args) {
-  if (args.event.empty()) return {args.offset_s, args.rate};
-  double trial_s = 0, video_s = 0;
-  char end = 0;
-  if (std::sscanf(args.event.c_str(), "%lf:%lf%c", &trial_s, &video_s, &end) != 2)
-    throw UsageError{"--event '" + args.event + "' is not TRIAL_S:VIDEO_S, e.g. 3.52:3.89"};
-  return vision::SyncFromEvent(trial_s, video_s, args.rate);
-}
-
 int RunProject(const ProjectArguments& args) {
-  if (!(args.rate > 0)) throw UsageError{"--rate must be positive"};
   if (!args.video.empty() && args.out.empty() && args.csv.empty())
     throw UsageError{"--video needs -o OUT.mp4|OUT_DIR or --csv"};
   if (!args.out.empty() && args.video.empty())
@@ -37,7 +26,7 @@ int RunProject(const ProjectArguments& args) {
   const capture::Trial trial = capture::ReadTrial(args.trial);
   const std::vector<vision::Camera> cameras = vision::ReadCameras(args.calibration);
   const vision::AxisMapping axes = vision::ParseAxisMapping(args.axes);
-  const vision::VideoSync sync = ParseSync(args);
+  const vision::VideoSync sync = ParseVideoSync(args.offset_s, args.event, args.rate);
   if (!args.video.empty()) {
     // One video: one camera, its frames numbering the rows.
     const vision::Camera& camera = vision::FindCamera(cameras, args.camera, args.calibration);

@@ -1,5 +1,6 @@
 #include "acro/base/temporaries.h"
 
+#include <csignal>
 #include <mutex>
 #include <set>
 #include <system_error>
@@ -16,6 +17,11 @@ std::mutex& RegistryMutex() {
 std::multiset<std::filesystem::path>& Registry() {
   static std::multiset<std::filesystem::path> paths;
   return paths;
+}
+
+std::multiset<pid_t>& Children() {
+  static std::multiset<pid_t> pids;
+  return pids;
 }
 
 }  // namespace
@@ -44,6 +50,31 @@ int RemoveRegisteredTemporaries() noexcept {
     // Nothing to report to: the program is stopping.
   }
   return removed;
+}
+
+ScopedChildProcess::ScopedChildProcess(pid_t pid) : pid_(pid) {
+  const std::lock_guard<std::mutex> lock(RegistryMutex());
+  Children().insert(pid_);
+}
+
+ScopedChildProcess::~ScopedChildProcess() {
+  const std::lock_guard<std::mutex> lock(RegistryMutex());
+  const auto it = Children().find(pid_);
+  if (it != Children().end()) Children().erase(it);
+}
+
+int StopRegisteredChildren() noexcept {
+  int stopped = 0;
+  try {
+    const std::lock_guard<std::mutex> lock(RegistryMutex());
+    for (const pid_t pid : Children()) {
+      if (pid > 0 && kill(pid, SIGTERM) == 0) ++stopped;
+    }
+    Children().clear();
+  } catch (...) {
+    // Nothing to report to: the program is stopping.
+  }
+  return stopped;
 }
 
 }  // namespace acro

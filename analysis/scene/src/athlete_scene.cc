@@ -9,7 +9,13 @@
 namespace acro::analysis {
 
 AthleteScene::AthleteScene(const AthleteBody& body, BodyMesh mesh, const Motion& motion)
-    : model_(MakeStandardHumanModel(body)), ws_(model_), mesh_(std::move(mesh)), q_(motion.q) {
+    : AthleteScene(body, std::move(mesh), motion, MakeStandardHumanModel(body)) {}
+
+AthleteScene::AthleteScene(const AthleteBody& body,
+                           BodyMesh mesh,
+                           const Motion& motion,
+                           const dynamics::Model<double>& model)
+    : model_(model), ws_(model_), mesh_(std::move(mesh)), q_(motion.q) {
   if (q_.rows() != model_.nq()) {
     throw std::invalid_argument("the motion has " + std::to_string(q_.rows()) +
                                 " coordinates, the athlete's model " + std::to_string(model_.nq()));

@@ -4,16 +4,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <optional>
-#include <random>
-#include <system_error>
 
 #include <fmt/format.h>
 
 #include "acro/base/demand.h"
 #include "acro/base/input_error.h"
-#include "acro/base/temporaries.h"
-#include "acro/report/image.h"
+#include "acro/capture/frame_output.h"
 #include "rgb_surface.h"
 
 namespace acro::ui {
@@ -31,12 +27,6 @@ constexpr double kPalette[10][3] = {{0.12, 0.47, 0.71},
                                     {0.50, 0.50, 0.50},
                                     {0.74, 0.74, 0.13},
                                     {0.09, 0.75, 0.81}};
-
-bool IsFrameFileName(const std::string& name) {
-  return name.size() == 16 && name.rfind("frame_", 0) == 0 && name.substr(12) == ".png" &&
-         std::all_of(
-             name.begin() + 6, name.begin() + 12, [](char c) { return c >= '0' && c <= '9'; });
-}
 
 }  // namespace
 
@@ -69,7 +59,6 @@ int WriteProjectionOverlay(capture::VideoReader& video,
                            const vision::Camera& camera,
                            const std::filesystem::path& output,
                            const OverlayVideoOptions& options) {
-  namespace fs = std::filesystem;
   const capture::VideoInfo& info = video.info();
   const std::vector<double>& times = video.frame_times_s();
   const std::vector<vision::ProjectedPoint> points =
@@ -77,43 +66,9 @@ int WriteProjectionOverlay(capture::VideoReader& video,
   const double radius = options.radius_px > 0
                             ? options.radius_px
                             : std::max(3.0, 0.004 * std::hypot(info.width, info.height));
-  const bool mp4 = output.extension() == ".mp4";
-
-  std::optional<capture::VideoWriter> writer;
-  fs::path staging;
-  if (mp4) {
-    capture::VideoWriterOptions w;
-    w.fps = info.average_fps > 0 ? info.average_fps : 30.0;
-    writer.emplace(output, info.width, info.height, w);
-  } else {
-    if (fs::exists(output)) {
-      if (!fs::is_directory(output))
-        throw InputError(output.string(), "", "exists and is not a directory (frames go into one)");
-      for (const auto& entry : fs::directory_iterator(output))
-        if (!IsFrameFileName(entry.path().filename().string()))
-          throw InputError(output.string(),
-                           "",
-                           "holds " + entry.path().filename().string() +
-                               ", not only frame_NNNNNN.png: not replaced");
-    }
-    std::random_device rd;
-    staging = output;
-    staging += fmt::format(".tmp-{:08x}", rd());
-    std::error_code ec;
-    if (!fs::create_directories(staging, ec))
-      throw InputError(staging.string(), "", "cannot create the directory: " + ec.message());
-  }
-  // On any failure the staging directory goes (the MP4 writer removes its own temporary file), and
-  // an interrupt removes it too.
-  std::optional<ScopedTemporary> registered;
-  if (!staging.empty()) registered.emplace(staging);
-  struct Cleanup {
-    fs::path dir;
-    ~Cleanup() {
-      std::error_code ec;
-      if (!dir.empty()) fs::remove_all(dir, ec);
-    }
-  } cleanup{staging};
+  capture::VideoWriterOptions w;
+  w.fps = info.average_fps > 0 ? info.average_fps : 30.0;
+  capture::FrameOutput out(output, info.width, info.height, w);
 
   capture::VideoFrame frame;
   size_t next = 0;
@@ -130,28 +85,12 @@ int WriteProjectionOverlay(capture::VideoReader& video,
       colour.push_back(points[next].marker);
     }
     DrawPoints(frame.width, frame.height, uv, colour, radius, &frame.pixels);
-    if (writer) {
-      writer->Write(frame.pixels);
-    } else {
-      WriteRgbPng(frame.width,
-                  frame.height,
-                  frame.pixels,
-                  staging / fmt::format("frame_{:06d}.png", frame.index));
-    }
+    out.Write(frame.index, frame.pixels);
     ++written;
     if (options.progress && !options.progress(written, info.num_frames))
       throw InputError(output.string(), "", "cancelled; nothing written");
   }
-  if (writer) {
-    writer->Finish();
-  } else {
-    std::error_code ec;
-    if (fs::exists(output)) fs::remove_all(output, ec);
-    fs::rename(staging, output, ec);
-    if (ec)
-      throw InputError(output.string(), "", "cannot move the frames into place: " + ec.message());
-    cleanup.dir.clear();
-  }
+  out.Finish();
   return written;
 }
 

@@ -3,9 +3,12 @@
 // Outputs being written under a temporary name (WriteFileAtomically, the video writer, an overlay's
 // staging directory) are registered here while they exist, so that an interrupted program can
 // remove them: nothing half-written is left behind by Ctrl-C or a SIGTERM (docs/design.md,
-// "Errors"). The registry is thread-safe; the command line's interrupt handler empties it.
+// "Errors"). Helper processes (an Xvfb server) are registered the same way, to be stopped. The
+// registries are thread-safe; the command line's interrupt handler empties them.
 
 #include <filesystem>
+
+#include <sys/types.h>
 
 namespace acro {
 
@@ -24,5 +27,23 @@ class ScopedTemporary {
 /// Removes every registered temporary (directories with their contents) and returns how many it
 /// removed. For the interrupt handler; safe to call from any thread.
 int RemoveRegisteredTemporaries() noexcept;
+
+/// A helper process this program started and must not leave behind (the Xvfb server the 3D views
+/// start when there is no display): registered for the lifetime of this object, so that the
+/// interrupt handler stops it too.
+class ScopedChildProcess {
+ public:
+  explicit ScopedChildProcess(pid_t pid);
+  ~ScopedChildProcess();
+  ScopedChildProcess(const ScopedChildProcess&) = delete;
+  ScopedChildProcess& operator=(const ScopedChildProcess&) = delete;
+
+ private:
+  pid_t pid_;
+};
+
+/// Sends SIGTERM to every registered child process and returns how many it signalled. For the
+/// interrupt handler; safe to call from any thread.
+int StopRegisteredChildren() noexcept;
 
 }  // namespace acro

@@ -32,6 +32,13 @@ class AthleteScene {
   /// standard human model of that body. Throws std::invalid_argument when the three disagree (the
   /// motion's coordinates, the mesh's segments).
   AthleteScene(const AthleteBody& body, BodyMesh mesh, const Motion& motion);
+  /// The same posed by `model` — the model the motion was reconstructed with when the
+  /// reconstruction scaled the body's (ReconstructionResult::model): the skeleton and the COM are
+  /// that model's exactly; the mesh keeps the body's shape about each scaled joint.
+  AthleteScene(const AthleteBody& body,
+               BodyMesh mesh,
+               const Motion& motion,
+               const dynamics::Model<double>& model);
 
   int num_frames() const { return static_cast<int>(q_.cols()); }
   const BodyMesh& mesh() const { return mesh_; }

@@ -1,0 +1,95 @@
+#pragma once
+
+// A trial as drawn, sample by sample: the measured markers or keypoints (joined as a skeleton when
+// their names say which joint they are), and — when the trial was analysed for an athlete — the
+// athlete's mesh and skeleton posed by the reconstruction, the centre of mass with its path over
+// the current flight, the root residual force as an arrow at the COM, and the heads-up line (time,
+// phase, jump code, residual). Built once per trial; Frame() reuses the caller's buffers.
+
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "acro/assess/trial_analysis.h"
+#include "acro/capture/trial.h"
+#include "acro/scene/athlete_scene.h"
+#include "acro/scene/scene.h"
+#include "acro/vision/projection.h"
+
+namespace acro::analysis {
+
+/// What an overlay shows (`--show mesh,skeleton,markers,com,residual`).
+struct SceneShow {
+  bool mesh = false;
+  bool skeleton = false;
+  bool markers = false;
+  bool com = false;
+  bool residual = false;
+};
+
+/// Parses a comma-separated list of mesh, skeleton, markers, com, residual. Throws
+/// acro::InputError (where "--show") naming an unknown word.
+SceneShow ParseSceneShow(const std::string& text);
+
+/// The heads-up colours by meaning: a flight that passes the physical check, one that fails, and
+/// contact.
+Rgba VerdictColour(bool judged, bool pass);
+
+/// One sample of the trial as drawn.
+struct TrialFrame {
+  int sample = -1;
+  double time_s = 0.0;
+  /// The measured points present at this sample (gaps left out), W.
+  Eigen::Matrix3Xd markers_W;
+  /// The measured keypoints joined as a skeleton (segments between named joints present).
+  SceneLines keypoint_links;
+  /// With an athlete: the posed mesh, its skeleton and its COM.
+  AthletePose athlete;
+  /// With an athlete: the COM from the current flight's take-off to now (empty in contact).
+  Eigen::Matrix3Xd com_trail_W;
+  /// With an athlete: the root residual force at the COM, 1 m per body weight (one segment).
+  SceneLines residual;
+  /// "3.512 s  flight 2  40<  residual 0.02 BW" or "3.512 s  contact".
+  std::string heads_up;
+  Rgba heads_up_colour;
+};
+
+class TrialScene {
+ public:
+  /// The measured points alone (keypoint trials, checks of a calibration). `axes` maps the file's
+  /// axes to the lab's.
+  TrialScene(const capture::Trial& trial, const vision::AxisMapping& axes);
+  /// With the athlete: `analysis` of `trial` (AnalyzeTrial) for `body`, drawn with `mesh`.
+  TrialScene(const capture::Trial& trial,
+             const TrialAnalysis& analysis,
+             const AthleteBody& body,
+             BodyMesh mesh);
+  ~TrialScene();
+
+  const capture::Trial& trial() const { return trial_; }
+  bool has_athlete() const { return athlete_ != nullptr; }
+  int num_samples() const { return trial_.num_frames; }
+  double rate_hz() const { return trial_.point_rate_hz; }
+  /// The index of the flight (into the analysis' flights) sample `sample` is in, or −1.
+  int FlightAt(int sample) const;
+
+  void Frame(int sample, TrialFrame* out);
+
+ private:
+  const capture::Trial& trial_;
+  vision::AxisMapping axes_;
+  const TrialAnalysis* analysis_ = nullptr;
+  std::unique_ptr<AthleteScene> athlete_;
+  /// Pairs of point indices joined in the keypoint skeleton.
+  std::vector<std::pair<int, int>> links_;
+};
+
+/// The pairs of `names` that are joined in a human skeleton, recognised whatever the naming
+/// (RHip, right_hip, r_hip, RKNE…): hips–knees–ankles–feet, shoulders–elbows–wrists, the hips and
+/// the shoulders across, the neck to head and nose, and the trunk.
+std::vector<std::pair<int, int>> KeypointLinks(const std::vector<std::string>& names);
+
+}  // namespace acro::analysis

@@ -1,0 +1,181 @@
+#include "acro/scene/trial_scene.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <map>
+#include <sstream>
+#include <stdexcept>
+
+#include <fmt/format.h>
+
+#include "acro/base/input_error.h"
+
+namespace acro::analysis {
+
+namespace {
+
+// A joint's name reduced to side + joint: "RHip", "right_hip", "r_hip", "R.Hip" → "rhip";
+// Plug-in Gait's four-letter names map to the same words (RKNE → rknee).
+std::string Canonical(const std::string& name) {
+  std::string s;
+  for (char c : name)
+    if (std::isalnum(static_cast<unsigned char>(c))) s += char(std::tolower(static_cast<unsigned char>(c)));
+  for (const auto& [long_form, short_form] : {std::pair<std::string, std::string>{"right", "r"}, {"left", "l"}})
+    if (s.rfind(long_form, 0) == 0) s = short_form + s.substr(long_form.size());
+  static const std::map<std::string, std::string> kPluginGait = {
+      {"rkne", "rknee"}, {"lkne", "lknee"}, {"rank", "rankle"}, {"lank", "lankle"},
+      {"rsho", "rshoulder"}, {"lsho", "lshoulder"}, {"relb", "relbow"}, {"lelb", "lelbow"},
+      {"rwra", "rwrist"}, {"lwra", "lwrist"}, {"rhee", "rheel"}, {"lhee", "lheel"},
+      {"rtoe", "rbigtoe"}, {"ltoe", "lbigtoe"}, {"rasi", "rhip"}, {"lasi", "lhip"},
+      {"c7", "neck"}, {"midhip", "hip"}, {"pelvis", "hip"}};
+  if (const auto it = kPluginGait.find(s); it != kPluginGait.end()) return it->second;
+  return s;
+}
+
+}  // namespace
+
+SceneShow ParseSceneShow(const std::string& text) {
+  SceneShow show;
+  std::stringstream words(text);
+  std::string word;
+  while (std::getline(words, word, ',')) {
+    if (word == "mesh") {
+      show.mesh = true;
+    } else if (word == "skeleton") {
+      show.skeleton = true;
+    } else if (word == "markers" || word == "keypoints") {
+      show.markers = true;
+    } else if (word == "com") {
+      show.com = true;
+    } else if (word == "residual") {
+      show.residual = true;
+    } else {
+      throw InputError("",
+                       "--show",
+                       "'" + word + "' is not one of mesh, skeleton, markers, com, residual");
+    }
+  }
+  return show;
+}
+
+Rgba VerdictColour(bool judged, bool pass) {
+  if (!judged) return {0.95f, 0.95f, 0.95f, 1.0f};
+  return pass ? Rgba{0.35f, 0.9f, 0.35f, 1.0f} : Rgba{1.0f, 0.35f, 0.3f, 1.0f};
+}
+
+std::vector<std::pair<int, int>> KeypointLinks(const std::vector<std::string>& names) {
+  std::map<std::string, int> index;
+  for (size_t i = 0; i < names.size(); ++i) index.emplace(Canonical(names[i]), int(i));
+  static const char* kPairs[][2] = {
+      {"rhip", "rknee"},        {"rknee", "rankle"},       {"rankle", "rheel"},
+      {"rankle", "rbigtoe"},    {"rbigtoe", "rsmalltoe"},  {"rheel", "rbigtoe"},
+      {"lhip", "lknee"},        {"lknee", "lankle"},       {"lankle", "lheel"},
+      {"lankle", "lbigtoe"},    {"lbigtoe", "lsmalltoe"},  {"lheel", "lbigtoe"},
+      {"rshoulder", "relbow"},  {"relbow", "rwrist"},      {"lshoulder", "lelbow"},
+      {"lelbow", "lwrist"},     {"rhip", "lhip"},          {"rshoulder", "lshoulder"},
+      {"neck", "head"},         {"head", "nose"},          {"neck", "nose"},
+      {"hip", "neck"},          {"rshoulder", "rhip"},     {"lshoulder", "lhip"},
+      {"nose", "reye"},         {"nose", "leye"},          {"reye", "rear"},
+      {"leye", "lear"}};
+  std::vector<std::pair<int, int>> links;
+  for (const auto& pair : kPairs) {
+    const auto a = index.find(pair[0]), b = index.find(pair[1]);
+    if (a == index.end() || b == index.end()) continue;
+    links.emplace_back(a->second, b->second);
+  }
+  return links;
+}
+
+TrialScene::TrialScene(const capture::Trial& trial, const vision::AxisMapping& axes)
+    : trial_(trial), axes_(axes) {
+  std::vector<std::string> names;
+  for (const capture::PointInfo& p : trial.points) names.push_back(p.label);
+  links_ = KeypointLinks(names);
+}
+
+TrialScene::TrialScene(const capture::Trial& trial,
+                       const TrialAnalysis& analysis,
+                       const AthleteBody& body,
+                       BodyMesh mesh)
+    : TrialScene(trial, vision::AxisMapping{}) {
+  const Motion& motion = analysis.reconstruction.motion;
+  if (motion.num_frames() != trial.num_frames)
+    throw std::invalid_argument("the analysis has " + std::to_string(motion.num_frames()) +
+                                " frames, the trial " + std::to_string(trial.num_frames));
+  analysis_ = &analysis;
+  athlete_ = std::make_unique<AthleteScene>(
+      body, std::move(mesh), motion, analysis.reconstruction.model);
+}
+
+TrialScene::~TrialScene() = default;
+
+int TrialScene::FlightAt(int sample) const {
+  if (analysis_ == nullptr) return -1;
+  const std::vector<Flight>& flights = analysis_->phases.flights;
+  for (size_t k = 0; k < flights.size(); ++k)
+    if (sample >= flights[k].takeoff_frame && sample < flights[k].landing_frame) return int(k);
+  return -1;
+}
+
+void TrialScene::Frame(int sample, TrialFrame* out) {
+  if (sample < 0 || sample >= trial_.num_frames)
+    throw std::out_of_range("sample " + std::to_string(sample) + " of " +
+                            std::to_string(trial_.num_frames));
+  out->sample = sample;
+  out->time_s = trial_.point_rate_hz > 0 ? sample / trial_.point_rate_hz : 0.0;
+  // Measured points: the buffer is reallocated only when the number present changes.
+  int present = 0;
+  for (int p = 0; p < trial_.num_points(); ++p) present += trial_.valid(sample, p) ? 1 : 0;
+  out->markers_W.resize(3, present);
+  for (int p = 0, k = 0; p < trial_.num_points(); ++p)
+    if (trial_.valid(sample, p)) out->markers_W.col(k++) = axes_.ToWorld(trial_.position(sample, p));
+  // The keypoint skeleton: a missing end puts both ends on the other (a zero-length segment), so
+  // the segment count never changes.
+  out->keypoint_links.name = "keypoints";
+  out->keypoint_links.colour = {0.1f, 0.9f, 1.0f, 1.0f};
+  out->keypoint_links.points_W.resize(3, 2 * Eigen::Index(links_.size()));
+  for (size_t k = 0; k < links_.size(); ++k) {
+    const auto [a, b] = links_[k];
+    const bool va = trial_.valid(sample, a), vb = trial_.valid(sample, b);
+    const Eigen::Vector3d pa = va ? axes_.ToWorld(trial_.position(sample, a))
+                                  : (vb ? axes_.ToWorld(trial_.position(sample, b))
+                                        : Eigen::Vector3d(0, 0, -1000));
+    const Eigen::Vector3d pb = vb ? axes_.ToWorld(trial_.position(sample, b)) : pa;
+    out->keypoint_links.points_W.col(2 * Eigen::Index(k)) = pa;
+    out->keypoint_links.points_W.col(2 * Eigen::Index(k) + 1) = pb;
+  }
+  out->heads_up = fmt::format("{:7.3f} s", out->time_s);
+  out->heads_up_colour = VerdictColour(false, false);
+  if (!athlete_) return;
+
+  athlete_->Pose(sample, &out->athlete);
+  const PhysicalCheck& check = analysis_->check;
+  const int flight = FlightAt(sample);
+  // The COM's path from this flight's take-off (the trail stays empty in contact).
+  const int first = flight >= 0 ? analysis_->phases.flights[size_t(flight)].takeoff_frame : sample;
+  out->com_trail_W = check.frames.com_W.middleCols(first, sample - first + 1);
+  out->residual.name = "residual force";
+  out->residual.colour = {1.0f, 0.2f, 0.9f, 1.0f};
+  out->residual.width_px = 5.0;
+  out->residual.points_W.resize(3, 2);
+  out->residual.points_W.col(0) = out->athlete.com_W;
+  out->residual.points_W.col(1) = out->athlete.com_W + check.frames.force_bw.col(sample);
+  const double residual_bw = check.frames.force_bw.col(sample).norm();
+  if (flight < 0) {
+    out->heads_up += fmt::format("  contact  residual {:.2f} BW", residual_bw);
+    return;
+  }
+  const JumpMetrics* jump = nullptr;
+  for (const JumpMetrics& j : analysis_->jumps)
+    if (j.index == flight + 1) jump = &j;
+  out->heads_up += fmt::format("  flight {}", flight + 1);
+  if (jump != nullptr && !jump->fig_code.empty()) out->heads_up += "  " + jump->fig_code;
+  out->heads_up += fmt::format("  residual {:.2f} BW", residual_bw);
+  if (jump != nullptr && jump->check) {
+    out->heads_up += jump->check->pass ? "  pass" : "  fail";
+    out->heads_up_colour = VerdictColour(true, jump->check->pass);
+  }
+}
+
+}  // namespace acro::analysis

@@ -1,0 +1,174 @@
+// `acrolab overlay`: the trial — measured points, or the reconstructed athlete — drawn over a
+// calibrated camera's video by the 3D views (ui/views). Built only with the views (VTK,
+// ACRO_HAVE_VIEWS); without them the command says how to get them.
+
+#include <cstdio>
+#include <memory>
+#include <optional>
+
+#include "commands.h"
+
+#ifdef ACRO_HAVE_VIEWS
+#include "acro/assess/trial_analysis.h"
+#include "acro/athlete/body_mesh.h"
+#include "acro/base/file_io.h"
+#include "acro/base/input_error.h"
+#include "acro/capture/trial_io.h"
+#include "acro/capture/video.h"
+#include "acro/scene/trial_scene.h"
+#include "acro/views/scene_overlay.h"
+#include "acro/vision/projection.h"
+#include "acro/vision/sync.h"
+#endif
+
+namespace acro::app {
+
+namespace {
+
+struct OverlayArguments {
+  TrialArguments common;  // TRIAL, --athlete; -o is the output file here
+  std::string video, calibration, camera, event, sync, axes = "xyz", show, frames;
+  double offset_s = 0.0, rate = 1.0;
+  int slow = 1;
+  bool heads_up = true;
+};
+
+#ifdef ACRO_HAVE_VIEWS
+// "A:B" → [A, B]; "A:" → [A, end].
+std::pair<int, int> ParseFrames(const std::string& text) {
+  if (text.empty()) return {0, -1};
+  int a = 0, b = -1;
+  char end = 0;
+  const int n = std::sscanf(text.c_str(), "%d:%d%c", &a, &b, &end);
+  const bool open_end = text.back() == ':' && std::sscanf(text.c_str(), "%d:%c", &a, &end) == 1;
+  if (!(n == 2 || open_end) || a < 0 || (n == 2 && b < a))
+    throw UsageError{"--frames '" + text + "' is not FIRST:LAST (video frames, 0-based, e.g. 120:480)"};
+  return {a, open_end ? -1 : b};
+}
+
+int RunOverlay(const OverlayArguments& args) {
+  if (args.slow < 1 || args.slow > 64) throw UsageError{"--slow must be between 1 and 64"};
+  if (!args.sync.empty() && args.sync != "auto")
+    throw UsageError{"--sync takes 'auto' (or give --offset-s or --event)"};
+  if (!args.sync.empty() && !args.event.empty())
+    throw UsageError{"--sync auto and --event both set the sync: give one"};
+  const auto [first, last] = ParseFrames(args.frames);
+  vision::VideoSync sync = ParseVideoSync(args.offset_s, args.event, args.rate);
+  const bool athlete = !args.common.athlete_path.empty();
+  const analysis::SceneShow show = analysis::ParseSceneShow(
+      !args.show.empty() ? args.show : (athlete ? "mesh,skeleton,com" : "skeleton,markers"));
+  {
+    // Before any work: a bad -o costs nothing.
+    const std::filesystem::path out(args.common.out_dir);
+    CheckOutputDirectory(out.extension() != ".mp4" ? out
+                         : out.has_parent_path()   ? out.parent_path()
+                                                   : std::filesystem::path("."));
+  }
+
+  const capture::Trial trial = capture::ReadTrial(args.common.trial_path);
+  const std::vector<vision::Camera> cameras = vision::ReadCameras(args.calibration);
+  const vision::Camera& camera = vision::FindCamera(cameras, args.camera, args.calibration);
+  if (args.sync == "auto") {
+    capture::VideoReader grey(args.video, {.pixels = capture::VideoPixels::kGrey});
+    vision::AutoSyncOptions options;
+    options.rate = args.rate;
+    options.progress = MakeCancellableProgress("sync (image motion)", "frames");
+    const vision::AutoSyncResult found = vision::SyncFromImageMotion(trial, camera, grey, options);
+    sync = found.sync;
+    std::fprintf(stderr,
+                 "sync: offset %.4f s from the image motion (1 − correlation %.3f, runner-up %.3f)\n",
+                 sync.offset_s,
+                 found.cost,
+                 found.runner_up_cost);
+  }
+
+  std::optional<analysis::TrialAnalysis> result;
+  std::optional<analysis::TrialScene> scene;
+  if (athlete) {
+    const analysis::AthleteBody body = args.common.MakeBody("overlay");
+    analysis::TrialAnalysisOptions options;
+    options.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
+    result = analysis::AnalyzeTrial(trial, nullptr, body, options);
+    scene.emplace(trial, *result, body, analysis::MakeEllipsoidBodyMesh(body));
+  } else {
+    scene.emplace(trial, vision::ParseAxisMapping(args.axes));
+  }
+
+  capture::VideoReader video(args.video);
+  ui::SceneOverlayOptions options;
+  options.show = show;
+  options.sync = sync;
+  options.first_frame = first;
+  options.last_frame = last;
+  options.slow = args.slow;
+  options.heads_up = args.heads_up;
+  options.video.preset = "veryfast";
+  options.progress = MakeCancellableProgress("overlay", "frames");
+  const ui::OverlayTiming t = ui::WriteSceneOverlay(video, *scene, camera, args.common.out_dir, options);
+  std::printf("wrote %s (%d frames; decode %.1f s, scene %.1f s, render %.1f s, composite %.1f s, "
+              "encode %.1f s)\n",
+              args.common.out_dir.c_str(),
+              t.frames_written,
+              t.decode_s,
+              t.scene_s,
+              t.render_s,
+              t.composite_s,
+              t.encode_s);
+  return 0;
+}
+#endif
+
+}  // namespace
+
+void AddOverlayCommand(CLI::App& app, CommandRunner* run) {
+  auto args = std::make_shared<OverlayArguments>();
+  CLI::App* command = app.add_subcommand(
+      "overlay",
+      "Draws the trial over a calibrated camera's video with the 3D views: the measured markers "
+      "or keypoints as a skeleton, or with --athlete the reconstructed athlete (mesh, skeleton, "
+      "centre of mass, residual force) and a heads-up line per frame. docs/overlay.md.");
+  command->add_option("TRIAL", args->common.trial_path, "markers or keypoints: C3D, TRC or CSV")
+      ->required();
+  command->add_option("--video", args->video, "the camera's video")->required();
+  command
+      ->add_option("--calib",
+                   args->calibration,
+                   "cameras: Pose2Sim/Anipose .toml, Qualisys .qca, OpenCV .yml/.xml")
+      ->required();
+  command->add_option("--camera", args->camera, "the camera of the video (default: the only one)");
+  command->add_option("--athlete",
+                      args->common.athlete_path,
+                      "athlete profile: reconstruct and analyse the trial, draw the athlete");
+  command->add_option("--offset-s",
+                      args->offset_s,
+                      "video time of the trial's first sample (video time = offset + rate × "
+                      "trial time)");
+  command->add_option("--event", args->event, "TRIAL_S:VIDEO_S: an event seen in both");
+  command->add_option("--sync", args->sync, "auto: find the offset from the video's image motion");
+  command->add_option("--rate", args->rate, "video seconds per trial second (default 1)");
+  command->add_option("--axes", args->axes, "without --athlete: the trial's axes (zxy: Y-up TRC)");
+  command->add_option("--show",
+                      args->show,
+                      "mesh,skeleton,markers,com,residual (default: mesh,skeleton,com with "
+                      "--athlete, skeleton,markers without)");
+  command->add_option("--frames", args->frames, "FIRST:LAST video frames only (0-based)");
+  command->add_option("--slow", args->slow, "write each flight frame K times (slow motion)");
+  command->add_flag_callback(
+      "--no-hud", [args] { args->heads_up = false; }, "no heads-up line");
+  command->add_option("-o,--output", args->common.out_dir, "OUT.mp4 or a directory of PNG frames")
+      ->required();
+  command->callback([args, run] {
+#ifdef ACRO_HAVE_VIEWS
+    *run = [args] { return RunOverlay(*args); };
+#else
+    *run = [] {
+      throw UsageError{
+          "this acrolab was built without the 3D views (VTK): run scripts/install-deps.sh, then "
+          "scripts/build.sh (ACRO_BUILD_UI=ON)"};
+      return 2;
+    };
+#endif
+  });
+}
+
+}  // namespace acro::app

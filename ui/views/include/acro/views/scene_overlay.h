@@ -1,0 +1,59 @@
+#pragma once
+
+// The virtual athlete over the real video (`acrolab overlay`): every frame of a calibrated
+// camera's video, the trial sample the sync puts on it drawn by the scene renderer through that
+// camera (distortion included, camera_composite.h), with the heads-up line; into an MP4 or a
+// directory of PNG frames. Needs an X display (display.h).
+
+#include <filesystem>
+#include <functional>
+
+#include "acro/capture/video.h"
+#include "acro/scene/trial_scene.h"
+#include "acro/vision/camera.h"
+#include "acro/vision/video_sync.h"
+
+namespace acro::ui {
+
+struct SceneOverlayOptions {
+  analysis::SceneShow show;
+  vision::VideoSync sync;
+  /// The video frames to write, [first_frame, last_frame]; −1: to the end.
+  int first_frame = 0;
+  int last_frame = -1;
+  /// Frames inside a flight are written this many times (slow motion around the flights).
+  int slow = 1;
+  /// Draw the heads-up line.
+  bool heads_up = true;
+  /// Shade by the lights; false draws every actor flat in its colour (high contrast, and what a
+  /// test measures centroids on).
+  bool shaded = true;
+  capture::VideoWriterOptions video;
+  /// Called with (frames done, frames in all); returns false to cancel (nothing is left behind).
+  std::function<bool(int, int)> progress;
+};
+
+/// Where the time of an overlay went (s, wall clock): decoding, drawing the scene (posing, VTK's
+/// render and the read-back of its pixels, which waits for the render to finish), compositing
+/// onto the frame, and encoding with writing.
+struct OverlayTiming {
+  int frames_read = 0;
+  int frames_written = 0;
+  double decode_s = 0;
+  double scene_s = 0;
+  double render_s = 0;
+  double composite_s = 0;
+  double encode_s = 0;
+};
+
+/// Writes the overlay of `scene` on `video` (opened for RGB) through `camera` into `output` (.mp4,
+/// else a directory of frame_NNNNNN.png). The camera's pixels are taken to be the video's from the
+/// top-left corner even when it was calibrated at another size (the caller warns about it). Throws acro::InputError naming the file for anything
+/// that cannot be read or written, and for a cancelled run.
+OverlayTiming WriteSceneOverlay(capture::VideoReader& video,
+                                analysis::TrialScene& scene,
+                                const vision::Camera& camera,
+                                const std::filesystem::path& output,
+                                const SceneOverlayOptions& options);
+
+}  // namespace acro::ui

@@ -1,0 +1,161 @@
+#include "acro/views/display.h"
+
+#include <X11/Xlib.h>
+#include <fcntl.h>
+#include <poll.h>
+#include <sys/prctl.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cerrno>
+#include <csignal>
+#include <cstdlib>
+#include <cstring>
+#include <optional>
+#include <sstream>
+
+#include "acro/base/input_error.h"
+#include "acro/base/temporaries.h"
+
+namespace acro::ui {
+
+namespace {
+
+// The first executable `name` on $PATH, or nothing.
+std::optional<std::string> FindOnPath(const std::string& name) {
+  const char* path = std::getenv("PATH");
+  std::stringstream dirs(path != nullptr ? path : "/usr/bin:/bin");
+  std::string dir;
+  while (std::getline(dirs, dir, ':')) {
+    if (dir.empty()) continue;
+    const std::string candidate = dir + "/" + name;
+    if (access(candidate.c_str(), X_OK) == 0) return candidate;
+  }
+  return std::nullopt;
+}
+
+// Waits up to `timeout_ms` for `pid` to exit; true when it did.
+bool WaitForExit(pid_t pid, int timeout_ms) {
+  for (int waited = 0; waited <= timeout_ms; waited += 10) {
+    const pid_t r = waitpid(pid, nullptr, WNOHANG);
+    if (r == pid || (r < 0 && errno == ECHILD)) return true;
+    usleep(10000);
+  }
+  return false;
+}
+
+}  // namespace
+
+bool XServerAnswers(const std::string& display_name) {
+  Display* display = XOpenDisplay(display_name.c_str());
+  if (display == nullptr) return false;
+  XCloseDisplay(display);
+  return true;
+}
+
+struct XDisplay::Impl {
+  std::string name;
+  pid_t pid = -1;
+  std::unique_ptr<ScopedChildProcess> registered;
+  std::optional<std::string> previous_display;
+
+  ~Impl() {
+    if (pid <= 0) return;
+    kill(pid, SIGTERM);
+    if (!WaitForExit(pid, 3000)) {
+      kill(pid, SIGKILL);
+      WaitForExit(pid, 1000);
+    }
+    if (previous_display) {
+      setenv("DISPLAY", previous_display->c_str(), 1);
+    } else {
+      unsetenv("DISPLAY");
+    }
+  }
+
+  void Start() {
+    const std::optional<std::string> xvfb = FindOnPath("Xvfb");
+    if (!xvfb) {
+      throw InputError("",
+                       "3D views",
+                       "no X display ($DISPLAY is unset or does not answer) and no Xvfb to start "
+                       "one: install the xvfb package (apt-get install xvfb), or run with a display");
+    }
+    int fds[2];
+    if (pipe2(fds, O_CLOEXEC) != 0) throw InputError("", "3D views", "cannot make a pipe for Xvfb");
+    const pid_t parent = getpid();
+    const pid_t child = fork();
+    if (child < 0) {
+      close(fds[0]);
+      close(fds[1]);
+      throw InputError("", "3D views", "cannot start Xvfb (fork failed)");
+    }
+    if (child == 0) {
+      // The server: no blocked signals (the command line blocks SIGINT and SIGTERM for its signal
+      // thread), stopped when this process dies, quiet, and only the pipe inherited (as fd 3).
+      sigset_t none;
+      sigemptyset(&none);
+      sigprocmask(SIG_SETMASK, &none, nullptr);
+      prctl(PR_SET_PDEATHSIG, SIGTERM);
+      if (getppid() != parent) _exit(1);
+      const int null = open("/dev/null", O_RDWR);
+      if (null >= 0) {
+        dup2(null, 0);
+        dup2(null, 1);
+        dup2(null, 2);
+      }
+      dup2(fds[1], 3);  // dup2 clears close-on-exec on the copy
+      close_range(4, ~0U, 0);
+      const char* argv[] = {"Xvfb",   "-displayfd", "3",          "-screen", "0",
+                            "1280x1024x24", "-nolisten", "tcp", "-noreset", nullptr};
+      execv(xvfb->c_str(), const_cast<char* const*>(argv));
+      _exit(127);
+    }
+    pid = child;
+    registered = std::make_unique<ScopedChildProcess>(child);
+    close(fds[1]);
+    // The server writes its display number and a newline when it is ready.
+    std::string number;
+    pollfd p{fds[0], POLLIN, 0};
+    for (int waited_ms = 0; waited_ms < 10000;) {
+      const int r = poll(&p, 1, 100);
+      if (r < 0 && errno == EINTR) continue;
+      if (r == 0) {
+        waited_ms += 100;
+        continue;
+      }
+      char c = 0;
+      const ssize_t n = read(fds[0], &c, 1);
+      if (n <= 0 || c == '\n') break;
+      number += c;
+    }
+    close(fds[0]);
+    if (number.empty() || number.find_first_not_of("0123456789") != std::string::npos) {
+      throw InputError("",
+                       "3D views",
+                       *xvfb + " did not open a display within 10 s (is Mesa's OpenGL, "
+                               "libgl1-mesa-dri, installed?)");
+    }
+    const char* display = std::getenv("DISPLAY");
+    if (display != nullptr) previous_display = display;
+    name = ":" + number;
+    setenv("DISPLAY", name.c_str(), 1);
+  }
+};
+
+XDisplay::XDisplay() : impl_(std::make_unique<Impl>()) {
+  const char* display = std::getenv("DISPLAY");
+  if (display != nullptr && *display != '\0' && XServerAnswers(display)) {
+    impl_->name = display;
+    return;
+  }
+  impl_->Start();
+}
+
+XDisplay::~XDisplay() = default;
+
+const std::string& XDisplay::name() const { return impl_->name; }
+
+bool XDisplay::started_here() const { return impl_->pid > 0; }
+
+}  // namespace acro::ui
