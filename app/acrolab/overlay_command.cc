@@ -89,7 +89,7 @@ int RunOverlay(const OverlayArguments& args) {
     analysis::TrialAnalysisOptions options;
     options.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
     result = analysis::AnalyzeTrial(trial, nullptr, body, options);
-    scene.emplace(trial, *result, body, analysis::MakeEllipsoidBodyMesh(body));
+    scene.emplace(trial, *result, body, analysis::MakeEllipsoidBodyMesh(body, analysis::OverlayBodyMeshOptions()));
   } else {
     scene.emplace(trial, vision::ParseAxisMapping(args.axes));
   }

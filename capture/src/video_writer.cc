@@ -17,6 +17,10 @@ extern "C" {
 #include <filesystem>
 #include <optional>
 #include <random>
+#include <condition_variable>
+#include <deque>
+#include <mutex>
+#include <string>
 #include <thread>
 
 #include <fmt/format.h>
@@ -42,12 +46,70 @@ struct VideoWriter::Impl {
   AVFrame* frame = nullptr;
   AVPacket* packet = nullptr;
   SwsContext* scaler = nullptr;
-  std::vector<std::uint8_t> padded;  // RGB at the even size
-  int written = 0;
+  int written = 0;  // frames given to Write()
+  int encoded = 0;  // frames sent to the encoder (by the encoding thread)
   bool finished = false;
   std::optional<ScopedTemporary> registered;  // the temporary file, while it exists
 
+  // The encoding thread: Write() copies each frame (padded to the even size) into a free slot and
+  // queues it; the thread converts it to yuv420p and encodes it, so that the caller draws the next
+  // frame meanwhile. An error there is kept and thrown by the next Write() or Finish().
+  static constexpr size_t kSlots = 3;
+  std::thread worker;
+  std::mutex mutex;
+  std::condition_variable changed;
+  std::deque<std::vector<std::uint8_t>> queued;    // RGB at the even size, in order
+  std::vector<std::vector<std::uint8_t>> spare;    // slots to reuse
+  size_t slots = 0;                                // slots made
+  bool closing = false;
+  std::optional<std::string> error;
+
+  void Work() {
+    for (;;) {
+      std::vector<std::uint8_t> rgb;
+      {
+        std::unique_lock<std::mutex> lock(mutex);
+        changed.wait(lock, [this] { return closing || !queued.empty(); });
+        if (queued.empty()) return;
+        rgb = std::move(queued.front());
+        queued.pop_front();
+      }
+      try {
+        if (!error) {
+          int rc = av_frame_make_writable(frame);
+          if (rc < 0) Fail("frame buffer: " + AvError(rc));
+          const std::uint8_t* src[1] = {rgb.data()};
+          const int src_stride[1] = {3 * coded_width};
+          sws_scale(scaler, src, src_stride, 0, coded_height, frame->data, frame->linesize);
+          frame->pts = encoded++;
+          Encode(frame);
+        }
+      } catch (const std::exception& e) {
+        const std::lock_guard<std::mutex> lock(mutex);
+        error = e.what();
+      }
+      {
+        const std::lock_guard<std::mutex> lock(mutex);
+        spare.push_back(std::move(rgb));
+      }
+      changed.notify_all();
+    }
+  }
+
+  // Stops the thread after the queued frames; true when it was running.
+  bool StopWorker() {
+    if (!worker.joinable()) return false;
+    {
+      const std::lock_guard<std::mutex> lock(mutex);
+      closing = true;
+    }
+    changed.notify_all();
+    worker.join();
+    return true;
+  }
+
   ~Impl() {
+    StopWorker();
     sws_freeContext(scaler);
     av_frame_free(&frame);
     av_packet_free(&packet);
@@ -160,8 +222,7 @@ VideoWriter::VideoWriter(const std::filesystem::path& path,
                             nullptr,
                             nullptr);
   if (m.scaler == nullptr) m.Fail("no RGB to yuv420p conversion");
-  // Padded rows (swscale reads whole vectors) at the even size.
-  m.padded.assign(3 * static_cast<size_t>(m.coded_width) * m.coded_height + 64, 0);
+  m.worker = std::thread([&m] { m.Work(); });
 }
 
 VideoWriter::~VideoWriter() = default;
@@ -176,28 +237,46 @@ void VideoWriter::Write(const std::vector<std::uint8_t>& rgb) {
   if (rgb.size() != 3 * static_cast<size_t>(m.width) * m.height)
     m.Fail(fmt::format(
         "frame {} has {} bytes, not {} x {} RGB", m.written, rgb.size(), m.width, m.height));
+  // A free slot: a spare one, a new one while fewer than kSlots exist, or wait for the encoder.
+  std::vector<std::uint8_t> slot;
+  {
+    std::unique_lock<std::mutex> lock(m.mutex);
+    m.changed.wait(lock, [&m] {
+      return m.error.has_value() || !m.spare.empty() || m.slots < Impl::kSlots;
+    });
+    if (m.error) throw InputError("", "", *m.error);  // it names the file
+    if (!m.spare.empty()) {
+      slot = std::move(m.spare.back());
+      m.spare.pop_back();
+    } else {
+      ++m.slots;
+      // Padded rows (swscale reads whole vectors) at the even size.
+      slot.assign(3 * static_cast<size_t>(m.coded_width) * m.coded_height + 64, 0);
+    }
+  }
   // Copy into the even-sized picture, repeating the last column and row.
   const size_t row = 3 * static_cast<size_t>(m.coded_width);
   for (int y = 0; y < m.height; ++y) {
-    std::uint8_t* dst = m.padded.data() + y * row;
+    std::uint8_t* dst = slot.data() + y * row;
     std::copy_n(rgb.data() + 3 * static_cast<size_t>(y) * m.width, 3 * m.width, dst);
     if (m.coded_width > m.width) std::copy_n(dst + 3 * (m.width - 1), 3, dst + 3 * m.width);
   }
   if (m.coded_height > m.height)
-    std::copy_n(m.padded.data() + (m.height - 1) * row, row, m.padded.data() + m.height * row);
-  int rc = av_frame_make_writable(m.frame);
-  if (rc < 0) m.Fail("frame buffer: " + AvError(rc));
-  const std::uint8_t* src[1] = {m.padded.data()};
-  const int src_stride[1] = {static_cast<int>(row)};
-  sws_scale(m.scaler, src, src_stride, 0, m.coded_height, m.frame->data, m.frame->linesize);
-  m.frame->pts = m.written++;
-  m.Encode(m.frame);
+    std::copy_n(slot.data() + (m.height - 1) * row, row, slot.data() + m.height * row);
+  {
+    const std::lock_guard<std::mutex> lock(m.mutex);
+    m.queued.push_back(std::move(slot));
+  }
+  m.changed.notify_all();
+  ++m.written;
 }
 
 void VideoWriter::Finish() {
   Impl& m = *impl_;
   if (m.finished) return;
   if (m.written == 0) m.Fail("no frame was written");
+  m.StopWorker();  // encodes what is queued
+  if (m.error) throw InputError("", "", *m.error);
   m.Encode(nullptr);
   int rc = av_write_trailer(m.format);
   if (rc < 0) m.Fail("cannot write the MP4 index: " + AvError(rc));

@@ -97,13 +97,13 @@ void BM_Overlay(benchmark::State& state, const char* show) {
     acro::analysis::TrialScene scene(routine.trial,
                                      routine.analysis,
                                      routine.body,
-                                     acro::analysis::MakeEllipsoidBodyMesh(routine.body));
+                                     acro::analysis::MakeEllipsoidBodyMesh(routine.body, acro::analysis::OverlayBodyMeshOptions()));
     acro::capture::VideoReader video(video_path);
     acro::ui::SceneOverlayOptions options;
     options.show = acro::analysis::ParseSceneShow(show);
     options.video.preset = "veryfast";
     t = acro::ui::WriteSceneOverlay(video, scene, routine.camera, out, options);
-    triangles = acro::analysis::MakeEllipsoidBodyMesh(routine.body).num_triangles();
+    triangles = acro::analysis::MakeEllipsoidBodyMesh(routine.body, acro::analysis::OverlayBodyMeshOptions()).num_triangles();
   }
   const double frames = t.frames_read;
   const double total = t.decode_s + t.scene_s + t.render_s + t.composite_s + t.encode_s;

@@ -87,6 +87,13 @@ std::vector<std::pair<int, int>> KeypointLinks(const std::vector<std::string>& n
   return links;
 }
 
+BodyMeshOptions OverlayBodyMeshOptions() {
+  BodyMeshOptions options;
+  options.points_per_semicircle = 16;
+  options.ellipsoid_bands = 10;
+  return options;
+}
+
 TrialScene::TrialScene(const capture::Trial& trial, const vision::AxisMapping& axes)
     : trial_(trial), axes_(axes) {
   std::vector<std::string> names;
@@ -154,7 +161,13 @@ void TrialScene::Frame(int sample, TrialFrame* out) {
   const int flight = FlightAt(sample);
   // The COM's path from this flight's take-off (the trail stays empty in contact).
   const int first = flight >= 0 ? analysis_->phases.flights[size_t(flight)].takeoff_frame : sample;
-  out->com_trail_W = check.frames.com_W.middleCols(first, sample - first + 1);
+  out->com_trail.name = "COM path";
+  out->com_trail.colour = {1.0f, 0.85f, 0.0f, 1.0f};
+  out->com_trail.points_W.resize(3, 2 * (sample - first));
+  for (int k = first; k < sample; ++k) {
+    out->com_trail.points_W.col(2 * (k - first)) = check.frames.com_W.col(k);
+    out->com_trail.points_W.col(2 * (k - first) + 1) = check.frames.com_W.col(k + 1);
+  }
   out->residual.name = "residual force";
   out->residual.colour = {1.0f, 0.2f, 0.9f, 1.0f};
   out->residual.width_px = 5.0;

@@ -74,9 +74,13 @@ CameraComposite::CameraComposite(const vision::Camera& camera, double max_canvas
   render_camera_.K(0, 2) = cx - x0;
   render_camera_.K(1, 2) = cy - y0;
 
-  tap_.assign(size_t(W) * size_t(H), -1);
-  weight_x_.assign(tap_.size(), 0);
-  weight_y_.assign(tap_.size(), 0);
+  if (cw > 32767 || ch > 32767)
+    throw std::invalid_argument("CameraComposite: camera " + camera.name + " needs a canvas of " +
+                                std::to_string(cw) + " x " + std::to_string(ch) + " px");
+  tap_x_.assign(size_t(W) * size_t(H), -1);
+  tap_y_.assign(tap_x_.size(), 0);
+  weight_x_.assign(tap_x_.size(), 0);
+  weight_y_.assign(tap_x_.size(), 0);
   for (int v = 0; v < H; ++v) {
     const int j = v / kGrid;
     const double b = double(v - j * kGrid) / kGrid;
@@ -88,62 +92,105 @@ CameraComposite::CameraComposite(const vision::Camera& camera, double max_canvas
                                 b * ((1 - a) * g(0, 1) + a * g(1, 1));
       const double x = p.x() - x0, y = p.y() - y0;
       if (!(x >= 0 && y >= 0 && x < cw - 1 && y < ch - 1)) continue;
-      const int xi = static_cast<int>(x), yi = static_cast<int>(y);
+      int xi = static_cast<int>(x), yi = static_cast<int>(y);
       const size_t k = size_t(v) * size_t(W) + size_t(u);
-      tap_[k] = (yi * cw + xi) * 4;
       // Rounded to 1/256 px; a weight of 256 would not fit: the next tap takes it.
-      int wx = static_cast<int>(std::lround((x - xi) * 256)), wy = static_cast<int>(std::lround((y - yi) * 256));
-      if (wx == 256 || wy == 256) {
-        const int xs = wx == 256 ? 1 : 0, ys = wy == 256 ? 1 : 0;
-        if (xi + xs >= cw - 1 || yi + ys >= ch - 1) continue;
-        tap_[k] += (ys * cw + xs) * 4;
-        if (wx == 256) wx = 0;
-        if (wy == 256) wy = 0;
+      int wx = static_cast<int>(std::lround((x - xi) * 256));
+      int wy = static_cast<int>(std::lround((y - yi) * 256));
+      if (wx == 256) {
+        if (++xi >= cw - 1) continue;
+        wx = 0;
       }
+      if (wy == 256) {
+        if (++yi >= ch - 1) continue;
+        wy = 0;
+      }
+      tap_x_[k] = static_cast<std::int16_t>(xi);
+      tap_y_[k] = static_cast<std::int16_t>(yi);
       weight_x_[k] = static_cast<std::uint8_t>(wx);
       weight_y_[k] = static_cast<std::uint8_t>(wy);
     }
   }
 }
 
-void CameraComposite::Composite(const RenderImage& render, std::vector<std::uint8_t>* rgb) const {
+PixelBox CameraComposite::RenderRegion(const PixelBox& frame_box) const {
   const int W = camera_.width_px, H = camera_.height_px;
-  if (render.width != render_camera_.width_px || render.height != render_camera_.height_px)
-    throw std::invalid_argument("CameraComposite: the render is " + std::to_string(render.width) +
-                                " x " + std::to_string(render.height) + " px, not the canvas' " +
-                                std::to_string(render_camera_.width_px) + " x " +
-                                std::to_string(render_camera_.height_px));
+  const PixelBox f{std::clamp(frame_box.x0, 0, W),
+                   std::clamp(frame_box.y0, 0, H),
+                   std::clamp(frame_box.x1, 0, W),
+                   std::clamp(frame_box.y1, 0, H)};
+  if (f.empty()) return {};
+  if (!warps_) return f;
+  // The taps of the box's border (a sane distortion maps the inside inside), and one more pixel
+  // for the bilinear neighbours.
+  PixelBox r{render_camera_.width_px, render_camera_.height_px, 0, 0};
+  const auto add = [&](int u, int v) {
+    const size_t k = size_t(v) * size_t(W) + size_t(u);
+    if (tap_x_[k] < 0) return;
+    r.x0 = std::min<int>(r.x0, tap_x_[k]);
+    r.y0 = std::min<int>(r.y0, tap_y_[k]);
+    r.x1 = std::max<int>(r.x1, tap_x_[k] + 2);
+    r.y1 = std::max<int>(r.y1, tap_y_[k] + 2);
+  };
+  for (int u = f.x0; u < f.x1; ++u) {
+    add(u, f.y0);
+    add(u, f.y1 - 1);
+  }
+  for (int v = f.y0; v < f.y1; ++v) {
+    add(f.x0, v);
+    add(f.x1 - 1, v);
+  }
+  return r;
+}
+
+void CameraComposite::Composite(const RenderImage& render, std::vector<std::uint8_t>* rgb) const {
+  Composite(render, PixelBox{0, 0, camera_.width_px, camera_.height_px}, rgb);
+}
+
+void CameraComposite::Composite(const RenderImage& render,
+                                const PixelBox& frame_box,
+                                std::vector<std::uint8_t>* rgb) const {
+  const int W = camera_.width_px, H = camera_.height_px;
   if (rgb->size() != size_t(W) * size_t(H) * 3)
     throw std::invalid_argument("CameraComposite: the frame is not the camera's size");
+  if (render.x0 < 0 || render.y0 < 0 || render.x0 + render.width > render_camera_.width_px ||
+      render.y0 + render.height > render_camera_.height_px)
+    throw std::invalid_argument("CameraComposite: the render is not a part of the canvas");
+  const PixelBox f{std::clamp(frame_box.x0, 0, W),
+                   std::clamp(frame_box.y0, 0, H),
+                   std::clamp(frame_box.x1, 0, W),
+                   std::clamp(frame_box.y1, 0, H)};
   std::uint8_t* out = rgb->data();
   const std::uint8_t* in = render.rgba.data();
-  if (!warps_) {
-    const size_t n = size_t(W) * size_t(H);
-    for (size_t k = 0; k < n; ++k) {
-      const std::uint8_t* c = in + 4 * k;
-      if (c[3] == 0) continue;
+  const int row = render.width * 4;
+  for (int v = f.y0; v < f.y1; ++v) {
+    for (int u = f.x0; u < f.x1; ++u) {
+      const size_t k = size_t(v) * size_t(W) + size_t(u);
+      if (!warps_) {
+        // The render is the frame's own geometry.
+        const int x = u - render.x0, y = v - render.y0;
+        if (x < 0 || y < 0 || x >= render.width || y >= render.height) continue;
+        const std::uint8_t* c = in + (size_t(y) * size_t(render.width) + size_t(x)) * 4;
+        if (c[3] != 0) Over(c, out + 3 * k);
+        continue;
+      }
+      if (tap_x_[k] < 0) continue;
+      const int x = tap_x_[k] - render.x0, y = tap_y_[k] - render.y0;
+      if (x < 0 || y < 0 || x + 1 >= render.width || y + 1 >= render.height) continue;
+      const std::uint8_t* p00 = in + y * row + x * 4;
+      const std::uint8_t* p10 = p00 + 4;
+      const std::uint8_t* p01 = p00 + row;
+      const std::uint8_t* p11 = p01 + 4;
+      if ((p00[3] | p10[3] | p01[3] | p11[3]) == 0) continue;
+      const int wx = weight_x_[k], wy = weight_y_[k];
+      const int w00 = (256 - wx) * (256 - wy), w10 = wx * (256 - wy), w01 = (256 - wx) * wy,
+                w11 = wx * wy;  // sum 65536
+      std::uint8_t c[4];
+      for (int ch = 0; ch < 4; ++ch)
+        c[ch] = static_cast<std::uint8_t>(
+            (p00[ch] * w00 + p10[ch] * w10 + p01[ch] * w01 + p11[ch] * w11 + 32768) >> 16);
       Over(c, out + 3 * k);
     }
-    return;
-  }
-  const int row = render.width * 4;
-  const size_t n = size_t(W) * size_t(H);
-  for (size_t k = 0; k < n; ++k) {
-    const std::int32_t t = tap_[k];
-    if (t < 0) continue;
-    const std::uint8_t* p00 = in + t;
-    const std::uint8_t* p10 = p00 + 4;
-    const std::uint8_t* p01 = p00 + row;
-    const std::uint8_t* p11 = p01 + 4;
-    if ((p00[3] | p10[3] | p01[3] | p11[3]) == 0) continue;
-    const int wx = weight_x_[k], wy = weight_y_[k];
-    const int w00 = (256 - wx) * (256 - wy), w10 = wx * (256 - wy), w01 = (256 - wx) * wy,
-              w11 = wx * wy;  // sum 65536
-    std::uint8_t c[4];
-    for (int ch = 0; ch < 4; ++ch)
-      c[ch] = static_cast<std::uint8_t>(
-          (p00[ch] * w00 + p10[ch] * w10 + p01[ch] * w01 + p11[ch] * w11 + 32768) >> 16);
-    Over(c, out + 3 * k);
   }
 }
 

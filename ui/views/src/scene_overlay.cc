@@ -44,7 +44,9 @@ class SceneActors {
       bones_ = renderer->AddLines(bones);
       joints_ = renderer->AddPoints(f.athlete.skeleton.points_W, 0.03, {0.1f, 0.5f, 0.1f, 1});
       com_ = renderer->AddPoints(f.athlete.com_W, 0.06, {1.0f, 0.85f, 0.0f, 1});
-      trail_ = renderer->AddPoints(f.com_trail_W, 0.015, {1.0f, 0.85f, 0.0f, 1});
+      analysis::SceneLines trail = f.com_trail;
+      trail.width_px = 0.4 * scale_px;
+      trail_ = renderer->AddLines(trail);
       analysis::SceneLines residual = f.residual;
       residual.width_px = 0.6 * scale_px;
       residual_ = renderer->AddLines(residual);
@@ -66,13 +68,13 @@ class SceneActors {
       renderer_->UpdateLines(bones_, f.athlete.skeleton.points_W);
       renderer_->UpdatePoints(joints_, f.athlete.skeleton.points_W);
       renderer_->UpdatePoints(com_, f.athlete.com_W);
-      renderer_->UpdatePoints(trail_, f.com_trail_W);
+      renderer_->UpdateLines(trail_, f.com_trail.points_W);
       renderer_->UpdateLines(residual_, f.residual.points_W);
       renderer_->SetVisible(mesh_, visible && show_.mesh);
       renderer_->SetVisible(bones_, visible && show_.skeleton);
       renderer_->SetVisible(joints_, visible && show_.skeleton);
       renderer_->SetVisible(com_, visible && show_.com);
-      renderer_->SetVisible(trail_, visible && show_.com && f.com_trail_W.cols() > 1);
+      renderer_->SetVisible(trail_, visible && show_.com && f.com_trail.num_segments() > 0);
       renderer_->SetVisible(residual_, visible && show_.residual);
     } else {
       renderer_->UpdateLines(links_, f.keypoint_links.points_W);
@@ -89,6 +91,58 @@ class SceneActors {
   int mesh_ = -1, bones_ = -1, joints_ = -1, com_ = -1, trail_ = -1, residual_ = -1, links_ = -1,
       markers_ = -1;
 };
+
+// Grows `box` (min, max) by the points.
+void Extend(const Eigen::Matrix3Xd& points, Eigen::Vector3d* lo, Eigen::Vector3d* hi) {
+  if (points.cols() == 0) return;
+  *lo = lo->cwiseMin(points.rowwise().minCoeff());
+  *hi = hi->cwiseMax(points.rowwise().maxCoeff());
+}
+
+// The frame pixels the drawn scene can cover: the box of what is shown, grown by 0.1 m (spheres,
+// tubes), its corners projected by the camera, grown by `margin_px` (the curved edges of a
+// distorted projection, line widths). All of the frame when a corner is behind the camera; an
+// empty box when nothing is shown.
+PixelBox FrameBox(const analysis::TrialFrame& f,
+                  const Show& show,
+                  bool athlete,
+                  const vision::Camera& camera,
+                  double margin_px) {
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
+  if (athlete) {
+    if (show.mesh) Extend(f.athlete.mesh.vertices_W, &lo, &hi);
+    if (show.skeleton) Extend(f.athlete.skeleton.points_W, &lo, &hi);
+    if (show.com) {
+      Extend(f.athlete.com_W, &lo, &hi);
+      Extend(f.com_trail.points_W, &lo, &hi);
+    }
+    if (show.residual) Extend(f.residual.points_W, &lo, &hi);
+  } else if (show.skeleton) {
+    Extend(f.keypoint_links.points_W, &lo, &hi);
+  }
+  if (show.markers) Extend(f.markers_W, &lo, &hi);
+  if (!(lo.array() <= hi.array()).all()) return {};
+  lo.array() -= 0.1;
+  hi.array() += 0.1;
+  double u0 = 1e300, v0 = 1e300, u1 = -1e300, v1 = -1e300;
+  for (int c = 0; c < 8; ++c) {
+    const Eigen::Vector3d corner((c & 1) ? hi.x() : lo.x(), (c & 2) ? hi.y() : lo.y(),
+                                 (c & 4) ? hi.z() : lo.z());
+    const std::optional<Eigen::Vector2d> uv = camera.Project(corner);
+    if (!uv) return {0, 0, camera.width_px, camera.height_px};
+    u0 = std::min(u0, uv->x());
+    v0 = std::min(v0, uv->y());
+    u1 = std::max(u1, uv->x());
+    v1 = std::max(v1, uv->y());
+  }
+  const auto clamp = [](double x, int limit) {
+    return static_cast<int>(std::clamp(x, 0.0, static_cast<double>(limit)));
+  };
+  return {clamp(std::floor(u0 - margin_px), camera.width_px),
+          clamp(std::floor(v0 - margin_px), camera.height_px),
+          clamp(std::ceil(u1 + margin_px) + 1, camera.width_px),
+          clamp(std::ceil(v1 + margin_px) + 1, camera.height_px)};
+}
 
 }  // namespace
 
@@ -121,17 +175,15 @@ OverlayTiming WriteSceneOverlay(capture::VideoReader& video,
   // Sizes in pixels follow the frame: 1 unit is 0.5 % of the diagonal, at least 3 px.
   const double scale_px = std::max(3.0, 0.005 * std::hypot(info.width, info.height));
   const int text_px = std::max(12, int(0.022 * info.height));
-  std::optional<SceneRenderer> hud;
-  int hud_text = -1;
-  if (options.heads_up) {
-    hud.emplace(std::min(info.width, text_px * 40), text_px * 2, 0);
-    hud_text = hud->AddText(" ", text_px, {1, 1, 1, 1});
-  }
 
   capture::VideoWriterOptions w = options.video;
   if (info.average_fps > 0) w.fps = info.average_fps;
   capture::FrameOutput out(output, info.width, info.height, w);
 
+  Show show;
+  static_cast<analysis::SceneShow&>(show) = options.show;
+  show.shaded = options.shaded;
+  const double margin_px = 0.02 * std::hypot(info.width, info.height) + 2 * scale_px;
   analysis::TrialFrame tf;
   std::optional<SceneActors> actors;
   RenderImage render, strip;
@@ -154,25 +206,22 @@ OverlayTiming WriteSceneOverlay(capture::VideoReader& video,
       start = Clock::now();
       scene.Frame(sample, &tf);
       if (!actors) {
-        Show show;
-        static_cast<analysis::SceneShow&>(show) = options.show;
-        show.shaded = options.shaded;
         actors.emplace(&renderer, tf, show, scene.has_athlete(), scale_px);
       } else {
         actors->Update(tf, true);
       }
       in_flight = scene.FlightAt(sample) >= 0;
       timing.scene_s += Since(start);
+      // Only the part of the frame the scene covers is rendered, read back and composited.
+      const PixelBox box = FrameBox(tf, show, scene.has_athlete(), camera, margin_px);
       start = Clock::now();
-      renderer.Render(&render);
+      if (!box.empty()) renderer.Render(composite.RenderRegion(box), &render);
       timing.render_s += Since(start);
       start = Clock::now();
-      composite.Composite(render, &frame.pixels);
-      if (hud) {
-        hud->UpdateText(hud_text, tf.heads_up);
-        hud->SetColour(hud_text, tf.heads_up_colour);
-        hud->Render(&strip);
-        BlendOver(strip, 0, 0, info.width, info.height, &frame.pixels);
+      if (!box.empty()) composite.Composite(render, box, &frame.pixels);
+      if (options.heads_up) {
+        RenderTextLine(tf.heads_up, text_px, tf.heads_up_colour, &strip);
+        BlendOver(strip, text_px / 2, text_px / 2, info.width, info.height, &frame.pixels);
       }
       timing.composite_s += Since(start);
     }

@@ -4,7 +4,8 @@
 #include <vtkCamera.h>
 #include <vtkCellArray.h>
 #include <vtkDoubleArray.h>
-#include <vtkGlyph3DMapper.h>
+#include <vtkFloatArray.h>
+#include <vtkPointData.h>
 #include <vtkMatrix4x4.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
@@ -12,14 +13,18 @@
 #include <vtkProperty.h>
 #include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
-#include <vtkSphereSource.h>
 #include <vtkSmartPointer.h>
 #include <vtkTextActor.h>
+#include <vtkImageData.h>
 #include <vtkTextProperty.h>
+#include <vtkTextRenderer.h>
 #include <vtkUnsignedCharArray.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstring>
+#include <optional>
 #include <stdexcept>
 
 #include <Eigen/Geometry>
@@ -54,6 +59,45 @@ void ApplyColour(vtkActor* actor, const analysis::Rgba& c) {
 }
 
 }  // namespace
+
+void RenderTextLine(const std::string& text, int size_px, analysis::Rgba colour, RenderImage* out) {
+  auto property = New<vtkTextProperty>();
+  property->SetFontFamilyToCourier();
+  property->SetFontSize(size_px);
+  property->SetColor(colour.r, colour.g, colour.b);
+  property->SetOpacity(colour.a);
+  property->SetJustificationToLeft();
+  property->SetVerticalJustificationToBottom();
+  auto image = New<vtkImageData>();
+  int dims[2] = {0, 0};
+  vtkTextRenderer* renderer = vtkTextRenderer::GetInstance();
+  const bool drawn = renderer != nullptr && !text.empty() &&
+                     renderer->RenderString(property, text, image, dims, 72);
+  int extent[6] = {0, -1, 0, -1, 0, 0};
+  if (drawn) image->GetExtent(extent);
+  const int tw = drawn ? extent[1] - extent[0] + 1 : 0, th = drawn ? extent[3] - extent[2] + 1 : 0;
+  const int pad = std::max(2, size_px / 4);
+  out->x0 = out->y0 = 0;
+  out->width = tw + 2 * pad;
+  out->height = std::max(th, size_px) + 2 * pad;
+  // The box: black at half opacity (premultiplied).
+  out->rgba.assign(size_t(out->width) * size_t(out->height) * 4, 0);
+  for (size_t k = 3; k < out->rgba.size(); k += 4) out->rgba[k] = 128;
+  if (!drawn || image->GetNumberOfScalarComponents() != 4) return;
+  const auto* src = static_cast<const std::uint8_t*>(image->GetScalarPointer());
+  for (int y = 0; y < th; ++y) {
+    // VTK's image rows run bottom to top.
+    const std::uint8_t* row = src + size_t(th - 1 - y) * size_t(tw) * 4;
+    std::uint8_t* dst = out->rgba.data() + (size_t(y + pad) * size_t(out->width) + size_t(pad)) * 4;
+    for (int x = 0; x < tw; ++x, row += 4, dst += 4) {
+      const int a = row[3];
+      if (a == 0) continue;
+      // Text over the box: premultiplied colour + (1 − a) · box.
+      for (int c = 0; c < 3; ++c) dst[c] = static_cast<std::uint8_t>((row[c] * a + 127) / 255);
+      dst[3] = static_cast<std::uint8_t>(a + (dst[3] * (255 - a) + 127) / 255);
+    }
+  }
+}
 
 Eigen::Matrix4d PinholeProjectionMatrix(const Eigen::Matrix3d& K,
                                         int width,
@@ -117,13 +161,57 @@ struct SceneRenderer::Impl {
     vtkSmartPointer<vtkActor> actor;
     vtkSmartPointer<vtkPolyData> data;
     vtkSmartPointer<vtkTextActor> text;
+    /// A set of spheres: their radius and how many the mesh holds (unused ones collapse to a
+    /// point, drawing nothing).
+    double radius_m = 0;
+    Eigen::Index capacity = 0;
+    Eigen::Matrix3Xd vertices;
   };
   int width = 0;
   int height = 0;
   vtkSmartPointer<vtkRenderWindow> window;
   vtkSmartPointer<vtkRenderer> renderer;
-  vtkSmartPointer<vtkUnsignedCharArray> pixels;
+  vtkSmartPointer<vtkUnsignedCharArray> pixels = New<vtkUnsignedCharArray>();  // bottom row first
   std::vector<Item> items;
+  /// Set by LookThrough: each render then projects exactly the region it renders.
+  std::optional<Eigen::Matrix3d> K;
+
+  /// The window's size now: the view's, or through a camera just enough for the region drawn.
+  int window_width = 0;
+  int window_height = 0;
+
+  void Resize(int w, int h) {
+    if (w == window_width && h == window_height) return;
+    window->SetSize(w, h);
+    window_width = w;
+    window_height = h;
+  }
+
+  // Through a camera, renders only `r` (a part of the view) in a window just larger than it (sizes
+  // in steps of 128 px, so that it is rarely resized): the projection is the camera's K shifted
+  // so that r's top-left corner is the window's, and the pixels are the whole view's. Everything
+  // VTK does per frame over the whole window (clear, resolve, blit) then costs the region's size,
+  // not the view's. Returns the GL rectangle to read: (x, y) bottom-left, inclusive ends.
+  std::array<int, 4> PrepareRegion(const PixelBox& r) {
+    if (!K) {
+      Resize(width, height);
+      return {r.x0, height - r.y1, r.x1 - 1, height - 1 - r.y0};
+    }
+    const auto step = [](int n, int limit) { return std::min(limit, (n + 127) / 128 * 128); };
+    Resize(step(r.width(), width), step(r.height(), height));
+    Eigen::Matrix3d shifted = *K;
+    shifted(0, 2) -= r.x0;
+    shifted(1, 2) -= r.y0;
+    const Eigen::Matrix4d P =
+        PinholeProjectionMatrix(shifted, window_width, window_height, 0.05, 500.0);
+    auto matrix = New<vtkMatrix4x4>();
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j) matrix->SetElement(i, j, P(i, j));
+    vtkCamera* camera = renderer->GetActiveCamera();
+    camera->SetExplicitProjectionTransformMatrix(matrix);
+    camera->SetUseExplicitProjectionTransformMatrix(true);
+    return {0, window_height - r.height(), r.width() - 1, window_height - 1};
+  }
 
   Item& At(int id) {
     if (id < 0 || id >= static_cast<int>(items.size()))
@@ -155,12 +243,11 @@ SceneRenderer::SceneRenderer(int width, int height, int multisamples)
   impl_->window->SetOffScreenRendering(1);
   impl_->window->SetAlphaBitPlanes(1);
   impl_->window->SetMultiSamples(multisamples);
-  impl_->window->SetSize(width, height);
+  impl_->Resize(width, height);
   impl_->renderer = New<vtkRenderer>();
   impl_->renderer->SetBackground(0, 0, 0);
   impl_->renderer->SetBackgroundAlpha(0);
   impl_->window->AddRenderer(impl_->renderer);
-  impl_->pixels = New<vtkUnsignedCharArray>();
 }
 
 SceneRenderer::~SceneRenderer() = default;
@@ -178,7 +265,11 @@ int SceneRenderer::AddMesh(const analysis::SceneMesh& mesh) {
     triangles->InsertNextCell(3, ids);
   }
   data->SetPolys(triangles);
-  return impl_->AddPolyData(data, mesh.colour);
+  const int id = impl_->AddPolyData(data, mesh.colour);
+  // Meshes are closed: their back faces are never seen (and a translucent body shows only its
+  // front).
+  impl_->items[size_t(id)].actor->GetProperty()->BackfaceCullingOn();
+  return id;
 }
 
 void SceneRenderer::UpdateMesh(int id, const Eigen::Matrix3Xd& vertices_W) {
@@ -207,37 +298,80 @@ int SceneRenderer::AddLines(const analysis::SceneLines& lines) {
 
 void SceneRenderer::UpdateLines(int id, const Eigen::Matrix3Xd& points_W) {
   Impl::Item& item = impl_->At(id);
-  if (points_W.cols() != item.data->GetNumberOfPoints())
-    throw std::invalid_argument("SceneRenderer::UpdateLines: the segment count changed");
-  CopyPoints(points_W, item.data->GetPoints());
+  const Eigen::Index n = points_W.cols() / 2;
+  if (2 * n != item.data->GetNumberOfPoints()) {
+    // A new segment count (a trail that grows): new cells.
+    auto cells = New<vtkCellArray>();
+    cells->AllocateExact(n, 2 * n);
+    for (vtkIdType k = 0; k < n; ++k) {
+      const vtkIdType ids[2] = {2 * k, 2 * k + 1};
+      cells->InsertNextCell(2, ids);
+    }
+    item.data->SetLines(cells);
+  }
+  CopyPoints(points_W.leftCols(2 * n), item.data->GetPoints());
 }
 
 int SceneRenderer::AddPoints(const Eigen::Matrix3Xd& points_W,
                              double radius_m,
                              analysis::Rgba colour) {
-  auto data = New<vtkPolyData>();
-  data->SetPoints(MakePoints(points_W));
-  auto sphere = New<vtkSphereSource>();
-  sphere->SetRadius(radius_m);
-  sphere->SetThetaResolution(16);
-  sphere->SetPhiResolution(12);
-  auto mapper = New<vtkGlyph3DMapper>();
-  mapper->SetInputData(data);
-  mapper->SetSourceConnection(sphere->GetOutputPort());
-  mapper->ScalingOff();
-  mapper->OrientOff();
-  mapper->ScalarVisibilityOff();
-  auto actor = New<vtkActor>();
-  actor->SetMapper(mapper);
-  ApplyColour(actor, colour);
-  impl_->renderer->AddActor(actor);
-  impl_->items.push_back({actor, data, nullptr});
-  return static_cast<int>(impl_->items.size()) - 1;
+  const int id = impl_->AddPolyData(New<vtkPolyData>(), colour);
+  impl_->items[size_t(id)].radius_m = radius_m;
+  UpdatePoints(id, points_W);
+  return id;
 }
 
 void SceneRenderer::UpdatePoints(int id, const Eigen::Matrix3Xd& points_W) {
-  CopyPoints(points_W, impl_->At(id).data->GetPoints());
-  impl_->At(id).data->Modified();
+  // One mesh of all the spheres (a unit sphere of kRings × kSegments quads, scaled and moved):
+  // VTK's glyph mapper costs about 0.3 ms per sphere per frame on Mesa's software rasteriser;
+  // this costs its triangles (about 0.7 µs each there), kept few.
+  static constexpr int kRings = 6, kSegments = 10;
+  static constexpr int kVerts = (kRings + 1) * kSegments;
+  static const Eigen::Matrix3Xd unit = [] {
+    Eigen::Matrix3Xd u(3, kVerts);
+    for (int i = 0; i <= kRings; ++i)
+      for (int j = 0; j < kSegments; ++j) {
+        const double th = M_PI * i / kRings, ph = 2 * M_PI * j / kSegments;
+        u.col(i * kSegments + j) =
+            Eigen::Vector3d(std::sin(th) * std::cos(ph), std::sin(th) * std::sin(ph), std::cos(th));
+      }
+    return u;
+  }();
+  Impl::Item& item = impl_->At(id);
+  const Eigen::Index n = points_W.cols();
+  if (n > item.capacity || item.capacity == 0) {
+    // Grow: the triangles and the normals (the unit sphere's, per vertex) are set once per size.
+    item.capacity = std::max<Eigen::Index>({n, 2 * item.capacity, 1});
+    auto triangles = New<vtkCellArray>();
+    auto normals = New<vtkFloatArray>();
+    normals->SetNumberOfComponents(3);
+    normals->SetNumberOfTuples(item.capacity * kVerts);
+    for (Eigen::Index k = 0; k < item.capacity; ++k) {
+      const vtkIdType base = k * kVerts;
+      for (int v = 0; v < kVerts; ++v)
+        normals->SetTuple3(base + v, unit(0, v), unit(1, v), unit(2, v));
+      for (int i = 0; i < kRings; ++i)
+        for (int j = 0; j < kSegments; ++j) {
+          const vtkIdType a = base + i * kSegments + j, b = base + i * kSegments + (j + 1) % kSegments;
+          const vtkIdType t1[3] = {a, a + kSegments, b}, t2[3] = {b, a + kSegments, b + kSegments};
+          triangles->InsertNextCell(3, t1);
+          triangles->InsertNextCell(3, t2);
+        }
+    }
+    item.vertices.resize(3, item.capacity * kVerts);
+    item.data->SetPoints(MakePoints(item.vertices));
+    item.data->SetPolys(triangles);
+    item.data->GetPointData()->SetNormals(normals);
+  }
+  for (Eigen::Index k = 0; k < item.capacity; ++k) {
+    auto block = item.vertices.middleCols(k * kVerts, kVerts);
+    if (k < n) {
+      block = (item.radius_m * unit).colwise() + points_W.col(k);
+    } else {
+      block.colwise() = n > 0 ? Eigen::Vector3d(points_W.col(0)) : Eigen::Vector3d::Zero();
+    }
+  }
+  CopyPoints(item.vertices, item.data->GetPoints());
 }
 
 int SceneRenderer::AddText(const std::string& text, int size_px, analysis::Rgba colour) {
@@ -300,16 +434,11 @@ void SceneRenderer::LookThrough(const vision::Camera& pinhole) {
   camera->SetPosition(centre.data());
   camera->SetFocalPoint(focal.data());
   camera->SetViewUp(up.data());
-  const Eigen::Matrix4d P =
-      PinholeProjectionMatrix(pinhole.K, impl_->width, impl_->height, 0.05, 500.0);
-  auto matrix = New<vtkMatrix4x4>();
-  for (int r = 0; r < 4; ++r)
-    for (int c = 0; c < 4; ++c) matrix->SetElement(r, c, P(r, c));
-  camera->SetExplicitProjectionTransformMatrix(matrix);
-  camera->SetUseExplicitProjectionTransformMatrix(true);
+  impl_->K = pinhole.K;
 }
 
 void SceneRenderer::LookFrom(const FreeViewpoint& view) {
+  impl_->K.reset();
   vtkCamera* camera = impl_->renderer->GetActiveCamera();
   camera->SetUseExplicitProjectionTransformMatrix(false);
   camera->SetPosition(view.eye_W.data());
@@ -320,17 +449,29 @@ void SceneRenderer::LookFrom(const FreeViewpoint& view) {
 }
 
 void SceneRenderer::Render(RenderImage* out) {
-  impl_->window->Render();
+  Render(PixelBox{0, 0, impl_->width, impl_->height}, out);
+}
+
+void SceneRenderer::Render(const PixelBox& region, RenderImage* out) {
   const int W = impl_->width, H = impl_->height;
-  impl_->window->GetRGBACharPixelData(0, 0, W - 1, H - 1, 0, impl_->pixels);
-  out->width = W;
-  out->height = H;
-  out->rgba.resize(size_t(W) * size_t(H) * 4);
+  const PixelBox r{std::clamp(region.x0, 0, W),
+                   std::clamp(region.y0, 0, H),
+                   std::clamp(region.x1, 0, W),
+                   std::clamp(region.y1, 0, H)};
+  out->x0 = r.x0;
+  out->y0 = r.y0;
+  out->width = std::max(0, r.width());
+  out->height = std::max(0, r.height());
+  out->rgba.resize(size_t(out->width) * size_t(out->height) * 4);
+  if (r.empty()) return;
+  const std::array<int, 4> gl = impl_->PrepareRegion(r);
+  impl_->window->Render();
   // OpenGL's rows run bottom to top.
+  impl_->window->GetRGBACharPixelData(gl[0], gl[1], gl[2], gl[3], 0, impl_->pixels);
   const std::uint8_t* src = impl_->pixels->GetPointer(0);
-  const size_t row = size_t(W) * 4;
-  for (int y = 0; y < H; ++y)
-    std::memcpy(out->rgba.data() + size_t(y) * row, src + size_t(H - 1 - y) * row, row);
+  const size_t row = size_t(out->width) * 4;
+  for (int y = 0; y < out->height; ++y)
+    std::memcpy(out->rgba.data() + size_t(y) * row, src + size_t(out->height - 1 - y) * row, row);
 }
 
 }  // namespace acro::ui

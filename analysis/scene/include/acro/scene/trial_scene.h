@@ -48,8 +48,9 @@ struct TrialFrame {
   SceneLines keypoint_links;
   /// With an athlete: the posed mesh, its skeleton and its COM.
   AthletePose athlete;
-  /// With an athlete: the COM from the current flight's take-off to now (empty in contact).
-  Eigen::Matrix3Xd com_trail_W;
+  /// With an athlete: the COM's path from the current flight's take-off to now, as segments
+  /// between consecutive samples (none in contact).
+  SceneLines com_trail;
   /// With an athlete: the root residual force at the COM, 1 m per body weight (one segment).
   SceneLines residual;
   /// "3.512 s  flight 2  40<  residual 0.02 BW" or "3.512 s  contact".
@@ -86,6 +87,11 @@ class TrialScene {
   /// Pairs of point indices joined in the keypoint skeleton.
   std::vector<std::pair<int, int>> links_;
 };
+
+/// The body mesh's resolution for drawing over video: about 20 000 triangles (15 ellipsoids of 10
+/// bands and 16 points per half circle), what a software rasteriser draws at video rate; the
+/// default resolution (180 000) is for inertia and stills.
+BodyMeshOptions OverlayBodyMeshOptions();
 
 /// The pairs of `names` that are joined in a human skeleton, recognised whatever the naming
 /// (RHip, right_hip, r_hip, RKNE…): hips–knees–ankles–feet, shoulders–elbows–wrists, the hips and

@@ -35,17 +35,25 @@ class CameraComposite {
   /// True when the camera has distortion (otherwise the render is the frame's own geometry).
   bool warps() const { return warps_; }
 
-  /// Blends `render` (render_camera()'s size, premultiplied RGBA) over `rgb` (the camera's size,
-  /// 3 bytes per pixel, rows top to bottom), in place.
+  /// Blends `render` (all or part of render_camera()'s view, premultiplied RGBA) over `rgb` (the
+  /// camera's size, 3 bytes per pixel, rows top to bottom), in place; only the frame pixels in
+  /// `frame_box` (default: all).
   void Composite(const RenderImage& render, std::vector<std::uint8_t>* rgb) const;
+  void Composite(const RenderImage& render,
+                 const PixelBox& frame_box,
+                 std::vector<std::uint8_t>* rgb) const;
+
+  /// The part of the render view that the frame pixels in `frame_box` take their colour from
+  /// (what to render and read back for them).
+  PixelBox RenderRegion(const PixelBox& frame_box) const;
 
  private:
   vision::Camera camera_;
   vision::Camera render_camera_;
   bool warps_ = false;
-  /// Per frame pixel: the byte offset of the render pixel above-left of its undistorted position
-  /// (−1: outside the canvas) and the bilinear weights of the right and lower neighbours in 1/256.
-  std::vector<std::int32_t> tap_;
+  /// Per frame pixel: the render pixel above-left of its undistorted position (x −1: outside the
+  /// canvas) and the bilinear weights of the right and lower neighbours in 1/256.
+  std::vector<std::int16_t> tap_x_, tap_y_;
   std::vector<std::uint8_t> weight_x_, weight_y_;
 };
 
