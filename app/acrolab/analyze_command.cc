@@ -5,6 +5,8 @@
 #include <memory>
 #include <optional>
 
+#include <fmt/format.h>
+
 #include "acro/assess/trial_analysis.h"
 #include "acro/athlete/athlete_profile.h"
 #include "acro/athlete/de_leva.h"
@@ -13,7 +15,15 @@
 #include "acro/base/file_io.h"
 #include "acro/capture/trial_io.h"
 #include "acro/dynamics/configuration.h"
+#include "acro/capture/video.h"
 #include "acro/report/analysis_report.h"
+#include "acro/scene/silhouette_check.h"
+#include "acro/scene/trial_scene.h"
+#include "acro/vision/camera.h"
+#include "acro/vision/sync.h"
+#ifdef ACRO_HAVE_VIEWS
+#include "acro/views/scene_overlay.h"
+#endif
 #include "commands.h"
 
 namespace acro::app {
@@ -39,6 +49,9 @@ Eigen::Vector3d ParseVector(const std::string& option, const std::string& text) 
 struct AnalyzeArguments {
   TrialArguments common;
   bool images = true;
+  // A calibrated video of the trial: silhouettes (and, with the 3D views, the overlay).
+  std::string video, calibration, camera, event, sync;
+  double offset_s = 0.0, rate = 1.0;
   analysis::TrialAnalysisOptions options;
   ui::AnalysisReportOptions report;
 };
@@ -74,14 +87,87 @@ int RunAnalyze(AnalyzeArguments& args) {
   // The analysis, with one progress line per step and the IK's frames.
   options.progress = say;
   if (!quiet) options.reconstruction.progress = MakeFrameProgress();
-  const analysis::TrialAnalysis result =
+  if (args.video.empty() != args.calibration.empty())
+    throw UsageError{"--video and --calib go together (the camera's video and its calibration)"};
+  if (!args.sync.empty() && args.sync != "auto")
+    throw UsageError{"--sync takes 'auto' (or give --offset-s or --event)"};
+  vision::VideoSync sync = ParseVideoSync(args.offset_s, args.event, args.rate);
+  std::vector<vision::Camera> cameras;
+  if (!args.video.empty()) cameras = vision::ReadCameras(args.calibration);  // before the work
+  analysis::TrialAnalysis result =
       analysis::AnalyzeTrial(trial, static_trial ? &*static_trial : nullptr, body, options);
   for (const std::string& w : result.warnings)
     std::fprintf(stderr, "acrolab analyze: warning: %s\n", w.c_str());
 
-  // Outputs: the tables, then the report (with plots when rendering works here).
+  // Outputs: the video's (silhouettes, overlay), the tables, then the report (with plots when
+  // rendering works here).
   const std::filesystem::path dir(common.out_dir);
   CreateOutputDirectory(dir);
+  if (!args.video.empty()) {
+    const vision::Camera& camera = vision::FindCamera(cameras, args.camera, args.calibration);
+    if (args.sync == "auto") {
+      capture::VideoReader grey(args.video, {.pixels = capture::VideoPixels::kGrey});
+      vision::AutoSyncOptions sync_options;
+      sync_options.rate = args.rate;
+      sync_options.progress = MakeCancellableProgress("sync (image motion)", "frames");
+      sync = vision::SyncFromImageMotion(trial, camera, grey, sync_options).sync;
+      say(fmt::format("sync: video time = {:.4f} s + trial time (from the image motion)",
+                      sync.offset_s));
+    }
+    analysis::TrialScene scene(trial, result, body, analysis::MakeEllipsoidBodyMesh(body));
+    if (args.sync == "auto") {
+      // The silhouettes refine it to the trial's sample (a frame either way).
+      capture::VideoReader colour(args.video);
+      analysis::SilhouetteCheckOptions refine;
+      refine.sync = sync;
+      refine.progress = MakeCancellableProgress("sync (silhouettes)", "frames");
+      const double frame_s = 1.0 / std::max(1.0, colour.info().average_fps);
+      const analysis::SilhouetteSync refined =
+          analysis::RefineSyncBySilhouettes(colour, scene, camera, refine, frame_s);
+      sync = refined.sync;
+      say(fmt::format("sync: video time = {:.4f} s + trial time (refined by the silhouettes, "
+                      "median IoU {:.3f})",
+                      sync.offset_s,
+                      refined.median_iou));
+    }
+    // The silhouettes with the body's full mesh (what the video shows), the overlay with the
+    // lighter one (drawn at video rate).
+    {
+      capture::VideoReader colour(args.video);
+      analysis::SilhouetteCheckOptions check;
+      check.sync = sync;
+      check.progress = MakeCancellableProgress("silhouettes", "frames");
+      const analysis::SilhouetteCheck silhouettes =
+          analysis::CheckSilhouettes(colour, scene, camera, check);
+      for (analysis::JumpMetrics& j : result.jumps) {
+        const size_t f = static_cast<size_t>(j.index - 1);
+        if (f < silhouettes.flight_median_iou.size() &&
+            std::isfinite(silhouettes.flight_median_iou[f]))
+          j.silhouette_iou = silhouettes.flight_median_iou[f];
+      }
+      for (size_t k = 0; k < silhouettes.iou.size(); ++k) {
+        report.silhouette_time_s.push_back(silhouettes.samples[k] / trial.point_rate_hz);
+        report.silhouette_iou.push_back(silhouettes.iou[k]);
+      }
+      say(fmt::format("silhouettes: median IoU {:.3f} over {} flight frames",
+                      silhouettes.median_iou,
+                      silhouettes.iou.size()));
+    }
+#ifdef ACRO_HAVE_VIEWS
+    analysis::TrialScene light(
+        trial, result, body, analysis::MakeEllipsoidBodyMesh(body, analysis::OverlayBodyMeshOptions()));
+    capture::VideoReader video(args.video);
+    ui::SceneOverlayOptions overlay;
+    overlay.show = analysis::ParseSceneShow("mesh,skeleton,com");
+    overlay.sync = sync;
+    overlay.video.preset = "veryfast";
+    overlay.progress = MakeCancellableProgress("overlay", "frames");
+    ui::WriteSceneOverlay(video, light, camera, dir / "overlay.mp4", overlay);
+    report.overlay_video = "overlay.mp4";
+#else
+    say("overlay: not written (this acrolab was built without the 3D views, VTK)");
+#endif
+  }
   analysis::WriteAnalysisTables(result, dir);
   report.trial_path = common.trial_path;
   report.render_images = images;
@@ -128,6 +214,16 @@ void AddAnalyzeCommand(CLI::App& app, CommandRunner* run) {
       "phases from the body's centre of mass even when plates exist");
   command->add_flag_callback(
       "--no-images", [args] { args->images = false; }, "the report without charts");
+  command->add_option("--video",
+                      args->video,
+                      "a calibrated camera's video of the trial: silhouette IoU per jump, and "
+                      "DIR/overlay.mp4 (docs/overlay.md)");
+  command->add_option("--calib", args->calibration, "the video's calibration (.toml, .qca, .yml)");
+  command->add_option("--camera", args->camera, "the video's camera in the calibration");
+  command->add_option("--offset-s", args->offset_s, "video time of the trial's first sample");
+  command->add_option("--event", args->event, "TRIAL_S:VIDEO_S: an event seen in both");
+  command->add_option("--sync", args->sync, "auto: find the offset from the video's image motion");
+  command->add_option("--rate", args->rate, "video seconds per trial second (default 1)");
   command->callback([args, run] { *run = [args] { return RunAnalyze(*args); }; });
 }
 

@@ -55,8 +55,13 @@ int RunOverlay(const OverlayArguments& args) {
   const auto [first, last] = ParseFrames(args.frames);
   vision::VideoSync sync = ParseVideoSync(args.offset_s, args.event, args.rate);
   const bool athlete = !args.common.athlete_path.empty();
-  const analysis::SceneShow show = analysis::ParseSceneShow(
-      !args.show.empty() ? args.show : (athlete ? "mesh,skeleton,com" : "skeleton,markers"));
+  analysis::SceneShow show;
+  try {
+    show = analysis::ParseSceneShow(
+        !args.show.empty() ? args.show : (athlete ? "mesh,skeleton,com" : "skeleton,markers"));
+  } catch (const InputError& e) {
+    throw UsageError{e.what()};  // a bad option value: exit 2
+  }
   {
     // Before any work: a bad -o costs nothing.
     const std::filesystem::path out(args.common.out_dir);

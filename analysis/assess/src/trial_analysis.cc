@@ -394,6 +394,7 @@ std::string FormatJumpsJson(const TrialAnalysis& a) {
     o["max_hip_flexion_deg"] = j.rotation.max_hip_flexion_deg;
     o["knee_flexion_at_max_hip_deg"] = j.rotation.knee_flexion_at_max_hip_deg;
     o["verdict"] = j.verdict;
+    o["silhouette_iou"] = j.silhouette_iou ? Json(*j.silhouette_iou) : Json(nullptr);
     // The physical check of the flight, when it was judged.
     if (j.check) {
       const FlightCheck& c = *j.check;

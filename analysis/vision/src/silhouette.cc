@@ -114,32 +114,52 @@ BackgroundModel::BackgroundModel(const std::vector<capture::VideoFrame>& frames)
   if (frames.empty()) throw std::invalid_argument("no frame for the background");
   width_ = frames.front().width;
   height_ = frames.front().height;
-  std::vector<std::vector<std::uint8_t>> grey;
+  channels_ = frames.front().channels;
   for (const capture::VideoFrame& f : frames) {
-    if (f.width != width_ || f.height != height_)
-      throw std::invalid_argument("frames of different sizes");
-    grey.push_back(GreyOf(f));
+    if (f.width != width_ || f.height != height_ || f.channels != channels_)
+      throw std::invalid_argument("frames of different sizes or kinds");
   }
-  grey_.resize(static_cast<size_t>(width_) * height_);
-  std::vector<std::uint8_t> values(grey.size());
-  for (size_t i = 0; i < grey_.size(); ++i) {
-    for (size_t k = 0; k < grey.size(); ++k) values[k] = grey[k][i];
+  // The per-pixel, per-channel median.
+  const size_t n = static_cast<size_t>(width_) * height_ * size_t(channels_);
+  median_.resize(n);
+  std::vector<std::uint8_t> values(frames.size());
+  for (size_t i = 0; i < n; ++i) {
+    for (size_t k = 0; k < frames.size(); ++k) values[k] = frames[k].pixels[i];
     std::nth_element(values.begin(), values.begin() + values.size() / 2, values.end());
-    grey_[i] = values[values.size() / 2];
+    median_[i] = values[values.size() / 2];
   }
+  capture::VideoFrame median;
+  median.width = width_;
+  median.height = height_;
+  median.channels = channels_;
+  median.pixels = median_;
+  grey_ = GreyOf(median);
 }
 
 Mask BackgroundModel::Foreground(const capture::VideoFrame& frame,
                                  const BackgroundOptions& options) const {
   if (frame.width != width_ || frame.height != height_)
     throw std::invalid_argument("a frame of another size than the background");
-  const std::vector<std::uint8_t> g = GreyOf(frame);
   Mask mask;
   mask.width = width_;
   mask.height = height_;
-  mask.pixels.resize(g.size());
-  for (size_t i = 0; i < g.size(); ++i)
-    mask.pixels[i] = std::abs(int(g[i]) - int(grey_[i])) > options.threshold ? 255 : 0;
+  mask.pixels.resize(static_cast<size_t>(width_) * height_);
+  if (channels_ == 3 && frame.channels == 3) {
+    // Colour: the largest difference over the three channels (skin on a grey wall can have the
+    // wall's grey level).
+    for (size_t i = 0; i < mask.pixels.size(); ++i) {
+      const std::uint8_t* p = frame.pixels.data() + 3 * i;
+      const std::uint8_t* q = median_.data() + 3 * i;
+      const int d = std::max({std::abs(int(p[0]) - int(q[0])),
+                              std::abs(int(p[1]) - int(q[1])),
+                              std::abs(int(p[2]) - int(q[2]))});
+      mask.pixels[i] = d > options.colour_threshold ? 255 : 0;
+    }
+  } else {
+    const std::vector<std::uint8_t> g = GreyOf(frame);
+    for (size_t i = 0; i < g.size(); ++i)
+      mask.pixels[i] = std::abs(int(g[i]) - int(grey_[i])) > options.threshold ? 255 : 0;
+  }
   if (options.clean_px > 0) {
     cv::Mat m(height_, width_, CV_8UC1, mask.pixels.data());
     const cv::Mat kernel =

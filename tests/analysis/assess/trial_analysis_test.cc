@@ -307,7 +307,8 @@ TEST(TrialAnalysis, JumpsJsonHoldsEveryJumpsValues) {
                                          "measured_twist_deg",
                                          "max_hip_flexion_deg",
                                          "knee_flexion_at_max_hip_deg",
-                                         "verdict"};
+                                         "verdict",
+                                         "silhouette_iou"};
   for (size_t k = 0; k < a.jumps.size(); ++k) {
     const JumpMetrics& j = a.jumps[k];
     nlohmann::ordered_json& o = json[k];
@@ -317,6 +318,7 @@ TEST(TrialAnalysis, JumpsJsonHoldsEveryJumpsValues) {
     for (const char* key : {"index", "takeoff_frame", "landing_frame", "somersault_quarters"})
       EXPECT_TRUE(o[key].is_number_integer()) << key;
     EXPECT_EQ(o["index"], j.index);
+    EXPECT_TRUE(o["silhouette_iou"].is_null());  // no video
     EXPECT_EQ(o["partial"], j.partial());
     EXPECT_EQ(o["takeoff_s"].get<double>(), j.flight.takeoff_s);
     EXPECT_EQ(o["landing_s"].get<double>(), j.flight.landing_s);

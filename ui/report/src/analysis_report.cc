@@ -205,6 +205,20 @@ std::vector<ReportFigure> MakeAnalysisFigures(const analysis::TrialAnalysis& a,
                    "Net torque about the " + options.joint + " axis from inverse dynamics.",
                    c});
   }
+  if (!options.silhouette_iou.empty()) {
+    Chart c = TimeChart(a, "Silhouettes: video against reconstruction", "IoU");
+    LineSeries s = Series("IoU per video frame", options.silhouette_time_s, options.silhouette_iou, kBlue);
+    s.line = false;
+    s.markers = true;
+    c.series.push_back(s);
+    c.y_range = ValueRange{0.0, 1.0};
+    c.reference_lines.push_back({0.85, "0.85", kGrey, true});
+    out.push_back({"silhouette_iou.png",
+                   "Intersection over union of the athlete cut out of the video and the "
+                   "reconstructed athlete projected by the camera, per video frame in flight: a "
+                   "drop shows a wrong sync, calibration or reconstruction (docs/overlay.md).",
+                   c});
+  }
   return out;
 }
 
@@ -267,7 +281,8 @@ std::string FormatAnalysisReportHtml(const analysis::TrialAnalysis& a,
        "(s)</th><th>apex (m)</th><th>HD (m)</th><th>from centre (m)</th><th>somersault "
        "(°)</th><th>twist (°)</th><th class=\"l\">code</th><th class=\"l\">skill</th><th>DD</th>"
        "<th>residual |F| (BW, "
-    << Window(a) << " mean)</th><th class=\"l\">verdict</th></tr>\n";
+    << Window(a) << " mean)</th>" << (options.silhouette_iou.empty() ? "" : "<th>silhouette IoU</th>")
+    << "<th class=\"l\">verdict</th></tr>\n";
   for (const analysis::JumpMetrics& j : a.jumps) {
     const bool ok = j.verdict == "pass";
     h << "<tr><td>" << j.index << "</td><td>" << Fixed(j.flight.takeoff_s, 3) << "</td><td>"
@@ -280,8 +295,11 @@ std::string FormatAnalysisReportHtml(const analysis::TrialAnalysis& a,
       << Fixed(j.rotation.measured_twist_rad * kRadToDeg, 0) << "</td><td class=\"l\"><b>"
       << Html(j.fig_code) << "</b></td><td class=\"l\">" << Html(j.skill_name) << "</td><td>"
       << (j.partial() ? "–" : Fixed(j.difficulty.total(), 1)) << "</td><td>"
-      << (j.check ? Fixed(j.check->window_force_bw, 3) : "–") << "</td><td class=\"l "
-      << (ok ? "pass" : "fail") << "\">" << Html(j.verdict) << "</td></tr>\n";
+      << (j.check ? Fixed(j.check->window_force_bw, 3) : "–") << "</td>"
+      << (options.silhouette_iou.empty()
+              ? std::string()
+              : "<td>" + (j.silhouette_iou ? Fixed(*j.silhouette_iou, 2) : "–") + "</td>")
+      << "<td class=\"l " << (ok ? "pass" : "fail") << "\">" << Html(j.verdict) << "</td></tr>\n";
   }
   h << "</table>\n<p>Apex: centre of mass above the bed at rest"
     << (a.bed ? " (bed from " + Html(a.bed->source) + ")" : " (no bed known: lab height)")
@@ -294,6 +312,15 @@ std::string FormatAnalysisReportHtml(const analysis::TrialAnalysis& a,
     for (const analysis::ContactLoad& c : a.check.contacts)
       h << " " << Fixed(c.peak_force_bw, 2) << " at " << Fixed(c.peak_s, 2) << " s;";
     h << "</p>\n";
+  }
+
+  // The overlay video.
+  if (!options.overlay_video.empty()) {
+    h << "<h2>Over the video</h2>\n<video controls preload=\"metadata\" style=\"max-width:100%\" src=\""
+      << Html(options.overlay_video) << "\"></video>\n<p><a href=\"" << Html(options.overlay_video)
+      << "\">" << Html(options.overlay_video)
+      << "</a>: the reconstructed athlete drawn through the camera's calibration over its "
+         "video.</p>\n";
   }
 
   // Plots.

@@ -36,7 +36,7 @@ class SceneActors {
     links.width_px = 0.6 * scale_px;
     if (athlete_) {
       analysis::SceneMesh mesh = f.athlete.mesh;
-      mesh.colour = {0.95f, 0.7f, 0.45f, 0.6f};
+      mesh.colour = {0.25f, 0.6f, 1.0f, 0.55f};  // the virtual athlete: blue, see-through
       mesh_ = renderer->AddMesh(mesh);
       analysis::SceneLines bones = f.athlete.skeleton;
       bones.colour = {0.15f, 0.95f, 0.3f, 1.0f};

@@ -16,6 +16,7 @@
 #include <vtkSmartPointer.h>
 #include <vtkTextActor.h>
 #include <vtkImageData.h>
+#include <vtkLight.h>
 #include <vtkTextProperty.h>
 #include <vtkTextRenderer.h>
 #include <vtkUnsignedCharArray.h>
@@ -411,6 +412,29 @@ void SceneRenderer::SetColour(int id, analysis::Rgba colour) {
 void SceneRenderer::SetLit(int id, bool lit) {
   Impl::Item& item = impl_->At(id);
   if (item.actor) item.actor->GetProperty()->SetLighting(lit);
+}
+
+void SceneRenderer::SetSceneLights(const std::vector<Eigen::Vector3d>& directions_W,
+                                   double intensity,
+                                   double headlight_intensity) {
+  vtkRenderer* renderer = impl_->renderer;
+  renderer->AutomaticLightCreationOff();
+  renderer->RemoveAllLights();
+  for (const Eigen::Vector3d& d : directions_W) {
+    auto light = New<vtkLight>();
+    light->SetLightTypeToSceneLight();
+    light->SetPositional(false);
+    // A directional light shines from its position to its focal point.
+    const Eigen::Vector3d from = -d.normalized();
+    light->SetPosition(from.data());
+    light->SetFocalPoint(0, 0, 0);
+    light->SetIntensity(intensity);
+    renderer->AddLight(light);
+  }
+  auto head = New<vtkLight>();
+  head->SetLightTypeToHeadlight();
+  head->SetIntensity(headlight_intensity);
+  renderer->AddLight(head);
 }
 
 void SceneRenderer::SetBackground(analysis::Rgba colour) {

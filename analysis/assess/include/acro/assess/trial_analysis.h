@@ -94,6 +94,9 @@ struct JumpMetrics {
   /// The physical check of this flight (when judged), else nothing.
   std::optional<FlightCheck> check;
   std::string verdict;  ///< "pass", "fail: …", or "not judged: …"
+  /// With a calibrated video (analysis/scene's CheckSilhouettes): the median intersection over
+  /// union of the video's athlete and the reconstructed one over the flight's frames.
+  std::optional<double> silhouette_iou;
 };
 
 struct TrialAnalysis {

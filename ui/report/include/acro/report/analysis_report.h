@@ -22,6 +22,12 @@ struct AnalysisReportOptions {
   std::string athlete;     ///< the athlete as the page names it
   /// Render the plots (false: the page only, with a note).
   bool render_images = true;
+  /// With a calibrated video (`analyze --video`): the silhouette IoU per compared frame at these
+  /// trial times (a chart), and the overlay video's file name in the output folder (shown on the
+  /// page), each when not empty.
+  std::vector<double> silhouette_time_s;
+  std::vector<double> silhouette_iou;
+  std::string overlay_video;
 };
 
 /// One figure of the report: its chart and its file name in the output folder.

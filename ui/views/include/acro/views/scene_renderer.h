@@ -111,6 +111,13 @@ class SceneRenderer {
   /// Shaded by the lights (the default), or flat in its colour (for measuring what is drawn).
   void SetLit(int id, bool lit);
 
+  /// Lights fixed in the scene (a hall's ceiling lights) instead of VTK's single headlight, which
+  /// leaves surfaces parallel to the view (a floor seen from the side) black: `direction_W` is
+  /// where each light shines to; a dimmer headlight stays. Call once, before rendering.
+  void SetSceneLights(const std::vector<Eigen::Vector3d>& directions_W,
+                      double intensity,
+                      double headlight_intensity);
+
   /// The background; alpha 0 (the default) for renders composited over video.
   void SetBackground(analysis::Rgba colour);
 

@@ -1,0 +1,72 @@
+#pragma once
+
+// The virtual athlete against the real one without markers on the image: in every video frame of
+// a flight, the athlete's silhouette cut out of the video by a background model against the
+// reconstructed athlete's mesh projected by the camera model; their intersection over union per
+// frame and per flight. A good reconstruction, sync and calibration give a high IoU; a sync a few
+// frames off or a wrong calibration shows as a drop. (Issue "virtual against real", item 6;
+// docs/overlay.md.)
+
+#include <functional>
+#include <vector>
+
+#include "acro/capture/video.h"
+#include "acro/scene/trial_scene.h"
+#include "acro/vision/camera.h"
+#include "acro/vision/silhouette.h"
+#include "acro/vision/video_sync.h"
+
+namespace acro::analysis {
+
+struct SilhouetteCheckOptions {
+  vision::VideoSync sync;
+  vision::BackgroundOptions background;
+  /// Frames the background median is taken over, spread over the video.
+  int background_frames = 25;
+  /// The IoU is taken in the projected athlete's box grown by this fraction of its size on every
+  /// side (what the video shows elsewhere — a coach walking by — does not count).
+  double box_margin = 0.5;
+  /// Called with (frames done, frames in all); returns false to cancel.
+  std::function<bool(int, int)> progress;
+};
+
+struct SilhouetteCheck {
+  /// Per compared video frame (every frame whose synced sample is inside a flight).
+  std::vector<int> frames;
+  std::vector<int> samples;
+  std::vector<int> flights;  ///< index into the analysis' flights
+  std::vector<double> iou;
+  /// Per flight of the analysis: the median IoU of its frames (NaN when none was filmed).
+  std::vector<double> flight_median_iou;
+  /// The median over every compared frame (NaN when none).
+  double median_iou = 0.0;
+};
+
+/// Compares the video (an RGB reader: the background model and the foreground in colour; a grey
+/// one works, less well) with the scene's athlete through `camera`. Throws std::invalid_argument when the scene has no athlete, and
+/// acro::InputError for video trouble or a cancelled run.
+SilhouetteCheck CheckSilhouettes(capture::VideoReader& video,
+                                 TrialScene& scene,
+                                 const vision::Camera& camera,
+                                 const SilhouetteCheckOptions& options = {});
+
+/// The sync that makes the silhouettes agree best: the offsets from `options.sync` − `half_range_s`
+/// to + `half_range_s` in steps of one trial sample (the poses are the trial's samples), each
+/// scored by the median IoU over every `frame_stride`-th flight frame; the video's foregrounds are
+/// computed once. A refinement of a sync found otherwise (from the image motion, within a frame):
+/// at a somersault's speed a hand moves 8 cm in one sample at 120 Hz, which the silhouettes see.
+struct SilhouetteSync {
+  vision::VideoSync sync;
+  double median_iou = 0.0;            ///< at the offset found
+  std::vector<double> offsets_s;      ///< every offset tried
+  std::vector<double> median_ious;    ///< and its score
+};
+
+SilhouetteSync RefineSyncBySilhouettes(capture::VideoReader& video,
+                                       TrialScene& scene,
+                                       const vision::Camera& camera,
+                                       const SilhouetteCheckOptions& options,
+                                       double half_range_s,
+                                       int frame_stride = 3);
+
+}  // namespace acro::analysis

@@ -1,0 +1,214 @@
+// Makes the sample routine's video (samples/trials/trampoline_routine/side_camera.mp4) with the
+// project's own renderer: the routine's true motion (the noise-free coordinates of
+// tools/sample_routine.h, not a reconstruction) rendered through a calibrated virtual camera 9.5 m
+// beside the trampoline (side_camera.toml: fx ≠ fy, an off-centre principal point, barrel
+// distortion), in a gym (floor, walls with mats and banners, the trampoline with its frame,
+// springs and legs), with motion blur (three renders over a 1/60 s shutter) and sensor noise, and
+// an offset between the mocap and the video start that `acrolab sync` must find
+// (video_truth.json). 1920 × 1080, 30 fps, H.264.
+//
+// usage: make_sample_video ATHLETE.yaml OUT_DIR [--frame K OUT.png]   (--frame: that frame only)
+// (from the repository root: build/bin/make_sample_video samples/athletes/sample_athlete.yaml
+//  samples/trials/trampoline_routine)
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Geometry>
+#include <fmt/format.h>
+
+#include "acro/athlete/athlete_profile.h"
+#include "acro/athlete/body_mesh.h"
+#include "acro/base/file_io.h"
+#include "acro/base/input_error.h"
+#include "acro/capture/frame_output.h"
+#include "acro/capture/video.h"
+#include "acro/scene/athlete_scene.h"
+#include "acro/scene/place_scene.h"
+#include "acro/views/camera_composite.h"
+#include "acro/views/display.h"
+#include "acro/views/scene_renderer.h"
+#include "acro/vision/camera.h"
+#include "sample_routine.h"
+
+namespace {
+
+using acro::analysis::Rgba;
+using acro::analysis::SceneMesh;
+
+constexpr double kFps = 30.0;
+/// The video time of the trial's first sample: the video starts 0.575 s (17.25 frames, 69 samples
+/// at 120 Hz) after the mocap, so frame k shows sample 4k + 69.
+constexpr double kOffsetS = -0.575;
+
+// An axis-aligned box as a mesh (12 triangles, outward).
+SceneMesh Box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, Rgba colour, const char* name) {
+  SceneMesh m;
+  m.name = name;
+  m.colour = colour;
+  m.vertices_W.resize(3, 8);
+  for (int c = 0; c < 8; ++c)
+    m.vertices_W.col(c) = Eigen::Vector3d((c & 1) ? hi.x() : lo.x(), (c & 2) ? hi.y() : lo.y(),
+                                          (c & 4) ? hi.z() : lo.z());
+  const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
+                           {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+  m.triangles.resize(3, 12);
+  for (int f = 0; f < 6; ++f) {
+    m.triangles.col(2 * f) = Eigen::Vector3i(faces[f][0], faces[f][1], faces[f][2]);
+    m.triangles.col(2 * f + 1) = Eigen::Vector3i(faces[f][0], faces[f][2], faces[f][3]);
+  }
+  return m;
+}
+
+acro::vision::Camera SideCamera(const Eigen::Vector3d& bed_centre) {
+  acro::vision::Camera c;
+  c.name = "side";
+  c.width_px = 1920;
+  c.height_px = 1080;
+  c.K << 1482.0, 0.0, 968.4, 0.0, 1478.5, 536.1, 0.0, 0.0, 1.0;
+  c.distortion = {-0.062, 0.018, 0.0004, -0.0003};
+  // 9.5 m in front of the bed's centre across its long axis, 3.4 m above the floor, looking
+  // level along +y (image x = world x, image y = −world z): from the floor to 6.9 m, the highest
+  // head at 6.3 m.
+  const Eigen::Vector3d centre(bed_centre.x(), bed_centre.y() - 9.5, 3.4);
+  c.R_KW << 1, 0, 0, 0, 0, -1, 0, 1, 0;
+  c.t_KW = -c.R_KW * centre;
+  return c;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  const bool preview = argc == 6 && std::string(argv[3]) == "--frame";
+  if (argc != 3 && !preview) {
+    std::fprintf(stderr, "usage: make_sample_video ATHLETE.yaml OUT_DIR [--frame K OUT.png]\n");
+    return 2;
+  }
+  const std::filesystem::path athlete = argv[1];
+  const std::filesystem::path dir = argv[2];
+  try {
+    const std::string label = "samples/athletes/" + athlete.filename().string();
+    const acro::samples::SampleRoutine routine = acro::samples::MakeSampleRoutine(athlete, label);
+    const acro::analysis::AthleteBody body =
+        acro::analysis::MakeAthleteBody(acro::analysis::ReadAthleteProfile(athlete));
+    acro::analysis::Motion motion;
+    motion.q = routine.q;
+    acro::analysis::AthleteScene athlete_scene(
+        body, acro::analysis::MakeEllipsoidBodyMesh(body), motion, routine.model);
+
+    const Eigen::Vector3d bed = routine.options.bed_centre_m;
+    const acro::vision::Camera camera = SideCamera(bed);
+    std::filesystem::create_directories(dir);
+    acro::vision::WritePose2SimToml({camera}, dir / "side_camera.toml");
+
+    const acro::ui::XDisplay display;
+    const acro::ui::CameraComposite composite(camera);
+    const acro::vision::Camera& pinhole = composite.render_camera();
+    acro::ui::SceneRenderer renderer(pinhole.width_px, pinhole.height_px, 8);
+    renderer.LookThrough(pinhole);
+    renderer.SetBackground({0.55f, 0.6f, 0.68f, 1.0f});  // the hall beyond the walls
+    // Ceiling lights slanting down, and a dimmer light from the camera.
+    renderer.SetSceneLights({{0.3, 0.5, -1}, {-0.4, 0.2, -1}, {0.0, -0.4, -1}}, 0.45, 0.5);
+
+    // The gym: floor, back and side walls, mats and banners, the trampoline.
+    renderer.AddMesh(Box({-12, -14, -0.05}, {12, 8, 0}, {0.55f, 0.5f, 0.45f, 1}, "floor"));
+    renderer.AddMesh(Box({-12, 8, 0}, {12, 8.3, 9}, {0.8f, 0.82f, 0.85f, 1}, "back wall"));
+    renderer.AddMesh(Box({-12.3, -14, 0}, {-12, 8, 9}, {0.78f, 0.78f, 0.75f, 1}, "left wall"));
+    renderer.AddMesh(Box({12, -14, 0}, {12.3, 8, 9}, {0.78f, 0.78f, 0.75f, 1}, "right wall"));
+    renderer.AddMesh(Box({-9, 7.6, 0}, {-4, 8, 2.2}, {0.2f, 0.35f, 0.7f, 1}, "wall mats"));
+    renderer.AddMesh(Box({4.5, 7.6, 0}, {9.5, 8, 2.2}, {0.2f, 0.35f, 0.7f, 1}, "wall mats"));
+    renderer.AddMesh(Box({-6, 7.9, 5.2}, {-2, 8, 6.2}, {0.75f, 0.15f, 0.15f, 1}, "banner"));
+    renderer.AddMesh(Box({2.5, 7.9, 5.0}, {7.0, 8, 6.0}, {0.95f, 0.75f, 0.1f, 1}, "banner"));
+    renderer.AddMesh(Box({bed.x() - 3.5, bed.y() + 2.2, 0}, {bed.x() + 3.5, bed.y() + 4.2, 0.3},
+                         {0.15f, 0.3f, 0.65f, 1}, "end mat"));
+    acro::analysis::BedGeometry geometry;
+    geometry.centre_W = bed;
+    const acro::analysis::TrampolineScene trampoline = acro::analysis::MakeTrampolineScene(geometry);
+    SceneMesh bed_mesh = trampoline.bed;
+    bed_mesh.colour = {0.08f, 0.08f, 0.1f, 1};
+    renderer.AddMesh(bed_mesh);
+    SceneMesh frame = trampoline.frame;
+    frame.colour = {0.1f, 0.3f, 0.75f, 1};
+    renderer.AddMesh(frame);
+    for (acro::analysis::SceneLines lines : {trampoline.springs, trampoline.legs}) {
+      lines.colour = {0.55f, 0.55f, 0.58f, 1};
+      lines.width_px = 3;
+      renderer.AddLines(lines);
+    }
+
+    acro::analysis::AthletePose pose;
+    athlete_scene.Pose(0, &pose);
+    SceneMesh body_mesh = pose.mesh;
+    body_mesh.colour = {0.86f, 0.62f, 0.5f, 1};  // skin and a leotard would be two colours; one
+    const int body_id = renderer.AddMesh(body_mesh);
+
+    acro::capture::VideoWriterOptions w;
+    w.fps = kFps;
+    w.crf = 26;
+    w.preset = "slow";
+    std::optional<acro::capture::VideoWriter> writer;
+    if (!preview) writer.emplace(dir / "side_camera.mp4", camera.width_px, camera.height_px, w);
+    const double rate = routine.trial.point_rate_hz;
+    const int first_sample = static_cast<int>(std::lround(-kOffsetS * rate));
+    const int step = static_cast<int>(std::lround(rate / kFps));
+    std::vector<double> sum(size_t(camera.width_px) * camera.height_px * 3);
+    std::vector<std::uint8_t> rgb(sum.size());
+    acro::ui::RenderImage render;
+    std::uint64_t seed = 20261202;
+    const auto gaussian = [&seed]() {
+      // Box–Muller on a 64-bit LCG (Knuth's MMIX constants): the same video on every run.
+      const auto uniform = [&seed]() {
+        seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
+        return (double((seed >> 11) & ((1ULL << 53) - 1)) + 0.5) / double(1ULL << 53);
+      };
+      return std::sqrt(-2 * std::log(uniform())) * std::cos(2 * M_PI * uniform());
+    };
+    int frames = 0;
+    for (int s = first_sample; s + 1 < routine.trial.num_frames; s += step, ++frames) {
+      if (preview && frames != std::stoi(argv[4])) continue;
+      // A 1/60 s shutter: the samples before, at and after the frame's, weighted ¼ ½ ¼.
+      std::fill(sum.begin(), sum.end(), 0.0);
+      for (const auto& [ds, weight] : {std::pair{-1, 0.25}, {0, 0.5}, {1, 0.25}}) {
+        athlete_scene.Pose(std::max(0, s + ds), &pose);
+        renderer.UpdateMesh(body_id, pose.mesh.vertices_W);
+        renderer.Render(&render);
+        std::fill(rgb.begin(), rgb.end(), 0);
+        composite.Composite(render, &rgb);
+        for (size_t k = 0; k < rgb.size(); ++k) sum[k] += weight * rgb[k];
+      }
+      // Sensor noise: Gaussian, 2.5 levels.
+      for (size_t k = 0; k < rgb.size(); ++k)
+        rgb[k] = static_cast<std::uint8_t>(std::clamp(std::lround(sum[k] + 2.5 * gaussian()), 0L, 255L));
+      if (preview) {
+        const std::vector<std::uint8_t> png =
+            acro::capture::EncodeRgbPng(camera.width_px, camera.height_px, rgb);
+        acro::WriteFileAtomically(argv[5], std::string(png.begin(), png.end()));
+        std::printf("wrote %s (frame %d, sample %d)\n", argv[5], frames, s);
+        return 0;
+      }
+      writer->Write(rgb);
+    }
+    writer->Finish();
+    acro::WriteFileAtomically(
+        dir / "video_truth.json",
+        fmt::format("{{\n  \"video\": \"side_camera.mp4\",\n  \"calibration\": \"side_camera.toml\",\n"
+                    "  \"camera\": \"side\",\n  \"fps\": {},\n  \"offset_s\": {},\n"
+                    "  \"note\": \"video time = offset_s + trial time: frame k shows the trial's "
+                    "sample {} + {}k (the true motion, noise-free)\"\n}}\n",
+                    kFps, kOffsetS, first_sample, step));
+    std::printf("wrote %s: %d frames at %g fps, offset %g s; %s\n",
+                (dir / "side_camera.mp4").string().c_str(),
+                frames,
+                kFps,
+                kOffsetS,
+                (dir / "side_camera.toml").string().c_str());
+    return 0;
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "make_sample_video: %s\n", e.what());
+    return 1;
+  }
+}
