@@ -12,6 +12,8 @@ trial=samples/trials/trampoline_routine/trampoline_routine.c3d
 out=out/trampoline_routine
 echo
 echo "== acrolab analyze $trial"
-build/bin/acrolab analyze "$trial" --athlete samples/athletes/sample_athlete.yaml -o "$out"
+build/bin/acrolab analyze "$trial" --athlete samples/athletes/sample_athlete.yaml -o "$out" \
+  --video samples/trials/trampoline_routine/side_camera.mp4 \
+  --calib samples/trials/trampoline_routine/side_camera.toml --sync auto
 echo
 echo "Open $(pwd)/$out/report.html in a browser for the report (plots, per-jump table, verdict)."

@@ -18,8 +18,8 @@
 #include <string>
 #include <vector>
 
-#include <Eigen/Geometry>
 #include <fmt/format.h>
+#include <Eigen/Geometry>
 
 #include "acro/athlete/athlete_profile.h"
 #include "acro/athlete/body_mesh.h"
@@ -52,10 +52,10 @@ SceneMesh Box(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi, Rgba colour,
   m.colour = colour;
   m.vertices_W.resize(3, 8);
   for (int c = 0; c < 8; ++c)
-    m.vertices_W.col(c) = Eigen::Vector3d((c & 1) ? hi.x() : lo.x(), (c & 2) ? hi.y() : lo.y(),
-                                          (c & 4) ? hi.z() : lo.z());
-  const int faces[6][4] = {{0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4},
-                           {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
+    m.vertices_W.col(c) = Eigen::Vector3d(
+        (c & 1) ? hi.x() : lo.x(), (c & 2) ? hi.y() : lo.y(), (c & 4) ? hi.z() : lo.z());
+  const int faces[6][4] = {
+      {0, 2, 3, 1}, {4, 5, 7, 6}, {0, 1, 5, 4}, {2, 6, 7, 3}, {0, 4, 6, 2}, {1, 3, 7, 5}};
   m.triangles.resize(3, 12);
   for (int f = 0; f < 6; ++f) {
     m.triangles.col(2 * f) = Eigen::Vector3i(faces[f][0], faces[f][1], faces[f][2]);
@@ -123,11 +123,14 @@ int main(int argc, char** argv) {
     renderer.AddMesh(Box({4.5, 7.6, 0}, {9.5, 8, 2.2}, {0.2f, 0.35f, 0.7f, 1}, "wall mats"));
     renderer.AddMesh(Box({-6, 7.9, 5.2}, {-2, 8, 6.2}, {0.75f, 0.15f, 0.15f, 1}, "banner"));
     renderer.AddMesh(Box({2.5, 7.9, 5.0}, {7.0, 8, 6.0}, {0.95f, 0.75f, 0.1f, 1}, "banner"));
-    renderer.AddMesh(Box({bed.x() - 3.5, bed.y() + 2.2, 0}, {bed.x() + 3.5, bed.y() + 4.2, 0.3},
-                         {0.15f, 0.3f, 0.65f, 1}, "end mat"));
+    renderer.AddMesh(Box({bed.x() - 3.5, bed.y() + 2.2, 0},
+                         {bed.x() + 3.5, bed.y() + 4.2, 0.3},
+                         {0.15f, 0.3f, 0.65f, 1},
+                         "end mat"));
     acro::analysis::BedGeometry geometry;
     geometry.centre_W = bed;
-    const acro::analysis::TrampolineScene trampoline = acro::analysis::MakeTrampolineScene(geometry);
+    const acro::analysis::TrampolineScene trampoline =
+        acro::analysis::MakeTrampolineScene(geometry);
     SceneMesh bed_mesh = trampoline.bed;
     bed_mesh.colour = {0.08f, 0.08f, 0.1f, 1};
     renderer.AddMesh(bed_mesh);
@@ -182,7 +185,8 @@ int main(int argc, char** argv) {
       }
       // Sensor noise: Gaussian, 2.5 levels.
       for (size_t k = 0; k < rgb.size(); ++k)
-        rgb[k] = static_cast<std::uint8_t>(std::clamp(std::lround(sum[k] + 2.5 * gaussian()), 0L, 255L));
+        rgb[k] =
+            static_cast<std::uint8_t>(std::clamp(std::lround(sum[k] + 2.5 * gaussian()), 0L, 255L));
       if (preview) {
         const std::vector<std::uint8_t> png =
             acro::capture::EncodeRgbPng(camera.width_px, camera.height_px, rgb);
@@ -195,11 +199,15 @@ int main(int argc, char** argv) {
     writer->Finish();
     acro::WriteFileAtomically(
         dir / "video_truth.json",
-        fmt::format("{{\n  \"video\": \"side_camera.mp4\",\n  \"calibration\": \"side_camera.toml\",\n"
-                    "  \"camera\": \"side\",\n  \"fps\": {},\n  \"offset_s\": {},\n"
-                    "  \"note\": \"video time = offset_s + trial time: frame k shows the trial's "
-                    "sample {} + {}k (the true motion, noise-free)\"\n}}\n",
-                    kFps, kOffsetS, first_sample, step));
+        fmt::format(
+            "{{\n  \"video\": \"side_camera.mp4\",\n  \"calibration\": \"side_camera.toml\",\n"
+            "  \"camera\": \"side\",\n  \"fps\": {},\n  \"offset_s\": {},\n"
+            "  \"note\": \"video time = offset_s + trial time: frame k shows the trial's "
+            "sample {} + {}k (the true motion, noise-free)\"\n}}\n",
+            kFps,
+            kOffsetS,
+            first_sample,
+            step));
     std::printf("wrote %s: %d frames at %g fps, offset %g s; %s\n",
                 (dir / "side_camera.mp4").string().c_str(),
                 frames,

@@ -14,8 +14,8 @@
 #include "acro/athlete/standard_human.h"
 #include "acro/base/file_io.h"
 #include "acro/capture/trial_io.h"
-#include "acro/dynamics/configuration.h"
 #include "acro/capture/video.h"
+#include "acro/dynamics/configuration.h"
 #include "acro/report/analysis_report.h"
 #include "acro/scene/silhouette_check.h"
 #include "acro/scene/trial_scene.h"
@@ -125,7 +125,8 @@ int RunAnalyze(AnalyzeArguments& args) {
       const analysis::SilhouetteSync refined =
           analysis::RefineSyncBySilhouettes(colour, scene, camera, refine, frame_s);
       sync = refined.sync;
-      say(fmt::format("sync: video time = {:.4f} s + trial time (refined by the silhouettes, "
+      say(
+          fmt::format("sync: video time = {:.4f} s + trial time (refined by the silhouettes, "
                       "median IoU {:.3f})",
                       sync.offset_s,
                       refined.median_iou));
@@ -155,12 +156,14 @@ int RunAnalyze(AnalyzeArguments& args) {
     }
 #ifdef ACRO_HAVE_VIEWS
     analysis::TrialScene light(
-        trial, result, body, analysis::MakeEllipsoidBodyMesh(body, analysis::OverlayBodyMeshOptions()));
+        trial,
+        result,
+        body,
+        analysis::MakeEllipsoidBodyMesh(body, analysis::OverlayBodyMeshOptions()));
     capture::VideoReader video(args.video);
     ui::SceneOverlayOptions overlay;
     overlay.show = analysis::ParseSceneShow("mesh,skeleton,com");
     overlay.sync = sync;
-    overlay.video.preset = "veryfast";
     overlay.progress = MakeCancellableProgress("overlay", "frames");
     ui::WriteSceneOverlay(video, light, camera, dir / "overlay.mp4", overlay);
     report.overlay_video = "overlay.mp4";

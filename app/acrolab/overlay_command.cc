@@ -42,7 +42,8 @@ std::pair<int, int> ParseFrames(const std::string& text) {
   const int n = std::sscanf(text.c_str(), "%d:%d%c", &a, &b, &end);
   const bool open_end = text.back() == ':' && std::sscanf(text.c_str(), "%d:%c", &a, &end) == 1;
   if (!(n == 2 || open_end) || a < 0 || (n == 2 && b < a))
-    throw UsageError{"--frames '" + text + "' is not FIRST:LAST (video frames, 0-based, e.g. 120:480)"};
+    throw UsageError{"--frames '" + text +
+                     "' is not FIRST:LAST (video frames, 0-based, e.g. 120:480)"};
   return {a, open_end ? -1 : b};
 }
 
@@ -80,11 +81,12 @@ int RunOverlay(const OverlayArguments& args) {
     options.progress = MakeCancellableProgress("sync (image motion)", "frames");
     const vision::AutoSyncResult found = vision::SyncFromImageMotion(trial, camera, grey, options);
     sync = found.sync;
-    std::fprintf(stderr,
-                 "sync: offset %.4f s from the image motion (1 − correlation %.3f, runner-up %.3f)\n",
-                 sync.offset_s,
-                 found.cost,
-                 found.runner_up_cost);
+    std::fprintf(
+        stderr,
+        "sync: offset %.4f s from the image motion (1 − correlation %.3f, runner-up %.3f)\n",
+        sync.offset_s,
+        found.cost,
+        found.runner_up_cost);
   }
 
   std::optional<analysis::TrialAnalysis> result;
@@ -94,7 +96,10 @@ int RunOverlay(const OverlayArguments& args) {
     analysis::TrialAnalysisOptions options;
     options.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
     result = analysis::AnalyzeTrial(trial, nullptr, body, options);
-    scene.emplace(trial, *result, body, analysis::MakeEllipsoidBodyMesh(body, analysis::OverlayBodyMeshOptions()));
+    scene.emplace(trial,
+                  *result,
+                  body,
+                  analysis::MakeEllipsoidBodyMesh(body, analysis::OverlayBodyMeshOptions()));
   } else {
     scene.emplace(trial, vision::ParseAxisMapping(args.axes));
   }
@@ -107,18 +112,19 @@ int RunOverlay(const OverlayArguments& args) {
   options.last_frame = last;
   options.slow = args.slow;
   options.heads_up = args.heads_up;
-  options.video.preset = "veryfast";
   options.progress = MakeCancellableProgress("overlay", "frames");
-  const ui::OverlayTiming t = ui::WriteSceneOverlay(video, *scene, camera, args.common.out_dir, options);
-  std::printf("wrote %s (%d frames; decode %.1f s, scene %.1f s, render %.1f s, composite %.1f s, "
-              "encode %.1f s)\n",
-              args.common.out_dir.c_str(),
-              t.frames_written,
-              t.decode_s,
-              t.scene_s,
-              t.render_s,
-              t.composite_s,
-              t.encode_s);
+  const ui::OverlayTiming t =
+      ui::WriteSceneOverlay(video, *scene, camera, args.common.out_dir, options);
+  std::printf(
+      "wrote %s (%d frames; decode %.1f s, scene %.1f s, render %.1f s, composite %.1f s, "
+      "encode %.1f s)\n",
+      args.common.out_dir.c_str(),
+      t.frames_written,
+      t.decode_s,
+      t.scene_s,
+      t.render_s,
+      t.composite_s,
+      t.encode_s);
   return 0;
 }
 #endif

@@ -25,7 +25,9 @@ bool IsFrameFileName(const std::string& name) {
          name.substr(6, 6).find_first_not_of("0123456789") == std::string::npos;
 }
 
-std::vector<std::uint8_t> EncodeRgbPng(int width, int height, const std::vector<std::uint8_t>& rgb) {
+std::vector<std::uint8_t> EncodeRgbPng(int width,
+                                       int height,
+                                       const std::vector<std::uint8_t>& rgb) {
   if (width <= 0 || height <= 0 || rgb.size() != size_t(width) * size_t(height) * 3)
     throw std::invalid_argument("EncodeRgbPng: the pixels are not width × height × 3 bytes");
   const AVCodec* codec = avcodec_find_encoder(AV_CODEC_ID_PNG);
@@ -121,7 +123,9 @@ FrameOutput::FrameOutput(const fs::path& path,
 
 FrameOutput::~FrameOutput() = default;
 
-bool FrameOutput::is_video() const { return impl_->writer.has_value(); }
+bool FrameOutput::is_video() const {
+  return impl_->writer.has_value();
+}
 
 void FrameOutput::Write(int index, const std::vector<std::uint8_t>& rgb) {
   if (impl_->writer) {
@@ -143,11 +147,14 @@ void FrameOutput::Finish() {
   if (fs::exists(impl_->path)) fs::remove_all(impl_->path, ec);
   fs::rename(impl_->staging, impl_->path, ec);
   if (ec)
-    throw InputError(impl_->path.string(), "", "cannot move the frames into place: " + ec.message());
+    throw InputError(
+        impl_->path.string(), "", "cannot move the frames into place: " + ec.message());
   impl_->staging.clear();
   impl_->registered.reset();
 }
 
-int FrameOutput::frames_written() const { return impl_->written; }
+int FrameOutput::frames_written() const {
+  return impl_->written;
+}
 
 }  // namespace acro::capture

@@ -14,12 +14,12 @@ extern "C" {
 
 #include <algorithm>
 #include <cmath>
-#include <filesystem>
-#include <optional>
-#include <random>
 #include <condition_variable>
 #include <deque>
+#include <filesystem>
 #include <mutex>
+#include <optional>
+#include <random>
 #include <string>
 #include <thread>
 
@@ -58,9 +58,9 @@ struct VideoWriter::Impl {
   std::thread worker;
   std::mutex mutex;
   std::condition_variable changed;
-  std::deque<std::vector<std::uint8_t>> queued;    // RGB at the even size, in order
-  std::vector<std::vector<std::uint8_t>> spare;    // slots to reuse
-  size_t slots = 0;                                // slots made
+  std::deque<std::vector<std::uint8_t>> queued;  // RGB at the even size, in order
+  std::vector<std::vector<std::uint8_t>> spare;  // slots to reuse
+  size_t slots = 0;                              // slots made
   bool closing = false;
   std::optional<std::string> error;
 
@@ -241,9 +241,8 @@ void VideoWriter::Write(const std::vector<std::uint8_t>& rgb) {
   std::vector<std::uint8_t> slot;
   {
     std::unique_lock<std::mutex> lock(m.mutex);
-    m.changed.wait(lock, [&m] {
-      return m.error.has_value() || !m.spare.empty() || m.slots < Impl::kSlots;
-    });
+    m.changed.wait(
+        lock, [&m] { return m.error.has_value() || !m.spare.empty() || m.slots < Impl::kSlots; });
     if (m.error) throw InputError("", "", *m.error);  // it names the file
     if (!m.spare.empty()) {
       slot = std::move(m.spare.back());

@@ -582,9 +582,10 @@ TEST(Cli, AnalyzeWithTheSampleVideoWritesTheOverlayAndTheSilhouettes) {
   std::filesystem::remove_all(out);
   const std::string dir = "samples/trials/trampoline_routine/";
   const ProcessResult run = Execute(
-      "env -u DISPLAY " + AnalyzeSample(out, "--quiet --video " + Quote(RepoFile(dir + "side_camera.mp4")) +
-                                                 " --calib " + Quote(RepoFile(dir + "side_camera.toml")) +
-                                                 " --sync auto"));
+      "env -u DISPLAY " +
+      AnalyzeSample(out,
+                    "--quiet --video " + Quote(RepoFile(dir + "side_camera.mp4")) + " --calib " +
+                        Quote(RepoFile(dir + "side_camera.toml")) + " --sync auto"));
   ASSERT_EQ(run.status, 0) << run.err;
   const nlohmann::json jumps = nlohmann::json::parse(Slurp(out / "jumps.json"));
   ASSERT_EQ(jumps.size(), 6u);
@@ -609,11 +610,11 @@ TEST(Cli, OverlayWithoutADisplayOrXvfbSaysWhatToInstall) {
   const auto out = acro::testing::TempDir() / "overlay_no_xvfb.mp4";
   std::filesystem::remove(out);
   const std::string dir = "samples/trials/trampoline_routine/";
-  const ProcessResult run = Execute(
-      "env -u DISPLAY PATH=/nonexistent " + std::string(ACROLAB_EXE) + " overlay " +
-      Quote(RepoFile(dir + "trampoline_routine.c3d")) + " --video " +
-      Quote(RepoFile(dir + "side_camera.mp4")) + " --calib " + Quote(RepoFile(dir + "side_camera.toml")) +
-      " --offset-s -0.575 -o " + Quote(out));
+  const ProcessResult run =
+      Execute("env -u DISPLAY PATH=/nonexistent " + std::string(ACROLAB_EXE) + " overlay " +
+              Quote(RepoFile(dir + "trampoline_routine.c3d")) + " --video " +
+              Quote(RepoFile(dir + "side_camera.mp4")) + " --calib " +
+              Quote(RepoFile(dir + "side_camera.toml")) + " --offset-s -0.575 -o " + Quote(out));
   EXPECT_EQ(run.status, 1) << run.err;
   EXPECT_NE(run.err.find("install the xvfb package"), std::string::npos) << run.err;
   EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
@@ -627,19 +628,22 @@ TEST(Cli, TerminatedOverlayStopsItsXvfb) {
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   const std::string sample = "samples/trials/trampoline_routine/";
-  const std::string command =
-      "env -u DISPLAY " + std::string(ACROLAB_EXE) + " overlay " +
-      Quote(RepoFile(sample + "trampoline_routine.c3d")) + " --video " +
-      Quote(RepoFile(sample + "side_camera.mp4")) + " --calib " +
-      Quote(RepoFile(sample + "side_camera.toml")) + " --offset-s -0.575 -o " + Quote(dir / "frames");
+  const std::string command = "env -u DISPLAY " + std::string(ACROLAB_EXE) + " overlay " +
+                              Quote(RepoFile(sample + "trampoline_routine.c3d")) + " --video " +
+                              Quote(RepoFile(sample + "side_camera.mp4")) + " --calib " +
+                              Quote(RepoFile(sample + "side_camera.toml")) +
+                              " --offset-s -0.575 -o " + Quote(dir / "frames");
   std::ofstream(dir / "run.sh") << command << " 2>" << Quote(dir / "err.txt")
                                 << " >/dev/null &\npid=$!\nfor i in $(seq 400); do\n  ls "
                                 << Quote(dir) << "/frames.tmp-*/frame_000003.png >/dev/null 2>&1"
                                 << " && break\n  sleep 0.05\ndone\n"
                                 << "xvfb=$(pgrep -P $pid Xvfb)\necho xvfb=$xvfb\n"
-                                << "kill -TERM $pid\nwait $pid\necho status=$?\nsleep 0.5\n"
-                                << "if [ -n \"$xvfb\" ] && kill -0 $xvfb 2>/dev/null; then echo "
-                                << "xvfb-alive; fi\n";
+                                << "kill -TERM $pid\nwait $pid\necho status=$?\n"
+                                // Up to 5 s for the server to end (a zombie has ended).
+                                << "alive() { kill -0 $1 2>/dev/null && ! ps -o stat= -p $1 | "
+                                << "grep -q Z; }\nfor i in $(seq 50); do alive $xvfb || break; "
+                                << "sleep 0.1; done\nif [ -n \"$xvfb\" ] && alive $xvfb; then "
+                                << "echo xvfb-alive; fi\n";
   const ProcessResult run = Execute("bash " + Quote(dir / "run.sh"));
   EXPECT_NE(run.out.find("status=143"), std::string::npos) << run.out << run.err;
   EXPECT_EQ(run.out.find("xvfb=\n"), std::string::npos) << "no Xvfb was started: " << run.out;

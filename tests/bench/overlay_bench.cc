@@ -1,7 +1,7 @@
 // The overlay pipeline (docs/performance.md, "Overlay"): 10 s of 1080p 30 fps H.264 (the file
 // video_bench writes, ffmpeg's testsrc2), the sample routine's athlete drawn over it through a
 // 1920 × 1080 camera with lens distortion 10 m beside the trampoline: decode + pose + render +
-// read-back + composite + encode (H.264, x264 veryfast, as `acrolab overlay`), with the skeleton
+// read-back + composite + encode (H.264, x264 superfast, as `acrolab overlay`), with the skeleton
 // and with the mesh. The goal (issue "virtual against real"): ≥ 1.5× real time with the
 // skeleton, ≥ 0.5× with the mesh, on the 2-core machine. Counters: realtime (video seconds per
 // wall second) and the split per frame in ms.
@@ -57,13 +57,14 @@ const Routine& SampleRoutine() {
   static const Routine routine = [] {
     const fs::path source = acro::testing::SourceDir();
     Routine r;
-    r.trial = acro::capture::ReadTrial(source / "samples/trials/trampoline_routine/trampoline_routine.c3d");
+    r.trial = acro::capture::ReadTrial(source /
+                                       "samples/trials/trampoline_routine/trampoline_routine.c3d");
     r.body = acro::analysis::MakeAthleteBody(
         acro::analysis::ReadAthleteProfile(source / "samples/athletes/sample_athlete.yaml"));
     r.analysis = acro::analysis::AnalyzeTrial(r.trial, nullptr, r.body);
     // 10 m beside the bed's centre (across its long axis), 2 m up, looking level at 2 m.
-    const Eigen::Vector3d target = r.analysis.check.frames.com_W.rowwise().mean() +
-                                   Eigen::Vector3d(0, 0, 0.5);
+    const Eigen::Vector3d target =
+        r.analysis.check.frames.com_W.rowwise().mean() + Eigen::Vector3d(0, 0, 0.5);
     const Eigen::Vector3d centre = target - Eigen::Vector3d(0, 10, 0);
     acro::vision::Camera& c = r.camera;
     c.name = "side";
@@ -97,13 +98,15 @@ void BM_Overlay(benchmark::State& state, const char* show) {
     acro::analysis::TrialScene scene(routine.trial,
                                      routine.analysis,
                                      routine.body,
-                                     acro::analysis::MakeEllipsoidBodyMesh(routine.body, acro::analysis::OverlayBodyMeshOptions()));
+                                     acro::analysis::MakeEllipsoidBodyMesh(
+                                         routine.body, acro::analysis::OverlayBodyMeshOptions()));
     acro::capture::VideoReader video(video_path);
     acro::ui::SceneOverlayOptions options;
     options.show = acro::analysis::ParseSceneShow(show);
-    options.video.preset = "veryfast";
     t = acro::ui::WriteSceneOverlay(video, scene, routine.camera, out, options);
-    triangles = acro::analysis::MakeEllipsoidBodyMesh(routine.body, acro::analysis::OverlayBodyMeshOptions()).num_triangles();
+    triangles = acro::analysis::MakeEllipsoidBodyMesh(routine.body,
+                                                      acro::analysis::OverlayBodyMeshOptions())
+                    .num_triangles();
   }
   const double frames = t.frames_read;
   const double total = t.decode_s + t.scene_s + t.render_s + t.composite_s + t.encode_s;
@@ -117,8 +120,14 @@ void BM_Overlay(benchmark::State& state, const char* show) {
   fs::remove(out);
 }
 
-BENCHMARK_CAPTURE(BM_Overlay, skeleton, "skeleton,com")->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
-BENCHMARK_CAPTURE(BM_Overlay, mesh, "mesh,com")->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
+BENCHMARK_CAPTURE(BM_Overlay, skeleton, "skeleton,com")
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_Overlay, mesh, "mesh,com")
+    ->Unit(benchmark::kSecond)
+    ->Iterations(1)
+    ->UseRealTime();
 
 }  // namespace
 

@@ -102,8 +102,8 @@ SilhouetteCheck CheckSilhouettes(capture::VideoReader& video,
       const int sample = wanted[size_t(frame.index)];
       if (sample < 0) continue;
       scene.Frame(sample, &tf);
-      const double iou =
-          AthleteIoU(background.Foreground(frame, options.background), tf, camera, options.box_margin);
+      const double iou = AthleteIoU(
+          background.Foreground(frame, options.background), tf, camera, options.box_margin);
       out.frames.push_back(frame.index);
       out.samples.push_back(sample);
       out.flights.push_back(scene.FlightAt(sample));
@@ -115,7 +115,8 @@ SilhouetteCheck CheckSilhouettes(capture::VideoReader& video,
   }
   int num_flights = 0;
   for (const int f : out.flights) num_flights = std::max(num_flights, f + 1);
-  for (int s = 0; s < scene.num_samples(); ++s) num_flights = std::max(num_flights, scene.FlightAt(s) + 1);
+  for (int s = 0; s < scene.num_samples(); ++s)
+    num_flights = std::max(num_flights, scene.FlightAt(s) + 1);
   out.flight_median_iou.assign(size_t(num_flights), std::numeric_limits<double>::quiet_NaN());
   for (int f = 0; f < num_flights; ++f) {
     std::vector<double> v;

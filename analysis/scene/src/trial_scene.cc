@@ -20,15 +20,30 @@ namespace {
 std::string Canonical(const std::string& name) {
   std::string s;
   for (char c : name)
-    if (std::isalnum(static_cast<unsigned char>(c))) s += char(std::tolower(static_cast<unsigned char>(c)));
-  for (const auto& [long_form, short_form] : {std::pair<std::string, std::string>{"right", "r"}, {"left", "l"}})
+    if (std::isalnum(static_cast<unsigned char>(c)))
+      s += char(std::tolower(static_cast<unsigned char>(c)));
+  for (const auto& [long_form, short_form] :
+       {std::pair<std::string, std::string>{"right", "r"}, {"left", "l"}})
     if (s.rfind(long_form, 0) == 0) s = short_form + s.substr(long_form.size());
-  static const std::map<std::string, std::string> kPluginGait = {
-      {"rkne", "rknee"}, {"lkne", "lknee"}, {"rank", "rankle"}, {"lank", "lankle"},
-      {"rsho", "rshoulder"}, {"lsho", "lshoulder"}, {"relb", "relbow"}, {"lelb", "lelbow"},
-      {"rwra", "rwrist"}, {"lwra", "lwrist"}, {"rhee", "rheel"}, {"lhee", "lheel"},
-      {"rtoe", "rbigtoe"}, {"ltoe", "lbigtoe"}, {"rasi", "rhip"}, {"lasi", "lhip"},
-      {"c7", "neck"}, {"midhip", "hip"}, {"pelvis", "hip"}};
+  static const std::map<std::string, std::string> kPluginGait = {{"rkne", "rknee"},
+                                                                 {"lkne", "lknee"},
+                                                                 {"rank", "rankle"},
+                                                                 {"lank", "lankle"},
+                                                                 {"rsho", "rshoulder"},
+                                                                 {"lsho", "lshoulder"},
+                                                                 {"relb", "relbow"},
+                                                                 {"lelb", "lelbow"},
+                                                                 {"rwra", "rwrist"},
+                                                                 {"lwra", "lwrist"},
+                                                                 {"rhee", "rheel"},
+                                                                 {"lhee", "lheel"},
+                                                                 {"rtoe", "rbigtoe"},
+                                                                 {"ltoe", "lbigtoe"},
+                                                                 {"rasi", "rhip"},
+                                                                 {"lasi", "lhip"},
+                                                                 {"c7", "neck"},
+                                                                 {"midhip", "hip"},
+                                                                 {"pelvis", "hip"}};
   if (const auto it = kPluginGait.find(s); it != kPluginGait.end()) return it->second;
   return s;
 }
@@ -51,9 +66,8 @@ SceneShow ParseSceneShow(const std::string& text) {
     } else if (word == "residual") {
       show.residual = true;
     } else {
-      throw InputError("",
-                       "--show",
-                       "'" + word + "' is not one of mesh, skeleton, markers, com, residual");
+      throw InputError(
+          "", "--show", "'" + word + "' is not one of mesh, skeleton, markers, com, residual");
     }
   }
   return show;
@@ -68,15 +82,15 @@ std::vector<std::pair<int, int>> KeypointLinks(const std::vector<std::string>& n
   std::map<std::string, int> index;
   for (size_t i = 0; i < names.size(); ++i) index.emplace(Canonical(names[i]), int(i));
   static const char* kPairs[][2] = {
-      {"rhip", "rknee"},        {"rknee", "rankle"},       {"rankle", "rheel"},
-      {"rankle", "rbigtoe"},    {"rbigtoe", "rsmalltoe"},  {"rheel", "rbigtoe"},
-      {"lhip", "lknee"},        {"lknee", "lankle"},       {"lankle", "lheel"},
-      {"lankle", "lbigtoe"},    {"lbigtoe", "lsmalltoe"},  {"lheel", "lbigtoe"},
-      {"rshoulder", "relbow"},  {"relbow", "rwrist"},      {"lshoulder", "lelbow"},
-      {"lelbow", "lwrist"},     {"rhip", "lhip"},          {"rshoulder", "lshoulder"},
-      {"neck", "head"},         {"head", "nose"},          {"neck", "nose"},
-      {"hip", "neck"},          {"rshoulder", "rhip"},     {"lshoulder", "lhip"},
-      {"nose", "reye"},         {"nose", "leye"},          {"reye", "rear"},
+      {"rhip", "rknee"},       {"rknee", "rankle"},      {"rankle", "rheel"},
+      {"rankle", "rbigtoe"},   {"rbigtoe", "rsmalltoe"}, {"rheel", "rbigtoe"},
+      {"lhip", "lknee"},       {"lknee", "lankle"},      {"lankle", "lheel"},
+      {"lankle", "lbigtoe"},   {"lbigtoe", "lsmalltoe"}, {"lheel", "lbigtoe"},
+      {"rshoulder", "relbow"}, {"relbow", "rwrist"},     {"lshoulder", "lelbow"},
+      {"lelbow", "lwrist"},    {"rhip", "lhip"},         {"rshoulder", "lshoulder"},
+      {"neck", "head"},        {"head", "nose"},         {"neck", "nose"},
+      {"hip", "neck"},         {"rshoulder", "rhip"},    {"lshoulder", "lhip"},
+      {"nose", "reye"},        {"nose", "leye"},         {"reye", "rear"},
       {"leye", "lear"}};
   std::vector<std::pair<int, int>> links;
   for (const auto& pair : kPairs) {
@@ -111,8 +125,8 @@ TrialScene::TrialScene(const capture::Trial& trial,
     throw std::invalid_argument("the analysis has " + std::to_string(motion.num_frames()) +
                                 " frames, the trial " + std::to_string(trial.num_frames));
   analysis_ = &analysis;
-  athlete_ = std::make_unique<AthleteScene>(
-      body, std::move(mesh), motion, analysis.reconstruction.model);
+  athlete_ =
+      std::make_unique<AthleteScene>(body, std::move(mesh), motion, analysis.reconstruction.model);
 }
 
 TrialScene::~TrialScene() = default;
@@ -136,7 +150,8 @@ void TrialScene::Frame(int sample, TrialFrame* out) {
   for (int p = 0; p < trial_.num_points(); ++p) present += trial_.valid(sample, p) ? 1 : 0;
   out->markers_W.resize(3, present);
   for (int p = 0, k = 0; p < trial_.num_points(); ++p)
-    if (trial_.valid(sample, p)) out->markers_W.col(k++) = axes_.ToWorld(trial_.position(sample, p));
+    if (trial_.valid(sample, p))
+      out->markers_W.col(k++) = axes_.ToWorld(trial_.position(sample, p));
   // The keypoint skeleton: a missing end puts both ends on the other (a zero-length segment), so
   // the segment count never changes.
   out->keypoint_links.name = "keypoints";
@@ -145,9 +160,9 @@ void TrialScene::Frame(int sample, TrialFrame* out) {
   for (size_t k = 0; k < links_.size(); ++k) {
     const auto [a, b] = links_[k];
     const bool va = trial_.valid(sample, a), vb = trial_.valid(sample, b);
-    const Eigen::Vector3d pa = va ? axes_.ToWorld(trial_.position(sample, a))
-                                  : (vb ? axes_.ToWorld(trial_.position(sample, b))
-                                        : Eigen::Vector3d(0, 0, -1000));
+    const Eigen::Vector3d pa =
+        va ? axes_.ToWorld(trial_.position(sample, a))
+           : (vb ? axes_.ToWorld(trial_.position(sample, b)) : Eigen::Vector3d(0, 0, -1000));
     const Eigen::Vector3d pb = vb ? axes_.ToWorld(trial_.position(sample, b)) : pa;
     out->keypoint_links.points_W.col(2 * Eigen::Index(k)) = pa;
     out->keypoint_links.points_W.col(2 * Eigen::Index(k) + 1) = pb;

@@ -1,9 +1,9 @@
 // The sample routine's video (samples/trials/trampoline_routine/side_camera.mp4, made by
-// tools/make_sample_video.cc from the routine's true motion, 0.575 s after the mocap started) against
-// the analysis of its C3D: the automatic sync finds the offset within a third of a frame; the
-// reconstructed athlete's silhouette matches the video's over the flights (median IoU ≥ 0.85, the
-// issue's figure); with the sync 3 frames off the IoU drops by at least 0.1 — the silhouette sees
-// a wrong sync.
+// tools/make_sample_video.cc from the routine's true motion, 0.575 s after the mocap started)
+// against the analysis of its C3D: the automatic sync finds the offset within a third of a frame;
+// the reconstructed athlete's silhouette matches the video's over the flights (median IoU ≥ 0.85,
+// the figure); with the sync 3 frames off the IoU drops by at least 0.1 — the silhouette
+// sees a wrong sync.
 
 #include "acro/scene/silhouette_check.h"
 
@@ -91,14 +91,16 @@ TEST(SilhouetteCheck, TheReconstructionMatchesTheVideoAndAWrongSyncShows) {
   const SilhouetteCheck right = Check(s.offset_s);
   ASSERT_GT(right.iou.size(), 150u);  // six flights, about 8.5 s of flight at 30 fps
   ASSERT_EQ(right.flight_median_iou.size(), s.analysis.phases.flights.size());
-  std::printf("IoU over %zu flight frames: median %.3f; per flight:", right.iou.size(), right.median_iou);
+  std::printf(
+      "IoU over %zu flight frames: median %.3f; per flight:", right.iou.size(), right.median_iou);
   for (const double m : right.flight_median_iou) std::printf(" %.3f", m);
   std::printf("\n");
   EXPECT_GE(right.median_iou, 0.85);
   const double frame_s = 1.0 / 30;
   const SilhouetteCheck late = Check(s.offset_s + 3 * frame_s);
   const SilhouetteCheck early = Check(s.offset_s - 3 * frame_s);
-  std::printf("3 frames late: median %.3f; 3 frames early: %.3f\n", late.median_iou, early.median_iou);
+  std::printf(
+      "3 frames late: median %.3f; 3 frames early: %.3f\n", late.median_iou, early.median_iou);
   EXPECT_LE(late.median_iou, right.median_iou - 0.1);
   EXPECT_LE(early.median_iou, right.median_iou - 0.1);
 }

@@ -46,9 +46,9 @@ Eigen::Matrix3Xd PointsInView(const vision::Camera& camera) {
   return points;
 }
 
-// Renders the points as spheres of 1 cm (3–6 px wide) through `camera` onto a black frame and returns, per
-// point, the brightness-weighted centroid of the frame within 10 px of where Project puts it
-// minus that projection.
+// Renders the points as spheres of 1 cm (3–6 px wide) through `camera` onto a black frame and
+// returns, per point, the brightness-weighted centroid of the frame within 10 px of where Project
+// puts it minus that projection.
 std::vector<Eigen::Vector2d> CentroidErrors(const vision::Camera& camera) {
   const CameraComposite composite(camera);
   SceneRenderer renderer(composite.render_camera().width_px, composite.render_camera().height_px);
@@ -84,7 +84,8 @@ TEST(PinholeProjection, PutsPixelCentresWhereKDoes) {
   K << 1500.3, 0.7, 512.9, 0, 1480.1, 371.2, 0, 0, 1;
   const int W = 1088, H = 720;
   const Eigen::Matrix4d P = PinholeProjectionMatrix(K, W, H, 0.1, 100);
-  for (const Eigen::Vector3d& c : {Eigen::Vector3d(0.3, -0.2, 2.0), Eigen::Vector3d(-1, 0.6, 7.5)}) {
+  for (const Eigen::Vector3d& c :
+       {Eigen::Vector3d(0.3, -0.2, 2.0), Eigen::Vector3d(-1, 0.6, 7.5)}) {
     const Eigen::Vector3d uv = K * c / c.z();
     const Eigen::Vector4d eye(c.x(), -c.y(), -c.z(), 1);  // OpenGL's eye axes
     const Eigen::Vector4d clip = P * eye;
@@ -99,7 +100,8 @@ TEST(PinholeProjection, PutsPixelCentresWhereKDoes) {
 }
 
 TEST(CameraView, SpheresLandWhereTheCameraModelProjectsThem) {
-  ACRO_REQUIRE_REFDATA_FILE(acro::testing::RefdataFile("pose2sim-demo/calibration/Calib_qualisys.toml"));
+  ACRO_REQUIRE_REFDATA_FILE(
+      acro::testing::RefdataFile("pose2sim-demo/calibration/Calib_qualisys.toml"));
   const vision::Camera camera = Cam01();
   ASSERT_NE(camera.K(0, 0), camera.K(1, 1));
   ASSERT_FALSE(camera.distortion.empty());
@@ -111,9 +113,11 @@ TEST(CameraView, SpheresLandWhereTheCameraModelProjectsThem) {
 }
 
 TEST(CameraView, SpheresLandRightThroughACameraRolledAboutItsAxis) {
-  ACRO_REQUIRE_REFDATA_FILE(acro::testing::RefdataFile("pose2sim-demo/calibration/Calib_qualisys.toml"));
+  ACRO_REQUIRE_REFDATA_FILE(
+      acro::testing::RefdataFile("pose2sim-demo/calibration/Calib_qualisys.toml"));
   vision::Camera camera = Cam01();
-  const Eigen::Matrix3d roll = Eigen::AngleAxisd(30 * M_PI / 180, Eigen::Vector3d::UnitZ()).matrix();
+  const Eigen::Matrix3d roll =
+      Eigen::AngleAxisd(30 * M_PI / 180, Eigen::Vector3d::UnitZ()).matrix();
   camera.R_KW = roll * camera.R_KW;
   camera.t_KW = roll * camera.t_KW;
   const XDisplay display;
@@ -121,6 +125,25 @@ TEST(CameraView, SpheresLandRightThroughACameraRolledAboutItsAxis) {
   for (const Eigen::Vector2d& e : CentroidErrors(camera)) worst = std::max(worst, e.norm());
   EXPECT_LT(worst, 0.5) << "worst centroid error " << worst << " px";
   std::printf("cam01 rolled 30°: worst sphere centroid %.3f px\n", worst);
+}
+
+// The heads-up line: FreeType text on a half-transparent box, without a display.
+TEST(HeadsUp, TextLineIsDrawnOnAHalfTransparentBox) {
+  RenderImage line;
+  RenderTextLine("12.345 s  flight 2  40o", 20, {1, 1, 1, 1}, &line);
+  ASSERT_GT(line.width, 20 * 10);  // 23 characters, each wider than half the size
+  ASSERT_GE(line.height, 20);
+  ASSERT_EQ(line.rgba.size(), size_t(line.width) * line.height * 4);
+  int text = 0, box = 0;
+  for (size_t k = 0; k < line.rgba.size(); k += 4) {
+    if (line.rgba[k + 3] == 128 && line.rgba[k] == 0) ++box;
+    if (line.rgba[k + 3] > 200 && line.rgba[k] > 200) ++text;
+  }
+  EXPECT_GT(text, 100);            // white glyph pixels
+  EXPECT_GT(box, text);            // the box around them
+  RenderImage empty;
+  RenderTextLine("", 20, {1, 1, 1, 1}, &empty);
+  EXPECT_GT(empty.width, 0);  // just the box
 }
 
 TEST(XDisplay, StartsXvfbWithoutADisplayAndStopsIt) {
@@ -150,7 +173,8 @@ TEST(XDisplay, SaysWhatToInstallWhenThereIsNoXvfb) {
     const XDisplay display;
     ADD_FAILURE() << "an X display without Xvfb on the PATH";
   } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("install the xvfb package"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("install the xvfb package"), std::string::npos)
+        << e.what();
   }
   setenv("PATH", previous_path.c_str(), 1);
   if (!previous_display.empty()) setenv("DISPLAY", previous_display.c_str(), 1);

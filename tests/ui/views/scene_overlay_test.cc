@@ -65,7 +65,8 @@ TEST(SceneOverlay, KeypointsLandWhereProjectPutsThemOnAllFourCameras) {
       // in radius at these distances.
       bool alone = true;
       for (const vision::ProjectedPoint& q : points)
-        if (q.frame == p.frame && q.marker != p.marker && (q.uv_px - p.uv_px).norm() < 30) alone = false;
+        if (q.frame == p.frame && q.marker != p.marker && (q.uv_px - p.uv_px).norm() < 30)
+          alone = false;
       if (!alone || p.uv_px.x() < 16 || p.uv_px.y() < 16 || p.uv_px.x() > real.width - 16 ||
           p.uv_px.y() > real.height - 16)
         continue;
@@ -92,7 +93,8 @@ TEST(SceneOverlay, KeypointsLandWhereProjectPutsThemOnAllFourCameras) {
   }
   EXPECT_GT(measured, 100);
   EXPECT_LT(worst, 0.5) << "worst keypoint " << worst << " px from acrolab project's pixel";
-  std::printf("%d keypoints on 4 cameras: worst %.3f px from acrolab project's pixel\n", measured, worst);
+  std::printf(
+      "%d keypoints on 4 cameras: worst %.3f px from acrolab project's pixel\n", measured, worst);
 }
 
 }  // namespace

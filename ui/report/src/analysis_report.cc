@@ -207,7 +207,8 @@ std::vector<ReportFigure> MakeAnalysisFigures(const analysis::TrialAnalysis& a,
   }
   if (!options.silhouette_iou.empty()) {
     Chart c = TimeChart(a, "Silhouettes: video against reconstruction", "IoU");
-    LineSeries s = Series("IoU per video frame", options.silhouette_time_s, options.silhouette_iou, kBlue);
+    LineSeries s =
+        Series("IoU per video frame", options.silhouette_time_s, options.silhouette_iou, kBlue);
     s.line = false;
     s.markers = true;
     c.series.push_back(s);
@@ -281,7 +282,8 @@ std::string FormatAnalysisReportHtml(const analysis::TrialAnalysis& a,
        "(s)</th><th>apex (m)</th><th>HD (m)</th><th>from centre (m)</th><th>somersault "
        "(°)</th><th>twist (°)</th><th class=\"l\">code</th><th class=\"l\">skill</th><th>DD</th>"
        "<th>residual |F| (BW, "
-    << Window(a) << " mean)</th>" << (options.silhouette_iou.empty() ? "" : "<th>silhouette IoU</th>")
+    << Window(a) << " mean)</th>"
+    << (options.silhouette_iou.empty() ? "" : "<th>silhouette IoU</th>")
     << "<th class=\"l\">verdict</th></tr>\n";
   for (const analysis::JumpMetrics& j : a.jumps) {
     const bool ok = j.verdict == "pass";
@@ -316,7 +318,8 @@ std::string FormatAnalysisReportHtml(const analysis::TrialAnalysis& a,
 
   // The overlay video.
   if (!options.overlay_video.empty()) {
-    h << "<h2>Over the video</h2>\n<video controls preload=\"metadata\" style=\"max-width:100%\" src=\""
+    h << "<h2>Over the video</h2>\n<video controls preload=\"metadata\" style=\"max-width:100%\" "
+         "src=\""
       << Html(options.overlay_video) << "\"></video>\n<p><a href=\"" << Html(options.overlay_video)
       << "\">" << Html(options.overlay_video)
       << "</a>: the reconstructed athlete drawn through the camera's calibration over its "

@@ -24,7 +24,11 @@ inline void Over(const std::uint8_t* c, std::uint8_t* o) {
 
 }  // namespace
 
-void BlendOver(const RenderImage& image, int x0, int y0, int width, int height,
+void BlendOver(const RenderImage& image,
+               int x0,
+               int y0,
+               int width,
+               int height,
                std::vector<std::uint8_t>* rgb) {
   if (rgb->size() != size_t(width) * size_t(height) * 3)
     throw std::invalid_argument("BlendOver: the frame is not width × height × 3 bytes");
@@ -49,7 +53,8 @@ CameraComposite::CameraComposite(const vision::Camera& camera, double max_canvas
   double min_x = 1e300, min_y = 1e300, max_x = -1e300, max_y = -1e300;
   for (int j = 0; j < gh; ++j) {
     for (int i = 0; i < gw; ++i) {
-      const Eigen::Vector2d uv(std::min(i * kGrid, W - 1 + kGrid), std::min(j * kGrid, H - 1 + kGrid));
+      const Eigen::Vector2d uv(std::min(i * kGrid, W - 1 + kGrid),
+                               std::min(j * kGrid, H - 1 + kGrid));
       const Eigen::Vector2d u = camera.Undistort(uv);
       grid[size_t(j) * size_t(gw) + size_t(i)] = u;
       if (!std::isfinite(u.x()) || !std::isfinite(u.y())) continue;
@@ -87,9 +92,11 @@ CameraComposite::CameraComposite(const vision::Camera& camera, double max_canvas
     for (int u = 0; u < W; ++u) {
       const int i = u / kGrid;
       const double a = double(u - i * kGrid) / kGrid;
-      const auto g = [&](int di, int dj) { return grid[size_t(j + dj) * size_t(gw) + size_t(i + di)]; };
-      const Eigen::Vector2d p = (1 - b) * ((1 - a) * g(0, 0) + a * g(1, 0)) +
-                                b * ((1 - a) * g(0, 1) + a * g(1, 1));
+      const auto g = [&](int di, int dj) {
+        return grid[size_t(j + dj) * size_t(gw) + size_t(i + di)];
+      };
+      const Eigen::Vector2d p =
+          (1 - b) * ((1 - a) * g(0, 0) + a * g(1, 0)) + b * ((1 - a) * g(0, 1) + a * g(1, 1));
       const double x = p.x() - x0, y = p.y() - y0;
       if (!(x >= 0 && y >= 0 && x < cw - 1 && y < ch - 1)) continue;
       int xi = static_cast<int>(x), yi = static_cast<int>(y);

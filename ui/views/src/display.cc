@@ -76,10 +76,11 @@ struct XDisplay::Impl {
   void Start() {
     const std::optional<std::string> xvfb = FindOnPath("Xvfb");
     if (!xvfb) {
-      throw InputError("",
-                       "3D views",
-                       "no X display ($DISPLAY is unset or does not answer) and no Xvfb to start "
-                       "one: install the xvfb package (apt-get install xvfb), or run with a display");
+      throw InputError(
+          "",
+          "3D views",
+          "no X display ($DISPLAY is unset or does not answer) and no Xvfb to start "
+          "one: install the xvfb package (apt-get install xvfb), or run with a display");
     }
     int fds[2];
     if (pipe2(fds, O_CLOEXEC) != 0) throw InputError("", "3D views", "cannot make a pipe for Xvfb");
@@ -106,8 +107,16 @@ struct XDisplay::Impl {
       }
       dup2(fds[1], 3);  // dup2 clears close-on-exec on the copy
       close_range(4, ~0U, 0);
-      const char* argv[] = {"Xvfb",   "-displayfd", "3",          "-screen", "0",
-                            "1280x1024x24", "-nolisten", "tcp", "-noreset", nullptr};
+      const char* argv[] = {"Xvfb",
+                            "-displayfd",
+                            "3",
+                            "-screen",
+                            "0",
+                            "1280x1024x24",
+                            "-nolisten",
+                            "tcp",
+                            "-noreset",
+                            nullptr};
       execv(xvfb->c_str(), const_cast<char* const*>(argv));
       _exit(127);
     }
@@ -133,8 +142,9 @@ struct XDisplay::Impl {
     if (number.empty() || number.find_first_not_of("0123456789") != std::string::npos) {
       throw InputError("",
                        "3D views",
-                       *xvfb + " did not open a display within 10 s (is Mesa's OpenGL, "
-                               "libgl1-mesa-dri, installed?)");
+                       *xvfb +
+                           " did not open a display within 10 s (is Mesa's OpenGL, "
+                           "libgl1-mesa-dri, installed?)");
     }
     const char* display = std::getenv("DISPLAY");
     if (display != nullptr) previous_display = display;
@@ -154,8 +164,12 @@ XDisplay::XDisplay() : impl_(std::make_unique<Impl>()) {
 
 XDisplay::~XDisplay() = default;
 
-const std::string& XDisplay::name() const { return impl_->name; }
+const std::string& XDisplay::name() const {
+  return impl_->name;
+}
 
-bool XDisplay::started_here() const { return impl_->pid > 0; }
+bool XDisplay::started_here() const {
+  return impl_->pid > 0;
+}
 
 }  // namespace acro::ui

@@ -126,8 +126,8 @@ PixelBox FrameBox(const analysis::TrialFrame& f,
   hi.array() += 0.1;
   double u0 = 1e300, v0 = 1e300, u1 = -1e300, v1 = -1e300;
   for (int c = 0; c < 8; ++c) {
-    const Eigen::Vector3d corner((c & 1) ? hi.x() : lo.x(), (c & 2) ? hi.y() : lo.y(),
-                                 (c & 4) ? hi.z() : lo.z());
+    const Eigen::Vector3d corner(
+        (c & 1) ? hi.x() : lo.x(), (c & 2) ? hi.y() : lo.y(), (c & 4) ? hi.z() : lo.z());
     const std::optional<Eigen::Vector2d> uv = camera.Project(corner);
     if (!uv) return {0, 0, camera.width_px, camera.height_px};
     u0 = std::min(u0, uv->x());

@@ -5,8 +5,10 @@
 #include <vtkCellArray.h>
 #include <vtkDoubleArray.h>
 #include <vtkFloatArray.h>
-#include <vtkPointData.h>
+#include <vtkImageData.h>
+#include <vtkLight.h>
 #include <vtkMatrix4x4.h>
+#include <vtkPointData.h>
 #include <vtkPoints.h>
 #include <vtkPolyData.h>
 #include <vtkPolyDataMapper.h>
@@ -14,9 +16,6 @@
 #include <vtkRenderWindow.h>
 #include <vtkRenderer.h>
 #include <vtkSmartPointer.h>
-#include <vtkTextActor.h>
-#include <vtkImageData.h>
-#include <vtkLight.h>
 #include <vtkTextProperty.h>
 #include <vtkTextRenderer.h>
 #include <vtkUnsignedCharArray.h>
@@ -100,11 +99,8 @@ void RenderTextLine(const std::string& text, int size_px, analysis::Rgba colour,
   }
 }
 
-Eigen::Matrix4d PinholeProjectionMatrix(const Eigen::Matrix3d& K,
-                                        int width,
-                                        int height,
-                                        double near_m,
-                                        double far_m) {
+Eigen::Matrix4d PinholeProjectionMatrix(
+    const Eigen::Matrix3d& K, int width, int height, double near_m, double far_m) {
   // Eye coordinates e = diag(1, −1, −1) · (camera coordinates c): u·z_c = fx x_c + s y_c + cx z_c,
   // v·z_c = fy y_c + cy z_c, with z_c = −z_e = w_clip. OpenGL puts clip x/w at window
   // x = (x/w + 1) W / 2, which must be u + ½; window y (up) = (y/w + 1) H / 2 must be H − v − ½.
@@ -123,7 +119,9 @@ Eigen::Matrix4d PinholeProjectionMatrix(const Eigen::Matrix3d& K,
   return P;
 }
 
-FreeViewpoint PresetViewpoint(ViewPreset preset, const Eigen::Vector3d& target_W, double distance_m) {
+FreeViewpoint PresetViewpoint(ViewPreset preset,
+                              const Eigen::Vector3d& target_W,
+                              double distance_m) {
   FreeViewpoint view;
   view.target_W = target_W;
   switch (preset) {
@@ -161,7 +159,6 @@ struct SceneRenderer::Impl {
   struct Item {
     vtkSmartPointer<vtkActor> actor;
     vtkSmartPointer<vtkPolyData> data;
-    vtkSmartPointer<vtkTextActor> text;
     /// A set of spheres: their radius and how many the mesh holds (unused ones collapse to a
     /// point, drawing nothing).
     double radius_m = 0;
@@ -228,7 +225,10 @@ struct SceneRenderer::Impl {
     actor->SetMapper(mapper);
     ApplyColour(actor, colour);
     renderer->AddActor(actor);
-    items.push_back({actor, data, nullptr});
+    Item item;
+    item.actor = actor;
+    item.data = data;
+    items.push_back(std::move(item));
     return static_cast<int>(items.size()) - 1;
   }
 };
@@ -253,8 +253,12 @@ SceneRenderer::SceneRenderer(int width, int height, int multisamples)
 
 SceneRenderer::~SceneRenderer() = default;
 
-int SceneRenderer::width() const { return impl_->width; }
-int SceneRenderer::height() const { return impl_->height; }
+int SceneRenderer::width() const {
+  return impl_->width;
+}
+int SceneRenderer::height() const {
+  return impl_->height;
+}
 
 int SceneRenderer::AddMesh(const analysis::SceneMesh& mesh) {
   auto data = New<vtkPolyData>();
@@ -353,7 +357,8 @@ void SceneRenderer::UpdatePoints(int id, const Eigen::Matrix3Xd& points_W) {
         normals->SetTuple3(base + v, unit(0, v), unit(1, v), unit(2, v));
       for (int i = 0; i < kRings; ++i)
         for (int j = 0; j < kSegments; ++j) {
-          const vtkIdType a = base + i * kSegments + j, b = base + i * kSegments + (j + 1) % kSegments;
+          const vtkIdType a = base + i * kSegments + j,
+                          b = base + i * kSegments + (j + 1) % kSegments;
           const vtkIdType t1[3] = {a, a + kSegments, b}, t2[3] = {b, a + kSegments, b + kSegments};
           triangles->InsertNextCell(3, t1);
           triangles->InsertNextCell(3, t2);
@@ -375,38 +380,14 @@ void SceneRenderer::UpdatePoints(int id, const Eigen::Matrix3Xd& points_W) {
   CopyPoints(item.vertices, item.data->GetPoints());
 }
 
-int SceneRenderer::AddText(const std::string& text, int size_px, analysis::Rgba colour) {
-  auto actor = New<vtkTextActor>();
-  actor->SetInput(text.c_str());
-  vtkTextProperty* property = actor->GetTextProperty();
-  property->SetFontSize(size_px);
-  property->SetColor(colour.r, colour.g, colour.b);
-  property->SetOpacity(colour.a);
-  property->SetBackgroundColor(0, 0, 0);
-  property->SetBackgroundOpacity(0.45);
-  property->SetFontFamilyToCourier();
-  actor->SetDisplayPosition(size_px / 2, impl_->height - size_px * 3 / 2 - size_px / 2);
-  impl_->renderer->AddActor2D(actor);
-  impl_->items.push_back({nullptr, nullptr, actor});
-  return static_cast<int>(impl_->items.size()) - 1;
-}
-
-void SceneRenderer::UpdateText(int id, const std::string& text) {
-  Impl::Item& item = impl_->At(id);
-  if (!item.text) throw std::invalid_argument("SceneRenderer::UpdateText: not a text");
-  item.text->SetInput(text.c_str());
-}
-
 void SceneRenderer::SetVisible(int id, bool visible) {
   Impl::Item& item = impl_->At(id);
   if (item.actor) item.actor->SetVisibility(visible);
-  if (item.text) item.text->SetVisibility(visible);
 }
 
 void SceneRenderer::SetColour(int id, analysis::Rgba colour) {
   Impl::Item& item = impl_->At(id);
   if (item.actor) ApplyColour(item.actor, colour);
-  if (item.text) item.text->GetTextProperty()->SetColor(colour.r, colour.g, colour.b);
 }
 
 void SceneRenderer::SetLit(int id, bool lit) {
@@ -444,11 +425,10 @@ void SceneRenderer::SetBackground(analysis::Rgba colour) {
 
 void SceneRenderer::LookThrough(const vision::Camera& pinhole) {
   if (pinhole.width_px != impl_->width || pinhole.height_px != impl_->height)
-    throw std::invalid_argument("SceneRenderer::LookThrough: camera " + pinhole.name + " is " +
-                                std::to_string(pinhole.width_px) + " x " +
-                                std::to_string(pinhole.height_px) + " px, the view " +
-                                std::to_string(impl_->width) + " x " +
-                                std::to_string(impl_->height));
+    throw std::invalid_argument(
+        "SceneRenderer::LookThrough: camera " + pinhole.name + " is " +
+        std::to_string(pinhole.width_px) + " x " + std::to_string(pinhole.height_px) +
+        " px, the view " + std::to_string(impl_->width) + " x " + std::to_string(impl_->height));
   // The view: eye at the camera centre, looking along its +z, up along its −y.
   const Eigen::Matrix3d R_WK = pinhole.R_KW.transpose();
   const Eigen::Vector3d centre = pinhole.CentreInWorld();

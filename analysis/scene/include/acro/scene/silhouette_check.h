@@ -43,8 +43,8 @@ struct SilhouetteCheck {
 };
 
 /// Compares the video (an RGB reader: the background model and the foreground in colour; a grey
-/// one works, less well) with the scene's athlete through `camera`. Throws std::invalid_argument when the scene has no athlete, and
-/// acro::InputError for video trouble or a cancelled run.
+/// one works, less well) with the scene's athlete through `camera`. Throws std::invalid_argument
+/// when the scene has no athlete, and acro::InputError for video trouble or a cancelled run.
 SilhouetteCheck CheckSilhouettes(capture::VideoReader& video,
                                  TrialScene& scene,
                                  const vision::Camera& camera,
@@ -57,9 +57,9 @@ SilhouetteCheck CheckSilhouettes(capture::VideoReader& video,
 /// at a somersault's speed a hand moves 8 cm in one sample at 120 Hz, which the silhouettes see.
 struct SilhouetteSync {
   vision::VideoSync sync;
-  double median_iou = 0.0;            ///< at the offset found
-  std::vector<double> offsets_s;      ///< every offset tried
-  std::vector<double> median_ious;    ///< and its score
+  double median_iou = 0.0;          ///< at the offset found
+  std::vector<double> offsets_s;    ///< every offset tried
+  std::vector<double> median_ious;  ///< and its score
 };
 
 SilhouetteSync RefineSyncBySilhouettes(capture::VideoReader& video,

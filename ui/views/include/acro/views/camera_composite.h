@@ -18,7 +18,11 @@ namespace acro::ui {
 
 /// Blends `image` (premultiplied RGBA) over `rgb` (`width` × `height`, 3 bytes per pixel) with its
 /// top-left corner at (x0, y0), clipped to the frame; no warp (the heads-up line).
-void BlendOver(const RenderImage& image, int x0, int y0, int width, int height,
+void BlendOver(const RenderImage& image,
+               int x0,
+               int y0,
+               int width,
+               int height,
                std::vector<std::uint8_t>* rgb);
 
 class CameraComposite {

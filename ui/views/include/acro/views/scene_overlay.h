@@ -28,7 +28,9 @@ struct SceneOverlayOptions {
   /// Shade by the lights; false draws every actor flat in its colour (high contrast, and what a
   /// test measures centroids on).
   bool shaded = true;
-  capture::VideoWriterOptions video;
+  /// The MP4's encoding: x264's "superfast" preset, because the encoder is most of an overlay's
+  /// CPU (docs/performance.md, "Overlay": "veryfast" made 1.37× real time at 1080p, this 1.64×).
+  capture::VideoWriterOptions video = {.crf = 18, .preset = "superfast"};
   /// Called with (frames done, frames in all); returns false to cancel (nothing is left behind).
   std::function<bool(int, int)> progress;
 };
@@ -48,8 +50,9 @@ struct OverlayTiming {
 
 /// Writes the overlay of `scene` on `video` (opened for RGB) through `camera` into `output` (.mp4,
 /// else a directory of frame_NNNNNN.png). The camera's pixels are taken to be the video's from the
-/// top-left corner even when it was calibrated at another size (the caller warns about it). Throws acro::InputError naming the file for anything
-/// that cannot be read or written, and for a cancelled run.
+/// top-left corner even when it was calibrated at another size (the caller warns about it). Throws
+/// acro::InputError naming the file for anything that cannot be read or written, and for a
+/// cancelled run.
 OverlayTiming WriteSceneOverlay(capture::VideoReader& video,
                                 analysis::TrialScene& scene,
                                 const vision::Camera& camera,

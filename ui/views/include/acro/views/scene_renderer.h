@@ -55,7 +55,9 @@ struct FreeViewpoint {
 enum class ViewPreset { kSide, kFront, kTop };
 
 /// `preset` looking at `target_W` from `distance_m`.
-FreeViewpoint PresetViewpoint(ViewPreset preset, const Eigen::Vector3d& target_W, double distance_m);
+FreeViewpoint PresetViewpoint(ViewPreset preset,
+                              const Eigen::Vector3d& target_W,
+                              double distance_m);
 
 /// The viewpoint rotated about the vertical through its target by `azimuth_deg` and raised by
 /// `elevation_deg` (orbit).
@@ -65,11 +67,8 @@ FreeViewpoint OrbitViewpoint(const FreeViewpoint& view, double azimuth_deg, doub
 /// pinhole camera K's: pixel centre (u, v) of an image `width` × `height` (v down, OpenCV's
 /// convention) is the clip-space point that OpenGL rasterises at window coordinates
 /// (u + ½, height − v − ½). Depth from `near_m` to `far_m`.
-Eigen::Matrix4d PinholeProjectionMatrix(const Eigen::Matrix3d& K,
-                                        int width,
-                                        int height,
-                                        double near_m,
-                                        double far_m);
+Eigen::Matrix4d PinholeProjectionMatrix(
+    const Eigen::Matrix3d& K, int width, int height, double near_m, double far_m);
 
 /// A line of text (FreeType, monospace) on a translucent dark box with a margin of a quarter of
 /// its height: the heads-up line over video. No X display needed, a fraction of a millisecond: it
@@ -103,9 +102,6 @@ class SceneRenderer {
   int AddPoints(const Eigen::Matrix3Xd& points_W, double radius_m, analysis::Rgba colour);
   /// Updates the points (their number may change; memory grows only, by doubling).
   void UpdatePoints(int id, const Eigen::Matrix3Xd& points_W);
-  /// A line of text at the top-left corner (the heads-up line), `size_px` high.
-  int AddText(const std::string& text, int size_px, analysis::Rgba colour);
-  void UpdateText(int id, const std::string& text);
   void SetVisible(int id, bool visible);
   void SetColour(int id, analysis::Rgba colour);
   /// Shaded by the lights (the default), or flat in its colour (for measuring what is drawn).
