@@ -13,6 +13,7 @@
 #include "acro/athlete/motion.h"
 #include "acro/athlete/standard_human.h"
 #include "acro/base/file_io.h"
+#include "acro/base/input_error.h"
 #include "acro/capture/trial_io.h"
 #include "acro/capture/video.h"
 #include "acro/dynamics/configuration.h"
@@ -22,6 +23,11 @@
 #include "acro/vision/camera.h"
 #include "acro/vision/sync.h"
 #ifdef ACRO_HAVE_VIEWS
+#include "acro/base/file_io.h"
+#include "acro/capture/frame_output.h"
+#include "acro/scene/compare_scene.h"
+#include "acro/views/display.h"
+#include "acro/views/filmstrip.h"
 #include "acro/views/scene_overlay.h"
 #endif
 #include "commands.h"
@@ -155,22 +161,60 @@ int RunAnalyze(AnalyzeArguments& args) {
                       silhouettes.iou.size()));
     }
 #ifdef ACRO_HAVE_VIEWS
-    analysis::TrialScene light(
-        trial,
-        result,
-        body,
-        analysis::MakeEllipsoidBodyMesh(body, analysis::OverlayBodyMeshOptions()));
-    capture::VideoReader video(args.video);
-    ui::SceneOverlayOptions overlay;
-    overlay.show = analysis::ParseSceneShow("mesh,skeleton,com");
-    overlay.sync = sync;
-    overlay.progress = MakeCancellableProgress("overlay", "frames");
-    ui::WriteSceneOverlay(video, light, camera, dir / "overlay.mp4", overlay);
-    report.overlay_video = "overlay.mp4";
+    std::optional<ui::XDisplay> display;
+    try {
+      display.emplace();
+    } catch (const InputError& e) {
+      say(std::string("overlay: not written: ") + e.what());
+    }
+    if (display) {
+      analysis::TrialScene light(
+          trial,
+          result,
+          body,
+          analysis::MakeEllipsoidBodyMesh(body, analysis::OverlayBodyMeshOptions()));
+      capture::VideoReader video(args.video);
+      ui::SceneOverlayOptions overlay;
+      overlay.show = analysis::ParseSceneShow("mesh,skeleton,com");
+      overlay.sync = sync;
+      overlay.progress = MakeCancellableProgress("overlay", "frames");
+      ui::WriteSceneOverlay(video, light, camera, dir / "overlay.mp4", overlay);
+      report.overlay_video = "overlay.mp4";
+    }
 #else
     say("overlay: not written (this acrolab was built without the 3D views, VTK)");
 #endif
   }
+#ifdef ACRO_HAVE_VIEWS
+  // A filmstrip per complete jump, when the 3D views can render here (they are extras: without a
+  // display or Xvfb the report says why and goes on).
+  if (images) {
+    try {
+      const ui::XDisplay display;
+      analysis::AthleteScene athlete(
+          body,
+          analysis::MakeEllipsoidBodyMesh(body, analysis::OverlayBodyMeshOptions()),
+          result.reconstruction.motion,
+          result.reconstruction.model);
+      for (const analysis::JumpMetrics& j : result.jumps) {
+        if (j.partial()) continue;
+        const std::vector<int> frames =
+            ui::EvenlySpacedFrames(j.flight.takeoff_frame, j.flight.landing_frame - 1, 8);
+        const std::vector<std::uint8_t> rgb =
+            ui::RenderFilmstrip(athlete, frames, analysis::FindTakeoff(result, j.index).heading_W);
+        const ui::FilmstripOptions size;
+        const std::vector<std::uint8_t> png = capture::EncodeRgbPng(size.width, size.height, rgb);
+        const std::string file = fmt::format("filmstrip_jump_{}.png", j.index);
+        WriteFileAtomically(dir / file, std::string(png.begin(), png.end()));
+        report.filmstrips.emplace_back(j.index, file);
+      }
+    } catch (const InputError& e) {
+      report.filmstrips.clear();
+      report.filmstrip_note = std::string("no filmstrips: ") + e.what();
+      say(report.filmstrip_note);
+    }
+  }
+#endif
   analysis::WriteAnalysisTables(result, dir);
   report.trial_path = common.trial_path;
   report.render_images = images;

@@ -90,6 +90,12 @@ vision::VideoSync ParseVideoSync(double offset_s, const std::string& event, doub
   return vision::SyncFromEvent(trial_s, video_s, rate);
 }
 
+int NeedTheViews() {
+  throw UsageError{
+      "this acrolab was built without the 3D views (VTK): run scripts/install-deps.sh, then "
+      "scripts/build.sh (ACRO_BUILD_UI=ON)"};
+}
+
 void InstallInterruptCleanup() {
   sigset_t signals;
   sigemptyset(&signals);

@@ -33,6 +33,10 @@ void AddSyncCommand(CLI::App& app, CommandRunner* run);
 /// `acrolab overlay`: with the 3D views (ACRO_HAVE_VIEWS), else a command that says how to get
 /// them.
 void AddOverlayCommand(CLI::App& app, CommandRunner* run);
+void AddCompareCommand(CLI::App& app, CommandRunner* run);
+/// What `overlay` and `compare` run in a build without the 3D views: throws the UsageError that
+/// says how to get them.
+int NeedTheViews();
 
 /// A command line that parses but does not make sense (contradictory options, an Options struct
 /// that is not valid): main() prints it with the usage hint and exits with status 2.

@@ -45,6 +45,7 @@ int main(int argc, char** argv) {
   acro::app::AddCalibrateCommand(app, &run);
   acro::app::AddSyncCommand(app, &run);
   acro::app::AddOverlayCommand(app, &run);
+  acro::app::AddCompareCommand(app, &run);
 
   // Parse: --help and --version exit 0; a bad command line exits 2 with one line and the hint.
   if (argc > 1 && argv[1][0] != '-' &&

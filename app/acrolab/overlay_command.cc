@@ -172,12 +172,7 @@ void AddOverlayCommand(CLI::App& app, CommandRunner* run) {
 #ifdef ACRO_HAVE_VIEWS
     *run = [args] { return RunOverlay(*args); };
 #else
-    *run = [] {
-      throw UsageError{
-          "this acrolab was built without the 3D views (VTK): run scripts/install-deps.sh, then "
-          "scripts/build.sh (ACRO_BUILD_UI=ON)"};
-      return 2;
-    };
+    *run = NeedTheViews;
 #endif
   });
 }

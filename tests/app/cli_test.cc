@@ -255,6 +255,10 @@ TEST(Cli, AnalyzeWithoutAnyDisplayWritesTheMilestoneOneNumbersAndTheCharts) {
   ASSERT_EQ(run.status, 0) << run.err;
   const std::string html = Slurp(out / "report.html");
   EXPECT_EQ(html.find("No plots in this report"), std::string::npos);
+#ifdef ACRO_HAVE_VIEWS
+  // The filmstrips need the 3D views, which need Xvfb here: the page says why there are none.
+  EXPECT_NE(html.find("no filmstrips: 3D views: no X display"), std::string::npos);
+#endif
   EXPECT_TRUE(HasFile(out / "com_height.png"));
   EXPECT_TRUE(HasFile(out / "com_height.svg"));
   // jumps.json as milestone 1 wrote it (tests/data, made by the milestone-1 build on this sample).
@@ -595,6 +599,12 @@ TEST(Cli, AnalyzeWithTheSampleVideoWritesTheOverlayAndTheSilhouettes) {
   }
   EXPECT_TRUE(HasFile(out / "overlay.mp4"));
   EXPECT_TRUE(HasFile(out / "silhouette_iou.png"));
+  // A filmstrip per complete jump, on the page.
+  for (int k = 1; k <= 6; ++k) {
+    const std::string file = "filmstrip_jump_" + std::to_string(k) + ".png";
+    EXPECT_TRUE(HasFile(out / file)) << file;
+    EXPECT_NE(Slurp(out / "report.html").find("src=\"" + file + "\""), std::string::npos) << file;
+  }
   const std::string html = Slurp(out / "report.html");
   EXPECT_NE(html.find("<video controls"), std::string::npos);
   EXPECT_NE(html.find("src=\"overlay.mp4\""), std::string::npos);
@@ -651,6 +661,38 @@ TEST(Cli, TerminatedOverlayStopsItsXvfb) {
   EXPECT_FALSE(std::filesystem::exists(dir / "frames"));
   for (const auto& e : std::filesystem::directory_iterator(dir))
     EXPECT_EQ(e.path().filename().string().find("frames.tmp-"), std::string::npos) << e.path();
+}
+// `compare` of the sample's back tuck and back pike: an MP4 of the frames it says, at 30 fps.
+TEST(Cli, CompareTwoJumpsOfTheSampleWritesTheVideo) {
+  const auto out = acro::testing::TempDir() / "compare.mp4";
+  std::filesystem::remove(out);
+  const std::string trial =
+      Quote(RepoFile("samples/trials/trampoline_routine/trampoline_routine.c3d"));
+  const ProcessResult run =
+      Execute("env -u DISPLAY " + std::string(ACROLAB_EXE) + " compare " +
+              trial.substr(0, trial.size() - 1) + ":2' " + trial.substr(0, trial.size() - 1) +
+              ":3' --athlete " + Quote(RepoFile("samples/athletes/sample_athlete.yaml")) + " -o " +
+              Quote(out));
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_NE(run.out.find("A: 40o back somersault (jump 2)"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("B: 40< back somersault (jump 3)"), std::string::npos) << run.out;
+  const size_t at = run.out.find("(", run.out.find("wrote "));
+  ASSERT_NE(at, std::string::npos) << run.out;
+  const int frames = std::stoi(run.out.substr(at + 1));
+  const ProcessResult info = Execute(std::string(ACROLAB_EXE) + " video info --json " + Quote(out));
+  ASSERT_EQ(info.status, 0) << info.err;
+  const nlohmann::json j = nlohmann::json::parse(info.out);
+  EXPECT_EQ(j["frames"], frames);
+  EXPECT_EQ(j["width"], 1440);
+  EXPECT_NEAR(j["average_fps"].get<double>(), 30.0, 1e-6);
+  // A jump that is not there: one line, exit 1.
+  const ProcessResult bad =
+      Execute(std::string(ACROLAB_EXE) + " compare " + trial.substr(0, trial.size() - 1) + ":2' " +
+              trial.substr(0, trial.size() - 1) + ":9' --athlete " +
+              Quote(RepoFile("samples/athletes/sample_athlete.yaml")) + " -o " + Quote(out));
+  EXPECT_EQ(bad.status, 1) << bad.err;
+  EXPECT_NE(bad.err.find("jump: 9 is not a jump of this trial (it has 6)"), std::string::npos)
+      << bad.err;
 }
 #endif
 

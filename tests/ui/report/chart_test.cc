@@ -253,6 +253,16 @@ TEST(ChartTest, BadInputThrowsAndWritesNothing) {
   fs::remove_all(dir);
 }
 
+// The RGB pixels a video frame takes (compare's charts) are the PNG's, decoded by libpng.
+TEST(ChartTest, RgbPixelsAreThePngsPixels) {
+  const Chart chart = TwoSeriesChart();
+  const std::vector<std::uint8_t> rgb = RenderChartRgb(chart);
+  const Image png = Render(chart);
+  ASSERT_EQ(png.width, chart.width_px);
+  ASSERT_EQ(rgb.size(), png.rgb.size());
+  EXPECT_TRUE(std::equal(rgb.begin(), rgb.end(), png.rgb.begin()));
+}
+
 TEST(ChartTest, RendersSeriesAndBandWhereExpectedWithNoDisplay) {
   // Cairo draws into memory: no X server is involved, whatever DISPLAY says.
   const ScopedEnv no_display("DISPLAY", nullptr);

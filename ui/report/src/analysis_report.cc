@@ -316,6 +316,22 @@ std::string FormatAnalysisReportHtml(const analysis::TrialAnalysis& a,
     h << "</p>\n";
   }
 
+  // Filmstrips.
+  if (!options.filmstrips.empty() || !options.filmstrip_note.empty()) {
+    h << "<h2>Filmstrips</h2>\n";
+    if (!options.filmstrip_note.empty())
+      h << "<p class=\"note\">" << Html(options.filmstrip_note) << "</p>\n";
+    for (const auto& [index, file] : options.filmstrips) {
+      std::string code;
+      for (const analysis::JumpMetrics& j : a.jumps)
+        if (j.index == index) code = j.fig_code + " " + j.skill_name;
+      h << "<figure><img src=\"" << Html(file) << "\" alt=\"jump " << index
+        << "\" style=\"max-width:100%\"><figcaption>Jump " << index << " (" << Html(code)
+        << "): eight instants from take-off to landing, seen from the athlete's left, one scale "
+           "(parallel projection).</figcaption></figure>\n";
+    }
+  }
+
   // The overlay video.
   if (!options.overlay_video.empty()) {
     h << "<h2>Over the video</h2>\n<video controls preload=\"metadata\" style=\"max-width:100%\" "

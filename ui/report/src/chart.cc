@@ -16,6 +16,7 @@
 
 #include "acro/base/file_io.h"
 #include "acro/base/input_error.h"
+#include "rgb_surface.h"
 
 namespace acro::ui {
 namespace {
@@ -556,7 +557,8 @@ Context MakeScratchContext() {
   return Context(cairo_create(scratch.get()));  // the context keeps its own reference
 }
 
-std::string RenderPngString(const Chart& chart) {
+// The chart drawn on an RGB24 image surface of its size.
+Surface DrawImage(const Chart& chart) {
   DemandValid(chart);
   const ChartLayout layout = Layout(MakeScratchContext().get(), chart);
   Surface surface(cairo_image_surface_create(CAIRO_FORMAT_RGB24, chart.width_px, chart.height_px));
@@ -566,6 +568,11 @@ std::string RenderPngString(const Chart& chart) {
     Draw(cr.get(), chart, layout);
     DemandOk(cairo_status(cr.get()), chart, "drawing");
   }
+  return surface;
+}
+
+std::string RenderPngString(const Chart& chart) {
+  const Surface surface = DrawImage(chart);
   std::string png;
   DemandOk(
       cairo_surface_write_to_png_stream(surface.get(), AppendBytes, &png), chart, "PNG encoding");
@@ -636,6 +643,13 @@ ChartLayout MakeChartLayout(const Chart& chart) {
 std::vector<std::uint8_t> RenderChartPng(const Chart& chart) {
   const std::string png = RenderPngString(chart);
   return std::vector<std::uint8_t>(png.begin(), png.end());
+}
+
+std::vector<std::uint8_t> RenderChartRgb(const Chart& chart) {
+  const Surface surface = DrawImage(chart);
+  std::vector<std::uint8_t> rgb;
+  internal::RgbFromSurface(surface.get(), &rgb);
+  return rgb;
 }
 
 std::string RenderChartSvg(const Chart& chart) {

@@ -449,6 +449,8 @@ void SceneRenderer::LookFrom(const FreeViewpoint& view) {
   camera->SetFocalPoint(view.target_W.data());
   camera->SetViewUp(view.up_W.data());
   camera->SetViewAngle(view.view_angle_deg);
+  camera->SetParallelProjection(view.parallel_scale_m > 0);
+  if (view.parallel_scale_m > 0) camera->SetParallelScale(view.parallel_scale_m);
   impl_->renderer->ResetCameraClippingRange();
 }
 

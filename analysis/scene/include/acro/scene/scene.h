@@ -4,7 +4,10 @@
 // with colours by meaning. Plain data, so that a scene is built and tested without a display and
 // any renderer (ui/views, VTK) draws it the same way.
 
+#include <array>
+#include <cstdint>
 #include <string>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -35,6 +38,18 @@ struct SceneLines {
   double width_px = 2.0;
 
   int num_segments() const { return static_cast<int>(points_W.cols() / 2); }
+};
+
+/// A picture to show beside the 3D views (a chart drawn elsewhere: RGB, 3 bytes per pixel, rows
+/// top to bottom) and where a time cursor runs on it: per plot, the columns of `start_s` and
+/// `end_s` and the rows it spans.
+struct TimedPanel {
+  int width = 0;
+  int height = 0;
+  std::vector<std::uint8_t> rgb;
+  std::vector<std::array<double, 4>> cursor_spans_px;  ///< x at start, x at end, y top, y bottom
+  double start_s = 0.0;
+  double end_s = 1.0;
 };
 
 }  // namespace acro::analysis

@@ -28,6 +28,10 @@ struct AnalysisReportOptions {
   std::vector<double> silhouette_time_s;
   std::vector<double> silhouette_iou;
   std::string overlay_video;
+  /// Per jump (its index, 1-based), a filmstrip picture's file name in the output folder; or why
+  /// there are none (shown as a note when not empty).
+  std::vector<std::pair<int, std::string>> filmstrips;
+  std::string filmstrip_note;
 };
 
 /// One figure of the report: its chart and its file name in the output folder.

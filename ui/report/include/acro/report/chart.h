@@ -105,6 +105,10 @@ ChartLayout MakeChartLayout(const Chart& chart);
 /// `!chart.IsValid()`, std::runtime_error when Cairo fails. Thread-safe.
 std::vector<std::uint8_t> RenderChartPng(const Chart& chart);
 
+/// The pixels of `chart` as RGB (3 bytes per pixel, rows top to bottom, width_px × height_px): the
+/// PNG's drawing, for frames of a video. Throws as RenderChartPng.
+std::vector<std::uint8_t> RenderChartRgb(const Chart& chart);
+
 /// The SVG document of `chart` (the same drawing as the PNG; text as outlines). Thread-safe.
 std::string RenderChartSvg(const Chart& chart);
 

@@ -47,6 +47,9 @@ struct FreeViewpoint {
   Eigen::Vector3d target_W = Eigen::Vector3d(0, 0, 1.5);
   Eigen::Vector3d up_W = Eigen::Vector3d::UnitZ();
   double view_angle_deg = 30.0;
+  /// > 0: a parallel projection showing this many metres above and below the target (no
+  /// perspective: sizes compare across the picture).
+  double parallel_scale_m = 0.0;
 };
 
 /// The presets of the 3D view, named as a coach names them for a trampoline (the bed's long axis

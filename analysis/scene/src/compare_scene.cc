@@ -1,0 +1,120 @@
+#include "acro/scene/compare_scene.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "acro/assess/jump_rotation.h"
+#include "acro/base/input_error.h"
+#include "acro/dynamics/configuration.h"
+
+namespace acro::analysis {
+
+namespace {
+
+constexpr double kTailS = 0.25;  // shown after the later landing
+constexpr double kDeg = 180.0 / M_PI;
+
+const JumpMetrics& FindJump(const TrialAnalysis& analysis, int jump) {
+  for (const JumpMetrics& j : analysis.jumps)
+    if (j.index == jump) return j;
+  throw InputError(analysis.trial_name,
+                   "jump",
+                   std::to_string(jump) + " is not a jump of this trial (it has " +
+                       std::to_string(analysis.jumps.size()) + ")");
+}
+
+// The sample at time t (s from the trial's first sample), clamped to the motion.
+int SampleAt(const Motion& m, double t) {
+  const double rate = m.rate_hz > 0 ? m.rate_hz : 1.0;
+  return std::clamp(static_cast<int>(std::lround(t * rate)), 0, m.num_frames() - 1);
+}
+
+// The athlete of a jump, checked.
+AthleteScene MakeScene(const CompareJump& j, const char* which) {
+  if (j.trial == nullptr || j.analysis == nullptr || j.body == nullptr)
+    throw std::invalid_argument(std::string("CompareScene: jump ") + which +
+                                " lacks its trial, analysis or body");
+  return AthleteScene(
+      *j.body, j.mesh, j.analysis->reconstruction.motion, j.analysis->reconstruction.model);
+}
+
+// Applies `X` to a pose in place.
+void Place(const Eigen::Isometry3d& X, AthletePose* pose) {
+  pose->mesh.vertices_W = (X.linear() * pose->mesh.vertices_W).colwise() + X.translation();
+  pose->skeleton.points_W = (X.linear() * pose->skeleton.points_W).colwise() + X.translation();
+  pose->com_W = X * pose->com_W;
+}
+
+}  // namespace
+
+TakeoffPlacement FindTakeoff(const TrialAnalysis& analysis, int jump) {
+  const JumpMetrics& j = FindJump(analysis, jump);
+  const Motion& m = analysis.reconstruction.motion;
+  TakeoffPlacement p;
+  p.feet_W = j.takeoff_feet_W;
+  p.takeoff_s = j.flight.takeoff_s;
+  p.landing_s = j.flight.landing_s;
+  const int frame = std::clamp(j.flight.takeoff_frame, 0, m.num_frames() - 1);
+  const Eigen::Quaterniond q_WB = dynamics::GetRootQuaternion(m.q.col(frame));
+  Eigen::Vector3d forward = q_WB * Eigen::Vector3d::UnitX();
+  forward.z() = 0.0;
+  p.heading_W =
+      forward.norm() > 1e-6 ? Eigen::Vector3d(forward.normalized()) : Eigen::Vector3d::UnitX();
+  return p;
+}
+
+CompareScene::CompareScene(CompareJump a, CompareJump b)
+    : a_(std::move(a)),
+      b_(std::move(b)),
+      scene_a_(MakeScene(a_, "A")),
+      scene_b_(MakeScene(b_, "B")),
+      pa_(FindTakeoff(*a_.analysis, a_.jump)),
+      pb_(FindTakeoff(*b_.analysis, b_.jump)) {
+  // B's heading turned onto A's about the vertical, then its take-off feet onto A's.
+  const double yaw = std::atan2(pa_.heading_W.y(), pa_.heading_W.x()) -
+                     std::atan2(pb_.heading_W.y(), pb_.heading_W.x());
+  b_to_a_.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  b_to_a_.translation() = pa_.feet_W - b_to_a_.linear() * pb_.feet_W;
+  start_s_ = 0.0;
+  end_s_ = std::max(pa_.landing_s - pa_.takeoff_s, pb_.landing_s - pb_.takeoff_s) + kTailS;
+}
+
+void CompareScene::Frame(double tau_s, CompareFrame* out) {
+  out->tau_s = tau_s;
+  scene_a_.Pose(SampleAt(a_.analysis->reconstruction.motion, pa_.takeoff_s + tau_s), &out->a);
+  scene_b_.Pose(SampleAt(b_.analysis->reconstruction.motion, pb_.takeoff_s + tau_s), &out->b);
+  Place(b_to_a_, &out->b);
+  out->a_in_flight = tau_s >= 0 && tau_s < pa_.landing_s - pa_.takeoff_s;
+  out->b_in_flight = tau_s >= 0 && tau_s < pb_.landing_s - pb_.takeoff_s;
+}
+
+JumpCurves CompareScene::Curves(const CompareJump& j, const Eigen::Isometry3d& to_a) const {
+  const TakeoffPlacement p = FindTakeoff(*j.analysis, j.jump);
+  const Motion& m = j.analysis->reconstruction.motion;
+  const Eigen::Matrix3Xd& com = j.analysis->check.frames.com_W;
+  const int first = SampleAt(m, p.takeoff_s), last = SampleAt(m, p.landing_s);
+  JumpCurves c;
+  if (last <= first) return c;
+  std::vector<Eigen::Quaterniond> q_WB;
+  for (int f = first; f <= last; ++f) q_WB.push_back(dynamics::GetRootQuaternion(m.q.col(f)));
+  // The somersault axis: the pelvis's lateral axis at take-off, as the jump metrics count it.
+  const RotationAngles angles = CalcRotationAngles(q_WB, q_WB.front() * Eigen::Vector3d::UnitY());
+  for (int f = first; f <= last; ++f) {
+    const int k = f - first;
+    c.tau_s.push_back(m.time_s(f) - p.takeoff_s);
+    c.com_height_m.push_back((to_a * Eigen::Vector3d(com.col(f))).z());
+    c.somersault_deg.push_back((angles.somersault_rad(k) - angles.somersault_rad(0)) * kDeg);
+    c.twist_deg.push_back((angles.twist_rad(k) - angles.twist_rad(0)) * kDeg);
+  }
+  return c;
+}
+
+JumpCurves CompareScene::CurvesA() const {
+  return Curves(a_, Eigen::Isometry3d::Identity());
+}
+JumpCurves CompareScene::CurvesB() const {
+  return Curves(b_, b_to_a_);
+}
+
+}  // namespace acro::analysis

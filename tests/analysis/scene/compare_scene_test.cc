@@ -1,0 +1,116 @@
+// Two jumps aligned at take-off (`acrolab compare`): the sample routine's back tuck (jump 2) and
+// back pike (jump 3). At τ = 0 both athletes are at take-off at the same place — their centres of
+// mass together and their pelvises facing the same way — and the curves under the views start at
+// zero and count one backward somersault each.
+
+#include "acro/scene/compare_scene.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "acro/athlete/athlete_profile.h"
+#include "acro/athlete/body_mesh.h"
+#include "acro/base/input_error.h"
+#include "acro/capture/trial_io.h"
+#include "acro/dynamics/configuration.h"
+#include "acro/scene/trial_scene.h"
+#include "refdata.h"
+
+namespace acro::analysis {
+namespace {
+
+struct Sample {
+  capture::Trial trial;
+  AthleteBody body;
+  TrialAnalysis analysis;
+};
+
+const Sample& TheSample() {
+  static const Sample sample = [] {
+    Sample s;
+    s.trial = capture::ReadTrial(acro::testing::SourceDir() /
+                                 "samples/trials/trampoline_routine/trampoline_routine.c3d");
+    s.body = MakeAthleteBody(
+        ReadAthleteProfile(acro::testing::SourceDir() / "samples/athletes/sample_athlete.yaml"));
+    s.analysis = AnalyzeTrial(s.trial, nullptr, s.body);
+    return s;
+  }();
+  return sample;
+}
+
+CompareJump Jump(int index) {
+  const Sample& s = TheSample();
+  return {&s.trial,
+          &s.analysis,
+          &s.body,
+          MakeEllipsoidBodyMesh(s.body, OverlayBodyMeshOptions()),
+          index,
+          "jump " + std::to_string(index)};
+}
+
+TEST(CompareScene, BothAthletesStartAtTheSameTakeoff) {
+  const Sample& s = TheSample();
+  ASSERT_EQ(s.analysis.jumps.at(1).fig_code, "40o");
+  ASSERT_EQ(s.analysis.jumps.at(2).fig_code, "40<");
+  CompareScene scene(Jump(2), Jump(3));
+  EXPECT_EQ(scene.start_s(), 0.0);
+  CompareFrame f;
+  scene.Frame(0.0, &f);
+  EXPECT_TRUE(f.a_in_flight);
+  EXPECT_TRUE(f.b_in_flight);
+  // The take-offs are 0.5 m apart on the bed, yet here the two athletes are one.
+  const TakeoffPlacement pa = FindTakeoff(s.analysis, 2), pb = FindTakeoff(s.analysis, 3);
+  std::printf("take-off feet %.3f m apart in the trial; B moved %.3f m\n",
+              (pa.feet_W - pb.feet_W).norm(),
+              scene.b_to_a().translation().norm());
+  EXPECT_LT((scene.b_to_a() * pb.feet_W - pa.feet_W).norm(), 1e-9);
+  EXPECT_LT((f.a.com_W - f.b.com_W).head<2>().norm(), 0.05)
+      << f.a.com_W.transpose() << " / " << f.b.com_W.transpose();
+  EXPECT_LT(std::abs(f.a.com_W.z() - f.b.com_W.z()), 0.05);
+  // They face the same way: each foot (ankle to toe) points the same way in both.
+  for (const char* name : {"r_foot", "l_foot"}) {
+    int g = -1;
+    for (size_t k = 0; k < s.body.segments.size(); ++k)
+      if (s.body.segments[k].name == name) g = int(k);
+    ASSERT_GE(g, 0) << name;
+    const Eigen::Vector3d da =
+        f.a.skeleton.points_W.col(2 * g + 1) - f.a.skeleton.points_W.col(2 * g);
+    const Eigen::Vector3d db =
+        f.b.skeleton.points_W.col(2 * g + 1) - f.b.skeleton.points_W.col(2 * g);
+    EXPECT_GT(da.normalized().dot(db.normalized()), std::cos(10.0 * M_PI / 180)) << name;
+  }
+  // Later in the flight the two skills part: the pike's body differs from the tuck's.
+  scene.Frame(0.6, &f);
+  EXPECT_GT((f.a.mesh.vertices_W - f.b.mesh.vertices_W).colwise().norm().maxCoeff(), 0.2);
+}
+
+TEST(CompareScene, CurvesStartAtZeroAndCountOneBackSomersault) {
+  CompareScene scene(Jump(2), Jump(3));
+  for (const JumpCurves& c : {scene.CurvesA(), scene.CurvesB()}) {
+    ASSERT_GT(c.tau_s.size(), 100u);
+    EXPECT_NEAR(c.tau_s.front(), 0.0, 0.01);
+    EXPECT_EQ(c.somersault_deg.front(), 0.0);
+    EXPECT_EQ(c.twist_deg.front(), 0.0);
+    // The in-air rotation of a single somersault from feet to feet: about ¾ to 1 turn, backward.
+    EXPECT_LT(c.somersault_deg.back(), -250.0);
+    EXPECT_GT(c.somersault_deg.back(), -400.0);
+    EXPECT_LT(std::abs(c.twist_deg.back()), 30.0);
+  }
+  // Both in A's frame: the COM heights start together.
+  EXPECT_NEAR(scene.CurvesA().com_height_m.front(), scene.CurvesB().com_height_m.front(), 0.05);
+}
+
+TEST(CompareScene, AJumpThatDoesNotExistIsNamed) {
+  try {
+    CompareScene scene(Jump(2), Jump(9));
+    ADD_FAILURE() << "jump 9 of a six-jump trial";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("9 is not a jump of this trial (it has 6)"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace acro::analysis

@@ -1,0 +1,41 @@
+#pragma once
+
+// `acrolab compare`'s video: two jumps aligned at take-off (analysis/scene/compare_scene.h), seen
+// from the side in three views — the first, the second, and both superimposed (the second as a
+// blue ghost) — over the trampoline, with the chart panel under them and a cursor on it. Needs an
+// X display (display.h).
+
+#include <filesystem>
+#include <functional>
+#include <optional>
+
+#include "acro/capture/video.h"
+#include "acro/scene/compare_scene.h"
+#include "acro/scene/place_scene.h"
+#include "acro/scene/scene.h"
+
+namespace acro::ui {
+
+struct CompareVideoOptions {
+  /// Each of the three views (the video is three views wide; the panel goes under them).
+  int view_width = 480;
+  int view_height = 540;
+  double fps = 30.0;
+  /// Video seconds per second of the jumps (2: half speed).
+  double slow = 1.0;
+  /// The trampoline to draw (the first trial's bed), if any.
+  std::optional<analysis::TrampolineScene> trampoline;
+  capture::VideoWriterOptions video = {.crf = 18, .preset = "superfast"};
+  std::function<bool(int, int)> progress;
+};
+
+/// Writes the comparison into `output` (.mp4, else a directory of PNG frames); returns the frames
+/// written. The panel (may be empty) is scaled to nothing: its width should be three views'.
+/// Throws acro::InputError naming the file for anything that cannot be written, and for a
+/// cancelled run.
+int WriteCompareVideo(analysis::CompareScene& scene,
+                      const analysis::TimedPanel& panel,
+                      const std::filesystem::path& output,
+                      const CompareVideoOptions& options);
+
+}  // namespace acro::ui
