@@ -29,7 +29,7 @@ struct OverlayArguments {
   TrialArguments common;  // TRIAL, --athlete; -o is the output file here
   std::string video, calibration, camera, event, sync, axes = "xyz", show, frames;
   double offset_s = 0.0, rate = 1.0;
-  int slow = 1;
+  int slow = 1, ghost_jump = 0;
   bool heads_up = true;
 };
 
@@ -56,6 +56,8 @@ int RunOverlay(const OverlayArguments& args) {
   const auto [first, last] = ParseFrames(args.frames);
   vision::VideoSync sync = ParseVideoSync(args.offset_s, args.event, args.rate);
   const bool athlete = !args.common.athlete_path.empty();
+  if (args.ghost_jump != 0 && !athlete)
+    throw UsageError{"--ghost-jump needs --athlete (the analysed jumps)"};
   analysis::SceneShow show;
   try {
     show = analysis::ParseSceneShow(
@@ -100,6 +102,7 @@ int RunOverlay(const OverlayArguments& args) {
                   *result,
                   body,
                   analysis::MakeEllipsoidBodyMesh(body, analysis::OverlayBodyMeshOptions()));
+    if (args.ghost_jump > 0) scene->SetGhostJump(args.ghost_jump);
   } else {
     scene.emplace(trial, vision::ParseAxisMapping(args.axes));
   }
@@ -162,6 +165,10 @@ void AddOverlayCommand(CLI::App& app, CommandRunner* run) {
                       args->show,
                       "mesh,skeleton,markers,com,residual (default: mesh,skeleton,com with "
                       "--athlete, skeleton,markers without)");
+  command->add_option("--ghost-jump",
+                      args->ghost_jump,
+                      "with --athlete: jump N (as in jumps.json) drawn as an orange ghost in every "
+                      "other flight, placed at its take-off (feet, heading, time)");
   command->add_option("--frames", args->frames, "FIRST:LAST video frames only (0-based)");
   command->add_option("--slow", args->slow, "write each flight frame K times (slow motion)");
   command->add_flag_callback(

@@ -39,14 +39,22 @@ AthleteScene MakeScene(const CompareJump& j, const char* which) {
       *j.body, j.mesh, j.analysis->reconstruction.motion, j.analysis->reconstruction.model);
 }
 
-// Applies `X` to a pose in place.
-void Place(const Eigen::Isometry3d& X, AthletePose* pose) {
+}  // namespace
+
+Eigen::Isometry3d PlaceAtTakeoff(const TakeoffPlacement& from, const TakeoffPlacement& onto) {
+  const double yaw = std::atan2(onto.heading_W.y(), onto.heading_W.x()) -
+                     std::atan2(from.heading_W.y(), from.heading_W.x());
+  Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+  X.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  X.translation() = onto.feet_W - X.linear() * from.feet_W;
+  return X;
+}
+
+void TransformPose(const Eigen::Isometry3d& X, AthletePose* pose) {
   pose->mesh.vertices_W = (X.linear() * pose->mesh.vertices_W).colwise() + X.translation();
   pose->skeleton.points_W = (X.linear() * pose->skeleton.points_W).colwise() + X.translation();
   pose->com_W = X * pose->com_W;
 }
-
-}  // namespace
 
 TakeoffPlacement FindTakeoff(const TrialAnalysis& analysis, int jump) {
   const JumpMetrics& j = FindJump(analysis, jump);
@@ -71,11 +79,7 @@ CompareScene::CompareScene(CompareJump a, CompareJump b)
       scene_b_(MakeScene(b_, "B")),
       pa_(FindTakeoff(*a_.analysis, a_.jump)),
       pb_(FindTakeoff(*b_.analysis, b_.jump)) {
-  // B's heading turned onto A's about the vertical, then its take-off feet onto A's.
-  const double yaw = std::atan2(pa_.heading_W.y(), pa_.heading_W.x()) -
-                     std::atan2(pb_.heading_W.y(), pb_.heading_W.x());
-  b_to_a_.linear() = Eigen::AngleAxisd(yaw, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-  b_to_a_.translation() = pa_.feet_W - b_to_a_.linear() * pb_.feet_W;
+  b_to_a_ = PlaceAtTakeoff(pb_, pa_);
   start_s_ = 0.0;
   end_s_ = std::max(pa_.landing_s - pa_.takeoff_s, pb_.landing_s - pb_.takeoff_s) + kTailS;
 }
@@ -84,7 +88,7 @@ void CompareScene::Frame(double tau_s, CompareFrame* out) {
   out->tau_s = tau_s;
   scene_a_.Pose(SampleAt(a_.analysis->reconstruction.motion, pa_.takeoff_s + tau_s), &out->a);
   scene_b_.Pose(SampleAt(b_.analysis->reconstruction.motion, pb_.takeoff_s + tau_s), &out->b);
-  Place(b_to_a_, &out->b);
+  TransformPose(b_to_a_, &out->b);
   out->a_in_flight = tau_s >= 0 && tau_s < pa_.landing_s - pa_.takeoff_s;
   out->b_in_flight = tau_s >= 0 && tau_s < pb_.landing_s - pb_.takeoff_s;
 }

@@ -10,6 +10,7 @@
 #include <fmt/format.h>
 
 #include "acro/base/input_error.h"
+#include "acro/scene/compare_scene.h"
 
 namespace acro::analysis {
 
@@ -129,7 +130,30 @@ TrialScene::TrialScene(const capture::Trial& trial,
       std::make_unique<AthleteScene>(body, std::move(mesh), motion, analysis.reconstruction.model);
 }
 
+struct TrialScene::Ghost {
+  int jump = 0;
+  TakeoffPlacement takeoff;                  // the ghost jump's own
+  std::unique_ptr<AthleteScene> athlete;     // posing the ghost (the same motion)
+  std::vector<Eigen::Isometry3d> placement;  // per flight: the ghost onto its take-off
+};
+
 TrialScene::~TrialScene() = default;
+
+void TrialScene::SetGhostJump(int jump) {
+  if (!athlete_) throw std::invalid_argument("TrialScene::SetGhostJump: the scene has no athlete");
+  auto ghost = std::make_unique<Ghost>();
+  ghost->jump = jump;
+  ghost->takeoff = FindTakeoff(*analysis_, jump);
+  ghost->athlete = std::make_unique<AthleteScene>(*athlete_);
+  for (size_t k = 0; k < analysis_->phases.flights.size(); ++k) {
+    Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+    for (const JumpMetrics& j : analysis_->jumps)
+      if (j.index == int(k) + 1)
+        X = PlaceAtTakeoff(ghost->takeoff, FindTakeoff(*analysis_, j.index));
+    ghost->placement.push_back(X);
+  }
+  ghost_ = std::move(ghost);
+}
 
 int TrialScene::FlightAt(int sample) const {
   if (analysis_ == nullptr) return -1;
@@ -174,6 +198,17 @@ void TrialScene::Frame(int sample, TrialFrame* out) {
   athlete_->Pose(sample, &out->athlete);
   const PhysicalCheck& check = analysis_->check;
   const int flight = FlightAt(sample);
+  out->ghost_shown = false;
+  if (ghost_ && flight >= 0 && flight + 1 != ghost_->jump) {
+    // The ghost at the same time from its own take-off, until it lands.
+    const double rate = trial_.point_rate_hz > 0 ? trial_.point_rate_hz : 1.0;
+    const double tau = sample / rate - analysis_->phases.flights[size_t(flight)].takeoff_s;
+    const double t = std::min(ghost_->takeoff.takeoff_s + tau, ghost_->takeoff.landing_s);
+    const int ghost_sample = std::clamp(int(std::lround(t * rate)), 0, trial_.num_frames - 1);
+    ghost_->athlete->Pose(ghost_sample, &out->ghost);
+    TransformPose(ghost_->placement[size_t(flight)], &out->ghost);
+    out->ghost_shown = true;
+  }
   // The COM's path from this flight's take-off (the trail stays empty in contact).
   const int first = flight >= 0 ? analysis_->phases.flights[size_t(flight)].takeoff_frame : sample;
   out->com_trail.name = "COM path";

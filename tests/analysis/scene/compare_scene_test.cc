@@ -101,6 +101,31 @@ TEST(CompareScene, CurvesStartAtZeroAndCountOneBackSomersault) {
   EXPECT_NEAR(scene.CurvesA().com_height_m.front(), scene.CurvesB().com_height_m.front(), 0.05);
 }
 
+// The overlay's ghost: jump 2 (the back tuck) in every other flight, placed at that flight's
+// take-off: at the back pike's take-off the two are together; not in its own flight; not in
+// contact.
+TEST(TrialScene, TheGhostJumpStartsAtEachFlightsTakeoff) {
+  const Sample& s = TheSample();
+  TrialScene scene(
+      s.trial, s.analysis, s.body, MakeEllipsoidBodyMesh(s.body, OverlayBodyMeshOptions()));
+  scene.SetGhostJump(2);
+  TrialFrame f;
+  const Flight& pike = s.analysis.phases.flights.at(2);
+  scene.Frame(pike.takeoff_frame, &f);
+  ASSERT_TRUE(f.ghost_shown);
+  EXPECT_LT((f.ghost.com_W - f.athlete.com_W).norm(), 0.06)
+      << f.ghost.com_W.transpose() << " / " << f.athlete.com_W.transpose();
+  scene.Frame((pike.takeoff_frame + pike.landing_frame) / 2, &f);
+  EXPECT_TRUE(f.ghost_shown);
+  EXPECT_GT((f.ghost.mesh.vertices_W - f.athlete.mesh.vertices_W).colwise().norm().maxCoeff(), 0.2);
+  const Flight& tuck = s.analysis.phases.flights.at(1);
+  scene.Frame((tuck.takeoff_frame + tuck.landing_frame) / 2, &f);
+  EXPECT_FALSE(f.ghost_shown);  // its own flight
+  scene.Frame(tuck.landing_frame + 5, &f);
+  EXPECT_FALSE(f.ghost_shown);  // in contact
+  EXPECT_THROW(scene.SetGhostJump(7), InputError);
+}
+
 TEST(CompareScene, AJumpThatDoesNotExistIsNamed) {
   try {
     CompareScene scene(Jump(2), Jump(9));

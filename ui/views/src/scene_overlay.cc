@@ -38,6 +38,10 @@ class SceneActors {
       analysis::SceneMesh mesh = f.athlete.mesh;
       mesh.colour = {0.25f, 0.6f, 1.0f, 0.55f};  // the virtual athlete: blue, see-through
       mesh_ = renderer->AddMesh(mesh);
+      // The ghost: the same athlete's mesh, orange and see-through (shown in the flights it is in).
+      analysis::SceneMesh ghost = f.athlete.mesh;
+      ghost.colour = {1.0f, 0.55f, 0.1f, 0.5f};
+      ghost_ = renderer->AddMesh(ghost);
       analysis::SceneLines bones = f.athlete.skeleton;
       bones.colour = {0.15f, 0.95f, 0.3f, 1.0f};
       bones.width_px = 0.6 * scale_px;
@@ -56,7 +60,8 @@ class SceneActors {
     // Markers are about 14 mm wide; video keypoints are drawn as joints.
     markers_ = renderer->AddPoints(f.markers_W, athlete_ ? 0.01 : 0.02, {1.0f, 0.3f, 0.9f, 1});
     if (!show.shaded) {
-      for (const int id : {mesh_, bones_, joints_, com_, trail_, residual_, links_, markers_})
+      for (const int id :
+           {mesh_, ghost_, bones_, joints_, com_, trail_, residual_, links_, markers_})
         if (id >= 0) renderer->SetLit(id, false);
     }
     Update(f, true);
@@ -71,6 +76,8 @@ class SceneActors {
       renderer_->UpdateLines(trail_, f.com_trail.points_W);
       renderer_->UpdateLines(residual_, f.residual.points_W);
       renderer_->SetVisible(mesh_, visible && show_.mesh);
+      if (f.ghost_shown) renderer_->UpdateMesh(ghost_, f.ghost.mesh.vertices_W);
+      renderer_->SetVisible(ghost_, visible && f.ghost_shown);
       renderer_->SetVisible(bones_, visible && show_.skeleton);
       renderer_->SetVisible(joints_, visible && show_.skeleton);
       renderer_->SetVisible(com_, visible && show_.com);
@@ -88,8 +95,8 @@ class SceneActors {
   SceneRenderer* renderer_;
   Show show_;
   bool athlete_;
-  int mesh_ = -1, bones_ = -1, joints_ = -1, com_ = -1, trail_ = -1, residual_ = -1, links_ = -1,
-      markers_ = -1;
+  int mesh_ = -1, ghost_ = -1, bones_ = -1, joints_ = -1, com_ = -1, trail_ = -1, residual_ = -1,
+      links_ = -1, markers_ = -1;
 };
 
 // Grows `box` (min, max) by the points.
@@ -111,6 +118,7 @@ PixelBox FrameBox(const analysis::TrialFrame& f,
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e300), hi = -lo;
   if (athlete) {
     if (show.mesh) Extend(f.athlete.mesh.vertices_W, &lo, &hi);
+    if (f.ghost_shown) Extend(f.ghost.mesh.vertices_W, &lo, &hi);
     if (show.skeleton) Extend(f.athlete.skeleton.points_W, &lo, &hi);
     if (show.com) {
       Extend(f.athlete.com_W, &lo, &hi);

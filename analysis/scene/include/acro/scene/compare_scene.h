@@ -57,6 +57,13 @@ struct TakeoffPlacement {
 };
 TakeoffPlacement FindTakeoff(const TrialAnalysis& analysis, int jump);
 
+/// The rigid motion that puts a jump taking off at `from` onto the take-off `onto`: its heading
+/// turned onto `onto`'s about the vertical, then its take-off feet onto `onto`'s.
+Eigen::Isometry3d PlaceAtTakeoff(const TakeoffPlacement& from, const TakeoffPlacement& onto);
+
+/// Moves a pose by `X` (mesh, skeleton and COM).
+void TransformPose(const Eigen::Isometry3d& X, AthletePose* pose);
+
 class CompareScene {
  public:
   /// Throws acro::InputError (where "jump") when a jump index is not a flight of its trial, and

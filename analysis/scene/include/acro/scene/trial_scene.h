@@ -53,6 +53,10 @@ struct TrialFrame {
   SceneLines com_trail;
   /// With an athlete: the root residual force at the COM, 1 m per body weight (one segment).
   SceneLines residual;
+  /// With a ghost jump (TrialScene::SetGhostJump), in the other flights: that jump placed at this
+  /// flight's take-off (feet, heading, time), when `ghost_shown`.
+  bool ghost_shown = false;
+  AthletePose ghost;
   /// "3.512 s  flight 2  40<  residual 0.02 BW" or "3.512 s  contact".
   std::string heads_up;
   Rgba heads_up_colour;
@@ -77,9 +81,19 @@ class TrialScene {
   /// The index of the flight (into the analysis' flights) sample `sample` is in, or −1.
   int FlightAt(int sample) const;
 
+  /// Shows jump `jump` (1-based, as jumps.json numbers it) as a ghost in every other flight, placed
+  /// at that flight's take-off: its take-off feet on the flight's, its heading turned onto the
+  /// flight's, its time counted from its own take-off (the ghost stays at its landing pose once it
+  /// has landed). Throws acro::InputError (where "jump") for a jump that is not there, and
+  /// std::invalid_argument for a scene without an athlete.
+  void SetGhostJump(int jump);
+  bool has_ghost() const { return ghost_ != nullptr; }
+
   void Frame(int sample, TrialFrame* out);
 
  private:
+  struct Ghost;
+  std::unique_ptr<Ghost> ghost_;
   const capture::Trial& trial_;
   vision::AxisMapping axes_;
   const TrialAnalysis* analysis_ = nullptr;
