@@ -127,6 +127,27 @@ TEST(CameraView, SpheresLandRightThroughACameraRolledAboutItsAxis) {
   std::printf("cam01 rolled 30°: worst sphere centroid %.3f px\n", worst);
 }
 
+// The free view's presets and orbit, as geometry (no display).
+TEST(FreeView, PresetsAndOrbitPlaceTheEyeWhereACoachExpects) {
+  const Eigen::Vector3d target(0.4, -0.2, 3.0);
+  const FreeViewpoint side = PresetViewpoint(ViewPreset::kSide, target, 10.0);
+  EXPECT_TRUE(side.eye_W.isApprox(target - 10.0 * Eigen::Vector3d::UnitY(), 1e-12));
+  const FreeViewpoint front = PresetViewpoint(ViewPreset::kFront, target, 10.0);
+  EXPECT_TRUE(front.eye_W.isApprox(target + 10.0 * Eigen::Vector3d::UnitX(), 1e-12));
+  const FreeViewpoint top = PresetViewpoint(ViewPreset::kTop, target, 10.0);
+  EXPECT_TRUE(top.eye_W.isApprox(target + 10.0 * Eigen::Vector3d::UnitZ(), 1e-12));
+  EXPECT_TRUE(top.up_W.isApprox(Eigen::Vector3d::UnitY()));  // not parallel to the view
+  // A quarter turn about the vertical takes the side view to the front view; the distance stays.
+  const FreeViewpoint turned = OrbitViewpoint(side, 90.0, 0.0);
+  EXPECT_LT((turned.eye_W - front.eye_W).norm(), 1e-9);
+  // Raising goes up and stops short of the pole.
+  const FreeViewpoint raised = OrbitViewpoint(side, 0.0, 30.0);
+  EXPECT_NEAR((raised.eye_W - target).norm(), 10.0, 1e-9);
+  EXPECT_NEAR(raised.eye_W.z() - target.z(), 10.0 * std::sin(30.0 * M_PI / 180), 1e-9);
+  const FreeViewpoint pole = OrbitViewpoint(side, 0.0, 120.0);
+  EXPECT_NEAR(pole.eye_W.z() - target.z(), 10.0 * std::sin(89.0 * M_PI / 180), 1e-9);
+}
+
 // The heads-up line: FreeType text on a half-transparent box, without a display.
 TEST(HeadsUp, TextLineIsDrawnOnAHalfTransparentBox) {
   RenderImage line;
@@ -139,8 +160,8 @@ TEST(HeadsUp, TextLineIsDrawnOnAHalfTransparentBox) {
     if (line.rgba[k + 3] == 128 && line.rgba[k] == 0) ++box;
     if (line.rgba[k + 3] > 200 && line.rgba[k] > 200) ++text;
   }
-  EXPECT_GT(text, 100);            // white glyph pixels
-  EXPECT_GT(box, text);            // the box around them
+  EXPECT_GT(text, 100);  // white glyph pixels
+  EXPECT_GT(box, text);  // the box around them
   RenderImage empty;
   RenderTextLine("", 20, {1, 1, 1, 1}, &empty);
   EXPECT_GT(empty.width, 0);  // just the box

@@ -149,7 +149,7 @@ FreeViewpoint OrbitViewpoint(const FreeViewpoint& view, double azimuth_deg, doub
     const double elevation = std::atan2(d.z(), horizontal.norm());
     const double limit = 89.0 * M_PI / 180;
     const double raised = std::clamp(elevation + elevation_deg * M_PI / 180, -limit, limit);
-    d = Eigen::AngleAxisd(-(raised - elevation), axis) * d;
+    d = Eigen::AngleAxisd(raised - elevation, axis) * d;  // about h × z: h turns up
   }
   out.eye_W = view.target_W + d;
   return out;
