@@ -196,6 +196,11 @@ int main(int argc, char** argv) {
       }
       writer->Write(rgb);
     }
+    if (preview) {
+      std::fprintf(
+          stderr, "make_sample_video: frame %s is not in the video (%d frames)\n", argv[4], frames);
+      return 2;
+    }
     writer->Finish();
     acro::WriteFileAtomically(
         dir / "video_truth.json",

@@ -97,9 +97,17 @@ int RunAnalyze(AnalyzeArguments& args) {
     throw UsageError{"--video and --calib go together (the camera's video and its calibration)"};
   if (!args.sync.empty() && args.sync != "auto")
     throw UsageError{"--sync takes 'auto' (or give --offset-s or --event)"};
+  if (!args.sync.empty() && !args.event.empty())
+    throw UsageError{"--sync auto and --event both set the sync: give one"};
   vision::VideoSync sync = ParseVideoSync(args.offset_s, args.event, args.rate);
+  // The video and its camera before the work: a mistyped name costs nothing.
   std::vector<vision::Camera> cameras;
-  if (!args.video.empty()) cameras = vision::ReadCameras(args.calibration);  // before the work
+  std::optional<vision::Camera> camera_found;
+  if (!args.video.empty()) {
+    cameras = vision::ReadCameras(args.calibration);
+    camera_found = vision::FindCamera(cameras, args.camera, args.calibration);
+    WarnIfAnotherSize(args.video, capture::VideoReader(args.video).info(), *camera_found);
+  }
   analysis::TrialAnalysis result =
       analysis::AnalyzeTrial(trial, static_trial ? &*static_trial : nullptr, body, options);
   for (const std::string& w : result.warnings)
@@ -110,7 +118,7 @@ int RunAnalyze(AnalyzeArguments& args) {
   const std::filesystem::path dir(common.out_dir);
   CreateOutputDirectory(dir);
   if (!args.video.empty()) {
-    const vision::Camera& camera = vision::FindCamera(cameras, args.camera, args.calibration);
+    const vision::Camera& camera = *camera_found;
     if (args.sync == "auto") {
       capture::VideoReader grey(args.video, {.pixels = capture::VideoPixels::kGrey});
       vision::AutoSyncOptions sync_options;

@@ -90,6 +90,20 @@ vision::VideoSync ParseVideoSync(double offset_s, const std::string& event, doub
   return vision::SyncFromEvent(trial_s, video_s, rate);
 }
 
+void WarnIfAnotherSize(const std::string& video,
+                       const capture::VideoInfo& info,
+                       const vision::Camera& camera) {
+  if (info.width == camera.width_px && info.height == camera.height_px) return;
+  std::fprintf(stderr,
+               "warning: %s is %d x %d px, camera %s was calibrated at %d x %d\n",
+               video.c_str(),
+               info.width,
+               info.height,
+               camera.name.c_str(),
+               camera.width_px,
+               camera.height_px);
+}
+
 int NeedTheViews() {
   throw UsageError{
       "this acrolab was built without the 3D views (VTK): run scripts/install-deps.sh, then "

@@ -10,7 +10,9 @@
 #include <CLI/CLI.hpp>
 
 #include "acro/athlete/athlete_body.h"
+#include "acro/capture/video.h"
 #include "acro/reconstruct/reconstruction.h"
+#include "acro/vision/camera.h"
 #include "acro/vision/video_sync.h"
 
 namespace acro::app {
@@ -74,6 +76,13 @@ void InstallInterruptCleanup();
 /// The sync of the command line: --event TRIAL_S:VIDEO_S when given, else --offset-s; --rate for
 /// both. Throws UsageError for a malformed --event or a rate that is not positive.
 vision::VideoSync ParseVideoSync(double offset_s, const std::string& event, double rate);
+
+/// Warns on stderr when `video` (its info) is not the size `camera` was calibrated at: the camera's
+/// pixels are then taken as the video's from the top-left corner (right for a calibration at the
+/// coded size, 1088 for a 1080 video; wrong for a downscaled video).
+void WarnIfAnotherSize(const std::string& video,
+                       const capture::VideoInfo& info,
+                       const vision::Camera& camera);
 
 /// Progress on stderr: "LABEL [####    ] 42% (done/total UNIT)" redrawn in place on a terminal, one
 /// line at the end otherwise (logs, pipes).

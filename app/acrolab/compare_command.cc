@@ -36,8 +36,10 @@ std::pair<std::string, int> SplitJump(const std::string& text) {
   const size_t colon = text.rfind(':');
   if (colon != std::string::npos && colon + 1 < text.size() &&
       text.find_first_not_of("0123456789", colon + 1) == std::string::npos) {
-    const int jump = std::stoi(text.substr(colon + 1));
-    if (jump < 1) throw UsageError{"'" + text + "': jumps are numbered from 1, as in jumps.json"};
+    const std::string digits = text.substr(colon + 1);
+    if (digits.size() > 6 || std::stoi(digits) < 1)
+      throw UsageError{"'" + text + "': jumps are numbered from 1, as in jumps.json"};
+    const int jump = std::stoi(digits);
     return {text.substr(0, colon), jump};
   }
   return {text, 0};

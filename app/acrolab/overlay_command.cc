@@ -76,6 +76,8 @@ int RunOverlay(const OverlayArguments& args) {
   const capture::Trial trial = capture::ReadTrial(args.common.trial_path);
   const std::vector<vision::Camera> cameras = vision::ReadCameras(args.calibration);
   const vision::Camera& camera = vision::FindCamera(cameras, args.camera, args.calibration);
+  capture::VideoReader video(args.video);  // before the work: a bad video costs nothing
+  WarnIfAnotherSize(args.video, video.info(), camera);
   if (args.sync == "auto") {
     capture::VideoReader grey(args.video, {.pixels = capture::VideoPixels::kGrey});
     vision::AutoSyncOptions options;
@@ -107,7 +109,6 @@ int RunOverlay(const OverlayArguments& args) {
     scene.emplace(trial, vision::ParseAxisMapping(args.axes));
   }
 
-  capture::VideoReader video(args.video);
   ui::SceneOverlayOptions options;
   options.show = show;
   options.sync = sync;

@@ -31,16 +31,7 @@ int RunProject(const ProjectArguments& args) {
     // One video: one camera, its frames numbering the rows.
     const vision::Camera& camera = vision::FindCamera(cameras, args.camera, args.calibration);
     capture::VideoReader video(args.video);
-    if (video.info().width != camera.width_px || video.info().height != camera.height_px) {
-      std::fprintf(stderr,
-                   "warning: %s is %d x %d px, camera %s was calibrated at %d x %d\n",
-                   args.video.c_str(),
-                   video.info().width,
-                   video.info().height,
-                   camera.name.c_str(),
-                   camera.width_px,
-                   camera.height_px);
-    }
+    WarnIfAnotherSize(args.video, video.info(), camera);
     if (!args.csv.empty()) {
       const std::vector<vision::ProjectedPoint> points =
           vision::ProjectTrialOnFrames(trial, camera, video.frame_times_s(), sync, axes);

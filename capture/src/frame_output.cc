@@ -94,25 +94,28 @@ FrameOutput::FrameOutput(const fs::path& path,
                          int height,
                          const VideoWriterOptions& video)
     : impl_(std::make_unique<Impl>()) {
-  impl_->path = path;
+  // "frames/" names the directory "frames" (its staging directory goes beside it, not inside).
+  fs::path target = path.lexically_normal();
+  if (!target.has_filename() && target.has_parent_path()) target = target.parent_path();
+  impl_->path = target;
   impl_->width = width;
   impl_->height = height;
-  if (path.extension() == ".mp4") {
-    impl_->writer.emplace(path, width, height, video);
+  if (target.extension() == ".mp4") {
+    impl_->writer.emplace(target, width, height, video);
     return;
   }
-  if (fs::exists(path)) {
-    if (!fs::is_directory(path))
-      throw InputError(path.string(), "", "exists and is not a directory (frames go into one)");
-    for (const auto& entry : fs::directory_iterator(path))
+  if (fs::exists(target)) {
+    if (!fs::is_directory(target))
+      throw InputError(target.string(), "", "exists and is not a directory (frames go into one)");
+    for (const auto& entry : fs::directory_iterator(target))
       if (!IsFrameFileName(entry.path().filename().string()))
-        throw InputError(path.string(),
+        throw InputError(target.string(),
                          "",
                          "holds " + entry.path().filename().string() +
                              ", not only frame_NNNNNN.png: not replaced");
   }
   std::random_device rd;
-  fs::path staging = path;
+  fs::path staging = target;
   staging += fmt::format(".tmp-{:08x}", rd());
   std::error_code ec;
   if (!fs::create_directories(staging, ec))

@@ -233,7 +233,7 @@ int VideoWriter::frames_written() const {
 
 void VideoWriter::Write(const std::vector<std::uint8_t>& rgb) {
   Impl& m = *impl_;
-  if (m.finished) m.Fail("a frame after Finish()");
+  if (m.finished || m.closing) m.Fail("a frame after Finish()");
   if (rgb.size() != 3 * static_cast<size_t>(m.width) * m.height)
     m.Fail(fmt::format(
         "frame {} has {} bytes, not {} x {} RGB", m.written, rgb.size(), m.width, m.height));

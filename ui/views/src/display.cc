@@ -61,6 +61,7 @@ struct XDisplay::Impl {
 
   ~Impl() {
     if (pid <= 0) return;
+    registered.reset();  // before the pid can be reaped and reused
     kill(pid, SIGTERM);
     if (!WaitForExit(pid, 3000)) {
       kill(pid, SIGKILL);
@@ -99,13 +100,17 @@ struct XDisplay::Impl {
       sigprocmask(SIG_SETMASK, &none, nullptr);
       prctl(PR_SET_PDEATHSIG, SIGTERM);
       if (getppid() != parent) _exit(1);
+      // The pipe's end out of the way of fds 0–3 first (it may be one of them when this process
+      // was started with stdin or stdout closed).
+      const int pipe_end = fcntl(fds[1], F_DUPFD, 10);
+      if (pipe_end < 0) _exit(1);
       const int null = open("/dev/null", O_RDWR);
       if (null >= 0) {
         dup2(null, 0);
         dup2(null, 1);
         dup2(null, 2);
       }
-      dup2(fds[1], 3);  // dup2 clears close-on-exec on the copy
+      dup2(pipe_end, 3);  // dup2 clears close-on-exec on the copy
       close_range(4, ~0U, 0);
       const char* argv[] = {"Xvfb",
                             "-displayfd",

@@ -62,7 +62,7 @@ std::vector<std::uint8_t> RenderFilmstrip(analysis::AthleteScene& scene,
   view.target_W = (lo + hi) / 2;
   view.eye_W = view.target_W + 20.0 * left;
   // Parallel projection fitting every pose with a margin.
-  const double half_w = 0.5 * std::abs((hi - lo).dot(along)) + 0.3;
+  const double half_w = 0.5 * (hi - lo).cwiseAbs().dot(along.cwiseAbs()) + 0.3;
   const double half_h = 0.5 * (hi.z() - lo.z()) + 0.3;
   view.parallel_scale_m = std::max(half_h, half_w * options.height / options.width);
   renderer.LookFrom(view);

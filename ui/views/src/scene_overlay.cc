@@ -126,7 +126,10 @@ PixelBox FrameBox(const analysis::TrialFrame& f,
     }
     if (show.residual) Extend(f.residual.points_W, &lo, &hi);
   } else if (show.skeleton) {
-    Extend(f.keypoint_links.points_W, &lo, &hi);
+    // Links with both ends missing sit far below the floor (TrialScene): not part of the box.
+    const Eigen::Matrix3Xd& p = f.keypoint_links.points_W;
+    for (Eigen::Index k = 0; k < p.cols(); ++k)
+      if (p(2, k) > -100.0) Extend(p.col(k), &lo, &hi);
   }
   if (show.markers) Extend(f.markers_W, &lo, &hi);
   if (!(lo.array() <= hi.array()).all()) return {};

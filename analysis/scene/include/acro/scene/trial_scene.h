@@ -44,7 +44,8 @@ struct TrialFrame {
   double time_s = 0.0;
   /// The measured points present at this sample (gaps left out), W.
   Eigen::Matrix3Xd markers_W;
-  /// The measured keypoints joined as a skeleton (segments between named joints present).
+  /// The measured keypoints joined as a skeleton: a segment with one end missing has both ends on
+  /// the other (zero length), one with both missing sits at z = −1000 m (out of sight).
   SceneLines keypoint_links;
   /// With an athlete: the posed mesh, its skeleton and its COM.
   AthletePose athlete;
