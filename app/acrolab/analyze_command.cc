@@ -56,8 +56,7 @@ struct AnalyzeArguments {
   TrialArguments common;
   bool images = true;
   // A calibrated video of the trial: silhouettes (and, with the 3D views, the overlay).
-  std::string video, calibration, camera, event, sync;
-  double offset_s = 0.0, rate = 1.0;
+  VideoArguments video;
   analysis::TrialAnalysisOptions options;
   ui::AnalysisReportOptions report;
 };
@@ -93,21 +92,10 @@ int RunAnalyze(AnalyzeArguments& args) {
   // The analysis, with one progress line per step and the IK's frames.
   options.progress = say;
   if (!quiet) options.reconstruction.progress = MakeFrameProgress();
-  if (args.video.empty() != args.calibration.empty())
-    throw UsageError{"--video and --calib go together (the camera's video and its calibration)"};
-  if (!args.sync.empty() && args.sync != "auto")
-    throw UsageError{"--sync takes 'auto' (or give --offset-s or --event)"};
-  if (!args.sync.empty() && !args.event.empty())
-    throw UsageError{"--sync auto and --event both set the sync: give one"};
-  vision::VideoSync sync = ParseVideoSync(args.offset_s, args.event, args.rate);
   // The video and its camera before the work: a mistyped name costs nothing.
-  std::vector<vision::Camera> cameras;
   std::optional<vision::Camera> camera_found;
-  if (!args.video.empty()) {
-    cameras = vision::ReadCameras(args.calibration);
-    camera_found = vision::FindCamera(cameras, args.camera, args.calibration);
-    WarnIfAnotherSize(args.video, capture::VideoReader(args.video).info(), *camera_found);
-  }
+  if (!args.video.video.empty() || !args.video.calibration.empty())
+    camera_found = args.video.FindCamera();
   analysis::TrialAnalysis result =
       analysis::AnalyzeTrial(trial, static_trial ? &*static_trial : nullptr, body, options);
   for (const std::string& w : result.warnings)
@@ -117,21 +105,13 @@ int RunAnalyze(AnalyzeArguments& args) {
   // rendering works here).
   const std::filesystem::path dir(common.out_dir);
   CreateOutputDirectory(dir);
-  if (!args.video.empty()) {
+  if (camera_found) {
     const vision::Camera& camera = *camera_found;
-    if (args.sync == "auto") {
-      capture::VideoReader grey(args.video, {.pixels = capture::VideoPixels::kGrey});
-      vision::AutoSyncOptions sync_options;
-      sync_options.rate = args.rate;
-      sync_options.progress = MakeCancellableProgress("sync (image motion)", "frames");
-      sync = vision::SyncFromImageMotion(trial, camera, grey, sync_options).sync;
-      say(fmt::format("sync: video time = {:.4f} s + trial time (from the image motion)",
-                      sync.offset_s));
-    }
+    vision::VideoSync sync = args.video.Sync(trial, camera, say);
     analysis::TrialScene scene(trial, result, body, analysis::MakeEllipsoidBodyMesh(body));
-    if (args.sync == "auto") {
+    if (args.video.sync == "auto") {
       // The silhouettes refine it to the trial's sample (a frame either way).
-      capture::VideoReader colour(args.video);
+      capture::VideoReader colour(args.video.video);
       analysis::SilhouetteCheckOptions refine;
       refine.sync = sync;
       refine.progress = MakeCancellableProgress("sync (silhouettes)", "frames");
@@ -148,7 +128,7 @@ int RunAnalyze(AnalyzeArguments& args) {
     // The silhouettes with the body's full mesh (what the video shows), the overlay with the
     // lighter one (drawn at video rate).
     {
-      capture::VideoReader colour(args.video);
+      capture::VideoReader colour(args.video.video);
       analysis::SilhouetteCheckOptions check;
       check.sync = sync;
       check.progress = MakeCancellableProgress("silhouettes", "frames");
@@ -181,7 +161,7 @@ int RunAnalyze(AnalyzeArguments& args) {
           result,
           body,
           analysis::MakeEllipsoidBodyMesh(body, analysis::OverlayBodyMeshOptions()));
-      capture::VideoReader video(args.video);
+      capture::VideoReader video(args.video.video);
       ui::SceneOverlayOptions overlay;
       overlay.show = analysis::ParseSceneShow("mesh,skeleton,com");
       overlay.sync = sync;
@@ -269,16 +249,7 @@ void AddAnalyzeCommand(CLI::App& app, CommandRunner* run) {
       "phases from the body's centre of mass even when plates exist");
   command->add_flag_callback(
       "--no-images", [args] { args->images = false; }, "the report without charts");
-  command->add_option("--video",
-                      args->video,
-                      "a calibrated camera's video of the trial: silhouette IoU per jump, and "
-                      "DIR/overlay.mp4 (docs/overlay.md)");
-  command->add_option("--calib", args->calibration, "the video's calibration (.toml, .qca, .yml)");
-  command->add_option("--camera", args->camera, "the video's camera in the calibration");
-  command->add_option("--offset-s", args->offset_s, "video time of the trial's first sample");
-  command->add_option("--event", args->event, "TRIAL_S:VIDEO_S: an event seen in both");
-  command->add_option("--sync", args->sync, "auto: find the offset from the video's image motion");
-  command->add_option("--rate", args->rate, "video seconds per trial second (default 1)");
+  args->video.Declare(command, false);
   command->callback([args, run] { *run = [args] { return RunAnalyze(*args); }; });
 }
 

@@ -7,9 +7,12 @@
 #include <cstdio>
 #include <thread>
 
+#include <fmt/format.h>
+
 #include "acro/athlete/athlete_profile.h"
 #include "acro/athlete/de_leva.h"
 #include "acro/base/temporaries.h"
+#include "acro/vision/sync.h"
 #include "commands.h"
 
 namespace acro::app {
@@ -88,6 +91,58 @@ vision::VideoSync ParseVideoSync(double offset_s, const std::string& event, doub
       !std::isfinite(trial_s) || !std::isfinite(video_s))
     throw UsageError{"--event '" + event + "' is not TRIAL_S:VIDEO_S, e.g. 3.52:3.89"};
   return vision::SyncFromEvent(trial_s, video_s, rate);
+}
+
+void VideoArguments::Declare(CLI::App* command, bool required) {
+  CLI::Option* v =
+      command->add_option("--video", video, "the calibrated camera's video of the trial");
+  CLI::Option* c = command->add_option(
+      "--calib", calibration, "cameras: Pose2Sim/Anipose .toml, Qualisys .qca, OpenCV .yml/.xml");
+  if (required) {
+    v->required();
+    c->required();
+  }
+  command->add_option("--camera", camera, "the video's camera (default: the only one)");
+  command->add_option("--offset-s",
+                      offset_s,
+                      "video time of the trial's first sample (video time = offset + rate × "
+                      "trial time)");
+  command->add_option("--event", event, "TRIAL_S:VIDEO_S: an event seen in both");
+  command->add_option("--sync", sync, "auto: find the offset from the video's image motion");
+  command->add_option("--rate", rate, "video seconds per trial second (default 1)");
+}
+
+vision::Camera VideoArguments::FindCamera() const {
+  if (video.empty() != calibration.empty())
+    throw UsageError{"--video and --calib go together (the camera's video and its calibration)"};
+  if (!sync.empty() && sync != "auto")
+    throw UsageError{"--sync takes 'auto' (or give --offset-s or --event)"};
+  if (!sync.empty() && !event.empty())
+    throw UsageError{"--sync auto and --event both set the sync: give one"};
+  ParseVideoSync(offset_s, event, rate);  // a malformed --event or --rate, now
+  const std::vector<vision::Camera> cameras = vision::ReadCameras(calibration);
+  vision::Camera found = vision::FindCamera(cameras, camera, calibration);
+  WarnIfAnotherSize(video, capture::VideoReader(video).info(), found);
+  return found;
+}
+
+vision::VideoSync VideoArguments::Sync(const capture::Trial& trial,
+                                       const vision::Camera& calibrated,
+                                       const std::function<void(const std::string&)>& say) const {
+  if (sync != "auto") return ParseVideoSync(offset_s, event, rate);
+  capture::VideoReader grey(video, {.pixels = capture::VideoPixels::kGrey});
+  vision::AutoSyncOptions options;
+  options.rate = rate;
+  options.progress = MakeCancellableProgress("sync (image motion)", "frames");
+  const vision::AutoSyncResult found =
+      vision::SyncFromImageMotion(trial, calibrated, grey, options);
+  say(fmt::format(
+      "sync: video time = {:.4f} s + trial time (from the image motion: 1 − correlation "
+      "{:.3f}, runner-up {:.3f})",
+      found.sync.offset_s,
+      found.cost,
+      found.runner_up_cost));
+  return found.sync;
 }
 
 void WarnIfAnotherSize(const std::string& video,

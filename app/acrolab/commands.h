@@ -10,6 +10,7 @@
 #include <CLI/CLI.hpp>
 
 #include "acro/athlete/athlete_body.h"
+#include "acro/capture/trial.h"
 #include "acro/capture/video.h"
 #include "acro/reconstruct/reconstruction.h"
 #include "acro/vision/camera.h"
@@ -76,6 +77,23 @@ void InstallInterruptCleanup();
 /// The sync of the command line: --event TRIAL_S:VIDEO_S when given, else --offset-s; --rate for
 /// both. Throws UsageError for a malformed --event or a rate that is not positive.
 vision::VideoSync ParseVideoSync(double offset_s, const std::string& event, double rate);
+
+/// A calibrated camera's video of a trial, as `overlay` and `analyze` take it: --video, --calib,
+/// --camera, and the sync (--offset-s, --event or --sync auto, --rate).
+struct VideoArguments {
+  std::string video, calibration, camera, event, sync;
+  double offset_s = 0.0, rate = 1.0;
+  /// Declares the options on `command`; --video and --calib required when `required`.
+  void Declare(CLI::App* command, bool required);
+  /// The camera of the video in the calibration, after checking the options together (UsageError)
+  /// and warning when the video is not the camera's size; before any long work.
+  vision::Camera FindCamera() const;
+  /// The sync the command line gives; with --sync auto, found from the video's image motion
+  /// (progress on stderr, the result through `say`).
+  vision::VideoSync Sync(const capture::Trial& trial,
+                         const vision::Camera& camera,
+                         const std::function<void(const std::string&)>& say) const;
+};
 
 /// Warns on stderr when `video` (its info) is not the size `camera` was calibrated at: the camera's
 /// pixels are then taken as the video's from the top-left corner (right for a calibration at the

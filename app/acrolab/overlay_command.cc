@@ -27,8 +27,8 @@ namespace {
 
 struct OverlayArguments {
   TrialArguments common;  // TRIAL, --athlete; -o is the output file here
-  std::string video, calibration, camera, event, sync, axes = "xyz", show, frames;
-  double offset_s = 0.0, rate = 1.0;
+  VideoArguments video;
+  std::string axes = "xyz", show, frames;
   int slow = 1, ghost_jump = 0;
   bool heads_up = true;
 };
@@ -49,12 +49,7 @@ std::pair<int, int> ParseFrames(const std::string& text) {
 
 int RunOverlay(const OverlayArguments& args) {
   if (args.slow < 1 || args.slow > 64) throw UsageError{"--slow must be between 1 and 64"};
-  if (!args.sync.empty() && args.sync != "auto")
-    throw UsageError{"--sync takes 'auto' (or give --offset-s or --event)"};
-  if (!args.sync.empty() && !args.event.empty())
-    throw UsageError{"--sync auto and --event both set the sync: give one"};
   const auto [first, last] = ParseFrames(args.frames);
-  vision::VideoSync sync = ParseVideoSync(args.offset_s, args.event, args.rate);
   const bool athlete = !args.common.athlete_path.empty();
   if (args.ghost_jump != 0 && !athlete)
     throw UsageError{"--ghost-jump needs --athlete (the analysed jumps)"};
@@ -74,24 +69,10 @@ int RunOverlay(const OverlayArguments& args) {
   }
 
   const capture::Trial trial = capture::ReadTrial(args.common.trial_path);
-  const std::vector<vision::Camera> cameras = vision::ReadCameras(args.calibration);
-  const vision::Camera& camera = vision::FindCamera(cameras, args.camera, args.calibration);
-  capture::VideoReader video(args.video);  // before the work: a bad video costs nothing
-  WarnIfAnotherSize(args.video, video.info(), camera);
-  if (args.sync == "auto") {
-    capture::VideoReader grey(args.video, {.pixels = capture::VideoPixels::kGrey});
-    vision::AutoSyncOptions options;
-    options.rate = args.rate;
-    options.progress = MakeCancellableProgress("sync (image motion)", "frames");
-    const vision::AutoSyncResult found = vision::SyncFromImageMotion(trial, camera, grey, options);
-    sync = found.sync;
-    std::fprintf(
-        stderr,
-        "sync: offset %.4f s from the image motion (1 − correlation %.3f, runner-up %.3f)\n",
-        sync.offset_s,
-        found.cost,
-        found.runner_up_cost);
-  }
+  const vision::Camera camera = args.video.FindCamera();
+  capture::VideoReader video(args.video.video);
+  const vision::VideoSync sync = args.video.Sync(
+      trial, camera, [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); });
 
   std::optional<analysis::TrialAnalysis> result;
   std::optional<analysis::TrialScene> scene;
@@ -144,23 +125,10 @@ void AddOverlayCommand(CLI::App& app, CommandRunner* run) {
       "centre of mass, residual force) and a heads-up line per frame. docs/overlay.md.");
   command->add_option("TRIAL", args->common.trial_path, "markers or keypoints: C3D, TRC or CSV")
       ->required();
-  command->add_option("--video", args->video, "the camera's video")->required();
-  command
-      ->add_option("--calib",
-                   args->calibration,
-                   "cameras: Pose2Sim/Anipose .toml, Qualisys .qca, OpenCV .yml/.xml")
-      ->required();
-  command->add_option("--camera", args->camera, "the camera of the video (default: the only one)");
+  args->video.Declare(command, true);
   command->add_option("--athlete",
                       args->common.athlete_path,
                       "athlete profile: reconstruct and analyse the trial, draw the athlete");
-  command->add_option("--offset-s",
-                      args->offset_s,
-                      "video time of the trial's first sample (video time = offset + rate × "
-                      "trial time)");
-  command->add_option("--event", args->event, "TRIAL_S:VIDEO_S: an event seen in both");
-  command->add_option("--sync", args->sync, "auto: find the offset from the video's image motion");
-  command->add_option("--rate", args->rate, "video seconds per trial second (default 1)");
   command->add_option("--axes", args->axes, "without --athlete: the trial's axes (zxy: Y-up TRC)");
   command->add_option("--show",
                       args->show,

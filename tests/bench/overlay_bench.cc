@@ -25,26 +25,12 @@
 #include "acro/scene/trial_scene.h"
 #include "acro/views/display.h"
 #include "acro/views/scene_overlay.h"
+#include "bench_video.h"
 #include "refdata.h"
 
 namespace {
 
 namespace fs = std::filesystem;
-
-const fs::path& Video1080p() {
-  static const fs::path path = [] {
-    const fs::path p = fs::temp_directory_path() / "acrolab_video_bench_1080p30.mp4";
-    if (!fs::exists(p)) {
-      const std::string command =
-          "ffmpeg -v error -y -f lavfi -i testsrc2=size=1920x1080:rate=30 -t 10 -c:v libx264 "
-          "-preset veryfast -g 120 -pix_fmt yuv420p '" +
-          p.string() + "'";
-      if (std::system(command.c_str()) != 0) return fs::path();
-    }
-    return p;
-  }();
-  return path;
-}
 
 struct Routine {
   acro::capture::Trial trial;
@@ -84,7 +70,7 @@ const Routine& SampleRoutine() {
 }
 
 void BM_Overlay(benchmark::State& state, const char* show) {
-  const fs::path video_path = Video1080p();
+  const fs::path video_path = acro::testing::Generated1080pVideo();
   if (video_path.empty() || !fs::exists(video_path)) {
     state.SkipWithError("the input video could not be made (is ffmpeg installed?)");
     return;

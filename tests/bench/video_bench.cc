@@ -13,6 +13,7 @@
 #include <string>
 
 #include "acro/capture/video.h"
+#include "bench_video.h"
 #include "refdata.h"
 
 namespace {
@@ -20,26 +21,10 @@ namespace {
 namespace fs = std::filesystem;
 constexpr int kThreads = 2;
 
-// The 1080p file, written once per run.
-const fs::path& Generated1080p() {
-  static const fs::path path = [] {
-    const fs::path p = fs::temp_directory_path() / "acrolab_video_bench_1080p30.mp4";
-    if (!fs::exists(p)) {
-      const std::string command =
-          "ffmpeg -v error -y -f lavfi -i testsrc2=size=1920x1080:rate=30 -t 10 -c:v libx264 "
-          "-preset veryfast -g 120 -pix_fmt yuv420p '" +
-          p.string() + "'";
-      if (std::system(command.c_str()) != 0) return fs::path();
-    }
-    return p;
-  }();
-  return path;
-}
-
 fs::path File(int which) {
   if (which == 0) return acro::testing::RefdataFile("pose2sim-demo/videos/cam01.mp4");
   if (which == 1) return acro::testing::RefdataFile("pose2sim-demo/videos/cam02.mp4");
-  return Generated1080p();
+  return acro::testing::Generated1080pVideo();
 }
 
 const char* kNames[] = {"pose2sim_h264_1080x1920", "pose2sim_vp9_1080x1920", "h264_1920x1080"};
@@ -98,7 +83,7 @@ BENCHMARK(BM_FfmpegCommand)
 // Random access at 1080p: frame 60 (2 s after the keyframe at 0) from a reader positioned
 // elsewhere (frame 200, the next group), so that every access seeks and decodes 61 frames.
 void BM_RandomAccess2sAfterKeyframe1080p(benchmark::State& state) {
-  const fs::path& path = Generated1080p();
+  const fs::path& path = acro::testing::Generated1080pVideo();
   if (path.empty()) {
     state.SkipWithError("could not write the 1080p file");
     return;
