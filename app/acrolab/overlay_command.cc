@@ -11,6 +11,7 @@
 #ifdef ACRO_HAVE_VIEWS
 #include "acro/assess/trial_analysis.h"
 #include "acro/athlete/body_mesh.h"
+#include "acro/athlete/standard_human.h"
 #include "acro/base/file_io.h"
 #include "acro/base/input_error.h"
 #include "acro/capture/trial_io.h"
@@ -28,7 +29,7 @@ namespace {
 struct OverlayArguments {
   TrialArguments common;  // TRIAL, --athlete; -o is the output file here
   VideoArguments video;
-  std::string axes = "xyz", show, frames;
+  std::string axes = "xyz", show, frames, ghost;
   int slow = 1, ghost_jump = 0;
   bool heads_up = true;
 };
@@ -51,8 +52,10 @@ int RunOverlay(const OverlayArguments& args) {
   if (args.slow < 1 || args.slow > 64) throw UsageError{"--slow must be between 1 and 64"};
   const auto [first, last] = ParseFrames(args.frames);
   const bool athlete = !args.common.athlete_path.empty();
-  if (args.ghost_jump != 0 && !athlete)
-    throw UsageError{"--ghost-jump needs --athlete (the analysed jumps)"};
+  if ((args.ghost_jump != 0 || !args.ghost.empty()) && !athlete)
+    throw UsageError{"--ghost and --ghost-jump need --athlete (the analysed jumps)"};
+  if (args.ghost_jump != 0 && !args.ghost.empty())
+    throw UsageError{"--ghost and --ghost-jump: one ghost at a time"};
   analysis::SceneShow show;
   try {
     show = analysis::ParseSceneShow(
@@ -77,7 +80,8 @@ int RunOverlay(const OverlayArguments& args) {
   std::optional<analysis::TrialAnalysis> result;
   std::optional<analysis::TrialScene> scene;
   if (athlete) {
-    const analysis::AthleteBody body = args.common.MakeBody("overlay");
+    std::string athlete_name;
+    const analysis::AthleteBody body = args.common.MakeBody("overlay", &athlete_name);
     analysis::TrialAnalysisOptions options;
     options.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
     result = analysis::AnalyzeTrial(trial, nullptr, body, options);
@@ -86,6 +90,16 @@ int RunOverlay(const OverlayArguments& args) {
                   body,
                   analysis::MakeEllipsoidBodyMesh(body, analysis::OverlayBodyMeshOptions()));
     if (args.ghost_jump > 0) scene->SetGhostJump(args.ghost_jump);
+    if (!args.ghost.empty()) {
+      const analysis::DesignedSkill design =
+          analysis::ReadDesignedSkill(args.ghost, analysis::MakeStandardHumanModel(body));
+      if (athlete_name.rfind(design.athlete + ",", 0) != 0)
+        std::fprintf(stderr,
+                     "overlay: warning: the design was made for %s, drawn here on %s\n",
+                     design.athlete.c_str(),
+                     athlete_name.c_str());
+      scene->SetGhostDesign(design, body);
+    }
   } else {
     scene.emplace(trial, vision::ParseAxisMapping(args.axes));
   }
@@ -134,6 +148,11 @@ void AddOverlayCommand(CLI::App& app, CommandRunner* run) {
                       args->show,
                       "mesh,skeleton,markers,com,residual (default: mesh,skeleton,com with "
                       "--athlete, skeleton,markers without)");
+  command->add_option("--ghost",
+                      args->ghost,
+                      "with --athlete: a designed skill (acrolab optimize's output folder: "
+                      "result.json, motion.mot) drawn as an orange ghost in every flight, placed "
+                      "at its take-off (feet, heading, time)");
   command->add_option("--ghost-jump",
                       args->ghost_jump,
                       "with --athlete: jump N (as in jumps.json) drawn as an orange ghost in every "

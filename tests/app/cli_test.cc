@@ -662,6 +662,36 @@ TEST(Cli, TerminatedOverlayStopsItsXvfb) {
   for (const auto& e : std::filesystem::directory_iterator(dir))
     EXPECT_EQ(e.path().filename().string().find("frames.tmp-"), std::string::npos) << e.path();
 }
+// `overlay --ghost DIR`: the back tuck designed by `acrolab optimize` drawn in the routine's
+// flights; the heads-up names it. A folder that is not optimize's: one line naming its result.json.
+TEST(Cli, OverlayDrawsADesignedSkillAsTheGhost) {
+  const auto dir = acro::testing::ScratchDir("overlay_ghost");
+  const ProcessResult design = Execute(std::string(ACROLAB_EXE) + " optimize " +
+                                       Quote(RepoFile("samples/skills/back_tuck.yaml")) + " -o " +
+                                       Quote(dir / "design"));
+  ASSERT_EQ(design.status, 0) << design.err;
+  const std::string sample = "samples/trials/trampoline_routine/";
+  const std::string overlay = "env -u DISPLAY " + std::string(ACROLAB_EXE) + " overlay " +
+                              Quote(RepoFile(sample + "trampoline_routine.c3d")) + " --video " +
+                              Quote(RepoFile(sample + "side_camera.mp4")) + " --calib " +
+                              Quote(RepoFile(sample + "side_camera.toml")) +
+                              " --offset-s -0.575 --athlete " +
+                              Quote(RepoFile("samples/athletes/sample_athlete.yaml"));
+  const ProcessResult run = Execute(overlay + " --ghost " + Quote(dir / "design") +
+                                    " --frames 100:102 -o " + Quote(dir / "frames"));
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_EQ(run.err.find("warning"), std::string::npos) << run.err;  // designed for this athlete
+  int pngs = 0;
+  for (const auto& e : std::filesystem::directory_iterator(dir / "frames"))
+    pngs += e.path().extension() == ".png" && std::filesystem::file_size(e.path()) > 0 ? 1 : 0;
+  EXPECT_EQ(pngs, 3);
+  const ProcessResult bad =
+      Execute(overlay + " --ghost " + Quote(dir) + " --frames 100:100 -o " + Quote(dir / "bad"));
+  EXPECT_EQ(bad.status, 1) << bad.err;
+  EXPECT_NE(bad.err.find("result.json"), std::string::npos) << bad.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "bad"));
+}
+
 // `compare` of the sample's back tuck and back pike: an MP4 of the frames it says, at 30 fps.
 TEST(Cli, CompareTwoJumpsOfTheSampleWritesTheVideo) {
   const auto out = acro::testing::TempDir() / "compare.mp4";

@@ -356,6 +356,18 @@ std::string TrialAnalysis::BriefReport() const {
   return s.str();
 }
 
+Eigen::Vector3d CalcFeetCentre(const dynamics::Model<double>& model, const Eigen::VectorXd& q) {
+  const Soles soles = FindSoles(model);
+  dynamics::Workspace<double> ws(model);
+  dynamics::CalcForwardKinematics(model, ws, q);
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero();
+  for (int s = 0; s < 2; ++s) {
+    const auto& X = ws.X_WB[static_cast<size_t>(soles.segment[s])];
+    sum += X.rotation() * soles.p_FoS_F[s] + X.translation();
+  }
+  return 0.5 * sum;
+}
+
 std::string FormatJumpsJson(const TrialAnalysis& a) {
   using Json = nlohmann::ordered_json;  // keys in the order written
   Json jumps = Json::array();

@@ -30,6 +30,13 @@ int SampleAt(const Motion& m, double t) {
   return std::clamp(static_cast<int>(std::lround(t * rate)), 0, m.num_frames() - 1);
 }
 
+// The pelvis's forward axis in configuration q, horizontal and unit.
+Eigen::Vector3d Heading(const Eigen::VectorXd& q) {
+  Eigen::Vector3d forward = dynamics::GetRootQuaternion(q) * Eigen::Vector3d::UnitX();
+  forward.z() = 0.0;
+  return forward.norm() > 1e-6 ? Eigen::Vector3d(forward.normalized()) : Eigen::Vector3d::UnitX();
+}
+
 // The athlete of a jump, checked.
 AthleteScene MakeScene(const CompareJump& j, const char* which) {
   if (j.trial == nullptr || j.analysis == nullptr || j.body == nullptr)
@@ -63,12 +70,18 @@ TakeoffPlacement FindTakeoff(const TrialAnalysis& analysis, int jump) {
   p.feet_W = j.takeoff_feet_W;
   p.takeoff_s = j.flight.takeoff_s;
   p.landing_s = j.flight.landing_s;
-  const int frame = std::clamp(j.flight.takeoff_frame, 0, m.num_frames() - 1);
-  const Eigen::Quaterniond q_WB = dynamics::GetRootQuaternion(m.q.col(frame));
-  Eigen::Vector3d forward = q_WB * Eigen::Vector3d::UnitX();
-  forward.z() = 0.0;
-  p.heading_W =
-      forward.norm() > 1e-6 ? Eigen::Vector3d(forward.normalized()) : Eigen::Vector3d::UnitX();
+  p.heading_W = Heading(m.q.col(std::clamp(j.flight.takeoff_frame, 0, m.num_frames() - 1)));
+  return p;
+}
+
+TakeoffPlacement FindDesignTakeoff(const DesignedSkill& design,
+                                   const dynamics::Model<double>& model) {
+  TakeoffPlacement p;
+  const Eigen::VectorXd q0 = design.motion.q.col(0);
+  p.feet_W = CalcFeetCentre(model, q0);
+  p.heading_W = Heading(q0);
+  p.takeoff_s = 0.0;
+  p.landing_s = design.flight_time_s;
   return p;
 }
 

@@ -9,6 +9,7 @@
 
 #include <fmt/format.h>
 
+#include "acro/athlete/standard_human.h"
 #include "acro/base/input_error.h"
 #include "acro/scene/compare_scene.h"
 
@@ -131,27 +132,55 @@ TrialScene::TrialScene(const capture::Trial& trial,
 }
 
 struct TrialScene::Ghost {
-  int jump = 0;
-  TakeoffPlacement takeoff;                  // the ghost jump's own
-  std::unique_ptr<AthleteScene> athlete;     // posing the ghost (the same motion)
+  int jump = 0;                              // the ghost jump, or 0 for a design
+  std::string label;                         // "jump 2", "back tuck (design)"
+  TakeoffPlacement takeoff;                  // the ghost's own
+  Motion design_motion;                      // a design's motion (a jump's is the analysis')
+  std::unique_ptr<AthleteScene> athlete;     // posing the ghost
   std::vector<Eigen::Isometry3d> placement;  // per flight: the ghost onto its take-off
+  bool shown_in(int flight) const { return flight >= 0 && flight + 1 != jump; }
 };
 
 TrialScene::~TrialScene() = default;
+
+namespace {
+
+// Per flight of `analysis`: the rigid motion that places a ghost taking off at `ghost` on that
+// flight's take-off (identity for a flight that is not a jump).
+std::vector<Eigen::Isometry3d> PlaceOnEveryFlight(const TrialAnalysis& analysis,
+                                                  const TakeoffPlacement& ghost) {
+  std::vector<Eigen::Isometry3d> placement;
+  for (size_t k = 0; k < analysis.phases.flights.size(); ++k) {
+    Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+    for (const JumpMetrics& j : analysis.jumps)
+      if (j.index == int(k) + 1) X = PlaceAtTakeoff(ghost, FindTakeoff(analysis, j.index));
+    placement.push_back(X);
+  }
+  return placement;
+}
+
+}  // namespace
 
 void TrialScene::SetGhostJump(int jump) {
   if (!athlete_) throw std::invalid_argument("TrialScene::SetGhostJump: the scene has no athlete");
   auto ghost = std::make_unique<Ghost>();
   ghost->jump = jump;
+  ghost->label = fmt::format("jump {}", jump);
   ghost->takeoff = FindTakeoff(*analysis_, jump);
   ghost->athlete = std::make_unique<AthleteScene>(*athlete_);
-  for (size_t k = 0; k < analysis_->phases.flights.size(); ++k) {
-    Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
-    for (const JumpMetrics& j : analysis_->jumps)
-      if (j.index == int(k) + 1)
-        X = PlaceAtTakeoff(ghost->takeoff, FindTakeoff(*analysis_, j.index));
-    ghost->placement.push_back(X);
-  }
+  ghost->placement = PlaceOnEveryFlight(*analysis_, ghost->takeoff);
+  ghost_ = std::move(ghost);
+}
+
+void TrialScene::SetGhostDesign(const DesignedSkill& design, const AthleteBody& body) {
+  if (!athlete_)
+    throw std::invalid_argument("TrialScene::SetGhostDesign: the scene has no athlete");
+  auto ghost = std::make_unique<Ghost>();
+  ghost->label = design.name + " (design)";
+  ghost->design_motion = design.motion;
+  ghost->takeoff = FindDesignTakeoff(design, MakeStandardHumanModel(body));
+  ghost->athlete = std::make_unique<AthleteScene>(body, athlete_->mesh(), ghost->design_motion);
+  ghost->placement = PlaceOnEveryFlight(*analysis_, ghost->takeoff);
   ghost_ = std::move(ghost);
 }
 
@@ -199,13 +228,13 @@ void TrialScene::Frame(int sample, TrialFrame* out) {
   const PhysicalCheck& check = analysis_->check;
   const int flight = FlightAt(sample);
   out->ghost_shown = false;
-  if (ghost_ && flight >= 0 && flight + 1 != ghost_->jump) {
+  if (ghost_ && ghost_->shown_in(flight)) {
     // The ghost at the same time from its own take-off, until it lands.
-    const double rate = trial_.point_rate_hz > 0 ? trial_.point_rate_hz : 1.0;
-    const double tau = sample / rate - analysis_->phases.flights[size_t(flight)].takeoff_s;
+    const double tau = out->time_s - analysis_->phases.flights[size_t(flight)].takeoff_s;
     const double t = std::min(ghost_->takeoff.takeoff_s + tau, ghost_->takeoff.landing_s);
-    const int ghost_sample = std::clamp(int(std::lround(t * rate)), 0, trial_.num_frames - 1);
-    ghost_->athlete->Pose(ghost_sample, &out->ghost);
+    const Motion& motion =
+        ghost_->jump > 0 ? analysis_->reconstruction.motion : ghost_->design_motion;
+    ghost_->athlete->Pose(FrameNearestTime(motion, t), &out->ghost);
     TransformPose(ghost_->placement[size_t(flight)], &out->ghost);
     out->ghost_shown = true;
   }
@@ -239,6 +268,7 @@ void TrialScene::Frame(int sample, TrialFrame* out) {
     out->heads_up += jump->check->pass ? "  pass" : "  fail";
     out->heads_up_colour = VerdictColour(true, jump->check->pass);
   }
+  if (out->ghost_shown) out->heads_up += "  ghost: " + ghost_->label;
 }
 
 }  // namespace acro::analysis

@@ -131,6 +131,11 @@ TrialAnalysis AnalyzeTrial(const capture::Trial& trial,
                            const AthleteBody& body,
                            const TrialAnalysisOptions& options = {});
 
+/// Where the feet are in configuration `q` of `model` (a standard human, with r_toe and l_toe
+/// points): the midpoint of the two sole centres, as the jumps' take-off and landing feet are
+/// measured (JumpMetrics::takeoff_feet_W).
+Eigen::Vector3d CalcFeetCentre(const dynamics::Model<double>& model, const Eigen::VectorXd& q);
+
 /// The jumps as a JSON array, one object per flight (docs/cli.md, "acrolab analyze").
 std::string FormatJumpsJson(const TrialAnalysis& analysis);
 

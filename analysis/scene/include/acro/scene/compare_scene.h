@@ -15,6 +15,7 @@
 
 #include "acro/assess/trial_analysis.h"
 #include "acro/scene/athlete_scene.h"
+#include "acro/scene/designed_skill.h"
 
 namespace acro::analysis {
 
@@ -56,6 +57,11 @@ struct TakeoffPlacement {
   double landing_s = 0.0;
 };
 TakeoffPlacement FindTakeoff(const TrialAnalysis& analysis, int jump);
+
+/// The take-off of a designed skill (ReadDesignedSkill for `model`, its standard human): the feet
+/// and heading of its first frame, time 0, landing at its flight time.
+TakeoffPlacement FindDesignTakeoff(const DesignedSkill& design,
+                                   const dynamics::Model<double>& model);
 
 /// The rigid motion that puts a jump taking off at `from` onto the take-off `onto`: its heading
 /// turned onto `onto`'s about the vertical, then its take-off feet onto `onto`'s.

@@ -16,6 +16,7 @@
 #include "acro/assess/trial_analysis.h"
 #include "acro/capture/trial.h"
 #include "acro/scene/athlete_scene.h"
+#include "acro/scene/designed_skill.h"
 #include "acro/scene/scene.h"
 #include "acro/vision/projection.h"
 
@@ -54,11 +55,12 @@ struct TrialFrame {
   SceneLines com_trail;
   /// With an athlete: the root residual force at the COM, 1 m per body weight (one segment).
   SceneLines residual;
-  /// With a ghost jump (TrialScene::SetGhostJump), in the other flights: that jump placed at this
-  /// flight's take-off (feet, heading, time), when `ghost_shown`.
+  /// With a ghost (TrialScene::SetGhostJump, SetGhostDesign), in the flights it is shown in: that
+  /// jump or design placed at this flight's take-off (feet, heading, time), when `ghost_shown`.
   bool ghost_shown = false;
   AthletePose ghost;
-  /// "3.512 s  flight 2  40<  residual 0.02 BW" or "3.512 s  contact".
+  /// "3.512 s  flight 2  40<  residual 0.02 BW  pass  ghost: back tuck (design)" or
+  /// "3.512 s  contact  residual 1.02 BW".
   std::string heads_up;
   Rgba heads_up_colour;
 };
@@ -88,6 +90,11 @@ class TrialScene {
   /// has landed). Throws acro::InputError (where "jump") for a jump that is not there, and
   /// std::invalid_argument for a scene without an athlete.
   void SetGhostJump(int jump);
+  /// Shows a designed skill (ReadDesignedSkill for `body`'s standard human) as a ghost in every
+  /// flight, placed the same way at each flight's take-off: where the real jump departs from the
+  /// design is where the two part. `body` is the athlete's (the design is posed on its mesh).
+  /// Throws std::invalid_argument for a scene without an athlete.
+  void SetGhostDesign(const DesignedSkill& design, const AthleteBody& body);
   bool has_ghost() const { return ghost_ != nullptr; }
 
   void Frame(int sample, TrialFrame* out);
