@@ -195,9 +195,23 @@ int RunAnalyze(AnalyzeArguments& args) {
         const std::string file = fmt::format("filmstrip_jump_{}.png", j.index);
         WriteFileAtomically(dir / file, std::string(png.begin(), png.end()));
         report.filmstrips.emplace_back(j.index, file);
+        if (!args.video.video.empty()) {
+          // With a video, the strip as a video too (it fills in as the flight goes).
+          const std::string mp4 = fmt::format("filmstrip_jump_{}.mp4", j.index);
+          ui::FilmstripRow row;
+          row.scene = &athlete;
+          row.frames = frames;
+          row.rate_hz = result.reconstruction.motion.rate_hz;
+          ui::FilmstripVideoOptions video;
+          video.progress = MakeCancellableProgress(mp4, "frames");
+          ui::WriteFilmstripVideo(
+              {row}, analysis::FindTakeoff(result, j.index).heading_W, dir / mp4, size, video);
+          report.filmstrip_videos.emplace_back(j.index, mp4);
+        }
       }
     } catch (const InputError& e) {
       report.filmstrips.clear();
+      report.filmstrip_videos.clear();
       report.filmstrip_note = std::string("no filmstrips: ") + e.what();
       say(report.filmstrip_note);
     }

@@ -4,18 +4,82 @@
 #include <string>
 
 #include "acro/base/file_io.h"
+#include "acro/base/input_error.h"
 #include "acro/design/skill_optimization.h"
 #include "acro/design/skill_simulation.h"
 #include "acro/report/skill_report.h"
 #include "commands.h"
 
+#ifdef ACRO_HAVE_VIEWS
+#include <fmt/format.h>
+
+#include "acro/athlete/athlete_body.h"
+#include "acro/athlete/body_mesh.h"
+#include "acro/capture/frame_output.h"
+#include "acro/dynamics/configuration.h"
+#include "acro/scene/trial_scene.h"
+#include "acro/views/display.h"
+#include "acro/views/filmstrip.h"
+#endif
+
 namespace acro::app {
 
 namespace {
 
+#ifdef ACRO_HAVE_VIEWS
+// The paper's comparison (its Figure 8): the initial and the optimised timing one above the
+// other at the same eight instants, DIR/filmstrip.png, and with `video` DIR/filmstrip.mp4. The
+// 3D views are an extra here: without a display or Xvfb the page says why.
+ui::SkillReportExtras DrawFilmstrips(const analysis::SkillDesign& design,
+                                     const analysis::SkillOptimizationResult& result,
+                                     const std::filesystem::path& dir,
+                                     bool video) {
+  ui::SkillReportExtras extras;
+  try {
+    const ui::XDisplay display;
+    const analysis::AthleteBody body = analysis::MakeAthleteBody(design.skill().athlete);
+    const analysis::BodyMesh mesh =
+        analysis::MakeEllipsoidBodyMesh(body, analysis::OverlayBodyMeshOptions());
+    const analysis::Motion initial = analysis::SampleSkillMotion(design, result.initial);
+    const analysis::Motion optimised = analysis::SampleSkillMotion(design, result.optimized);
+    analysis::AthleteScene a(body, mesh, initial), b(body, mesh, optimised);
+    const std::vector<int> frames = ui::EvenlySpacedFrames(0, initial.num_frames() - 1, 8);
+    for (const int f : frames) extras.filmstrip_times_s.push_back(initial.time_s(f));
+    std::vector<ui::FilmstripRow> rows(2);
+    rows[0] = {&a, frames, initial.rate_hz, "initial timing", {0.78f, 0.8f, 0.86f, 1.0f}};
+    rows[1] = {&b,
+               frames,
+               optimised.rate_hz,
+               fmt::format("optimised timing (model {})", analysis::SkillModelNumber(result.model)),
+               {1.0f, 0.66f, 0.5f, 1.0f}};
+    // Facing the way the take-off faces.
+    const Eigen::Vector3d heading =
+        dynamics::GetRootQuaternion(initial.q.col(0)) * Eigen::Vector3d::UnitX();
+    ui::FilmstripOptions options;
+    options.spacing_m = 1.5;  // the tucked poses at the apex apart
+    CreateOutputDirectory(dir);
+    const std::vector<std::uint8_t> png = capture::EncodeRgbPng(
+        options.width, 2 * options.height, ui::RenderFilmstrips(rows, heading, options));
+    WriteFileAtomically(dir / "filmstrip.png", std::string(png.begin(), png.end()));
+    extras.filmstrip = "filmstrip.png";
+    if (video) {
+      ui::FilmstripVideoOptions v;
+      v.progress = MakeCancellableProgress("filmstrip", "frames");
+      ui::WriteFilmstripVideo(rows, heading, dir / "filmstrip.mp4", options, v);
+      extras.filmstrip_video = "filmstrip.mp4";
+    }
+  } catch (const InputError& e) {
+    extras.filmstrip.clear();
+    extras.filmstrip_note = std::string("no filmstrip: ") + e.what();
+    std::fprintf(stderr, "acrolab optimize: %s\n", extras.filmstrip_note.c_str());
+  }
+  return extras;
+}
+#endif
+
 struct OptimizeArguments {
   std::string skill_path, out_dir;
-  bool simulate = false;
+  bool simulate = false, video = false;
   analysis::SkillOptimizationOptions options;
 };
 
@@ -44,8 +108,17 @@ int RunOptimize(OptimizeArguments& args) {
     std::fprintf(stderr, "  simulating the flight\n");
     sim = analysis::SimulateSkill(design, result.optimized);
   }
-  const std::vector<std::string> files =
-      ui::WriteSkillOutputs(out_dir, design, result, sim ? &*sim : nullptr);
+  ui::SkillReportExtras extras;
+#ifdef ACRO_HAVE_VIEWS
+  std::fprintf(stderr, "  drawing the filmstrip\n");
+  extras = DrawFilmstrips(design, result, out_dir, args.video);
+#else
+  if (args.video) NeedTheViews();
+#endif
+  std::vector<std::string> files =
+      ui::WriteSkillOutputs(out_dir, design, result, sim ? &*sim : nullptr, extras);
+  for (const std::string* f : {&extras.filmstrip, &extras.filmstrip_video})
+    if (!f->empty()) files.push_back(*f);
 
   // Summary.
   std::printf("%s (model %d)\n", skill.name.c_str(), analysis::SkillModelNumber(result.model));
@@ -85,7 +158,8 @@ void AddOptimizeCommand(CLI::App& app, CommandRunner* run) {
       "Finds when each keyframe of a skill must happen so that the motion obeys physics (Model 2: "
       "keyframe times), or also bends the trajectories within the keyframe tolerances (Model 1), "
       "and writes DIR/result.json, timing.csv/.svg/.png, angular_momentum.svg/.png, motion.c3d, "
-      "motion.mot and report.html. Progress goes to stderr. Skill files: docs/formats/skill.md; "
+      "motion.mot, filmstrip.png (with the 3D views) and report.html. Progress goes to stderr. "
+      "Skill files: docs/formats/skill.md; "
       "method: docs/skill-design.md.");
   command->add_option("SKILL", args->skill_path, "the skill file (YAML)")->required();
   command->add_option("-o,--output", args->out_dir, "output folder (created)")->required();
@@ -103,6 +177,9 @@ void AddOptimizeCommand(CLI::App& app, CommandRunner* run) {
   command->add_flag("--simulate",
                     args->simulate,
                     "also simulate the flight with the optimised motion (somersaults, landing)");
+  command->add_flag("--video",
+                    args->video,
+                    "also write the filmstrip (initial and optimised timing) as DIR/filmstrip.mp4");
   command->add_option("--intervals",
                       args->options.quadrature_intervals,
                       "quadrature intervals over the flight (even; default 40)");

@@ -599,11 +599,15 @@ TEST(Cli, AnalyzeWithTheSampleVideoWritesTheOverlayAndTheSilhouettes) {
   }
   EXPECT_TRUE(HasFile(out / "overlay.mp4"));
   EXPECT_TRUE(HasFile(out / "silhouette_iou.png"));
-  // A filmstrip per complete jump, on the page.
+  // A filmstrip per complete jump, on the page, and as a video linked under it.
   for (int k = 1; k <= 6; ++k) {
     const std::string file = "filmstrip_jump_" + std::to_string(k) + ".png";
     EXPECT_TRUE(HasFile(out / file)) << file;
     EXPECT_NE(Slurp(out / "report.html").find("src=\"" + file + "\""), std::string::npos) << file;
+    const std::string video = "filmstrip_jump_" + std::to_string(k) + ".mp4";
+    EXPECT_TRUE(HasFile(out / video)) << video;
+    EXPECT_NE(Slurp(out / "report.html").find("href=\"" + video + "\""), std::string::npos)
+        << video;
   }
   const std::string html = Slurp(out / "report.html");
   EXPECT_NE(html.find("<video controls"), std::string::npos);
@@ -666,10 +670,13 @@ TEST(Cli, TerminatedOverlayStopsItsXvfb) {
 // flights; the heads-up names it. A folder that is not optimize's: one line naming its result.json.
 TEST(Cli, OverlayDrawsADesignedSkillAsTheGhost) {
   const auto dir = acro::testing::ScratchDir("overlay_ghost");
-  const ProcessResult design = Execute(std::string(ACROLAB_EXE) + " optimize " +
-                                       Quote(RepoFile("samples/skills/back_tuck.yaml")) + " -o " +
-                                       Quote(dir / "design"));
+  const ProcessResult design =
+      Execute("env -u DISPLAY " + std::string(ACROLAB_EXE) + " optimize " +
+              Quote(RepoFile("samples/skills/back_tuck.yaml")) + " -o " + Quote(dir / "design"));
   ASSERT_EQ(design.status, 0) << design.err;
+  // optimize's filmstrip (initial and optimised timing, two bands) is on its page.
+  EXPECT_TRUE(HasFile(dir / "design" / "filmstrip.png"));
+  EXPECT_NE(Slurp(dir / "design" / "report.html").find("src=\"filmstrip.png\""), std::string::npos);
   const std::string sample = "samples/trials/trampoline_routine/";
   const std::string overlay = "env -u DISPLAY " + std::string(ACROLAB_EXE) + " overlay " +
                               Quote(RepoFile(sample + "trampoline_routine.c3d")) + " --video " +

@@ -163,6 +163,26 @@ SkillTrajectory MakeKeyframeTrajectory(const SkillDesign& design, const Eigen::V
   return t;
 }
 
+Motion SampleSkillMotion(const SkillDesign& design,
+                         const SkillTrajectory& trajectory,
+                         double rate_hz) {
+  ACRO_DEMAND(rate_hz > 0);
+  const double T = design.flight_time_s();
+  const int intervals = std::max(1, static_cast<int>(std::ceil(T * rate_hz - 1e-9)));
+  const internal::MotionEvaluator evaluator(design, trajectory, Eigen::Vector3d(0, 0, 1));
+  Motion m;
+  m.coordinate_names = MakeCoordinateNames(design.model());
+  m.rate_hz = intervals / T;
+  m.time_s.resize(intervals + 1);
+  m.q.resize(design.model().nq(), intervals + 1);
+  for (int k = 0; k <= intervals; ++k) {
+    m.time_s(k) = T * k / intervals;
+    m.q.col(k) = evaluator.Eval(m.time_s(k)).q;
+  }
+  m.fit.assign(static_cast<size_t>(intervals + 1), FrameFit{});
+  return m;
+}
+
 SkillMotionState CalcSkillMotion(const SkillDesign& design,
                                  const SkillTrajectory& trajectory,
                                  double t_s,

@@ -7,6 +7,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <vector>
@@ -155,13 +156,21 @@ TEST(HeadsUp, TextLineIsDrawnOnAHalfTransparentBox) {
   ASSERT_GT(line.width, 20 * 10);  // 23 characters, each wider than half the size
   ASSERT_GE(line.height, 20);
   ASSERT_EQ(line.rgba.size(), size_t(line.width) * line.height * 4);
-  int text = 0, box = 0;
+  int text = 0, box = 0, right = -1, top = line.height;
   for (size_t k = 0; k < line.rgba.size(); k += 4) {
     if (line.rgba[k + 3] == 128 && line.rgba[k] == 0) ++box;
-    if (line.rgba[k + 3] > 200 && line.rgba[k] > 200) ++text;
+    if (line.rgba[k + 3] > 200 && line.rgba[k] > 200) {
+      ++text;
+      right = std::max(right, int(k / 4) % line.width);
+      top = std::min(top, int(k / 4) / line.width);
+    }
   }
   EXPECT_GT(text, 100);  // white glyph pixels
   EXPECT_GT(box, text);  // the box around them
+  // The box fits the text: a margin of about a quarter of the size on the right and at the top
+  // (FreeType pads its image to powers of two; the padding is not part of the line).
+  EXPECT_LE(line.width - 1 - right, 20) << line.width;
+  EXPECT_LE(top, 12) << line.height;
   RenderImage empty;
   RenderTextLine("", 20, {1, 1, 1, 1}, &empty);
   EXPECT_GT(empty.width, 0);  // just the box

@@ -328,7 +328,11 @@ std::string FormatAnalysisReportHtml(const analysis::TrialAnalysis& a,
       h << "<figure><img src=\"" << Html(file) << "\" alt=\"jump " << index
         << "\" style=\"max-width:100%\"><figcaption>Jump " << index << " (" << Html(code)
         << "): eight instants from take-off to landing, seen from the athlete's left, one scale "
-           "(parallel projection).</figcaption></figure>\n";
+           "(parallel projection).";
+      for (const auto& [video_index, video] : options.filmstrip_videos)
+        if (video_index == index)
+          h << " As a video: <a href=\"" << Html(video) << "\">" << Html(video) << "</a>.";
+      h << "</figcaption></figure>\n";
     }
   }
 

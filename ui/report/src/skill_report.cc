@@ -174,7 +174,8 @@ capture::Storage MakeSkillMotionTable(const SkillDesign& design,
 std::vector<std::string> WriteSkillOutputs(const std::filesystem::path& dir,
                                            const SkillDesign& design,
                                            const SkillOptimizationResult& r,
-                                           const SkillSimulationResult* sim) {
+                                           const SkillSimulationResult* sim,
+                                           const SkillReportExtras& extras) {
   CreateOutputDirectory(dir);
   std::vector<std::string> written;
   auto write = [&](const std::string& name, std::string_view bytes) {
@@ -289,6 +290,26 @@ std::vector<std::string> WriteSkillOutputs(const std::filesystem::path& dir,
          << fmt::format("{:.3f}", r.optimized.times_s[i]) << "</td></tr>\n";
   html << "</table>\n<h2>Angular momentum</h2>\n<img src=\"angular_momentum.svg\" alt=\"angular "
           "momentum\">\n";
+  if (!extras.filmstrip.empty() || !extras.filmstrip_note.empty()) {
+    html << "<h2>Filmstrip</h2>\n";
+    if (!extras.filmstrip_note.empty())
+      html << "<p class=\"warning\">" << Html(extras.filmstrip_note) << "</p>\n";
+    if (!extras.filmstrip.empty()) {
+      std::string instants;
+      for (const double t : extras.filmstrip_times_s)
+        instants += (instants.empty() ? "" : ", ") + fmt::format("{:.2f}", t);
+      html << "<figure><img src=\"" << Html(extras.filmstrip)
+           << "\" alt=\"filmstrip\" style=\"max-width:100%\"><figcaption>The initial timing (top) "
+              "and the optimised timing (bottom) at the same instants ("
+           << instants
+           << " s), seen from the athlete's left at one scale: the same keyframes, reached at "
+              "other times.";
+      if (!extras.filmstrip_video.empty())
+        html << " As a video: <a href=\"" << Html(extras.filmstrip_video) << "\">"
+             << Html(extras.filmstrip_video) << "</a>.";
+      html << "</figcaption></figure>\n";
+    }
+  }
   if (sim != nullptr)
     html << "<h2>Flight simulation</h2>\n<p>The joints follow the optimised motion, the root flies "
             "under gravity "

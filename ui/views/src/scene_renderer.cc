@@ -75,7 +75,11 @@ void RenderTextLine(const std::string& text, int size_px, analysis::Rgba colour,
                      renderer->RenderString(property, text, image, dims, 72);
   int extent[6] = {0, -1, 0, -1, 0, 0};
   if (drawn) image->GetExtent(extent);
-  const int tw = drawn ? extent[1] - extent[0] + 1 : 0, th = drawn ? extent[3] - extent[2] + 1 : 0;
+  // FreeType's image may be padded (to powers of two): the text is the dims[0] × dims[1] pixels
+  // at its bottom left, its rows `stride` pixels apart.
+  const int stride = extent[1] - extent[0] + 1;
+  const int tw = drawn ? std::min(dims[0], stride) : 0;
+  const int th = drawn ? std::min(dims[1], extent[3] - extent[2] + 1) : 0;
   const int pad = std::max(2, size_px / 4);
   out->x0 = out->y0 = 0;
   out->width = tw + 2 * pad;
@@ -87,7 +91,7 @@ void RenderTextLine(const std::string& text, int size_px, analysis::Rgba colour,
   const auto* src = static_cast<const std::uint8_t*>(image->GetScalarPointer());
   for (int y = 0; y < th; ++y) {
     // VTK's image rows run bottom to top.
-    const std::uint8_t* row = src + size_t(th - 1 - y) * size_t(tw) * 4;
+    const std::uint8_t* row = src + size_t(th - 1 - y) * size_t(stride) * 4;
     std::uint8_t* dst = out->rgba.data() + (size_t(y + pad) * size_t(out->width) + size_t(pad)) * 4;
     for (int x = 0; x < tw; ++x, row += 4, dst += 4) {
       const int a = row[3];

@@ -18,6 +18,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "acro/athlete/motion.h"
 #include "acro/design/skill_file.h"
 #include "acro/dynamics/model.h"
 
@@ -104,6 +105,12 @@ SkillMotionState CalcSkillMotion(const SkillDesign& design,
                                  const SkillTrajectory& trajectory,
                                  double t_s,
                                  const Eigen::Vector3d& com_start_W = Eigen::Vector3d(0, 0, 1));
+
+/// The designed motion sampled evenly over [0, T] at about `rate_hz` (the last sample at T), as the
+/// motion of the design's standard human: for drawing it (filmstrips, ghosts).
+Motion SampleSkillMotion(const SkillDesign& design,
+                         const SkillTrajectory& trajectory,
+                         double rate_hz = 100.0);
 
 /// Per-sample diagnostics of a designed motion on a uniform grid.
 struct SkillMotionProfile {

@@ -31,6 +31,8 @@ struct AnalysisReportOptions {
   /// Per jump (its index, 1-based), a filmstrip picture's file name in the output folder; or why
   /// there are none (shown as a note when not empty).
   std::vector<std::pair<int, std::string>> filmstrips;
+  /// The same as videos (analyze --video), per jump index.
+  std::vector<std::pair<int, std::string>> filmstrip_videos;
   std::string filmstrip_note;
 };
 

@@ -33,11 +33,23 @@ capture::Storage MakeSkillMotionTable(const analysis::SkillDesign& design,
                                       const analysis::SkillTrajectory& trajectory,
                                       double rate_hz = 100.0);
 
+/// What the page shows beside the charts, made elsewhere (the 3D views draw the filmstrips).
+struct SkillReportExtras {
+  /// The initial and the optimised timing one above the other (file names in the folder; empty:
+  /// none), or why there is none.
+  std::string filmstrip;
+  std::string filmstrip_video;
+  std::string filmstrip_note;
+  /// The instants the filmstrip shows (s from take-off).
+  std::vector<double> filmstrip_times_s;
+};
+
 /// Writes result.json, timing.csv, timing.svg/.png, angular_momentum.svg/.png, motion.c3d,
 /// motion.mot and report.html into `dir` (created if needed). Returns the file names written.
 std::vector<std::string> WriteSkillOutputs(const std::filesystem::path& dir,
                                            const analysis::SkillDesign& design,
                                            const analysis::SkillOptimizationResult& result,
-                                           const analysis::SkillSimulationResult* simulation);
+                                           const analysis::SkillSimulationResult* simulation,
+                                           const SkillReportExtras& extras = {});
 
 }  // namespace acro::ui
