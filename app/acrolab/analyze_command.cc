@@ -162,8 +162,11 @@ int RunAnalyze(AnalyzeArguments& args) {
           body,
           analysis::MakeEllipsoidBodyMesh(body, analysis::OverlayBodyMeshOptions()));
       capture::VideoReader video(args.video.video);
+      capture::VideoReader frames(args.video.video);
+      const vision::BackgroundModel background(frames);
       ui::SceneOverlayOptions overlay;
-      overlay.show = analysis::ParseSceneShow("mesh,skeleton,com");
+      overlay.show = analysis::ParseSceneShow("mesh,skeleton,com,mismatch");
+      overlay.background = &background;
       overlay.sync = sync;
       overlay.progress = MakeCancellableProgress("overlay", "frames");
       ui::WriteSceneOverlay(video, light, camera, dir / "overlay.mp4", overlay);

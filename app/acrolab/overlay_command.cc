@@ -19,6 +19,7 @@
 #include "acro/scene/trial_scene.h"
 #include "acro/views/scene_overlay.h"
 #include "acro/vision/projection.h"
+#include "acro/vision/silhouette.h"
 #include "acro/vision/sync.h"
 #endif
 
@@ -63,6 +64,8 @@ int RunOverlay(const OverlayArguments& args) {
   } catch (const InputError& e) {
     throw UsageError{e.what()};  // a bad option value: exit 2
   }
+  if (show.mismatch && !athlete)
+    throw UsageError{"--show mismatch needs --athlete (the athlete's silhouette to compare)"};
   {
     // Before any work: a bad -o costs nothing.
     const std::filesystem::path out(args.common.out_dir);
@@ -105,6 +108,13 @@ int RunOverlay(const OverlayArguments& args) {
   }
 
   ui::SceneOverlayOptions options;
+  std::optional<vision::BackgroundModel> background;
+  if (show.mismatch) {
+    std::fprintf(stderr, "overlay: the video's background (for the silhouettes)\n");
+    capture::VideoReader frames(args.video.video);
+    background.emplace(frames);
+    options.background = &*background;
+  }
   options.show = show;
   options.sync = sync;
   options.first_frame = first;
@@ -146,8 +156,9 @@ void AddOverlayCommand(CLI::App& app, CommandRunner* run) {
   command->add_option("--axes", args->axes, "without --athlete: the trial's axes (zxy: Y-up TRC)");
   command->add_option("--show",
                       args->show,
-                      "mesh,skeleton,markers,com,residual (default: mesh,skeleton,com with "
-                      "--athlete, skeleton,markers without)");
+                      "mesh,skeleton,markers,com,residual,mismatch (default: mesh,skeleton,com "
+                      "with --athlete, skeleton,markers without; mismatch: where the filmed and "
+                      "the modelled silhouettes differ, red and yellow, with their IoU)");
   command->add_option("--ghost",
                       args->ghost,
                       "with --athlete: a designed skill (acrolab optimize's output folder: "

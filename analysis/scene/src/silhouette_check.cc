@@ -33,18 +33,30 @@ double BoxIoU(const vision::Mask& a, const vision::Mask& b, int x0, int y0, int 
   return uni == 0 ? 1.0 : double(inter) / double(uni);
 }
 
-// The IoU of the video's foreground with the athlete of `tf` in the virtual athlete's box, grown
-// by `margin` of its size on every side (0 when the athlete is not in view).
+// The IoU of the video's foreground with the athlete of `tf` (CompareSilhouettes).
 double AthleteIoU(const vision::Mask& real,
                   const TrialFrame& tf,
                   const vision::Camera& camera,
                   double margin) {
-  const vision::Mask virtual_mask =
+  SilhouetteFrame f;
+  CompareSilhouettes(real, tf, camera, margin, &f);
+  return f.iou;
+}
+
+}  // namespace
+
+void CompareSilhouettes(const vision::Mask& real,
+                        const TrialFrame& tf,
+                        const vision::Camera& camera,
+                        double margin,
+                        SilhouetteFrame* out) {
+  out->athlete =
       vision::RenderSilhouette(camera, tf.athlete.mesh.vertices_W, tf.athlete.mesh.triangles);
+  const vision::Mask& athlete = out->athlete;
   const int W = camera.width_px, H = camera.height_px;
   int x0 = W, y0 = H, x1 = 0, y1 = 0;
   for (int y = 0; y < H; ++y) {
-    const std::uint8_t* row = virtual_mask.pixels.data() + size_t(y) * size_t(W);
+    const std::uint8_t* row = athlete.pixels.data() + size_t(y) * size_t(W);
     for (int x = 0; x < W; ++x) {
       if (row[x] == 0) continue;
       x0 = std::min(x0, x);
@@ -53,18 +65,17 @@ double AthleteIoU(const vision::Mask& real,
       y1 = std::max(y1, y + 1);
     }
   }
-  if (x1 <= x0) return 0.0;
+  out->x0 = out->y0 = out->x1 = out->y1 = 0;
+  out->iou = 0.0;
+  if (x1 <= x0) return;
   const int gx = static_cast<int>(margin * (x1 - x0)) + 2;
   const int gy = static_cast<int>(margin * (y1 - y0)) + 2;
-  return BoxIoU(real,
-                virtual_mask,
-                std::max(0, x0 - gx),
-                std::max(0, y0 - gy),
-                std::min(W, x1 + gx),
-                std::min(H, y1 + gy));
+  out->x0 = std::max(0, x0 - gx);
+  out->y0 = std::max(0, y0 - gy);
+  out->x1 = std::min(W, x1 + gx);
+  out->y1 = std::min(H, y1 + gy);
+  out->iou = BoxIoU(real, athlete, out->x0, out->y0, out->x1, out->y1);
 }
-
-}  // namespace
 
 SilhouetteCheck CheckSilhouettes(capture::VideoReader& video,
                                  TrialScene& scene,

@@ -67,9 +67,13 @@ SceneShow ParseSceneShow(const std::string& text) {
       show.com = true;
     } else if (word == "residual") {
       show.residual = true;
+    } else if (word == "mismatch") {
+      show.mismatch = true;
     } else {
       throw InputError(
-          "", "--show", "'" + word + "' is not one of mesh, skeleton, markers, com, residual");
+          "",
+          "--show",
+          "'" + word + "' is not one of mesh, skeleton, markers, com, residual, mismatch");
     }
   }
   return show;

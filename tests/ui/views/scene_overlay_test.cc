@@ -10,9 +10,12 @@
 #include <filesystem>
 #include <map>
 
+#include "acro/athlete/athlete_profile.h"
+#include "acro/athlete/body_mesh.h"
 #include "acro/capture/trial_io.h"
 #include "acro/capture/video.h"
 #include "acro/vision/projection.h"
+#include "acro/vision/silhouette.h"
 #include "refdata.h"
 
 namespace acro::ui {
@@ -95,6 +98,55 @@ TEST(SceneOverlay, KeypointsLandWhereProjectPutsThemOnAllFourCameras) {
   EXPECT_LT(worst, 0.5) << "worst keypoint " << worst << " px from acrolab project's pixel";
   std::printf(
       "%d keypoints on 4 cameras: worst %.3f px from acrolab project's pixel\n", measured, worst);
+}
+
+// The silhouettes' mismatch on the sample video (its true offset −0.575 s): drawn alone (no actor,
+// no heads-up), the frame changes only where the filmed and the modelled athlete differ — a thin
+// rim with the right sync, whole limbs with the sync 3 frames late.
+TEST(SceneOverlay, TheMismatchShowsAWrongSync) {
+  const fs::path dir = acro::testing::SourceDir() / "samples/trials/trampoline_routine";
+  const capture::Trial trial = capture::ReadTrial(dir / "trampoline_routine.c3d");
+  const analysis::AthleteBody body = analysis::MakeAthleteBody(analysis::ReadAthleteProfile(
+      acro::testing::SourceDir() / "samples/athletes/sample_athlete.yaml"));
+  const analysis::TrialAnalysis analysis = analysis::AnalyzeTrial(trial, nullptr, body);
+  const vision::Camera camera = vision::ReadPose2SimToml(dir / "side_camera.toml").at(0);
+  capture::VideoReader frames(dir / "side_camera.mp4");
+  const vision::BackgroundModel background(frames);
+  const capture::VideoFrame filmed = capture::VideoReader(dir / "side_camera.mp4").Frame(110);
+  const fs::path out = acro::testing::ScratchDir("overlay_mismatch");
+  std::map<std::string, int> tinted;
+  for (const auto& [name, offset_s] :
+       std::map<std::string, double>{{"right", -0.575}, {"late", -0.575 + 3.0 / 30}}) {
+    analysis::TrialScene scene(
+        trial,
+        analysis,
+        body,
+        analysis::MakeEllipsoidBodyMesh(body, analysis::OverlayBodyMeshOptions()));
+    capture::VideoReader video(dir / "side_camera.mp4");
+    SceneOverlayOptions options;
+    options.show.mismatch = true;
+    options.heads_up = false;
+    options.background = &background;
+    options.sync.offset_s = offset_s;
+    options.first_frame = options.last_frame = 110;
+    WriteSceneOverlay(video, scene, camera, out / name, options);
+    const capture::VideoFrame drawn =
+        capture::VideoReader(out / name / "frame_000110.png").Frame(0);
+    ASSERT_EQ(drawn.pixels.size(), filmed.pixels.size());
+    int changed = 0;
+    for (size_t i = 0; i < drawn.pixels.size(); i += 3) {
+      int d = 0;
+      for (int c = 0; c < 3; ++c)
+        d = std::max(d, std::abs(drawn.pixels[i + c] - filmed.pixels[i + c]));
+      changed += d > 30 ? 1 : 0;
+    }
+    tinted[name] = changed;
+  }
+  std::printf("mismatch pixels at frame 110: %d with the right sync, %d with 3 frames late\n",
+              tinted["right"],
+              tinted["late"]);
+  EXPECT_GT(tinted["right"], 0);
+  EXPECT_GT(tinted["late"], 4 * tinted["right"]);
 }
 
 }  // namespace

@@ -3,8 +3,11 @@
 #include <chrono>
 #include <optional>
 
+#include <fmt/format.h>
+
 #include "acro/base/input_error.h"
 #include "acro/capture/frame_output.h"
+#include "acro/scene/silhouette_check.h"
 #include "acro/views/camera_composite.h"
 #include "acro/views/display.h"
 #include "acro/views/scene_renderer.h"
@@ -155,6 +158,26 @@ PixelBox FrameBox(const analysis::TrialFrame& f,
           clamp(std::ceil(v1 + margin_px) + 1, camera.height_px)};
 }
 
+// The silhouettes' mismatch over the frame, in the compared box: red where the video shows the
+// athlete and the model is not, yellow where the model is and the video shows no athlete.
+void TintMismatch(const vision::Mask& real,
+                  const analysis::SilhouetteFrame& f,
+                  std::vector<std::uint8_t>* rgb) {
+  constexpr int kAlpha = 150;  // of 255
+  const std::uint8_t kRed[3] = {235, 30, 30}, kYellow[3] = {255, 215, 0};
+  const int W = real.width;
+  for (int y = f.y0; y < f.y1; ++y)
+    for (int x = f.x0; x < f.x1; ++x) {
+      const size_t i = size_t(y) * size_t(W) + size_t(x);
+      const bool r = real.pixels[i] != 0, a = f.athlete.pixels[i] != 0;
+      if (r == a) continue;
+      const std::uint8_t* c = r ? kRed : kYellow;
+      std::uint8_t* p = rgb->data() + 3 * i;
+      for (int k = 0; k < 3; ++k)
+        p[k] = std::uint8_t((c[k] * kAlpha + p[k] * (255 - kAlpha)) / 255);
+    }
+}
+
 }  // namespace
 
 OverlayTiming WriteSceneOverlay(capture::VideoReader& video,
@@ -177,6 +200,11 @@ OverlayTiming WriteSceneOverlay(capture::VideoReader& video,
                      "frames " + std::to_string(first) + ".." + std::to_string(options.last_frame) +
                          " are not in the video (" + std::to_string(info.num_frames) + " frames)");
   const int slow = std::max(1, options.slow);
+  if (options.show.mismatch &&
+      (options.background == nullptr || options.background->width() != info.width ||
+       options.background->height() != info.height || !scene.has_athlete()))
+    throw std::invalid_argument(
+        "WriteSceneOverlay: the mismatch needs the video's background model and an athlete");
 
   const XDisplay display;
   const CameraComposite composite(camera);
@@ -199,6 +227,9 @@ OverlayTiming WriteSceneOverlay(capture::VideoReader& video,
   std::optional<SceneActors> actors;
   RenderImage render, strip;
   capture::VideoFrame frame;
+  analysis::SilhouetteFrame silhouettes;
+  vision::Mask real;
+  std::string heads_up;
   OverlayTiming timing;
   const int total = last - first + 1;
   auto start = Clock::now();
@@ -229,9 +260,20 @@ OverlayTiming WriteSceneOverlay(capture::VideoReader& video,
       if (!box.empty()) renderer.Render(composite.RenderRegion(box), &render);
       timing.render_s += Since(start);
       start = Clock::now();
+      // The silhouettes are compared on the frame as filmed, the mismatch drawn over the render.
+      const bool mismatch = options.show.mismatch && in_flight;
+      if (mismatch) {
+        real = options.background->Foreground(frame, options.background_options);
+        analysis::CompareSilhouettes(real, tf, camera, options.box_margin, &silhouettes);
+      }
       if (!box.empty()) composite.Composite(render, box, &frame.pixels);
+      heads_up = tf.heads_up;
+      if (mismatch) {
+        TintMismatch(real, silhouettes, &frame.pixels);
+        heads_up += fmt::format("  IoU {:.2f}", silhouettes.iou);
+      }
       if (options.heads_up) {
-        RenderTextLine(tf.heads_up, text_px, tf.heads_up_colour, &strip);
+        RenderTextLine(heads_up, text_px, tf.heads_up_colour, &strip);
         BlendOver(strip, text_px / 2, text_px / 2, info.width, info.height, &frame.pixels);
       }
       timing.composite_s += Since(start);

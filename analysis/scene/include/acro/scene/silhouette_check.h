@@ -42,6 +42,23 @@ struct SilhouetteCheck {
   double median_iou = 0.0;
 };
 
+/// One frame's comparison with the video's foreground: the athlete's silhouette (the whole frame),
+/// the box they are compared in — the athlete's silhouette box grown by `margin` of its size on
+/// every side — and their intersection over union there.
+struct SilhouetteFrame {
+  vision::Mask athlete;
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;  ///< [x0, x1) × [y0, y1); empty when not in view
+  double iou = 0.0;                    ///< 0 when the athlete is not in view
+};
+
+/// Compares `real` (the video frame's foreground) with the athlete of `tf` seen by `camera` (its
+/// pixels the video's).
+void CompareSilhouettes(const vision::Mask& real,
+                        const TrialFrame& tf,
+                        const vision::Camera& camera,
+                        double margin,
+                        SilhouetteFrame* out);
+
 /// Compares the video (an RGB reader: the background model and the foreground in colour; a grey
 /// one works, less well) with the scene's athlete through `camera`. Throws std::invalid_argument
 /// when the scene has no athlete, and acro::InputError for video trouble or a cancelled run.

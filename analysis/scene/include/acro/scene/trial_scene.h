@@ -29,9 +29,13 @@ struct SceneShow {
   bool markers = false;
   bool com = false;
   bool residual = false;
+  /// The silhouettes' mismatch tinted on the video (an overlay with a background model): red where
+  /// the video shows the athlete and the model is not, yellow where the model is and the video
+  /// shows no athlete; the heads-up adds their IoU.
+  bool mismatch = false;
 };
 
-/// Parses a comma-separated list of mesh, skeleton, markers, com, residual. Throws
+/// Parses a comma-separated list of mesh, skeleton, markers, com, residual, mismatch. Throws
 /// acro::InputError (where "--show") naming an unknown word.
 SceneShow ParseSceneShow(const std::string& text);
 

@@ -11,6 +11,7 @@
 #include "acro/capture/video.h"
 #include "acro/scene/trial_scene.h"
 #include "acro/vision/camera.h"
+#include "acro/vision/silhouette.h"
 #include "acro/vision/video_sync.h"
 
 namespace acro::ui {
@@ -33,6 +34,13 @@ struct SceneOverlayOptions {
   capture::VideoWriterOptions video = {.crf = 18, .preset = "superfast"};
   /// Called with (frames done, frames in all); returns false to cancel (nothing is left behind).
   std::function<bool(int, int)> progress;
+  /// The video's background (show.mismatch needs it: the athlete's silhouette in each frame), and
+  /// how a pixel is told from it.
+  const vision::BackgroundModel* background = nullptr;
+  vision::BackgroundOptions background_options;
+  /// The mismatch is compared in the athlete's silhouette box grown by this fraction of its size
+  /// (SilhouetteCheckOptions::box_margin).
+  double box_margin = 0.5;
 };
 
 /// Where the time of an overlay went (s, wall clock): decoding, drawing the scene (posing, VTK's
@@ -52,7 +60,8 @@ struct OverlayTiming {
 /// else a directory of frame_NNNNNN.png). The camera's pixels are taken to be the video's from the
 /// top-left corner even when it was calibrated at another size (the caller warns about it). Throws
 /// acro::InputError naming the file for anything that cannot be read or written, and for a
-/// cancelled run.
+/// cancelled run; std::invalid_argument for show.mismatch without a background model of the
+/// video's size or without an athlete.
 OverlayTiming WriteSceneOverlay(capture::VideoReader& video,
                                 analysis::TrialScene& scene,
                                 const vision::Camera& camera,
