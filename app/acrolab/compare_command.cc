@@ -26,8 +26,9 @@ namespace acro::app {
 namespace {
 
 struct CompareArguments {
-  std::string a, b, athlete_a, athlete_b, out;
+  std::string a, b, athlete_a, athlete_b, out, view = "side";
   double slow = 1.0;
+  bool follow = false;
 };
 
 #ifdef ACRO_HAVE_VIEWS
@@ -119,6 +120,10 @@ int RunCompare(const CompareArguments& args) {
   analysis::CompareScene scene(ToCompare(a), ToCompare(b));
   ui::CompareVideoOptions options;
   options.slow = args.slow;
+  options.view = args.view == "front" ? ui::ViewPreset::kFront
+                 : args.view == "top" ? ui::ViewPreset::kTop
+                                      : ui::ViewPreset::kSide;
+  options.follow = args.follow;
   if (a.trial->analysis.bed)
     options.trampoline = analysis::MakeTrampolineScene(*a.trial->analysis.bed);
   const analysis::TimedPanel panel = ui::MakeCompareCharts(scene.CurvesA(),
@@ -162,6 +167,14 @@ void AddCompareCommand(CLI::App& app, CommandRunner* run) {
   command->add_option("--athlete", args->athlete_a, "athlete profile of A (and of B)");
   command->add_option("--athlete-b", args->athlete_b, "athlete profile of B, when another");
   command->add_option("--slow", args->slow, "play K times slower (1–16)");
+  command
+      ->add_option("--view",
+                   args->view,
+                   "side (default: from the athlete's right), front or top, for A's take-off")
+      ->check(CLI::IsMember({"side", "front", "top"}));
+  command->add_flag("--follow",
+                    args->follow,
+                    "the views follow the athletes' centres of mass (same direction and distance)");
   command->add_option("-o,--output", args->out, "OUT.mp4 or a directory of PNG frames")->required();
   command->callback([args, run] {
 #ifdef ACRO_HAVE_VIEWS

@@ -149,6 +149,28 @@ TEST(FreeView, PresetsAndOrbitPlaceTheEyeWhereACoachExpects) {
   EXPECT_NEAR(pole.eye_W.z() - target.z(), 10.0 * std::sin(89.0 * M_PI / 180), 1e-9);
 }
 
+// The presets turn with the athlete's heading — an athlete facing −y has its left at +x, so the
+// side view (from its right) is at −x — and the view follows its centre of mass.
+TEST(FreeView, PresetsTurnWithTheHeadingAndFollowTheAthlete) {
+  const Eigen::Vector3d target(1.0, 2.0, 3.0);
+  const Eigen::Vector3d heading(0.0, -2.0, 0.3);  // facing −y, a little up (ignored)
+  const FreeViewpoint side = PresetViewpoint(ViewPreset::kSide, target, 10.0, heading);
+  // The athlete's left is z × (−y) = +x: the side view from its right is at −x.
+  EXPECT_TRUE(side.eye_W.isApprox(target - 10.0 * Eigen::Vector3d::UnitX(), 1e-12));
+  const FreeViewpoint front = PresetViewpoint(ViewPreset::kFront, target, 10.0, heading);
+  EXPECT_TRUE(front.eye_W.isApprox(target - 10.0 * Eigen::Vector3d::UnitY(), 1e-12));
+  const FreeViewpoint top = PresetViewpoint(ViewPreset::kTop, target, 10.0, heading);
+  EXPECT_TRUE(top.up_W.isApprox(Eigen::Vector3d::UnitX(), 1e-12));
+  // The side view turned a quarter about the vertical is the front view, as with +x.
+  EXPECT_LT((OrbitViewpoint(side, 90.0, 0.0).eye_W - front.eye_W).norm(), 1e-9);
+  // Following the centre of mass: the target on it, the eye at the same offset.
+  const Eigen::Vector3d com(2.5, 1.0, 5.2);
+  const FreeViewpoint followed = FollowViewpoint(side, com);
+  EXPECT_TRUE(followed.target_W.isApprox(com, 1e-12));
+  EXPECT_TRUE((followed.eye_W - followed.target_W).isApprox(side.eye_W - side.target_W, 1e-12));
+  EXPECT_EQ(followed.view_angle_deg, side.view_angle_deg);
+}
+
 // The heads-up line: FreeType text on a half-transparent box, without a display.
 TEST(HeadsUp, TextLineIsDrawnOnAHalfTransparentBox) {
   RenderImage line;

@@ -44,10 +44,10 @@ int WriteCompareVideo(analysis::CompareScene& scene,
   scene.Frame(scene.start_s(), &f);
   // From the side of A's take-off: across its heading, level, looking at mid-flight height.
   const analysis::TakeoffPlacement pa = FindTakeoff(*scene.a().analysis, scene.a().jump);
-  const Eigen::Vector3d lateral = Eigen::Vector3d::UnitZ().cross(pa.heading_W).normalized();
-  FreeViewpoint view;
-  view.target_W = pa.feet_W + Eigen::Vector3d(0, 0, 1.9);
-  view.eye_W = view.target_W - 11.0 * lateral;
+  FreeViewpoint view = PresetViewpoint(options.view,
+                                       pa.feet_W + Eigen::Vector3d(0, 0, 1.9),
+                                       options.view == ViewPreset::kTop ? 14.0 : 11.0,
+                                       pa.heading_W);
   view.view_angle_deg = 32.0;
 
   std::array<View, 3> views;
@@ -101,6 +101,9 @@ int WriteCompareVideo(analysis::CompareScene& scene,
       View& v = views[size_t(k)];
       if (v.a >= 0) v.renderer->UpdateMesh(v.a, f.a.mesh.vertices_W);
       if (v.b >= 0) v.renderer->UpdateMesh(v.b, f.b.mesh.vertices_W);
+      // Following: the view B alone follows B, the others A.
+      if (options.follow)
+        v.renderer->LookFrom(FollowViewpoint(view, k == 1 ? f.b.com_W : f.a.com_W));
       v.renderer->Render(&image);
       for (int y = 0; y < vh; ++y)
         for (int x = 0; x < vw; ++x) {

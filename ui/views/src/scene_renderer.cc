@@ -125,22 +125,34 @@ Eigen::Matrix4d PinholeProjectionMatrix(
 
 FreeViewpoint PresetViewpoint(ViewPreset preset,
                               const Eigen::Vector3d& target_W,
-                              double distance_m) {
+                              double distance_m,
+                              const Eigen::Vector3d& heading_W) {
+  Eigen::Vector3d forward(heading_W.x(), heading_W.y(), 0.0);
+  forward =
+      forward.norm() > 1e-9 ? Eigen::Vector3d(forward.normalized()) : Eigen::Vector3d::UnitX();
+  const Eigen::Vector3d left = Eigen::Vector3d::UnitZ().cross(forward);
   FreeViewpoint view;
   view.target_W = target_W;
   switch (preset) {
     case ViewPreset::kSide:
-      view.eye_W = target_W - distance_m * Eigen::Vector3d::UnitY();
+      view.eye_W = target_W - distance_m * left;
       break;
     case ViewPreset::kFront:
-      view.eye_W = target_W + distance_m * Eigen::Vector3d::UnitX();
+      view.eye_W = target_W + distance_m * forward;
       break;
     case ViewPreset::kTop:
       view.eye_W = target_W + distance_m * Eigen::Vector3d::UnitZ();
-      view.up_W = Eigen::Vector3d::UnitY();
+      view.up_W = left;
       break;
   }
   return view;
+}
+
+FreeViewpoint FollowViewpoint(const FreeViewpoint& view, const Eigen::Vector3d& target_W) {
+  FreeViewpoint out = view;
+  out.eye_W = view.eye_W + (target_W - view.target_W);
+  out.target_W = target_W;
+  return out;
 }
 
 FreeViewpoint OrbitViewpoint(const FreeViewpoint& view, double azimuth_deg, double elevation_deg) {

@@ -13,6 +13,7 @@
 #include "acro/scene/compare_scene.h"
 #include "acro/scene/place_scene.h"
 #include "acro/scene/scene.h"
+#include "acro/views/scene_renderer.h"
 
 namespace acro::ui {
 
@@ -23,6 +24,11 @@ struct CompareVideoOptions {
   double fps = 30.0;
   /// Video seconds per second of the jumps (2: half speed).
   double slow = 1.0;
+  /// Where the views look from, for A's take-off heading: its side (from the athlete's right), its
+  /// front or the top, at mid-flight height above A's take-off.
+  ViewPreset view = ViewPreset::kSide;
+  /// Follow the athletes (their centres of mass) instead: the same direction and distance.
+  bool follow = false;
   /// The trampoline to draw (the first trial's bed), if any.
   std::optional<analysis::TrampolineScene> trampoline;
   capture::VideoWriterOptions video = {.crf = 18, .preset = "superfast"};

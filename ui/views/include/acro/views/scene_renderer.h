@@ -57,10 +57,19 @@ struct FreeViewpoint {
 /// bed's long axis) and from the top.
 enum class ViewPreset { kSide, kFront, kTop };
 
-/// `preset` looking at `target_W` from `distance_m`.
+/// `preset` looking at `target_W` from `distance_m`, for an athlete facing `heading_W`
+/// (horizontal): the side view from the athlete's right, the front view from ahead, the top view
+/// from above with the athlete's left up the picture. The default heading is +x (the side view from
+/// −y).
 FreeViewpoint PresetViewpoint(ViewPreset preset,
                               const Eigen::Vector3d& target_W,
-                              double distance_m);
+                              double distance_m,
+                              const Eigen::Vector3d& heading_W = Eigen::Vector3d::UnitX());
+
+/// `view` following the athlete: its target moved onto `target_W` (the athlete's centre of mass)
+/// and its eye by the same translation — the same direction, distance and view angle, the scene
+/// sliding past behind.
+FreeViewpoint FollowViewpoint(const FreeViewpoint& view, const Eigen::Vector3d& target_W);
 
 /// The viewpoint rotated about the vertical through its target by `azimuth_deg` and raised by
 /// `elevation_deg` (orbit).
