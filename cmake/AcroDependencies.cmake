@@ -72,10 +72,15 @@ if(ACRO_BUILD_UI)
     endif()
   endif()
   find_package(X11 REQUIRED)  # ui/views asks the X server whether it answers (display.h)
-  find_package(Qt5 REQUIRED COMPONENTS Widgets)
-  find_package(VTK 9 REQUIRED COMPONENTS
-    CommonCore CommonDataModel FiltersSources RenderingCore RenderingOpenGL2 RenderingFreeType
-    InteractionStyle IOImage GUISupportQt)
+  set(ACRO_VTK_COMPONENTS CommonCore CommonDataModel FiltersSources RenderingCore RenderingOpenGL2
+    RenderingFreeType InteractionStyle)
+  # The window (ui/studio) alone needs Qt and VTK's Qt module: the main install (the README's first
+  # command, which draws the overlay) goes without them (scripts/demo.sh: ACRO_BUILD_STUDIO=OFF).
+  if(ACRO_BUILD_STUDIO)
+    find_package(Qt5 REQUIRED COMPONENTS Widgets)
+    list(APPEND ACRO_VTK_COMPONENTS GUISupportQt)
+  endif()
+  find_package(VTK 9 REQUIRED COMPONENTS ${ACRO_VTK_COMPONENTS})
 endif()
 
 # Tests and benchmarks.

@@ -2,13 +2,16 @@
 # Installs Acrolab's dependencies from Debian 12's packages (nothing else is downloaded). Works as
 # root and through sudo; does nothing when everything is already installed.
 # Usage: scripts/install-deps.sh [--main]
-#   --main   only what `acrolab` itself needs (the README's first command): no test, benchmark,
-#            VTK, Qt or X packages.
+#   --main   only what `acrolab` itself needs (the README's first command, which also draws the
+#            athlete over the sample's video): no test, benchmark or Qt packages.
 set -euo pipefail
 
 # What the acrolab program needs to build: compiler, Eigen, Ceres, OpenMesh, FFmpeg's libraries
 # (video), OpenCV's calibration modules (cameras), YAML, JSON, TOML and XML (calibrations),
-# formatting, argument parsing, and Cairo for the report's charts.
+# formatting, argument parsing, Cairo for the report's charts, and VTK with an X server of its own
+# (Xvfb) for the 3D views — the athlete over the video, filmstrips, comparisons. Debian's VTK
+# development package is large (it depends on Java, MPI, GDAL and HDF5 development packages): about
+# 190 packages of the main install's 670.
 main_packages=(
   build-essential cmake pkg-config git ccache
   libeigen3-dev libceres-dev libopenmesh-dev
@@ -16,17 +19,17 @@ main_packages=(
   libyaml-cpp-dev nlohmann-json3-dev libfmt-dev libcli11-dev libcairo2-dev libtomlplusplus-dev
   libpugixml-dev
   libopencv-calib3d-dev libopencv-imgproc-dev libopencv-imgcodecs-dev
+  libvtk9-dev libjsoncpp-dev xvfb xauth
 )
-# Everything else: ChArUco boards (OpenCV's contrib modules), the 3D views and the window
-# (VTK, Qt, Xvfb), the tests and their oracles (GoogleTest, Simbody, the ffmpeg command), the
-# benchmarks, the trial library.
+# Everything else: ChArUco boards (OpenCV's contrib modules), the window (Qt and VTK's Qt module),
+# the tests and their oracles (GoogleTest, Simbody, the ffmpeg command), the benchmarks, the trial
+# library.
 full_packages=(
   libopencv-contrib-dev
-  libvtk9-dev libvtk9-qt-dev qtbase5-dev libjsoncpp-dev
+  libvtk9-qt-dev qtbase5-dev
   ffmpeg
   libgtest-dev libgmock-dev libbenchmark-dev
   libsqlite3-dev libsimbody-dev
-  xvfb xauth
 )
 
 packages=("${main_packages[@]}")

@@ -5,7 +5,8 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
-scripts/build.sh -DACRO_BUILD_TESTS=ON -DACRO_BUILD_BENCHMARKS=ON -DACRO_BUILD_UI=ON
+scripts/build.sh -DACRO_BUILD_TESTS=ON -DACRO_BUILD_BENCHMARKS=ON -DACRO_BUILD_UI=ON \
+  -DACRO_BUILD_STUDIO=ON
 cd build
 # Rendering tests need a display: run under a virtual X server when one is not already there.
 runner=()
