@@ -59,6 +59,9 @@ void AthleteScene::PoseConfiguration(const Eigen::VectorXd& q, AthletePose* out)
     out->mesh.colour = {0.85f, 0.65f, 0.5f, 1.0f};
     out->skeleton.name = "skeleton";
     out->skeleton.colour = {0.1f, 0.1f, 0.1f, 1.0f};
+    out->skeleton.segment_sides.clear();
+    for (int g = 0; g < model_.num_segments(); ++g)
+      out->skeleton.segment_sides.push_back(SideOfName(model_.segment(g).name));
   }
   out->mesh.vertices_W.resize(3, V);
   for (Eigen::Index i = 0; i < V; ++i) {

@@ -107,6 +107,17 @@ std::vector<std::pair<int, int>> KeypointLinks(const std::vector<std::string>& n
   return links;
 }
 
+std::vector<BodySide> KeypointLinkSides(const std::vector<std::string>& names,
+                                        const std::vector<std::pair<int, int>>& links) {
+  std::vector<BodySide> sides;
+  for (const auto& [a, b] : links) {
+    // A link is on a side when both its ends are (the hips across are the centre).
+    const BodySide sa = SideOfName(names[size_t(a)]), sb = SideOfName(names[size_t(b)]);
+    sides.push_back(sa == sb ? sa : BodySide::kCentre);
+  }
+  return sides;
+}
+
 BodyMeshOptions OverlayBodyMeshOptions() {
   BodyMeshOptions options;
   options.points_per_semicircle = 16;
@@ -119,6 +130,7 @@ TrialScene::TrialScene(const capture::Trial& trial, const vision::AxisMapping& a
   std::vector<std::string> names;
   for (const capture::PointInfo& p : trial.points) names.push_back(p.label);
   links_ = KeypointLinks(names);
+  link_sides_ = KeypointLinkSides(names, links_);
 }
 
 TrialScene::TrialScene(const capture::Trial& trial,
@@ -213,6 +225,7 @@ void TrialScene::Frame(int sample, TrialFrame* out) {
   // the segment count never changes.
   out->keypoint_links.name = "keypoints";
   out->keypoint_links.colour = {0.1f, 0.9f, 1.0f, 1.0f};
+  out->keypoint_links.segment_sides = link_sides_;
   out->keypoint_links.points_W.resize(3, 2 * Eigen::Index(links_.size()));
   for (size_t k = 0; k < links_.size(); ++k) {
     const auto [a, b] = links_[k];

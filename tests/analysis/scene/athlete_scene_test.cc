@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <map>
 #include <random>
 
 #include <Eigen/Geometry>
@@ -13,6 +15,7 @@
 #include "acro/athlete/de_leva.h"
 #include "acro/athlete/inertial_properties.h"
 #include "acro/dynamics/configuration.h"
+#include "acro/scene/trial_scene.h"
 
 namespace acro::analysis {
 namespace {
@@ -45,6 +48,14 @@ TEST(AthleteScene, ReferenceConfigurationPlacesTheMeshAtTheRoot) {
   EXPECT_LT((pose.mesh.vertices_W - expected).cwiseAbs().maxCoeff(), 1e-12);
   EXPECT_EQ(pose.mesh.triangles, mesh.triangles);
   EXPECT_EQ(pose.skeleton.num_segments(), 15);
+  // Coloured by side: the six limb segments of each side, the pelvis, thorax and head between.
+  ASSERT_EQ(pose.skeleton.segment_sides.size(), 15u);
+  const auto count = [&](BodySide side) {
+    return std::count(pose.skeleton.segment_sides.begin(), pose.skeleton.segment_sides.end(), side);
+  };
+  EXPECT_EQ(count(BodySide::kLeft), 6);
+  EXPECT_EQ(count(BodySide::kRight), 6);
+  EXPECT_EQ(count(BodySide::kCentre), 3);
   EXPECT_LT((pose.com_W - (body.total.p_HoCm_H + q0.head<3>())).norm(), 1e-9);
 }
 
@@ -95,6 +106,43 @@ TEST(AthleteScene, MismatchedMotionIsRefused) {
   Motion m;
   m.q = Eigen::MatrixXd::Zero(10, 3);
   EXPECT_THROW(AthleteScene(body, mesh, m), std::invalid_argument);
+}
+
+// Sides from names as the vendors write them: model segments, OpenPose/COCO keypoints, Plug-in
+// Gait markers, words; spine names that begin with L or R are not sides.
+TEST(BodySide, SideOfNameReadsEveryNaming) {
+  for (const char* left :
+       {"l_thigh", "LKnee", "LASI", "left_knee", "LeftHip", "LEFT_ANKLE", "L.Hip"})
+    EXPECT_EQ(SideOfName(left), BodySide::kLeft) << left;
+  for (const char* right : {"r_foot", "RBigToe", "RHEE", "right_wrist", "RightShoulder"})
+    EXPECT_EQ(SideOfName(right), BodySide::kRight) << right;
+  for (const char* centre : {"pelvis", "Neck", "Nose", "Lumbar", "L5", "Root", "CLAV", "head", "R"})
+    EXPECT_EQ(SideOfName(centre), BodySide::kCentre) << centre;
+  const Rgba trunk{0.9f, 0.9f, 0.9f, 0.5f};
+  EXPECT_EQ(SideColour(BodySide::kCentre, trunk).g, trunk.g);
+  EXPECT_GT(SideColour(BodySide::kLeft, trunk).r, 0.9f);   // red
+  EXPECT_GT(SideColour(BodySide::kRight, trunk).g, 0.8f);  // green
+  EXPECT_EQ(SideColour(BodySide::kRight, trunk).a, trunk.a);
+}
+
+// Keypoints joined by their names, each link on its side: the legs of each side, the hips across
+// and the neck to the nose between.
+TEST(BodySide, KeypointLinksTakeTheirEndsSide) {
+  const std::vector<std::string> names = {
+      "RHip", "RKnee", "RAnkle", "LHip", "LKnee", "LAnkle", "Neck", "Nose"};
+  const std::vector<std::pair<int, int>> links = KeypointLinks(names);
+  const std::vector<BodySide> sides = KeypointLinkSides(names, links);
+  ASSERT_EQ(sides.size(), links.size());
+  std::map<std::pair<std::string, std::string>, BodySide> by_name;
+  for (size_t k = 0; k < links.size(); ++k)
+    by_name[{names[size_t(links[k].first)], names[size_t(links[k].second)]}] = sides[k];
+  EXPECT_EQ(by_name.size(), 6u);
+  EXPECT_EQ((by_name[{"RHip", "RKnee"}]), BodySide::kRight);
+  EXPECT_EQ((by_name[{"RKnee", "RAnkle"}]), BodySide::kRight);
+  EXPECT_EQ((by_name[{"LHip", "LKnee"}]), BodySide::kLeft);
+  EXPECT_EQ((by_name[{"LKnee", "LAnkle"}]), BodySide::kLeft);
+  EXPECT_EQ((by_name[{"RHip", "LHip"}]), BodySide::kCentre);
+  EXPECT_EQ((by_name[{"Neck", "Nose"}]), BodySide::kCentre);
 }
 
 }  // namespace

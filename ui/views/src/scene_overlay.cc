@@ -46,7 +46,7 @@ class SceneActors {
       ghost.colour = {1.0f, 0.55f, 0.1f, 0.5f};
       ghost_ = renderer->AddMesh(ghost);
       analysis::SceneLines bones = f.athlete.skeleton;
-      bones.colour = {0.15f, 0.95f, 0.3f, 1.0f};
+      bones.colour = {0.95f, 0.95f, 0.95f, 1.0f};  // the trunk; the left red, the right green
       bones.width_px = 0.6 * scale_px;
       bones_ = renderer->AddLines(bones);
       joints_ = renderer->AddPoints(f.athlete.skeleton.points_W, 0.03, {0.1f, 0.5f, 0.1f, 1});

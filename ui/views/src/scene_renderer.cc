@@ -3,6 +3,7 @@
 #include <vtkActor.h>
 #include <vtkCamera.h>
 #include <vtkCellArray.h>
+#include <vtkCellData.h>
 #include <vtkDoubleArray.h>
 #include <vtkFloatArray.h>
 #include <vtkImageData.h>
@@ -310,7 +311,28 @@ int SceneRenderer::AddLines(const analysis::SceneLines& lines) {
     cells->InsertNextCell(2, ids);
   }
   data->SetLines(cells);
+  const bool sided =
+      !lines.segment_sides.empty() && lines.segment_sides.size() == size_t(lines.num_segments());
+  if (sided) {
+    // Per segment its side's colour (cell scalars, taken as colours as they are).
+    auto colours = New<vtkUnsignedCharArray>();
+    colours->SetNumberOfComponents(4);
+    colours->SetNumberOfTuples(lines.num_segments());
+    for (vtkIdType k = 0; k < lines.num_segments(); ++k) {
+      const analysis::Rgba c = analysis::SideColour(lines.segment_sides[size_t(k)], lines.colour);
+      const auto byte = [](float x) { return static_cast<unsigned char>(std::lround(255 * x)); };
+      colours->SetTypedTuple(
+          k, std::array<unsigned char, 4>{byte(c.r), byte(c.g), byte(c.b), byte(c.a)}.data());
+    }
+    data->GetCellData()->SetScalars(colours);
+  }
   const int id = impl_->AddPolyData(data, lines.colour);
+  if (sided) {
+    vtkMapper* mapper = impl_->items[size_t(id)].actor->GetMapper();
+    mapper->ScalarVisibilityOn();
+    mapper->SetScalarModeToUseCellData();
+    mapper->SetColorModeToDirectScalars();
+  }
   vtkProperty* property = impl_->items[size_t(id)].actor->GetProperty();
   property->SetLineWidth(static_cast<float>(lines.width_px));
   property->SetRenderLinesAsTubes(true);
@@ -329,6 +351,7 @@ void SceneRenderer::UpdateLines(int id, const Eigen::Matrix3Xd& points_W) {
       cells->InsertNextCell(2, ids);
     }
     item.data->SetLines(cells);
+    item.data->GetCellData()->SetScalars(nullptr);  // per-segment sides were for the old count
   }
   CopyPoints(points_W.leftCols(2 * n), item.data->GetPoints());
 }

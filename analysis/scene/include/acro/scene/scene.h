@@ -21,6 +21,17 @@ struct Rgba {
   float a = 1.0f;
 };
 
+/// The side of the body a segment or a point is on, as the colours say it: the left side red, the
+/// right green (the convention of Vicon's Plug-in Gait, which coaches and biomechanists know).
+enum class BodySide { kLeft, kRight, kCentre };
+
+/// The side a name says: a segment "l_thigh", a keypoint "LKnee" or "left_knee", a marker "RASI"
+/// (a first word or letter l/left, r/right before the rest); anything else is the centre.
+BodySide SideOfName(const std::string& name);
+
+/// Red for the left, green for the right, `centre` for the centre.
+Rgba SideColour(BodySide side, Rgba centre);
+
 /// A triangle mesh: vertices (3 × V, W) and triangles (3 × T vertex indices, counter-clockwise seen
 /// from outside).
 struct SceneMesh {
@@ -36,6 +47,9 @@ struct SceneLines {
   Eigen::Matrix3Xd points_W;
   Rgba colour;
   double width_px = 2.0;
+  /// Per segment, its side of the body (SideColour: left red, right green, centre `colour`);
+  /// empty: all `colour`.
+  std::vector<BodySide> segment_sides;
 
   int num_segments() const { return static_cast<int>(points_W.cols() / 2); }
 };

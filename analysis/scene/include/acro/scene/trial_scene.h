@@ -110,8 +110,9 @@ class TrialScene {
   vision::AxisMapping axes_;
   const TrialAnalysis* analysis_ = nullptr;
   std::unique_ptr<AthleteScene> athlete_;
-  /// Pairs of point indices joined in the keypoint skeleton.
+  /// Pairs of point indices joined in the keypoint skeleton, and the side of each.
   std::vector<std::pair<int, int>> links_;
+  std::vector<BodySide> link_sides_;
 };
 
 /// The body mesh's resolution for drawing over video: about 20 000 triangles (15 ellipsoids of 10
@@ -123,5 +124,9 @@ BodyMeshOptions OverlayBodyMeshOptions();
 /// (RHip, right_hip, r_hip, RKNE…): hips–knees–ankles–feet, shoulders–elbows–wrists, the hips and
 /// the shoulders across, the neck to head and nose, and the trunk.
 std::vector<std::pair<int, int>> KeypointLinks(const std::vector<std::string>& names);
+
+/// The side of each link (SideOfName of its ends: a link is on a side when both ends are).
+std::vector<BodySide> KeypointLinkSides(const std::vector<std::string>& names,
+                                        const std::vector<std::pair<int, int>>& links);
 
 }  // namespace acro::analysis
