@@ -107,23 +107,31 @@ int RunAnalyze(AnalyzeArguments& args) {
   CreateOutputDirectory(dir);
   if (camera_found) {
     const vision::Camera& camera = *camera_found;
-    vision::VideoSync sync = args.video.Sync(trial, camera, say);
     analysis::TrialScene scene(trial, result, body, analysis::MakeEllipsoidBodyMesh(body));
+    vision::VideoSync sync;
     if (args.video.sync == "auto") {
-      // The silhouettes refine it to the trial's sample (a frame either way).
-      capture::VideoReader colour(args.video.video);
+      // From the image motion, then refined by the silhouettes to the trial's sample.
+      vision::AutoSyncOptions motion;
+      motion.rate = args.video.rate;
+      motion.progress = MakeCancellableProgress("sync (image motion)", "frames");
       analysis::SilhouetteCheckOptions refine;
-      refine.sync = sync;
       refine.progress = MakeCancellableProgress("sync (silhouettes)", "frames");
-      const double frame_s = 1.0 / std::max(1.0, colour.info().average_fps);
-      const analysis::SilhouetteSync refined =
-          analysis::RefineSyncBySilhouettes(colour, scene, camera, refine, frame_s);
-      sync = refined.sync;
+      const analysis::AutoVideoSync found =
+          analysis::SyncVideoAutomatically(scene, camera, args.video.video, motion, refine);
+      say(fmt::format(
+          "sync: video time = {:.4f} s + trial time (from the image motion: 1 − correlation "
+          "{:.3f}, runner-up {:.3f})",
+          found.motion.sync.offset_s,
+          found.motion.cost,
+          found.motion.runner_up_cost));
+      sync = found.refined.sync;
       say(
           fmt::format("sync: video time = {:.4f} s + trial time (refined by the silhouettes, "
                       "median IoU {:.3f})",
                       sync.offset_s,
-                      refined.median_iou));
+                      found.refined.median_iou));
+    } else {
+      sync = args.video.Sync(trial, camera, say);
     }
     // The silhouettes with the body's full mesh (what the video shows), the overlay with the
     // lighter one (drawn at video rate).

@@ -203,4 +203,21 @@ SilhouetteSync RefineSyncBySilhouettes(capture::VideoReader& video,
   return out;
 }
 
+AutoVideoSync SyncVideoAutomatically(TrialScene& scene,
+                                     const vision::Camera& camera,
+                                     const std::filesystem::path& video,
+                                     const vision::AutoSyncOptions& motion,
+                                     SilhouetteCheckOptions silhouettes) {
+  AutoVideoSync out;
+  {
+    capture::VideoReader grey(video, {.pixels = capture::VideoPixels::kGrey});
+    out.motion = vision::SyncFromImageMotion(scene.trial(), camera, grey, motion);
+  }
+  capture::VideoReader colour(video);
+  silhouettes.sync = out.motion.sync;
+  const double frame_s = 1.0 / std::max(1.0, colour.info().average_fps);
+  out.refined = RefineSyncBySilhouettes(colour, scene, camera, silhouettes, frame_s);
+  return out;
+}
+
 }  // namespace acro::analysis

@@ -10,6 +10,7 @@
 #include "acro/views/camera_composite.h"
 #include "acro/views/display.h"
 #include "acro/views/scene_renderer.h"
+#include "scene_actors.h"
 
 namespace acro::ui {
 
@@ -58,19 +59,7 @@ int WriteCompareVideo(analysis::CompareScene& scene,
     v.renderer = std::make_unique<SceneRenderer>(vw, vh, 4);
     v.renderer->SetBackground({0.93f, 0.94f, 0.96f, 1.0f});
     v.renderer->SetSceneLights({{0.3, 0.5, -1}, {-0.4, 0.2, -1}}, 0.5, 0.5);
-    if (options.trampoline) {
-      analysis::SceneMesh bed = options.trampoline->bed;
-      bed.colour = {0.1f, 0.1f, 0.12f, 1};
-      v.renderer->AddMesh(bed);
-      analysis::SceneMesh frame = options.trampoline->frame;
-      frame.colour = {0.15f, 0.35f, 0.75f, 1};
-      v.renderer->AddMesh(frame);
-      for (analysis::SceneLines lines : {options.trampoline->springs, options.trampoline->legs}) {
-        lines.colour = {0.55f, 0.55f, 0.58f, 1};
-        lines.width_px = 2;
-        v.renderer->AddLines(lines);
-      }
-    }
+    if (options.trampoline) internal::AddTrampoline(v.renderer.get(), *options.trampoline);
     if (k != 1) {
       analysis::SceneMesh a = f.a.mesh;
       a.colour = kSkinA;

@@ -117,7 +117,7 @@ struct XDisplay::Impl {
                             "3",
                             "-screen",
                             "0",
-                            "1280x1024x24",
+                            "1920x1080x24",  // a full-HD screen: the studio's window fits
                             "-nolisten",
                             "tcp",
                             "-noreset",

@@ -11,8 +11,12 @@
 #include "acro/views/camera_composite.h"
 #include "acro/views/display.h"
 #include "acro/views/scene_renderer.h"
+#include "scene_actors.h"
 
 namespace acro::ui {
+
+using internal::SceneActors;
+using internal::Show;
 
 namespace {
 
@@ -21,86 +25,6 @@ using Clock = std::chrono::steady_clock;
 double Since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
-
-struct Show : analysis::SceneShow {
-  bool shaded = true;
-};
-
-// The actors of one trial scene, built from its first frame and updated in place.
-class SceneActors {
- public:
-  SceneActors(SceneRenderer* renderer,
-              const analysis::TrialFrame& f,
-              const Show& show,
-              bool athlete,
-              double scale_px)
-      : renderer_(renderer), show_(show), athlete_(athlete) {
-    analysis::SceneLines links = f.keypoint_links;
-    links.width_px = 0.6 * scale_px;
-    if (athlete_) {
-      analysis::SceneMesh mesh = f.athlete.mesh;
-      mesh.colour = {0.25f, 0.6f, 1.0f, 0.55f};  // the virtual athlete: blue, see-through
-      mesh_ = renderer->AddMesh(mesh);
-      // The ghost: the same athlete's mesh, orange and see-through (shown in the flights it is in).
-      analysis::SceneMesh ghost = f.athlete.mesh;
-      ghost.colour = {1.0f, 0.55f, 0.1f, 0.5f};
-      ghost_ = renderer->AddMesh(ghost);
-      analysis::SceneLines bones = f.athlete.skeleton;
-      bones.colour = {0.95f, 0.95f, 0.95f, 1.0f};  // the trunk; the left red, the right green
-      bones.width_px = 0.6 * scale_px;
-      bones_ = renderer->AddLines(bones);
-      joints_ = renderer->AddPoints(f.athlete.skeleton.points_W, 0.03, {0.1f, 0.5f, 0.1f, 1});
-      com_ = renderer->AddPoints(f.athlete.com_W, 0.06, {1.0f, 0.85f, 0.0f, 1});
-      analysis::SceneLines trail = f.com_trail;
-      trail.width_px = 0.4 * scale_px;
-      trail_ = renderer->AddLines(trail);
-      analysis::SceneLines residual = f.residual;
-      residual.width_px = 0.6 * scale_px;
-      residual_ = renderer->AddLines(residual);
-    } else {
-      links_ = renderer->AddLines(links);
-    }
-    // Markers are about 14 mm wide; video keypoints are drawn as joints.
-    markers_ = renderer->AddPoints(f.markers_W, athlete_ ? 0.01 : 0.02, {1.0f, 0.3f, 0.9f, 1});
-    if (!show.shaded) {
-      for (const int id :
-           {mesh_, ghost_, bones_, joints_, com_, trail_, residual_, links_, markers_})
-        if (id >= 0) renderer->SetLit(id, false);
-    }
-    Update(f, true);
-  }
-
-  void Update(const analysis::TrialFrame& f, bool visible) {
-    if (athlete_) {
-      renderer_->UpdateMesh(mesh_, f.athlete.mesh.vertices_W);
-      renderer_->UpdateLines(bones_, f.athlete.skeleton.points_W);
-      renderer_->UpdatePoints(joints_, f.athlete.skeleton.points_W);
-      renderer_->UpdatePoints(com_, f.athlete.com_W);
-      renderer_->UpdateLines(trail_, f.com_trail.points_W);
-      renderer_->UpdateLines(residual_, f.residual.points_W);
-      renderer_->SetVisible(mesh_, visible && show_.mesh);
-      if (f.ghost_shown) renderer_->UpdateMesh(ghost_, f.ghost.mesh.vertices_W);
-      renderer_->SetVisible(ghost_, visible && f.ghost_shown);
-      renderer_->SetVisible(bones_, visible && show_.skeleton);
-      renderer_->SetVisible(joints_, visible && show_.skeleton);
-      renderer_->SetVisible(com_, visible && show_.com);
-      renderer_->SetVisible(trail_, visible && show_.com && f.com_trail.num_segments() > 0);
-      renderer_->SetVisible(residual_, visible && show_.residual);
-    } else {
-      renderer_->UpdateLines(links_, f.keypoint_links.points_W);
-      renderer_->SetVisible(links_, visible && show_.skeleton);
-    }
-    renderer_->UpdatePoints(markers_, f.markers_W);
-    renderer_->SetVisible(markers_, visible && show_.markers && f.markers_W.cols() > 0);
-  }
-
- private:
-  SceneRenderer* renderer_;
-  Show show_;
-  bool athlete_;
-  int mesh_ = -1, ghost_ = -1, bones_ = -1, joints_ = -1, com_ = -1, trail_ = -1, residual_ = -1,
-      links_ = -1, markers_ = -1;
-};
 
 // Grows `box` (min, max) by the points.
 void Extend(const Eigen::Matrix3Xd& points, Eigen::Vector3d* lo, Eigen::Vector3d* hi) {
@@ -180,17 +104,121 @@ void TintMismatch(const vision::Mask& real,
 
 }  // namespace
 
+struct TrialOverlay::Impl {
+  Impl(analysis::TrialScene& scene_in,
+       const vision::Camera& calibrated,
+       int width,
+       int height,
+       const SceneOverlayOptions& options_in)
+      : scene(scene_in),
+        options(options_in),
+        camera(Sized(calibrated, width, height)),
+        composite(camera),
+        renderer(composite.render_camera().width_px, composite.render_camera().height_px) {
+    if (options.show.mismatch &&
+        (options.background == nullptr || options.background->width() != width ||
+         options.background->height() != height || !scene.has_athlete()))
+      throw std::invalid_argument(
+          "TrialOverlay: the mismatch needs the video's background model and an athlete");
+    renderer.LookThrough(composite.render_camera());
+    // Sizes in pixels follow the frame: 1 unit is 0.5 % of the diagonal, at least 3 px.
+    scale_px = std::max(3.0, 0.005 * std::hypot(width, height));
+    text_px = std::max(12, int(0.022 * height));
+    margin_px = 0.02 * std::hypot(width, height) + 2 * scale_px;
+    static_cast<analysis::SceneShow&>(show) = options.show;
+    show.shaded = options.shaded;
+  }
+  // The camera's pixels are the video's from the top-left corner, whatever the size it was
+  // calibrated at (a calibration at the coded size, 1088 px, fits a 1080 px video).
+  static vision::Camera Sized(const vision::Camera& c, int width, int height) {
+    vision::Camera sized = c;
+    sized.width_px = width;
+    sized.height_px = height;
+    return sized;
+  }
+
+  analysis::TrialScene& scene;
+  SceneOverlayOptions options;
+  vision::Camera camera;
+  XDisplay display;  // before the renderer, which needs it
+  CameraComposite composite;
+  SceneRenderer renderer;
+  Show show;
+  double scale_px = 3, margin_px = 0;
+  int text_px = 12;
+  analysis::TrialFrame tf;
+  std::optional<SceneActors> actors;
+  RenderImage render, strip;
+  analysis::SilhouetteFrame silhouettes;
+  vision::Mask real;
+  std::string heads_up;
+};
+
+TrialOverlay::TrialOverlay(analysis::TrialScene& scene,
+                           const vision::Camera& camera,
+                           int width,
+                           int height,
+                           const SceneOverlayOptions& options)
+    : impl_(std::make_unique<Impl>(scene, camera, width, height, options)) {}
+
+TrialOverlay::~TrialOverlay() = default;
+
+const analysis::TrialFrame& TrialOverlay::frame() const {
+  return impl_->tf;
+}
+
+void TrialOverlay::Draw(int sample, capture::VideoFrame* frame, OverlayTiming* timing) {
+  Impl& m = *impl_;
+  if (frame->width != m.camera.width_px || frame->height != m.camera.height_px ||
+      frame->channels != 3)
+    throw std::invalid_argument("TrialOverlay::Draw: not an RGB frame of the overlay's size");
+  OverlayTiming ignored;
+  OverlayTiming& t = timing != nullptr ? *timing : ignored;
+  auto start = Clock::now();
+  m.scene.Frame(sample, &m.tf);
+  if (!m.actors) {
+    m.actors.emplace(&m.renderer, m.tf, m.show, m.scene.has_athlete(), m.scale_px);
+  } else {
+    m.actors->Update(m.tf, true);
+  }
+  const bool in_flight = m.scene.FlightAt(sample) >= 0;
+  t.scene_s += Since(start);
+  // Only the part of the frame the scene covers is rendered, read back and composited.
+  const PixelBox box = FrameBox(m.tf, m.show, m.scene.has_athlete(), m.camera, m.margin_px);
+  start = Clock::now();
+  if (!box.empty()) m.renderer.Render(m.composite.RenderRegion(box), &m.render);
+  t.render_s += Since(start);
+  start = Clock::now();
+  // The silhouettes are compared on the frame as filmed, the mismatch drawn over the render.
+  const bool mismatch = m.options.show.mismatch && in_flight;
+  if (mismatch) {
+    m.real = m.options.background->Foreground(*frame, m.options.background_options);
+    analysis::CompareSilhouettes(m.real, m.tf, m.camera, m.options.box_margin, &m.silhouettes);
+  }
+  if (!box.empty()) m.composite.Composite(m.render, box, &frame->pixels);
+  m.heads_up = m.tf.heads_up;
+  if (mismatch) {
+    TintMismatch(m.real, m.silhouettes, &frame->pixels);
+    m.heads_up += fmt::format("  IoU {:.2f}", m.silhouettes.iou);
+  }
+  if (m.options.heads_up) {
+    RenderTextLine(m.heads_up, m.text_px, m.tf.heads_up_colour, &m.strip);
+    BlendOver(m.strip,
+              m.text_px / 2,
+              m.text_px / 2,
+              m.camera.width_px,
+              m.camera.height_px,
+              &frame->pixels);
+  }
+  t.composite_s += Since(start);
+}
+
 OverlayTiming WriteSceneOverlay(capture::VideoReader& video,
                                 analysis::TrialScene& scene,
-                                const vision::Camera& calibrated,
+                                const vision::Camera& camera,
                                 const std::filesystem::path& output,
                                 const SceneOverlayOptions& options) {
   const capture::VideoInfo& info = video.info();
-  // The camera's pixels are the video's from the top-left corner, whatever the size it was
-  // calibrated at (a calibration at the coded size, 1088 px, fits a 1080 px video).
-  vision::Camera camera = calibrated;
-  camera.width_px = info.width;
-  camera.height_px = info.height;
   const int first = std::max(0, options.first_frame);
   const int last = options.last_frame < 0 ? info.num_frames - 1
                                           : std::min(options.last_frame, info.num_frames - 1);
@@ -200,36 +228,13 @@ OverlayTiming WriteSceneOverlay(capture::VideoReader& video,
                      "frames " + std::to_string(first) + ".." + std::to_string(options.last_frame) +
                          " are not in the video (" + std::to_string(info.num_frames) + " frames)");
   const int slow = std::max(1, options.slow);
-  if (options.show.mismatch &&
-      (options.background == nullptr || options.background->width() != info.width ||
-       options.background->height() != info.height || !scene.has_athlete()))
-    throw std::invalid_argument(
-        "WriteSceneOverlay: the mismatch needs the video's background model and an athlete");
-
-  const XDisplay display;
-  const CameraComposite composite(camera);
-  const vision::Camera& pinhole = composite.render_camera();
-  SceneRenderer renderer(pinhole.width_px, pinhole.height_px);
-  renderer.LookThrough(pinhole);
-  // Sizes in pixels follow the frame: 1 unit is 0.5 % of the diagonal, at least 3 px.
-  const double scale_px = std::max(3.0, 0.005 * std::hypot(info.width, info.height));
-  const int text_px = std::max(12, int(0.022 * info.height));
+  TrialOverlay overlay(scene, camera, info.width, info.height, options);
 
   capture::VideoWriterOptions w = options.video;
   if (info.average_fps > 0) w.fps = info.average_fps;
   capture::FrameOutput out(output, info.width, info.height, w);
 
-  Show show;
-  static_cast<analysis::SceneShow&>(show) = options.show;
-  show.shaded = options.shaded;
-  const double margin_px = 0.02 * std::hypot(info.width, info.height) + 2 * scale_px;
-  analysis::TrialFrame tf;
-  std::optional<SceneActors> actors;
-  RenderImage render, strip;
   capture::VideoFrame frame;
-  analysis::SilhouetteFrame silhouettes;
-  vision::Mask real;
-  std::string heads_up;
   OverlayTiming timing;
   const int total = last - first + 1;
   auto start = Clock::now();
@@ -243,41 +248,8 @@ OverlayTiming WriteSceneOverlay(capture::VideoReader& video,
     ++timing.frames_read;
     const double t = video.frame_times_s()[size_t(frame.index)];
     const int sample = options.sync.NearestSample(scene.trial(), t);
-    bool in_flight = false;
-    if (sample >= 0) {
-      start = Clock::now();
-      scene.Frame(sample, &tf);
-      if (!actors) {
-        actors.emplace(&renderer, tf, show, scene.has_athlete(), scale_px);
-      } else {
-        actors->Update(tf, true);
-      }
-      in_flight = scene.FlightAt(sample) >= 0;
-      timing.scene_s += Since(start);
-      // Only the part of the frame the scene covers is rendered, read back and composited.
-      const PixelBox box = FrameBox(tf, show, scene.has_athlete(), camera, margin_px);
-      start = Clock::now();
-      if (!box.empty()) renderer.Render(composite.RenderRegion(box), &render);
-      timing.render_s += Since(start);
-      start = Clock::now();
-      // The silhouettes are compared on the frame as filmed, the mismatch drawn over the render.
-      const bool mismatch = options.show.mismatch && in_flight;
-      if (mismatch) {
-        real = options.background->Foreground(frame, options.background_options);
-        analysis::CompareSilhouettes(real, tf, camera, options.box_margin, &silhouettes);
-      }
-      if (!box.empty()) composite.Composite(render, box, &frame.pixels);
-      heads_up = tf.heads_up;
-      if (mismatch) {
-        TintMismatch(real, silhouettes, &frame.pixels);
-        heads_up += fmt::format("  IoU {:.2f}", silhouettes.iou);
-      }
-      if (options.heads_up) {
-        RenderTextLine(heads_up, text_px, tf.heads_up_colour, &strip);
-        BlendOver(strip, text_px / 2, text_px / 2, info.width, info.height, &frame.pixels);
-      }
-      timing.composite_s += Since(start);
-    }
+    const bool in_flight = sample >= 0 && scene.FlightAt(sample) >= 0;
+    if (sample >= 0) overlay.Draw(sample, &frame, &timing);
     start = Clock::now();
     const int copies = in_flight && out.is_video() ? slow : 1;
     for (int c = 0; c < copies; ++c) out.Write(frame.index, frame.pixels);

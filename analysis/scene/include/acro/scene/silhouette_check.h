@@ -7,6 +7,7 @@
 // frames off or a wrong calibration shows as a drop. (Issue "virtual against real", item 6;
 // docs/overlay.md.)
 
+#include <filesystem>
 #include <functional>
 #include <vector>
 
@@ -14,6 +15,7 @@
 #include "acro/scene/trial_scene.h"
 #include "acro/vision/camera.h"
 #include "acro/vision/silhouette.h"
+#include "acro/vision/sync.h"
 #include "acro/vision/video_sync.h"
 
 namespace acro::analysis {
@@ -85,5 +87,22 @@ SilhouetteSync RefineSyncBySilhouettes(capture::VideoReader& video,
                                        const SilhouetteCheckOptions& options,
                                        double half_range_s,
                                        int frame_stride = 3);
+
+/// The sync of a video with a trial found from the video alone, as `analyze --sync auto` does it:
+/// from the image motion in the athlete's box (vision::SyncFromImageMotion, within a frame), then
+/// refined by the silhouettes to the trial's sample (RefineSyncBySilhouettes, a frame either way).
+struct AutoVideoSync {
+  vision::AutoSyncResult motion;  ///< the first step
+  SilhouetteSync refined;         ///< the second; refined.sync is the answer
+};
+
+/// `motion.progress` and `silhouettes.progress` report each step (and cancel it); the video is
+/// opened twice (grey for the motion, colour for the silhouettes). Throws acro::InputError for an
+/// unreadable video or a cancelled run, std::invalid_argument for a scene without an athlete.
+AutoVideoSync SyncVideoAutomatically(TrialScene& scene,
+                                     const vision::Camera& camera,
+                                     const std::filesystem::path& video,
+                                     const vision::AutoSyncOptions& motion,
+                                     SilhouetteCheckOptions silhouettes);
 
 }  // namespace acro::analysis

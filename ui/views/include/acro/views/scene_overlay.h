@@ -56,6 +56,35 @@ struct OverlayTiming {
   double encode_s = 0;
 };
 
+/// The overlay one frame at a time (the studio's video view, and each frame of WriteSceneOverlay):
+/// the trial sample a frame shows drawn over it through the camera, with the mismatch and the
+/// heads-up line as `options` say (their sync, frames and encoding are not used here). Needs an X
+/// display (it holds one: display.h).
+class TrialOverlay {
+ public:
+  /// Frames of `width` × `height` (the video's size; the camera's pixels are the video's from the
+  /// top-left corner). Throws std::invalid_argument for the mismatch without a background model of
+  /// that size or without an athlete, and acro::InputError when no X display can be had.
+  TrialOverlay(analysis::TrialScene& scene,
+               const vision::Camera& camera,
+               int width,
+               int height,
+               const SceneOverlayOptions& options);
+  ~TrialOverlay();
+  TrialOverlay(const TrialOverlay&) = delete;
+  TrialOverlay& operator=(const TrialOverlay&) = delete;
+
+  /// Draws trial sample `sample` over `frame` (RGB, the overlay's size) in place; adds the time
+  /// spent to `timing` when given.
+  void Draw(int sample, capture::VideoFrame* frame, OverlayTiming* timing = nullptr);
+  /// The scene frame last drawn.
+  const analysis::TrialFrame& frame() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 /// Writes the overlay of `scene` on `video` (opened for RGB) through `camera` into `output` (.mp4,
 /// else a directory of frame_NNNNNN.png). The camera's pixels are taken to be the video's from the
 /// top-left corner even when it was calibrated at another size (the caller warns about it). Throws

@@ -1,0 +1,155 @@
+// The studio driven as a user would, under Xvfb (test.sh runs the suite under xvfb-run; without a
+// display the test starts its own): the sample routine opened with its video and calibration; the
+// timeline's six jumps with their codes; a frame either way by the arrow keys, the video view
+// showing exactly the decoded frame of the cursor and the 3D view the athlete at that sample;
+// play for a second and pause; a click on jump 6 in the table puts the cursor at its take-off; the
+// session saved and reopened; a bad file is a dialog and the session stays. With
+// ACRO_STUDIO_SCREENSHOTS=DIR each state is saved as a picture there (docs/studio.md).
+
+#include "acro/studio/main_window.h"
+
+#include <gtest/gtest.h>
+
+#include <QApplication>
+#include <QElapsedTimer>
+#include <QScreen>
+#include <QTableWidget>
+#include <QTest>
+#include <QThread>
+
+#include <cstdlib>
+#include <fstream>
+#include <functional>
+
+#include "acro/studio/timeline.h"
+#include "acro/views/display.h"
+#include "refdata.h"
+
+namespace acro::studio {
+namespace {
+
+namespace fs = std::filesystem;
+
+bool WaitUntil(const std::function<bool()>& done, int ms) {
+  QElapsedTimer t;
+  t.start();
+  while (!done() && t.elapsed() < ms) {
+    QCoreApplication::processEvents(QEventLoop::AllEvents, 20);
+    QThread::msleep(5);
+  }
+  return done();
+}
+
+// The whole screen (the window and any dialog over it).
+void Shot(const std::string& name) {
+  const char* dir = std::getenv("ACRO_STUDIO_SCREENSHOTS");
+  if (dir == nullptr || *dir == 0) return;
+  QTest::qWait(200);
+  QGuiApplication::primaryScreen()->grabWindow(0).save(
+      QString::fromStdString((fs::path(dir) / (name + ".png")).string()));
+}
+
+SessionFiles SampleFiles() {
+  const fs::path dir = acro::testing::SourceDir() / "samples/trials/trampoline_routine";
+  SessionFiles f;
+  f.trial = (dir / "trampoline_routine.c3d").string();
+  f.athlete = (acro::testing::SourceDir() / "samples/athletes/sample_athlete.yaml").string();
+  f.video = (dir / "side_camera.mp4").string();
+  f.calibration = (dir / "side_camera.toml").string();
+  f.offset_s = -0.575;  // video_truth.json (the automatic sync is analyze's, tested there)
+  return f;
+}
+
+TEST(Studio, TheSampleRoutineWithItsVideoAtOneCursor) {
+  MainWindow w;
+  w.resize(1920, 1080);
+  w.show();
+  ASSERT_TRUE(QTest::qWaitForWindowExposed(&w));
+  QApplication::setActiveWindow(&w);
+  w.OpenFiles(SampleFiles());
+  ASSERT_TRUE(WaitUntil([&] { return w.session() != nullptr && !w.busy(); }, 180000))
+      << w.last_error();
+  ASSERT_TRUE(w.last_error().empty()) << w.last_error();
+  Session& s = *w.session();
+
+  // The timeline: six jumps with their codes.
+  const std::vector<std::string> codes = {"00", "40o", "40<", "41/", "42/", "800o"};
+  ASSERT_EQ(w.timeline()->jumps().size(), codes.size());
+  for (size_t k = 0; k < codes.size(); ++k)
+    EXPECT_EQ(w.timeline()->jumps()[k].label, std::to_string(k + 1) + "  " + codes[k]);
+  EXPECT_EQ(w.jump_table()->rowCount(), 6);
+
+  // A frame forward and back with the arrow keys: the video view shows the reader's frame of the
+  // cursor, the 3D view the athlete at the cursor.
+  w.SetCursor(s.SampleOf(120));
+  ASSERT_EQ(w.video_frame_index(), 120);
+  capture::VideoReader reader(SampleFiles().video);
+  for (const auto& [key, expected] :
+       {std::pair{Qt::Key_Right, 121}, {Qt::Key_Right, 122}, {Qt::Key_Left, 121}}) {
+    QTest::keyClick(&w, key);
+    QCoreApplication::processEvents();
+    ASSERT_EQ(w.video_frame_index(), expected);
+    EXPECT_EQ(w.cursor(), s.SampleOf(expected));
+    const capture::VideoFrame truth = reader.Frame(expected);
+    EXPECT_TRUE(w.filmed_frame().pixels == truth.pixels) << "frame " << expected;
+    ASSERT_NE(w.view_frame(), nullptr);
+    EXPECT_EQ(w.view_frame()->sample, w.cursor());
+  }
+  Shot("studio_frame_121");
+
+  // Play for a second, then pause: the cursor moved about a second of trial (one at speed 1).
+  const int before = w.cursor();
+  QTest::keyClick(&w, Qt::Key_Space);
+  EXPECT_TRUE(w.playing());
+  QTest::qWait(1000);
+  QTest::keyClick(&w, Qt::Key_Space);
+  EXPECT_FALSE(w.playing());
+  const double played_s = (w.cursor() - before) / s.rate_hz();
+  EXPECT_GT(played_s, 0.5);
+  EXPECT_LT(played_s, 1.3);
+
+  // A click on jump 6 in the table: the cursor at its take-off.
+  QTableWidget* table = w.jump_table();
+  const QRect row6 = table->visualItemRect(table->item(5, 0));
+  QTest::mouseClick(table->viewport(), Qt::LeftButton, {}, row6.center());
+  const analysis::JumpMetrics& six = s.analysis().jumps.at(5);
+  EXPECT_EQ(w.cursor(), six.flight.takeoff_frame);
+  Shot("studio_jump_6");
+
+  // The session saved and reopened in another window: the same files, cursor and view.
+  const fs::path dir = acro::testing::ScratchDir("studio_session");
+  ASSERT_TRUE(w.SaveSessionFile((dir / "sample.acrolab").string())) << w.last_error();
+  MainWindow again;
+  again.OpenSessionFile((dir / "sample.acrolab").string());
+  ASSERT_TRUE(WaitUntil([&] { return again.session() != nullptr && !again.busy(); }, 180000))
+      << again.last_error();
+  EXPECT_EQ(again.cursor(), w.cursor());
+  EXPECT_EQ(fs::weakly_canonical(again.session()->files().trial),
+            fs::weakly_canonical(s.files().trial));
+  EXPECT_EQ(again.session()->sync().offset_s, s.sync().offset_s);
+
+  // A bad file: a dialog with its one-line error; the session stays as it was.
+  std::ofstream(dir / "not_a_trial.c3d") << "this is not a C3D file\n";
+  SessionFiles bad = SampleFiles();
+  bad.trial = (dir / "not_a_trial.c3d").string();
+  Session* kept = w.session();
+  w.OpenFiles(bad);
+  ASSERT_TRUE(WaitUntil([&] { return !w.busy() && !w.last_error().empty(); }, 60000));
+  EXPECT_NE(w.last_error().find("not_a_trial.c3d"), std::string::npos) << w.last_error();
+  EXPECT_EQ(w.last_error().find('\n'), std::string::npos) << w.last_error();
+  EXPECT_EQ(w.session(), kept);
+  EXPECT_EQ(w.cursor(), six.flight.takeoff_frame);
+  Shot("studio_bad_file");
+}
+
+}  // namespace
+}  // namespace acro::studio
+
+// The display (an Xvfb of its own when there is none) and the application outlive every test and
+// end before the program's static objects (Qt's post routines must run while its GUI is alive).
+int main(int argc, char** argv) {
+  ::testing::InitGoogleTest(&argc, argv);
+  const acro::ui::XDisplay display;
+  QApplication app(argc, argv);
+  return RUN_ALL_TESTS();
+}

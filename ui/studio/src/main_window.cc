@@ -1,0 +1,511 @@
+#include "acro/studio/main_window.h"
+
+#include <QAction>
+#include <QApplication>
+#include <QCloseEvent>
+#include <QComboBox>
+#include <QDateTime>
+#include <QFileDialog>
+#include <QHBoxLayout>
+#include <QHeaderView>
+#include <QLabel>
+#include <QMenuBar>
+#include <QMessageBox>
+#include <QProgressBar>
+#include <QPushButton>
+#include <QSplitter>
+#include <QStatusBar>
+#include <QTableWidget>
+#include <QTimer>
+#include <QToolBar>
+#include <QVBoxLayout>
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "acro/base/input_error.h"
+#include "acro/scene/place_scene.h"
+#include "acro/studio/timeline.h"
+#include "acro/views/scene_overlay.h"
+#include "acro/views/trial_view.h"
+#include "image_view.h"
+
+namespace acro::studio {
+
+namespace {
+
+constexpr int kViewWidth = 960, kViewHeight = 540;
+
+QImage ToImage(const std::vector<std::uint8_t>& rgb, int width, int height) {
+  return QImage(rgb.data(), width, height, 3 * width, QImage::Format_RGB888).copy();
+}
+
+ui::ViewPreset PresetOf(const std::string& name) {
+  return name == "front" ? ui::ViewPreset::kFront
+         : name == "top" ? ui::ViewPreset::kTop
+                         : ui::ViewPreset::kSide;
+}
+
+}  // namespace
+
+MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
+  setWindowTitle("Acrolab Studio");
+  view3d_ = new ImageView("Open a trial: File → Open trial…");
+  video_view_ = new ImageView("No video: File → Open video…");
+  auto* views = new QSplitter(Qt::Horizontal);
+  views->addWidget(view3d_);
+  views->addWidget(video_view_);
+  timeline_ = new Timeline;
+  connect(timeline_, &Timeline::cursorRequested, this, [this](int s) {
+    SetPlaying(false);
+    SetCursor(s);
+  });
+  jumps_ = new QTableWidget(0, 8);
+  jumps_->setHorizontalHeaderLabels({"#",
+                                     "code",
+                                     "skill",
+                                     "time of flight (s)",
+                                     "apex (m)",
+                                     "displacement (m)",
+                                     "DD",
+                                     "verdict"});
+  jumps_->setSelectionBehavior(QAbstractItemView::SelectRows);
+  jumps_->setEditTriggers(QAbstractItemView::NoEditTriggers);
+  jumps_->horizontalHeader()->setStretchLastSection(true);
+  jumps_->verticalHeader()->hide();
+  connect(jumps_, &QTableWidget::cellClicked, this, [this](int row, int) {
+    if (session_ && row >= 0 && size_t(row) < session_->analysis().jumps.size())
+      GoToJump(session_->analysis().jumps[size_t(row)].index);
+  });
+  auto* vertical = new QSplitter(Qt::Vertical);
+  vertical->addWidget(views);
+  auto* bottom = new QWidget;
+  auto* bottom_layout = new QVBoxLayout(bottom);
+  bottom_layout->setContentsMargins(0, 0, 0, 0);
+  bottom_layout->addWidget(timeline_);
+  bottom_layout->addWidget(jumps_);
+  vertical->addWidget(bottom);
+  vertical->setStretchFactor(0, 1);
+  vertical->setStretchFactor(1, 0);
+  jumps_->setMinimumHeight(120);
+  vertical->setSizes({700, 260});
+  setCentralWidget(vertical);
+
+  status_ = new QLabel;
+  progress_ = new QProgressBar;
+  progress_->setMaximumWidth(240);
+  progress_->hide();
+  cancel_ = new QPushButton("Cancel");
+  cancel_->hide();
+  connect(cancel_, &QPushButton::clicked, this, [this] { cancel_load_ = true; });
+  statusBar()->addWidget(status_, 1);
+  statusBar()->addPermanentWidget(progress_);
+  statusBar()->addPermanentWidget(cancel_);
+
+  timer_ = new QTimer(this);
+  timer_->setInterval(15);
+  connect(timer_, &QTimer::timeout, this, &MainWindow::Tick);
+  BuildMenus();
+  resize(1600, 950);
+}
+
+MainWindow::~MainWindow() {
+  cancel_load_ = true;
+  JoinLoader();
+}
+
+void MainWindow::JoinLoader() {
+  if (loader_.joinable()) loader_.join();
+}
+
+void MainWindow::closeEvent(QCloseEvent* event) {
+  cancel_load_ = true;
+  JoinLoader();
+  event->accept();
+}
+
+void MainWindow::BuildMenus() {
+  QMenu* file = menuBar()->addMenu("&File");
+  file->addAction("Open &trial…", this, [this] {
+    const QString trial = QFileDialog::getOpenFileName(
+        this, "Open a trial", {}, "Trials (*.c3d *.trc *.csv);;All files (*)");
+    if (trial.isEmpty()) return;
+    const QString athlete = QFileDialog::getOpenFileName(
+        this, "The athlete's profile (cancel: a default athlete)", {}, "Profiles (*.yaml *.yml)");
+    SessionFiles files;
+    files.trial = trial.toStdString();
+    files.athlete = athlete.toStdString();
+    OpenFiles(files);
+  });
+  file->addAction("Open &video…", this, [this] {
+    if (!session_) return ShowError("Open a trial first: the video is synced with it.");
+    const QString video = QFileDialog::getOpenFileName(
+        this, "Open the trial's video", {}, "Videos (*.mp4 *.mov *.avi *.mkv)");
+    if (video.isEmpty()) return;
+    const QString calib = QFileDialog::getOpenFileName(
+        this, "Its camera calibration", {}, "Calibrations (*.toml *.xml *.yaml *.json)");
+    if (calib.isEmpty()) return;
+    SessionFiles files = session_->files();
+    files.video = video.toStdString();
+    files.calibration = calib.toStdString();
+    files.offset_s.reset();
+    OpenFiles(files, view());
+  });
+  file->addAction("&Open session…", this, [this] {
+    const QString path =
+        QFileDialog::getOpenFileName(this, "Open a session", {}, "Sessions (*.acrolab)");
+    if (!path.isEmpty()) OpenSessionFile(path.toStdString());
+  });
+  file->addAction("&Save session…", this, [this] {
+    const QString path =
+        QFileDialog::getSaveFileName(this, "Save the session", {}, "Sessions (*.acrolab)");
+    if (!path.isEmpty()) SaveSessionFile(path.toStdString());
+  });
+  file->addSeparator();
+  QAction* quit = file->addAction("&Quit", this, &QWidget::close);
+  quit->setShortcut(QKeySequence::Quit);
+
+  QToolBar* transport = addToolBar("Transport");
+  const auto add = [&](const QString& text, const QKeySequence& key, auto slot) {
+    QAction* a = transport->addAction(text, this, slot);
+    a->setShortcut(key);
+    a->setShortcutContext(Qt::WindowShortcut);
+    a->setToolTip(text + "  (" + key.toString() + ")");
+    return a;
+  };
+  add("|◀ take-off", QKeySequence(Qt::Key_PageUp), [this] { StepTakeoff(-1); });
+  add("◀ frame", QKeySequence(Qt::Key_Left), [this] { StepFrame(-1); });
+  add("play / pause", QKeySequence(Qt::Key_Space), [this] { SetPlaying(!playing_, 1); });
+  add("frame ▶", QKeySequence(Qt::Key_Right), [this] { StepFrame(1); });
+  add("take-off ▶|", QKeySequence(Qt::Key_PageDown), [this] { StepTakeoff(1); });
+  // J, K, L as in video players: backwards, pause, forwards.
+  add("J", QKeySequence(Qt::Key_J), [this] { SetPlaying(true, -1); })->setVisible(false);
+  add("K", QKeySequence(Qt::Key_K), [this] { SetPlaying(false); })->setVisible(false);
+  add("L", QKeySequence(Qt::Key_L), [this] { SetPlaying(true, 1); })->setVisible(false);
+  transport->addSeparator();
+  speed_box_ = new QComboBox;
+  for (const char* s : {"speed 1", "speed ½", "speed ¼", "speed ⅛"}) speed_box_->addItem(s);
+  connect(speed_box_, QOverload<int>::of(&QComboBox::currentIndexChanged), this, [this](int i) {
+    speed_ = 1.0 / double(1 << i);
+  });
+  transport->addWidget(speed_box_);
+  loop_ = transport->addAction("loop the jump");
+  loop_->setCheckable(true);
+  transport->addSeparator();
+  preset_box_ = new QComboBox;
+  for (const char* s : {"side", "front", "top"}) preset_box_->addItem(s);
+  connect(preset_box_, QOverload<int>::of(&QComboBox::currentIndexChanged), this, [this](int) {
+    Redraw();
+  });
+  transport->addWidget(preset_box_);
+  follow_ = transport->addAction("follow");
+  follow_->setCheckable(true);
+  connect(follow_, &QAction::toggled, this, [this](bool) { Redraw(); });
+}
+
+void MainWindow::ShowError(const std::string& message) {
+  last_error_ = message;
+  status_->setText(QString::fromStdString(message));
+  // Not modal: the window stays live (and a test can read it).
+  auto* box = new QMessageBox(
+      QMessageBox::Critical, "Acrolab", QString::fromStdString(message), QMessageBox::Ok, this);
+  box->setAttribute(Qt::WA_DeleteOnClose);
+  box->open();
+}
+
+void MainWindow::OpenFiles(const SessionFiles& files, const SessionView& view) {
+  if (busy()) return ShowError("Still opening the previous files: wait or cancel.");
+  JoinLoader();
+  SetPlaying(false);
+  cancel_load_ = false;
+  loaded_ = false;
+  progress_->setRange(0, 0);
+  progress_->show();
+  cancel_->show();
+  status_->setText(QString::fromStdString("opening " + files.trial));
+  loader_ = std::thread([this, files, view] {
+    const auto report = [this](const std::string& step, int done, int total) {
+      QMetaObject::invokeMethod(
+          this,
+          [this, step, done, total] {
+            status_->setText(QString::fromStdString(step));
+            progress_->setRange(0, std::max(0, total));
+            progress_->setValue(done);
+          },
+          Qt::QueuedConnection);
+      return !cancel_load_.load();
+    };
+    std::shared_ptr<Session> opened;
+    std::string error;
+    try {
+      opened = Session::Open(files, report);
+    } catch (const std::exception& e) {
+      error = e.what();
+    }
+    QMetaObject::invokeMethod(
+        this,
+        [this, opened, error, view]() mutable {
+          progress_->hide();
+          cancel_->hide();
+          loaded_ = true;
+          if (!error.empty()) return ShowError(error);
+          // The session is handed over whole; the previous one goes only now.
+          Adopt(std::move(opened), view);
+        },
+        Qt::QueuedConnection);
+  });
+}
+
+void MainWindow::Adopt(std::shared_ptr<Session> session, const SessionView& view) {
+  overlay_.reset();
+  free_view_.reset();
+  session_ = std::move(session);
+  std::optional<analysis::TrampolineScene> trampoline;
+  if (session_->analysis().bed)
+    trampoline = analysis::MakeTrampolineScene(*session_->analysis().bed);
+  try {
+    free_view_ = std::make_unique<ui::TrialFreeView>(session_->scene(),
+                                                     kViewWidth,
+                                                     kViewHeight,
+                                                     analysis::ParseSceneShow("mesh,skeleton,com"),
+                                                     trampoline);
+    if (session_->has_video()) {
+      ui::SceneOverlayOptions options;
+      options.show = analysis::ParseSceneShow("mesh,skeleton,com");
+      options.sync = session_->sync();
+      const capture::VideoInfo& info = session_->video().info();
+      overlay_ = std::make_unique<ui::TrialOverlay>(
+          session_->scene(), session_->camera(), info.width, info.height, options);
+    }
+  } catch (const std::exception& e) {
+    ShowError(e.what());
+  }
+  std::vector<Timeline::Jump> jumps;
+  for (const analysis::JumpMetrics& j : session_->analysis().jumps)
+    jumps.push_back({j.flight.takeoff_frame,
+                     j.flight.landing_frame,
+                     fmt::format("{}  {}", j.index, j.fig_code),
+                     j.check.has_value(),
+                     j.check.has_value() && j.check->pass});
+  timeline_->SetTrial(session_->num_samples(), session_->rate_hz(), std::move(jumps));
+  FillJumpTable();
+  setWindowTitle(QString::fromStdString("Acrolab Studio — " + session_->files().trial));
+  std::string note = fmt::format("{} samples at {:g} Hz, {} jumps",
+                                 session_->num_samples(),
+                                 session_->rate_hz(),
+                                 session_->analysis().jumps.size());
+  if (session_->has_video())
+    note += fmt::format("; video synced: video time = {:.4f} s + trial time",
+                        session_->sync().offset_s);
+  for (const std::string& w : session_->warnings()) note += "; warning: " + w;
+  status_->setText(QString::fromStdString(note));
+  preset_box_->setCurrentIndex(view.preset == "front" ? 1 : view.preset == "top" ? 2 : 0);
+  follow_->setChecked(view.follow);
+  SetSpeed(view.speed);
+  video_frame_index_ = -1;
+  SetCursor(std::clamp(view.cursor_sample, 0, session_->num_samples() - 1));
+}
+
+void MainWindow::FillJumpTable() {
+  const std::vector<analysis::JumpMetrics>& jumps = session_->analysis().jumps;
+  jumps_->setRowCount(int(jumps.size()));
+  for (size_t r = 0; r < jumps.size(); ++r) {
+    const analysis::JumpMetrics& j = jumps[r];
+    const std::vector<std::string> cells = {
+        std::to_string(j.index),
+        j.fig_code,
+        j.skill_name,
+        fmt::format("{:.3f}", j.time_of_flight_s()),
+        fmt::format("{:.2f}", j.apex_m()),
+        fmt::format("{:.2f}", j.displacement_from_takeoff_m),
+        fmt::format("{:.1f}", j.difficulty.total_tenths() / 10.0),
+        j.verdict};
+    for (size_t c = 0; c < cells.size(); ++c)
+      jumps_->setItem(int(r), int(c), new QTableWidgetItem(QString::fromStdString(cells[c])));
+  }
+  jumps_->resizeColumnsToContents();
+}
+
+const analysis::TrialFrame* MainWindow::view_frame() const {
+  return free_view_ ? &free_view_->frame() : nullptr;
+}
+
+void MainWindow::SetCursor(int sample) {
+  if (!session_) return;
+  cursor_ = std::clamp(sample, 0, session_->num_samples() - 1);
+  if (!playing_) play_position_ = cursor_;
+  timeline_->SetCursor(cursor_);
+  Redraw();
+}
+
+void MainWindow::Redraw() {
+  if (!session_) return;
+  if (free_view_) {
+    // The preset looks at the athlete's take-off heading from mid-flight height over the bed (or
+    // the trial's first centre of mass).
+    const analysis::TrialAnalysis& a = session_->analysis();
+    Eigen::Vector3d target = a.check.frames.com_W.cols() > 0
+                                 ? Eigen::Vector3d(a.check.frames.com_W.col(0))
+                                 : Eigen::Vector3d(0, 0, 1.5);
+    if (a.bed) target = a.bed->centre_W + Eigen::Vector3d(0, 0, 2.0);
+    const ui::ViewPreset preset = PresetOf(preset_box_->currentText().toStdString());
+    ui::FreeViewpoint v =
+        ui::PresetViewpoint(preset, target, preset == ui::ViewPreset::kTop ? 14 : 12);
+    v.view_angle_deg = 35;
+    free_view_->SetViewpoint(v, follow_->isChecked());
+    free_view_->Render(cursor_, &rgb3d_);
+    view3d_->SetImage(ToImage(rgb3d_, free_view_->width(), free_view_->height()));
+  }
+  DrawVideo();
+}
+
+void MainWindow::DrawVideo() {
+  if (!session_ || !session_->has_video()) return;
+  const int frame = session_->VideoFrameOf(cursor_);
+  if (frame < 0) {
+    video_frame_index_ = -1;
+    video_view_->SetImage({});
+    return;
+  }
+  if (frame != video_frame_index_) {
+    capture::VideoReader& video = session_->video();
+    try {
+      // The next frame is read on (playing, stepping forward); any other is sought.
+      if (frame == video_frame_index_ + 1 && filmed_.index == video_frame_index_) {
+        if (!video.ReadNext(&filmed_)) filmed_ = video.Frame(frame);
+      } else {
+        filmed_ = video.Frame(frame);
+      }
+    } catch (const std::exception& e) {
+      return ShowError(e.what());
+    }
+    video_frame_index_ = frame;
+  }
+  drawn_ = filmed_;
+  if (overlay_) {
+    const int sample = session_->SampleOf(frame);
+    if (sample >= 0) overlay_->Draw(sample, &drawn_);
+  }
+  video_view_->SetImage(ToImage(drawn_.pixels, drawn_.width, drawn_.height));
+}
+
+void MainWindow::StepFrame(int direction) {
+  if (!session_) return;
+  SetPlaying(false);
+  if (session_->has_video()) {
+    const int now = session_->VideoFrameOf(cursor_);
+    const int next = (now < 0 ? 0 : now) + (direction > 0 ? 1 : -1);
+    const int sample = session_->SampleOf(next);
+    if (sample >= 0) return SetCursor(sample);
+  }
+  SetCursor(cursor_ + (direction > 0 ? 1 : -1));
+}
+
+void MainWindow::StepTakeoff(int direction) {
+  if (!session_) return;
+  const std::vector<analysis::JumpMetrics>& jumps = session_->analysis().jumps;
+  if (direction > 0) {
+    for (const analysis::JumpMetrics& j : jumps)
+      if (j.flight.takeoff_frame > cursor_) return GoToJump(j.index);
+  } else {
+    for (auto it = jumps.rbegin(); it != jumps.rend(); ++it)
+      if (it->flight.takeoff_frame < cursor_) return GoToJump(it->index);
+  }
+}
+
+void MainWindow::GoToJump(int index) {
+  if (!session_) return;
+  for (const analysis::JumpMetrics& j : session_->analysis().jumps) {
+    if (j.index != index) continue;
+    loop_jump_ = std::make_pair(j.flight.takeoff_frame, j.flight.landing_frame);
+    jumps_->selectRow(index - 1);
+    const bool was_playing = playing_;
+    SetPlaying(false);
+    SetCursor(j.flight.takeoff_frame);
+    if (was_playing) SetPlaying(true);
+    return;
+  }
+}
+
+void MainWindow::SetSpeed(double speed) {
+  speed_ = speed;
+  const int index = speed >= 1 ? 0 : speed >= 0.5 ? 1 : speed >= 0.25 ? 2 : 3;
+  speed_box_->setCurrentIndex(index);
+}
+
+void MainWindow::SetPlaying(bool playing, int direction) {
+  playing_ = playing && session_ != nullptr;
+  direction_ = direction >= 0 ? 1 : -1;
+  play_position_ = cursor_;
+  last_tick_ms_ = QDateTime::currentMSecsSinceEpoch();
+  if (playing_) {
+    timer_->start();
+  } else {
+    timer_->stop();
+  }
+}
+
+void MainWindow::Tick() {
+  if (!session_ || !playing_) return;
+  const qint64 now = QDateTime::currentMSecsSinceEpoch();
+  const double elapsed_s = (now - last_tick_ms_) / 1000.0;
+  last_tick_ms_ = now;
+  play_position_ += direction_ * elapsed_s * speed_ * session_->rate_hz();
+  int sample = int(std::lround(play_position_));
+  if (loop_->isChecked() && loop_jump_) {
+    const auto [first, last] = *loop_jump_;
+    if (sample > last) {
+      play_position_ = first;
+      sample = first;
+    } else if (sample < first) {
+      play_position_ = last;
+      sample = last;
+    }
+  }
+  if (sample < 0 || sample >= session_->num_samples()) {
+    SetPlaying(false);
+    sample = std::clamp(sample, 0, session_->num_samples() - 1);
+  }
+  if (sample != cursor_) {
+    cursor_ = sample;
+    timeline_->SetCursor(cursor_);
+    Redraw();
+  }
+}
+
+SessionView MainWindow::view() const {
+  SessionView v;
+  v.cursor_sample = cursor_;
+  v.speed = speed_;
+  v.preset = preset_box_->currentText().toStdString();
+  v.follow = follow_->isChecked();
+  return v;
+}
+
+bool MainWindow::SaveSessionFile(const std::string& path) {
+  if (!session_) {
+    ShowError("Nothing to save: open a trial first.");
+    return false;
+  }
+  try {
+    WriteSessionFile(path, session_->files(), view());
+    status_->setText(QString::fromStdString("saved " + path));
+    return true;
+  } catch (const std::exception& e) {
+    ShowError(e.what());
+    return false;
+  }
+}
+
+void MainWindow::OpenSessionFile(const std::string& path) {
+  try {
+    const auto [files, view] = ReadSessionFile(path);
+    OpenFiles(files, view);
+  } catch (const std::exception& e) {
+    ShowError(e.what());
+  }
+}
+
+}  // namespace acro::studio
