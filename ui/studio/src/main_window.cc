@@ -305,6 +305,8 @@ void MainWindow::Adopt(std::shared_ptr<Session> session, const SessionView& view
   follow_->setChecked(view.follow);
   SetSpeed(view.speed);
   video_frame_index_ = -1;
+  reader_next_ = -1;
+  recent_.clear();
   SetCursor(std::clamp(view.cursor_sample, 0, session_->num_samples() - 1));
 }
 
@@ -371,15 +373,26 @@ void MainWindow::DrawVideo() {
   }
   if (frame != video_frame_index_) {
     capture::VideoReader& video = session_->video();
+    const auto cached = std::find_if(
+        recent_.begin(), recent_.end(), [frame](const auto& f) { return f.index == frame; });
     try {
-      // The next frame is read on (playing, stepping forward); any other is sought.
-      if (frame == video_frame_index_ + 1 && filmed_.index == video_frame_index_) {
-        if (!video.ReadNext(&filmed_)) filmed_ = video.Frame(frame);
+      if (cached != recent_.end()) {
+        filmed_ = *cached;
+      } else if (frame == reader_next_ && video.ReadNext(&filmed_)) {
+        // The frame after the last decoded is read on (playing, stepping forward); any other is
+        // sought.
+        reader_next_ = filmed_.index + 1;
       } else {
         filmed_ = video.Frame(frame);
+        reader_next_ = frame + 1;
       }
     } catch (const std::exception& e) {
       return ShowError(e.what());
+    }
+    if (cached == recent_.end()) {
+      recent_.push_back(filmed_);
+      constexpr size_t kRecentFrames = 8;
+      if (recent_.size() > kRecentFrames) recent_.pop_front();
     }
     video_frame_index_ = frame;
   }

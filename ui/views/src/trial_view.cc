@@ -8,7 +8,8 @@
 namespace acro::ui {
 
 struct TrialFreeView::Impl {
-  Impl(analysis::TrialScene& scene_in, int w, int h) : scene(scene_in), renderer(w, h, 4) {}
+  // No multisampling: on Mesa's software rasteriser 4x costs more than the rest of a frame step.
+  Impl(analysis::TrialScene& scene_in, int w, int h) : scene(scene_in), renderer(w, h, 0) {}
   analysis::TrialScene& scene;
   XDisplay display;  // before the renderer, which needs it
   SceneRenderer renderer;

@@ -11,6 +11,7 @@
 #include <QMainWindow>
 
 #include <atomic>
+#include <deque>
 #include <memory>
 #include <optional>
 #include <string>
@@ -114,7 +115,11 @@ class MainWindow : public QMainWindow {
   qint64 last_tick_ms_ = 0;
   std::optional<std::pair<int, int>> loop_jump_;  // take-off, landing samples
   int video_frame_index_ = -1;
+  int reader_next_ = -1;  // the frame the video reader's next ReadNext returns
   capture::VideoFrame filmed_, drawn_;
+  /// The last frames decoded (1080p: 6 MB each): a step back, or a loop over a few frames, needs
+  /// no seek (a seek decodes from the keyframe before: about 120 ms at 1080p here).
+  std::deque<capture::VideoFrame> recent_;
   std::vector<std::uint8_t> rgb3d_;
   std::string last_error_;
 

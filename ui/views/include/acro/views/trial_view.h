@@ -18,7 +18,8 @@ namespace acro::ui {
 
 class TrialFreeView {
  public:
-  /// A view of `width` × `height` pixels (4× multisampled: a still, redrawn on demand). Throws
+  /// A view of `width` × `height` pixels (not multisampled: 4× cost more than the rest of a
+  /// studio frame step on Mesa's software rasteriser, docs/performance.md). Throws
   /// std::invalid_argument for a size outside 1–16384, acro::InputError when no X display can be
   /// had.
   TrialFreeView(analysis::TrialScene& scene,
