@@ -11,6 +11,7 @@
 #include <fstream>
 #include <limits>
 #include <optional>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -251,6 +252,34 @@ TEST(ChartTest, BadInputThrowsAndWritesNothing) {
   }
   EXPECT_TRUE(fs::is_empty(dir));
   fs::remove_all(dir);
+}
+
+// A chart's data as CSV (the studio's "export what is shown"): every point of every series, read
+// back to the same numbers; a name with a comma quoted; NaN gaps left out.
+TEST(ChartTest, CsvHoldsEveryPointOfEverySeries) {
+  Chart chart = TwoSeriesChart();
+  chart.series[1].name = "falling, fast";
+  chart.series[1].y[50] = std::numeric_limits<double>::quiet_NaN();
+  const std::string csv = FormatChartCsv(chart);
+  std::istringstream in(csv);
+  std::string line;
+  std::getline(in, line);
+  EXPECT_EQ(line, "series,x,y");
+  int rising = 0, falling = 0;
+  while (std::getline(in, line)) {
+    if (line.rfind("rising,", 0) == 0) {
+      const double x = std::stod(line.substr(7));
+      const double y = std::stod(line.substr(line.rfind(',') + 1));
+      EXPECT_DOUBLE_EQ(x, chart.series[0].x[size_t(rising)]);
+      EXPECT_DOUBLE_EQ(y, chart.series[0].y[size_t(rising)]);
+      ++rising;
+    } else {
+      EXPECT_EQ(line.rfind("\"falling, fast\",", 0), 0u) << line;
+      ++falling;
+    }
+  }
+  EXPECT_EQ(rising, 101);
+  EXPECT_EQ(falling, 100);  // the NaN left out
 }
 
 // The RGB pixels a video frame takes (compare's charts) are the PNG's, decoded by libpng.

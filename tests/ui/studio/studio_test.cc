@@ -21,6 +21,7 @@
 #include <fstream>
 #include <functional>
 
+#include "acro/studio/plot_view.h"
 #include "acro/studio/timeline.h"
 #include "acro/views/display.h"
 #include "refdata.h"
@@ -47,6 +48,14 @@ void Shot(const std::string& name) {
   QTest::qWait(200);
   QGuiApplication::primaryScreen()->grabWindow(0).save(
       QString::fromStdString((fs::path(dir) / (name + ".png")).string()));
+}
+
+// A click on jump `index`'s row of the jump table.
+void GoToJumpByClick(MainWindow& w, int index) {
+  QTableWidget* table = w.jump_table();
+  table->scrollToItem(table->item(index - 1, 0));
+  const QRect row = table->visualItemRect(table->item(index - 1, 0));
+  QTest::mouseClick(table->viewport(), Qt::LeftButton, {}, row.center());
 }
 
 SessionFiles SampleFiles() {
@@ -109,12 +118,33 @@ TEST(Studio, TheSampleRoutineWithItsVideoAtOneCursor) {
   EXPECT_LT(played_s, 1.3);
 
   // A click on jump 6 in the table: the cursor at its take-off.
-  QTableWidget* table = w.jump_table();
-  const QRect row6 = table->visualItemRect(table->item(5, 0));
-  QTest::mouseClick(table->viewport(), Qt::LeftButton, {}, row6.center());
+  GoToJumpByClick(w, 6);
   const analysis::JumpMetrics& six = s.analysis().jumps.at(5);
   EXPECT_EQ(w.cursor(), six.flight.takeoff_frame);
   Shot("studio_jump_6");
+
+  // The plot follows the cursor; a click on it moves the cursor to the time under the pointer
+  // (within a pixel's worth of samples); it exports as PNG, SVG and CSV.
+  PlotView* plot = w.plot();
+  ASSERT_FALSE(plot->chart().title.empty());
+  const analysis::JumpMetrics& three = s.analysis().jumps.at(2);
+  const int x = plot->XOf(three.flight.takeoff_s);
+  ASSERT_GE(x, 0);
+  QTest::mouseClick(plot, Qt::LeftButton, {}, QPoint(x, plot->height() / 2));
+  const double per_pixel_samples =
+      (plot->TimeAt(x + 1).value_or(0) - plot->TimeAt(x).value_or(0)) * s.rate_hz();
+  EXPECT_NEAR(w.cursor(), three.flight.takeoff_s * s.rate_hz(), per_pixel_samples + 1.0);
+  const fs::path exported = acro::testing::ScratchDir("studio_plot");
+  for (const char* ext : {".png", ".svg", ".csv"}) {
+    plot->Export((exported / (std::string("plot") + ext)).string());
+    EXPECT_GT(fs::file_size(exported / (std::string("plot") + ext)), 100u) << ext;
+  }
+  std::ifstream csv(exported / "plot.csv");
+  std::string header;
+  std::getline(csv, header);
+  EXPECT_EQ(header, "series,x,y");
+  Shot("studio_plot_click");
+  GoToJumpByClick(w, 6);
 
   // The session saved and reopened in another window: the same files, cursor and view.
   const fs::path dir = acro::testing::ScratchDir("studio_session");

@@ -673,14 +673,34 @@ std::string RenderChartSvg(const Chart& chart) {
   return svg;
 }
 
+std::string FormatChartCsv(const Chart& chart) {
+  std::string out = "series,x,y\n";
+  for (const LineSeries& s : chart.series) {
+    std::string name = s.name;
+    if (name.find_first_of(",\"\n") != std::string::npos) {
+      std::string quoted = "\"";
+      for (const char c : name) quoted += c == '"' ? std::string("\"\"") : std::string(1, c);
+      name = quoted + "\"";
+    }
+    for (size_t k = 0; k < s.x.size() && k < s.y.size(); ++k) {
+      if (!std::isfinite(s.y[k])) continue;  // gaps (NaN) are left out
+      out += name + "," + fmt::format("{:.9g},{:.9g}", s.x[k], s.y[k]) + "\n";
+    }
+  }
+  return out;
+}
+
 void WriteChart(const Chart& chart, const std::filesystem::path& path) {
   const std::string ext = LowerExtension(path);
   if (ext == "png") {
     WriteFileAtomically(path, RenderPngString(chart));
   } else if (ext == "svg") {
     WriteFileAtomically(path, RenderChartSvg(chart));
+  } else if (ext == "csv") {
+    WriteFileAtomically(path, FormatChartCsv(chart));
   } else {
-    throw InputError(path.string(), "", "a chart is written as .png or .svg, not '." + ext + "'");
+    throw InputError(
+        path.string(), "", "a chart is written as .png, .svg or .csv, not '." + ext + "'");
   }
 }
 

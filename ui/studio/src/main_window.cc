@@ -26,7 +26,10 @@
 #include <fmt/format.h>
 
 #include "acro/base/input_error.h"
+#include "acro/dynamics/configuration.h"
+#include "acro/report/analysis_report.h"
 #include "acro/scene/place_scene.h"
+#include "acro/studio/plot_view.h"
 #include "acro/studio/timeline.h"
 #include "acro/views/scene_overlay.h"
 #include "acro/views/trial_view.h"
@@ -79,18 +82,57 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
     if (session_ && row >= 0 && size_t(row) < session_->analysis().jumps.size())
       GoToJump(session_->analysis().jumps[size_t(row)].index);
   });
+  // The plots: the report's figures, the cursor on them, a click moves it; exported as shown.
+  plot_ = new PlotView;
+  connect(plot_, &PlotView::timeRequested, this, [this](double t) {
+    if (!session_) return;
+    SetPlaying(false);
+    SetCursor(int(std::lround(t * session_->rate_hz())));
+  });
+  plot_box_ = new QComboBox;
+  joint_box_ = new QComboBox;
+  connect(
+      plot_box_, QOverload<int>::of(&QComboBox::activated), this, [this](int i) { ShowPlot(i); });
+  connect(joint_box_, QOverload<int>::of(&QComboBox::activated), this, [this](int) {
+    ShowPlot(plot_box_->currentIndex(), joint_box_->currentText().toStdString());
+  });
+  auto* export_button = new QPushButton("Export…");
+  connect(export_button, &QPushButton::clicked, this, [this] {
+    const QString path = QFileDialog::getSaveFileName(
+        this, "Export the plot", {}, "PNG (*.png);;SVG (*.svg);;CSV data (*.csv)");
+    if (path.isEmpty()) return;
+    try {
+      plot_->Export(path.toStdString());
+    } catch (const std::exception& e) {
+      ShowError(e.what());
+    }
+  });
+  auto* plot_panel = new QWidget;
+  auto* plot_layout = new QVBoxLayout(plot_panel);
+  plot_layout->setContentsMargins(0, 0, 0, 0);
+  auto* plot_bar = new QHBoxLayout;
+  plot_bar->addWidget(plot_box_, 1);
+  plot_bar->addWidget(joint_box_, 1);
+  plot_bar->addWidget(export_button);
+  plot_layout->addLayout(plot_bar);
+  plot_layout->addWidget(plot_, 1);
+  auto* tables = new QSplitter(Qt::Horizontal);
+  tables->addWidget(jumps_);
+  tables->addWidget(plot_panel);
+  tables->setSizes({800, 800});
+
   auto* vertical = new QSplitter(Qt::Vertical);
   vertical->addWidget(views);
   auto* bottom = new QWidget;
   auto* bottom_layout = new QVBoxLayout(bottom);
   bottom_layout->setContentsMargins(0, 0, 0, 0);
   bottom_layout->addWidget(timeline_);
-  bottom_layout->addWidget(jumps_);
+  bottom_layout->addWidget(tables, 1);
   vertical->addWidget(bottom);
   vertical->setStretchFactor(0, 1);
   vertical->setStretchFactor(1, 0);
   jumps_->setMinimumHeight(120);
-  vertical->setSizes({700, 260});
+  vertical->setSizes({600, 360});
   setCentralWidget(vertical);
 
   status_ = new QLabel;
@@ -291,6 +333,7 @@ void MainWindow::Adopt(std::shared_ptr<Session> session, const SessionView& view
                      j.check.has_value() && j.check->pass});
   timeline_->SetTrial(session_->num_samples(), session_->rate_hz(), std::move(jumps));
   FillJumpTable();
+  FillPlots();
   setWindowTitle(QString::fromStdString("Acrolab Studio — " + session_->files().trial));
   std::string note = fmt::format("{} samples at {:g} Hz, {} jumps",
                                  session_->num_samples(),
@@ -330,6 +373,36 @@ void MainWindow::FillJumpTable() {
   jumps_->resizeColumnsToContents();
 }
 
+void MainWindow::FillPlots() {
+  joint_box_->clear();
+  const std::vector<std::string>& names =
+      session_->analysis().reconstruction.motion.coordinate_names;
+  for (size_t k = dynamics::kRootNq; k < names.size(); ++k)
+    joint_box_->addItem(QString::fromStdString(names[k]));
+  const int hip = joint_box_->findText("r_hip_flexion");
+  joint_box_->setCurrentIndex(hip >= 0 ? hip : 0);
+  ShowPlot(0, joint_box_->currentText().toStdString());
+}
+
+void MainWindow::ShowPlot(int index, const std::string& joint) {
+  if (!session_) return;
+  ui::AnalysisReportOptions options;
+  options.joint = joint.empty() ? joint_box_->currentText().toStdString() : joint;
+  std::vector<ui::ReportFigure> figures;
+  try {
+    figures = ui::MakeAnalysisFigures(session_->analysis(), options);
+  } catch (const std::exception& e) {
+    return ShowError(e.what());
+  }
+  plot_box_->clear();
+  for (const ui::ReportFigure& f : figures)
+    plot_box_->addItem(QString::fromStdString(f.chart.title));
+  index = std::clamp(index, 0, int(figures.size()) - 1);
+  plot_box_->setCurrentIndex(index);
+  if (index >= 0) plot_->SetChart(figures[size_t(index)].chart);
+  plot_->SetCursorTime(cursor_ / session_->rate_hz());
+}
+
 const analysis::TrialFrame* MainWindow::view_frame() const {
   return free_view_ ? &free_view_->frame() : nullptr;
 }
@@ -343,6 +416,7 @@ void MainWindow::SetCursor(int sample) {
 }
 
 void MainWindow::Redraw() {
+  if (session_) plot_->SetCursorTime(cursor_ / session_->rate_hz());
   if (!session_) return;
   if (free_view_) {
     // The preset looks at the athlete's take-off heading from mid-flight height over the bed (or

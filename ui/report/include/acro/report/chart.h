@@ -112,7 +112,11 @@ std::vector<std::uint8_t> RenderChartRgb(const Chart& chart);
 /// The SVG document of `chart` (the same drawing as the PNG; text as outlines). Thread-safe.
 std::string RenderChartSvg(const Chart& chart);
 
-/// Writes `chart` to `path` as PNG or SVG by the extension (".png", ".svg"), atomically: a reader
+/// The data of `chart` as CSV: "series,x,y", one row per point (gaps left out), every series in
+/// turn.
+std::string FormatChartCsv(const Chart& chart);
+/// Writes `chart` to `path` as PNG, SVG or its data as CSV by the extension (".png", ".svg",
+/// ".csv"), atomically: a reader
 /// never sees a partial image, and nothing is left behind on failure. Throws acro::InputError for
 /// another extension or an invalid chart.
 void WriteChart(const Chart& chart, const std::filesystem::path& path);

@@ -37,6 +37,7 @@ class TrialOverlay;
 namespace acro::studio {
 
 class ImageView;
+class PlotView;
 class Timeline;
 
 class MainWindow : public QMainWindow {
@@ -69,6 +70,10 @@ class MainWindow : public QMainWindow {
   SessionView view() const;
 
   Timeline* timeline() { return timeline_; }
+  PlotView* plot() { return plot_; }
+  /// Shows figure `index` of the analysis' figures (the report's: COM and feet, residual force and
+  /// moment, angular momentum, the joint's angle and torque) for `joint`.
+  void ShowPlot(int index, const std::string& joint = "");
   QTableWidget* jump_table() { return jumps_; }
   /// The video frame shown (−1: none), as decoded (before the overlay), and the 3D view's scene
   /// frame: what a test compares with the reader and the scene.
@@ -89,6 +94,7 @@ class MainWindow : public QMainWindow {
   void DrawVideo();
   void Tick();
   void FillJumpTable();
+  void FillPlots();
   void JoinLoader();
 
   std::shared_ptr<Session> session_;
@@ -98,6 +104,9 @@ class MainWindow : public QMainWindow {
   ImageView* video_view_ = nullptr;
   Timeline* timeline_ = nullptr;
   QTableWidget* jumps_ = nullptr;
+  PlotView* plot_ = nullptr;
+  QComboBox* plot_box_ = nullptr;
+  QComboBox* joint_box_ = nullptr;
   QComboBox* speed_box_ = nullptr;
   QComboBox* preset_box_ = nullptr;
   QAction* follow_ = nullptr;
