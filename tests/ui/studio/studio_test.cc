@@ -13,6 +13,7 @@
 #include <QApplication>
 #include <QElapsedTimer>
 #include <QScreen>
+#include <QTabWidget>
 #include <QTableWidget>
 #include <QTest>
 #include <QThread>
@@ -122,6 +123,25 @@ TEST(Studio, TheSampleRoutineWithItsVideoAtOneCursor) {
   const analysis::JumpMetrics& six = s.analysis().jumps.at(5);
   EXPECT_EQ(w.cursor(), six.flight.takeoff_frame);
   Shot("studio_jump_6");
+
+  // The verdict panel: a row per judged flight, all passing; a click on flight 4 puts the cursor
+  // on its judged frames, where its largest residual window starts.
+  QTableWidget* verdict = w.verdict_table();
+  ASSERT_EQ(verdict->rowCount(), int(s.analysis().check.flights.size()));
+  for (int r = 0; r < verdict->rowCount(); ++r) EXPECT_EQ(verdict->item(r, 6)->text(), "pass");
+  const analysis::FlightCheck& four = s.analysis().check.flights.at(3);
+  {
+    auto* tabs = w.findChild<QTabWidget*>();
+    ASSERT_NE(tabs, nullptr);
+    tabs->setCurrentIndex(1);
+    QCoreApplication::processEvents();
+    const QRect row = verdict->visualItemRect(verdict->item(3, 0));
+    QTest::mouseClick(verdict->viewport(), Qt::LeftButton, {}, row.center());
+  }
+  EXPECT_GE(w.cursor(), four.first_frame);
+  EXPECT_LE(w.cursor(), four.last_frame);
+  Shot("studio_verdict");
+  w.findChild<QTabWidget*>()->setCurrentIndex(0);
 
   // The plot follows the cursor; a click on it moves the cursor to the time under the pointer
   // (within a pixel's worth of samples); it exports as PNG, SVG and CSV.

@@ -15,6 +15,7 @@
 #include <QPushButton>
 #include <QSplitter>
 #include <QStatusBar>
+#include <QTabWidget>
 #include <QTableWidget>
 #include <QTimer>
 #include <QToolBar>
@@ -116,8 +117,46 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   plot_bar->addWidget(export_button);
   plot_layout->addLayout(plot_bar);
   plot_layout->addWidget(plot_, 1);
+  verdict_ = new QTableWidget(0, 8);
+  verdict_->setHorizontalHeaderLabels({"flight",
+                                       "code",
+                                       "force (BW)",
+                                       "moment (BW·h)",
+                                       "momentum variation",
+                                       "g fitted (m/s²)",
+                                       "verdict",
+                                       "what failed"});
+  verdict_->setSelectionBehavior(QAbstractItemView::SelectRows);
+  verdict_->setEditTriggers(QAbstractItemView::NoEditTriggers);
+  verdict_->horizontalHeader()->setStretchLastSection(true);
+  verdict_->verticalHeader()->hide();
+  connect(verdict_, &QTableWidget::cellClicked, this, [this](int row, int) {
+    if (!session_ || row < 0 || size_t(row) >= session_->analysis().check.flights.size()) return;
+    const analysis::FlightCheck& f = session_->analysis().check.flights[size_t(row)];
+    loop_jump_ = std::make_pair(f.first_frame, f.last_frame);
+    // The frames concerned: where the residual nearest its limit has its largest window.
+    const analysis::PhysicalCheckOptions& limits = session_->analysis().check_options;
+    const double at_s =
+        f.window_force_bw / limits.max_force_bw >= f.window_moment_bwh / limits.max_moment_bwh
+            ? f.window_force_at_s
+            : f.window_moment_at_s;
+    SetPlaying(false);
+    SetCursor(
+        std::clamp(int(std::lround(at_s * session_->rate_hz())), f.first_frame, f.last_frame));
+  });
+  findings_ = new QLabel;
+  findings_->setWordWrap(true);
+  findings_->setTextInteractionFlags(Qt::TextSelectableByMouse);
+  auto* verdict_panel = new QWidget;
+  auto* verdict_layout = new QVBoxLayout(verdict_panel);
+  verdict_layout->setContentsMargins(0, 0, 0, 0);
+  verdict_layout->addWidget(verdict_, 1);
+  verdict_layout->addWidget(findings_);
+  auto* tabs = new QTabWidget;
+  tabs->addTab(jumps_, "Jumps");
+  tabs->addTab(verdict_panel, "Verdict");
   auto* tables = new QSplitter(Qt::Horizontal);
-  tables->addWidget(jumps_);
+  tables->addWidget(tabs);
   tables->addWidget(plot_panel);
   tables->setSizes({800, 800});
 
@@ -333,6 +372,7 @@ void MainWindow::Adopt(std::shared_ptr<Session> session, const SessionView& view
                      j.check.has_value() && j.check->pass});
   timeline_->SetTrial(session_->num_samples(), session_->rate_hz(), std::move(jumps));
   FillJumpTable();
+  FillVerdict();
   FillPlots();
   setWindowTitle(QString::fromStdString("Acrolab Studio — " + session_->files().trial));
   std::string note = fmt::format("{} samples at {:g} Hz, {} jumps",
@@ -371,6 +411,39 @@ void MainWindow::FillJumpTable() {
       jumps_->setItem(int(r), int(c), new QTableWidgetItem(QString::fromStdString(cells[c])));
   }
   jumps_->resizeColumnsToContents();
+}
+
+void MainWindow::FillVerdict() {
+  const analysis::PhysicalCheck& check = session_->analysis().check;
+  verdict_->setRowCount(int(check.flights.size()));
+  for (size_t r = 0; r < check.flights.size(); ++r) {
+    const analysis::FlightCheck& f = check.flights[r];
+    std::string code;
+    for (const analysis::JumpMetrics& j : session_->analysis().jumps)
+      if (j.index == f.flight + 1) code = j.fig_code;
+    const std::vector<std::string> cells = {std::to_string(f.flight + 1),
+                                            code,
+                                            fmt::format("{:.3f}", f.window_force_bw),
+                                            fmt::format("{:.4f}", f.window_moment_bwh),
+                                            fmt::format("{:.1f} %", 100 * f.momentum_variation),
+                                            fmt::format("{:.2f}", f.fitted_gravity_m_per_s2),
+                                            f.pass ? "pass" : "fail",
+                                            f.FailureText()};
+    for (size_t c = 0; c < cells.size(); ++c) {
+      auto* item = new QTableWidgetItem(QString::fromStdString(cells[c]));
+      if (c == 6) item->setForeground(f.pass ? QColor(30, 140, 50) : QColor(200, 40, 30));
+      verdict_->setItem(int(r), int(c), item);
+    }
+  }
+  verdict_->resizeColumnsToContents();
+  // The cause found and the correction suggested (never applied), or why there is nothing to fix.
+  std::string text = "<b>" + check.verdict + "</b>";
+  for (const analysis::Finding& f : check.findings) text += "<br>" + f.text;
+  if (check.pass)
+    text +=
+        "<br>Every judged flight's residuals are under their limits and its angular "
+        "momentum steady: nothing to correct.";
+  findings_->setText(QString::fromStdString(text));
 }
 
 void MainWindow::FillPlots() {

@@ -75,6 +75,9 @@ class MainWindow : public QMainWindow {
   /// moment, angular momentum, the joint's angle and torque) for `joint`.
   void ShowPlot(int index, const std::string& joint = "");
   QTableWidget* jump_table() { return jumps_; }
+  /// The verdict panel: a row per judged flight (residuals, momentum, gravity, what failed); a
+  /// click puts the cursor where its largest residual window starts and loops the judged frames.
+  QTableWidget* verdict_table() { return verdict_; }
   /// The video frame shown (−1: none), as decoded (before the overlay), and the 3D view's scene
   /// frame: what a test compares with the reader and the scene.
   int video_frame_index() const { return video_frame_index_; }
@@ -95,6 +98,7 @@ class MainWindow : public QMainWindow {
   void Tick();
   void FillJumpTable();
   void FillPlots();
+  void FillVerdict();
   void JoinLoader();
 
   std::shared_ptr<Session> session_;
@@ -104,6 +108,8 @@ class MainWindow : public QMainWindow {
   ImageView* video_view_ = nullptr;
   Timeline* timeline_ = nullptr;
   QTableWidget* jumps_ = nullptr;
+  QTableWidget* verdict_ = nullptr;
+  QLabel* findings_ = nullptr;
   PlotView* plot_ = nullptr;
   QComboBox* plot_box_ = nullptr;
   QComboBox* joint_box_ = nullptr;
