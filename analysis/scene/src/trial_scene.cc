@@ -200,6 +200,10 @@ void TrialScene::SetGhostDesign(const DesignedSkill& design, const AthleteBody& 
   ghost_ = std::move(ghost);
 }
 
+void TrialScene::ClearGhost() {
+  ghost_.reset();
+}
+
 int TrialScene::FlightAt(int sample) const {
   if (analysis_ == nullptr) return -1;
   const std::vector<Flight>& flights = analysis_->phases.flights;

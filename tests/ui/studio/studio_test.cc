@@ -18,10 +18,12 @@
 #include <QTest>
 #include <QThread>
 
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <functional>
 
+#include "acro/studio/compare_window.h"
 #include "acro/studio/plot_view.h"
 #include "acro/studio/timeline.h"
 #include "acro/views/display.h"
@@ -164,6 +166,27 @@ TEST(Studio, TheSampleRoutineWithItsVideoAtOneCursor) {
   std::getline(csv, header);
   EXPECT_EQ(header, "series,x,y");
   Shot("studio_plot_click");
+  GoToJumpByClick(w, 6);
+
+  // Compare mode with jumps 2 and 3: the cursor at A's take-off is τ = 0 in the compare window,
+  // and moves with it; B is the ghost in A's flight in the main window's views.
+  ASSERT_TRUE(w.OpenCompare(2, 3)) << w.last_error();
+  ASSERT_NE(w.compare(), nullptr);
+  const analysis::JumpMetrics& two = s.analysis().jumps.at(1);
+  EXPECT_EQ(w.cursor(), two.flight.takeoff_frame);
+  EXPECT_NEAR(
+      w.compare()->tau(), two.flight.takeoff_frame / s.rate_hz() - two.flight.takeoff_s, 1e-9);
+  EXPECT_LT(std::abs(w.compare()->tau()), 1.0 / s.rate_hz());
+  w.SetCursor(two.flight.takeoff_frame + 60);  // half a second into the back tuck
+  EXPECT_NEAR(w.compare()->tau(),
+              (two.flight.takeoff_frame + 60) / s.rate_hz() - two.flight.takeoff_s,
+              1e-9);
+  ASSERT_NE(w.view_frame(), nullptr);
+  EXPECT_TRUE(w.view_frame()->ghost_shown);
+  EXPECT_NE(w.view_frame()->heads_up.find("ghost: jump 3"), std::string::npos)
+      << w.view_frame()->heads_up;
+  Shot("studio_compare");
+  w.compare()->hide();
   GoToJumpByClick(w, 6);
 
   // The session saved and reopened in another window: the same files, cursor and view.

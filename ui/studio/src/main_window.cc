@@ -8,7 +8,9 @@
 #include <QFileDialog>
 #include <QHBoxLayout>
 #include <QHeaderView>
+#include <QInputDialog>
 #include <QLabel>
+#include <QLineEdit>
 #include <QMenuBar>
 #include <QMessageBox>
 #include <QProgressBar>
@@ -30,6 +32,7 @@
 #include "acro/dynamics/configuration.h"
 #include "acro/report/analysis_report.h"
 #include "acro/scene/place_scene.h"
+#include "acro/studio/compare_window.h"
 #include "acro/studio/plot_view.h"
 #include "acro/studio/timeline.h"
 #include "acro/views/scene_overlay.h"
@@ -245,6 +248,20 @@ void MainWindow::BuildMenus() {
     if (!path.isEmpty()) SaveSessionFile(path.toStdString());
   });
   file->addSeparator();
+  file->addAction("&Compare two jumps…", this, [this] {
+    bool ok = false;
+    const QString text = QInputDialog::getText(this,
+                                               "Compare",
+                                               "Jumps A and B (as numbered in the table), e.g. 2 3",
+                                               QLineEdit::Normal,
+                                               "2 3",
+                                               &ok);
+    if (!ok) return;
+    const QStringList parts = text.split(' ', Qt::SkipEmptyParts);
+    if (parts.size() != 2) return ShowError("Give two jump numbers, e.g. 2 3");
+    OpenCompare(parts[0].toInt(), parts[1].toInt());
+  });
+  file->addSeparator();
   QAction* quit = file->addAction("&Quit", this, &QWidget::close);
   quit->setShortcut(QKeySequence::Quit);
 
@@ -340,6 +357,7 @@ void MainWindow::OpenFiles(const SessionFiles& files, const SessionView& view) {
 }
 
 void MainWindow::Adopt(std::shared_ptr<Session> session, const SessionView& view) {
+  compare_.reset();
   overlay_.reset();
   free_view_.reset();
   session_ = std::move(session);
@@ -488,8 +506,28 @@ void MainWindow::SetCursor(int sample) {
   Redraw();
 }
 
+bool MainWindow::OpenCompare(int a, int b) {
+  if (!session_) {
+    ShowError("Open a trial first: compare mode shows two of its jumps.");
+    return false;
+  }
+  try {
+    auto window = std::make_unique<CompareWindow>(session_, a, b, this);
+    compare_ = std::move(window);
+    session_->scene().SetGhostJump(b);
+  } catch (const std::exception& e) {
+    ShowError(e.what());
+    return false;
+  }
+  compare_->show();
+  GoToJump(a);
+  return true;
+}
+
 void MainWindow::Redraw() {
   if (session_) plot_->SetCursorTime(cursor_ / session_->rate_hz());
+  if (session_ && compare_ && compare_->isVisible())
+    compare_->SetTau(cursor_ / session_->rate_hz() - compare_->a_takeoff_s());
   if (!session_) return;
   if (free_view_) {
     // The preset looks at the athlete's take-off heading from mid-flight height over the bed (or

@@ -100,6 +100,7 @@ class TrialScene {
   /// Throws std::invalid_argument for a scene without an athlete.
   void SetGhostDesign(const DesignedSkill& design, const AthleteBody& body);
   bool has_ghost() const { return ghost_ != nullptr; }
+  void ClearGhost();
 
   void Frame(int sample, TrialFrame* out);
 

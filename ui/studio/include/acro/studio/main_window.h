@@ -36,6 +36,7 @@ class TrialOverlay;
 
 namespace acro::studio {
 
+class CompareWindow;
 class ImageView;
 class PlotView;
 class Timeline;
@@ -68,6 +69,11 @@ class MainWindow : public QMainWindow {
   bool playing() const { return playing_; }
   void SetSpeed(double speed);
   SessionView view() const;
+  /// Compare mode: jumps `a` and `b` of the trial side by side at the cursor (a window of their
+  /// own), and B as a ghost in A's flight over the video and in the 3D view. The cursor goes to
+  /// A's take-off. False (and the dialog) for a jump that is not there.
+  bool OpenCompare(int a, int b);
+  CompareWindow* compare() { return compare_.get(); }
 
   Timeline* timeline() { return timeline_; }
   PlotView* plot() { return plot_; }
@@ -104,6 +110,7 @@ class MainWindow : public QMainWindow {
   std::shared_ptr<Session> session_;
   std::unique_ptr<ui::TrialFreeView> free_view_;
   std::unique_ptr<ui::TrialOverlay> overlay_;
+  std::unique_ptr<CompareWindow> compare_;
   ImageView* view3d_ = nullptr;
   ImageView* video_view_ = nullptr;
   Timeline* timeline_ = nullptr;

@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <optional>
 
 #include "acro/capture/video.h"
@@ -33,6 +34,28 @@ struct CompareVideoOptions {
   std::optional<analysis::TrampolineScene> trampoline;
   capture::VideoWriterOptions video = {.crf = 18, .preset = "superfast"};
   std::function<bool(int, int)> progress;
+};
+
+/// The comparison one instant at a time (the studio's compare window, and each frame of
+/// WriteCompareVideo): the three views over the panel with its cursor, as one RGB picture (three
+/// views wide). Holds an X display (display.h).
+class CompareDrawer {
+ public:
+  /// Throws std::invalid_argument when the panel (not empty) is not three views wide.
+  CompareDrawer(analysis::CompareScene& scene,
+                const analysis::TimedPanel& panel,
+                const CompareVideoOptions& options);
+  ~CompareDrawer();
+  CompareDrawer(const CompareDrawer&) = delete;
+  CompareDrawer& operator=(const CompareDrawer&) = delete;
+  int width() const;
+  int height() const;
+  /// The picture at τ = `tau_s` from the take-offs into `rgb` (width × height × 3).
+  void Draw(double tau_s, std::vector<std::uint8_t>* rgb);
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
 };
 
 /// Writes the comparison into `output` (.mp4, else a directory of PNG frames); returns the frames
