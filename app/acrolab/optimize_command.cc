@@ -18,8 +18,8 @@
 #include "acro/capture/frame_output.h"
 #include "acro/dynamics/configuration.h"
 #include "acro/scene/trial_scene.h"
+#include "acro/views/design_filmstrip.h"
 #include "acro/views/display.h"
-#include "acro/views/filmstrip.h"
 #endif
 
 namespace acro::app {
@@ -37,35 +37,22 @@ ui::SkillReportExtras DrawFilmstrips(const analysis::SkillDesign& design,
   ui::SkillReportExtras extras;
   try {
     const ui::XDisplay display;
-    const analysis::AthleteBody body = analysis::MakeAthleteBody(design.skill().athlete);
-    const analysis::BodyMesh mesh =
-        analysis::MakeEllipsoidBodyMesh(body, analysis::OverlayBodyMeshOptions());
-    const analysis::Motion initial = analysis::SampleSkillMotion(design, result.initial);
-    const analysis::Motion optimised = analysis::SampleSkillMotion(design, result.optimized);
-    analysis::AthleteScene a(body, mesh, initial), b(body, mesh, optimised);
-    const std::vector<int> frames = ui::EvenlySpacedFrames(0, initial.num_frames() - 1, 8);
-    for (const int f : frames) extras.filmstrip_times_s.push_back(initial.time_s(f));
-    std::vector<ui::FilmstripRow> rows(2);
-    rows[0] = {&a, frames, initial.rate_hz, "initial timing", {0.78f, 0.8f, 0.86f, 1.0f}};
-    rows[1] = {&b,
-               frames,
-               optimised.rate_hz,
-               fmt::format("optimised timing (model {})", analysis::SkillModelNumber(result.model)),
-               {1.0f, 0.66f, 0.5f, 1.0f}};
-    // Facing the way the take-off faces.
-    const Eigen::Vector3d heading =
-        dynamics::GetRootQuaternion(initial.q.col(0)) * Eigen::Vector3d::UnitX();
-    ui::FilmstripOptions options;
-    options.spacing_m = 1.5;  // the tucked poses at the apex apart
+    const ui::DesignFilmstrip strip(
+        design,
+        {{"initial timing", result.initial},
+         {fmt::format("optimised timing (model {})", analysis::SkillModelNumber(result.model)),
+          result.optimized}});
+    extras.filmstrip_times_s = strip.times_s();
+    const ui::FilmstripOptions options = ui::DesignFilmstripOptions();
     CreateOutputDirectory(dir);
-    const std::vector<std::uint8_t> png = capture::EncodeRgbPng(
-        options.width, 2 * options.height, ui::RenderFilmstrips(rows, heading, options));
+    const std::vector<std::uint8_t> png =
+        capture::EncodeRgbPng(options.width, 2 * options.height, strip.Render(options));
     WriteFileAtomically(dir / "filmstrip.png", std::string(png.begin(), png.end()));
     extras.filmstrip = "filmstrip.png";
     if (video) {
       ui::FilmstripVideoOptions v;
       v.progress = MakeCancellableProgress("filmstrip", "frames");
-      ui::WriteFilmstripVideo(rows, heading, dir / "filmstrip.mp4", options, v);
+      strip.WriteVideo(dir / "filmstrip.mp4", options, v);
       extras.filmstrip_video = "filmstrip.mp4";
     }
   } catch (const InputError& e) {

@@ -23,8 +23,11 @@
 #include <fstream>
 #include <functional>
 
+#include "acro/athlete/standard_human.h"
+#include "acro/scene/designed_skill.h"
 #include "acro/studio/compare_window.h"
 #include "acro/studio/plot_view.h"
+#include "acro/studio/skill_window.h"
 #include "acro/studio/timeline.h"
 #include "acro/views/display.h"
 #include "refdata.h"
@@ -213,6 +216,41 @@ TEST(Studio, TheSampleRoutineWithItsVideoAtOneCursor) {
   EXPECT_EQ(w.session(), kept);
   EXPECT_EQ(w.cursor(), six.flight.takeoff_frame);
   Shot("studio_bad_file");
+}
+
+// The skill designer: the paper's example skill (1¾ front with ½ twist) opened, its keyframes in
+// the table, Model 2 run on the worker thread: J drops at least 10 times (docs/skill-design.md:
+// 10.1), the timing chart is shown; the design saved is a folder `overlay --ghost` reads; a bad
+// skill file is a dialog and the skill stays.
+TEST(Studio, TheSkillDesignerRunsModel2OnThePapersExample) {
+  MainWindow w;
+  w.resize(1920, 1080);
+  w.show();
+  const fs::path skill = acro::testing::SourceDir() / "samples/skills/front_1_3_4_half_twist.yaml";
+  SkillWindow* designer = w.OpenSkillDesigner(skill.string());
+  ASSERT_NE(designer, nullptr);
+  ASSERT_TRUE(designer->last_error().empty()) << designer->last_error();
+  const analysis::Skill file = analysis::ReadSkill(skill);
+  ASSERT_EQ(designer->keyframes()->rowCount(), int(file.keyframes.size()));
+  EXPECT_EQ(designer->keyframes()->item(0, 0)->text().toStdString(), file.keyframes[0].name);
+  designer->Run(2);
+  ASSERT_TRUE(
+      WaitUntil([&] { return !designer->running() && designer->result() != nullptr; }, 120000))
+      << designer->last_error();
+  const analysis::SkillOptimizationResult& r = *designer->result();
+  EXPECT_GE(r.objective_initial / r.objective, 10.0);
+  EXPECT_EQ(designer->timing_plot()->chart().title.rfind("Keyframe timing", 0), 0u);
+  EXPECT_FALSE(designer->keyframes()->item(1, 2)->text().isEmpty());  // optimised times shown
+  Shot("studio_skill_designer");
+  const fs::path dir = acro::testing::ScratchDir("studio_design");
+  ASSERT_TRUE(designer->SaveDesign((dir / "design").string())) << designer->last_error();
+  const analysis::DesignedSkill saved = analysis::ReadDesignedSkill(
+      dir / "design", analysis::MakeStandardHumanModel(analysis::MakeAthleteBody(file.athlete)));
+  EXPECT_EQ(saved.name, file.name);
+  std::ofstream(dir / "bad.yaml") << "name: [unclosed\n";
+  EXPECT_FALSE(designer->OpenSkill((dir / "bad.yaml").string()));
+  EXPECT_NE(designer->last_error().find("bad.yaml"), std::string::npos) << designer->last_error();
+  EXPECT_EQ(designer->keyframes()->rowCount(), int(file.keyframes.size()));  // kept
 }
 
 }  // namespace

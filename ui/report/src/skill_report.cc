@@ -171,6 +171,35 @@ capture::Storage MakeSkillMotionTable(const SkillDesign& design,
   return s;
 }
 
+Chart MakeSkillTimingChart(const SkillDesign& design, const SkillOptimizationResult& r) {
+  const int n = design.num_keyframes();
+  constexpr Rgb kInitialGrey{0.5, 0.5, 0.5};
+  constexpr Rgb kOptimisedRed{0.84, 0.15, 0.16};
+  Chart timing;
+  timing.title = "Keyframe timing: " + design.skill().name;
+  timing.x_label = "keyframe";
+  timing.y_label = "time (s)";
+  const std::string optimised =
+      "optimised (model " + std::to_string(SkillModelNumber(r.model)) + ")";
+  LineSeries even{.name = "initial (even)",
+                  .x = {},
+                  .y = ToStd(r.times_initial_s),
+                  .color = kInitialGrey,
+                  .dashed = true,
+                  .markers = true};
+  LineSeries opt{.name = optimised,
+                 .x = {},
+                 .y = ToStd(r.optimized.times_s),
+                 .color = kOptimisedRed,
+                 .markers = true};
+  for (int i = 0; i < n; ++i) {
+    even.x.push_back(i + 1);
+    opt.x.push_back(i + 1);
+  }
+  timing.series = {even, opt};
+  return timing;
+}
+
 std::vector<std::string> WriteSkillOutputs(const std::filesystem::path& dir,
                                            const SkillDesign& design,
                                            const SkillOptimizationResult& r,
@@ -208,33 +237,13 @@ std::vector<std::string> WriteSkillOutputs(const std::filesystem::path& dir,
     csv << "\n";
   }
   write("timing.csv", csv.str());
-  constexpr ui::Rgb kInitialGrey{0.5, 0.5, 0.5};
-  constexpr ui::Rgb kOptimisedRed{0.84, 0.15, 0.16};
-  ui::Chart timing;
-  timing.title = "Keyframe timing: " + design.skill().name;
-  timing.x_label = "keyframe";
-  timing.y_label = "time (s)";
-  const std::string optimised =
-      "optimised (model " + std::to_string(SkillModelNumber(r.model)) + ")";
-  ui::LineSeries even{.name = "initial (even)",
-                      .x = {},
-                      .y = ToStd(r.times_initial_s),
-                      .color = kInitialGrey,
-                      .dashed = true,
-                      .markers = true};
-  ui::LineSeries opt{.name = optimised,
-                     .x = {},
-                     .y = ToStd(r.optimized.times_s),
-                     .color = kOptimisedRed,
-                     .markers = true};
-  for (int i = 0; i < n; ++i) {
-    even.x.push_back(i + 1);
-    opt.x.push_back(i + 1);
-  }
-  timing.series = {even, opt};
-  write_plot("timing", timing);
+  write_plot("timing", MakeSkillTimingChart(design, r));
 
   // Angular momentum about the COM, initial and optimised.
+  constexpr ui::Rgb kInitialGrey{0.5, 0.5, 0.5};
+  constexpr ui::Rgb kOptimisedRed{0.84, 0.15, 0.16};
+  const std::string optimised =
+      "optimised (model " + std::to_string(SkillModelNumber(r.model)) + ")";
   const SkillMotionProfile p0 = CalcSkillMotionProfile(design, r.initial, 320);
   const SkillMotionProfile p1 = CalcSkillMotionProfile(design, r.optimized, 320);
   ui::Chart h;

@@ -34,6 +34,7 @@
 #include "acro/scene/place_scene.h"
 #include "acro/studio/compare_window.h"
 #include "acro/studio/plot_view.h"
+#include "acro/studio/skill_window.h"
 #include "acro/studio/timeline.h"
 #include "acro/views/scene_overlay.h"
 #include "acro/views/trial_view.h"
@@ -247,6 +248,7 @@ void MainWindow::BuildMenus() {
         QFileDialog::getSaveFileName(this, "Save the session", {}, "Sessions (*.acrolab)");
     if (!path.isEmpty()) SaveSessionFile(path.toStdString());
   });
+  file->addAction("Open s&kill (designer)…", this, [this] { OpenSkillDesigner(); });
   file->addSeparator();
   file->addAction("&Compare two jumps…", this, [this] {
     bool ok = false;
@@ -504,6 +506,13 @@ void MainWindow::SetCursor(int sample) {
   if (!playing_) play_position_ = cursor_;
   timeline_->SetCursor(cursor_);
   Redraw();
+}
+
+SkillWindow* MainWindow::OpenSkillDesigner(const std::string& path) {
+  if (!designer_) designer_ = std::make_unique<SkillWindow>(this);
+  designer_->show();
+  if (!path.empty()) designer_->OpenSkill(path);
+  return designer_.get();
 }
 
 bool MainWindow::OpenCompare(int a, int b) {

@@ -13,6 +13,7 @@
 #include "acro/capture/trial.h"
 #include "acro/design/skill_optimization.h"
 #include "acro/design/skill_simulation.h"
+#include "acro/report/chart.h"
 
 namespace acro::ui {
 
@@ -32,6 +33,10 @@ capture::Trial MakeSkillMarkerTrial(const analysis::SkillDesign& design,
 capture::Storage MakeSkillMotionTable(const analysis::SkillDesign& design,
                                       const analysis::SkillTrajectory& trajectory,
                                       double rate_hz = 100.0);
+
+/// The keyframe times, initial and optimised, against the keyframe number (the paper's Figure 7).
+Chart MakeSkillTimingChart(const analysis::SkillDesign& design,
+                           const analysis::SkillOptimizationResult& result);
 
 /// What the page shows beside the charts, made elsewhere (the 3D views draw the filmstrips).
 struct SkillReportExtras {

@@ -37,6 +37,7 @@ class TrialOverlay;
 namespace acro::studio {
 
 class CompareWindow;
+class SkillWindow;
 class ImageView;
 class PlotView;
 class Timeline;
@@ -74,6 +75,8 @@ class MainWindow : public QMainWindow {
   /// A's take-off. False (and the dialog) for a jump that is not there.
   bool OpenCompare(int a, int b);
   CompareWindow* compare() { return compare_.get(); }
+  /// The skill designer (File → Open skill…), opened on `path` when given.
+  SkillWindow* OpenSkillDesigner(const std::string& path = "");
 
   Timeline* timeline() { return timeline_; }
   PlotView* plot() { return plot_; }
@@ -111,6 +114,7 @@ class MainWindow : public QMainWindow {
   std::unique_ptr<ui::TrialFreeView> free_view_;
   std::unique_ptr<ui::TrialOverlay> overlay_;
   std::unique_ptr<CompareWindow> compare_;
+  std::unique_ptr<SkillWindow> designer_;
   ImageView* view3d_ = nullptr;
   ImageView* video_view_ = nullptr;
   Timeline* timeline_ = nullptr;
