@@ -4,7 +4,6 @@
 #include <cmath>
 #include <stdexcept>
 
-#include "acro/assess/jump_rotation.h"
 #include "acro/base/input_error.h"
 #include "acro/dynamics/configuration.h"
 
@@ -13,7 +12,6 @@ namespace acro::analysis {
 namespace {
 
 constexpr double kTailS = 0.25;  // shown after the later landing
-constexpr double kDeg = 180.0 / M_PI;
 
 const JumpMetrics& FindJump(const TrialAnalysis& analysis, int jump) {
   for (const JumpMetrics& j : analysis.jumps)
@@ -110,19 +108,15 @@ JumpCurves CompareScene::Curves(const CompareJump& j, const Eigen::Isometry3d& t
   const TakeoffPlacement p = FindTakeoff(*j.analysis, j.jump);
   const Motion& m = j.analysis->reconstruction.motion;
   const Eigen::Matrix3Xd& com = j.analysis->check.frames.com_W;
-  const int first = SampleAt(m, p.takeoff_s), last = SampleAt(m, p.landing_s);
   JumpCurves c;
-  if (last <= first) return c;
-  std::vector<Eigen::Quaterniond> q_WB;
-  for (int f = first; f <= last; ++f) q_WB.push_back(dynamics::GetRootQuaternion(m.q.col(f)));
-  // The somersault axis: the pelvis's lateral axis at take-off, as the jump metrics count it.
-  const RotationAngles angles = CalcRotationAngles(q_WB, q_WB.front() * Eigen::Vector3d::UnitY());
-  for (int f = first; f <= last; ++f) {
-    const int k = f - first;
+  const FlightRotation rotation = CalcFlightRotation(*j.analysis, j.jump);
+  if (rotation.frames.size() < 2) return c;
+  for (size_t k = 0; k < rotation.frames.size(); ++k) {
+    const int f = rotation.frames[k];
     c.tau_s.push_back(m.time_s(f) - p.takeoff_s);
     c.com_height_m.push_back((to_a * Eigen::Vector3d(com.col(f))).z());
-    c.somersault_deg.push_back((angles.somersault_rad(k) - angles.somersault_rad(0)) * kDeg);
-    c.twist_deg.push_back((angles.twist_rad(k) - angles.twist_rad(0)) * kDeg);
+    c.somersault_deg.push_back(rotation.somersault_deg[k]);
+    c.twist_deg.push_back(rotation.twist_deg[k]);
   }
   return c;
 }

@@ -42,7 +42,7 @@ TEST(AnalysisReport, FiguresShowThePhasesTheJudgedResidualsAndTheChosenJoint) {
   AnalysisReportOptions options;
   options.joint = "l_knee_flexion";
   const std::vector<ReportFigure> figures = MakeAnalysisFigures(a, options);
-  ASSERT_EQ(figures.size(), 6u);
+  ASSERT_EQ(figures.size(), 7u);
   const int frames = a.reconstruction.motion.num_frames();
   int judged = 0;
   for (const analysis::FlightCheck& f : a.check.flights) judged += f.last_frame - f.first_frame + 1;
@@ -77,6 +77,22 @@ TEST(AnalysisReport, FiguresShowThePhasesTheJudgedResidualsAndTheChosenJoint) {
   double max_knee_deg = 0;
   for (double v : figures[4].chart.series[0].y) max_knee_deg = std::max(max_knee_deg, v);
   EXPECT_GT(max_knee_deg, 90.0);  // the tucks bend the knees well past a right angle
+  // Somersault and twist from each take-off, in contact nothing: at its last flight frame each
+  // jump has turned what its code says (the double back two backward turns, the full one twist);
+  // the routine's generator made them 10–20 % short of whole turns in the air (a somersault is
+  // completed on the bed).
+  EXPECT_EQ(figures[6].file, "rotation.png");
+  const std::vector<double>& somersault = figures[6].chart.series[0].y;
+  const std::vector<double>& twist = figures[6].chart.series[1].y;
+  const auto at_landing = [&](const std::vector<double>& y, int jump) {
+    return y[size_t(a.jumps.at(size_t(jump - 1)).flight.landing_frame)];
+  };
+  EXPECT_LT(at_landing(somersault, 6), -540.0);  // 800o
+  EXPECT_GT(at_landing(somersault, 6), -760.0);
+  EXPECT_LT(at_landing(somersault, 2), -250.0);  // 40o
+  EXPECT_GT(at_landing(twist, 5), 270.0);        // 42/: a full twist
+  EXPECT_LT(std::abs(at_landing(twist, 6)), 20.0);
+  EXPECT_FALSE(std::isfinite(somersault[size_t(a.jumps.at(0).flight.landing_frame + 5)]));
 }
 
 TEST(AnalysisReport, AnUnknownJointIsAnInputError) {
@@ -118,7 +134,7 @@ TEST(AnalysisReport, PngAndSvgAreWrittenAndLinkedWithNoDisplay) {
   const AnalysisReportOutcome outcome = WriteAnalysisReport(Sample(), dir, {});
   if (display) setenv("DISPLAY", saved.c_str(), 1);
   ASSERT_TRUE(outcome.images_rendered) << outcome.reason;
-  ASSERT_EQ(outcome.images.size(), 12u);  // six figures, PNG and SVG each
+  ASSERT_EQ(outcome.images.size(), 14u);  // seven figures, PNG and SVG each
   for (const fs::path& p : outcome.images) {
     std::ifstream in(p, std::ios::binary);
     std::string head(5, '\0');

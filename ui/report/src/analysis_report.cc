@@ -220,6 +220,28 @@ std::vector<ReportFigure> MakeAnalysisFigures(const analysis::TrialAnalysis& a,
                    "drop shows a wrong sync, calibration or reconstruction (docs/overlay.md).",
                    c});
   }
+  // Somersault and twist of every flight from its take-off (what the FIG code counts).
+  {
+    Chart c = TimeChart(a, "Somersault (solid) and twist (dashed) from each take-off", "degrees");
+    std::vector<double> somersault(t.size(), std::numeric_limits<double>::quiet_NaN());
+    std::vector<double> twist = somersault;
+    for (const analysis::JumpMetrics& j : a.jumps) {
+      const analysis::FlightRotation r = analysis::CalcFlightRotation(a, j.index);
+      for (size_t k = 0; k < r.frames.size(); ++k) {
+        somersault[size_t(r.frames[k])] = r.somersault_deg[k];
+        twist[size_t(r.frames[k])] = r.twist_deg[k];
+      }
+    }
+    c.series.push_back(Series("somersault", t, somersault, kBlue));
+    LineSeries tw = Series("twist", t, twist, kOrange);
+    tw.dashed = true;
+    c.series.push_back(tw);
+    out.push_back({"rotation.png",
+                   "Somersault (about the pelvis's lateral axis at take-off) and twist of every "
+                   "flight, from 0 at its take-off: a back somersault is −360°, a full twist "
+                   "360°.",
+                   c});
+  }
   return out;
 }
 

@@ -131,6 +131,17 @@ TrialAnalysis AnalyzeTrial(const capture::Trial& trial,
                            const AthleteBody& body,
                            const TrialAnalysisOptions& options = {});
 
+/// A flight's rotation as coaches count it, frame by frame from its take-off frame to its landing
+/// frame: the somersault about the pelvis's lateral axis at take-off and the twist, both from 0 at
+/// take-off (degrees; backward somersaults negative, as the metrics count them).
+struct FlightRotation {
+  std::vector<int> frames;
+  std::vector<double> somersault_deg;
+  std::vector<double> twist_deg;
+};
+/// For jump `jump` (1-based, as jumps.json numbers them); empty for a jump that is not there.
+FlightRotation CalcFlightRotation(const TrialAnalysis& analysis, int jump);
+
 /// Where the feet are in configuration `q` of `model` (a standard human, with r_toe and l_toe
 /// points): the midpoint of the two sole centres, as the jumps' take-off and landing feet are
 /// measured (JumpMetrics::takeoff_feet_W).
