@@ -26,6 +26,7 @@
 #include "acro/athlete/standard_human.h"
 #include "acro/scene/designed_skill.h"
 #include "acro/studio/compare_window.h"
+#include "acro/studio/image_view.h"
 #include "acro/studio/plot_view.h"
 #include "acro/studio/skill_window.h"
 #include "acro/studio/timeline.h"
@@ -111,6 +112,40 @@ TEST(Studio, TheSampleRoutineWithItsVideoAtOneCursor) {
     EXPECT_EQ(w.view_frame()->sample, w.cursor());
   }
   Shot("studio_frame_121");
+
+  // Zoom on the video view about the pointer (the picture point under it stays there), pan by a
+  // drag, a double click shows the whole frame again.
+  ImageView* video = w.video_view();
+  const QPoint at = video->TargetRect().topLeft() +
+                    QPoint(video->TargetRect().width() / 4, video->TargetRect().height() / 4);
+  const QRectF whole = video->SourceRect();
+  const QPointF under = {whole.width() / 4, whole.height() / 4};
+  QWheelEvent wheel(at,
+                    video->mapToGlobal(at),
+                    {},
+                    {0, 120},
+                    Qt::NoButton,
+                    Qt::NoModifier,
+                    Qt::NoScrollPhase,
+                    false);
+  for (int k = 0; k < 3; ++k) QApplication::sendEvent(video, &wheel);
+  EXPECT_NEAR(video->zoom(), 1.25 * 1.25 * 1.25, 1e-9);
+  const QRectF zoomed = video->SourceRect();
+  EXPECT_NEAR(zoomed.width(), whole.width() / video->zoom(), 1e-6);
+  // The picture point under the pointer: a quarter in from the top left, as before.
+  EXPECT_NEAR(zoomed.x() +
+                  (at.x() - video->TargetRect().x()) * zoomed.width() / video->TargetRect().width(),
+              under.x(),
+              2.0);
+  QTest::mousePress(video, Qt::LeftButton, {}, at);
+  // (QTest::mouseMove carries no button in Qt 5: the drag's move is sent as the window would.)
+  QMouseEvent drag(
+      QEvent::MouseMove, at + QPoint(40, 0), Qt::NoButton, Qt::LeftButton, Qt::NoModifier);
+  QApplication::sendEvent(video, &drag);
+  QTest::mouseRelease(video, Qt::LeftButton, {}, at + QPoint(40, 0));
+  EXPECT_LT(video->SourceRect().x(), zoomed.x());  // dragged right: the view moved left
+  QTest::mouseDClick(video, Qt::LeftButton, {}, at);
+  EXPECT_EQ(video->zoom(), 1.0);
 
   // Play for a second, then pause: the cursor moved about a second of trial (one at speed 1).
   const int before = w.cursor();

@@ -10,7 +10,7 @@
 #include "acro/report/compare_report.h"
 #include "acro/scene/place_scene.h"
 #include "acro/views/compare_video.h"
-#include "image_view.h"
+#include "acro/studio/image_view.h"
 
 namespace acro::studio {
 

@@ -38,7 +38,7 @@
 #include "acro/studio/timeline.h"
 #include "acro/views/scene_overlay.h"
 #include "acro/views/trial_view.h"
-#include "image_view.h"
+#include "acro/studio/image_view.h"
 
 namespace acro::studio {
 

@@ -15,7 +15,7 @@
 #include "acro/report/skill_report.h"
 #include "acro/studio/plot_view.h"
 #include "acro/views/design_filmstrip.h"
-#include "image_view.h"
+#include "acro/studio/image_view.h"
 
 namespace acro::studio {
 

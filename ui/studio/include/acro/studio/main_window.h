@@ -79,6 +79,7 @@ class MainWindow : public QMainWindow {
   SkillWindow* OpenSkillDesigner(const std::string& path = "");
 
   Timeline* timeline() { return timeline_; }
+  ImageView* video_view() { return video_view_; }
   PlotView* plot() { return plot_; }
   /// Shows figure `index` of the analysis' figures (the report's: COM and feet, residual force and
   /// moment, angular momentum, the joint's angle and torque) for `joint`.
