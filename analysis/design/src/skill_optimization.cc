@@ -115,6 +115,10 @@ SkillOptimizationResult OptimizeSkill(const SkillDesign& design,
   SkillOptimizationSummary s2;
   const Eigen::VectorXd x2 = internal::SolveModel2(design, result.initial, N, options, &s2);
   result.stages.push_back(s2);
+  const auto stop_if_cancelled = [&options] {
+    if (options.cancelled && options.cancelled()) throw InputError("", "optimisation", "cancelled");
+  };
+  stop_if_cancelled();
   result.optimized = SkillTrajectoryFromParameters(design, result.initial, SkillModel::kTiming, x2);
 
   // Model 1: times and trajectory coefficients, from the Model 2 optimum (or the initial times).
@@ -125,6 +129,7 @@ SkillOptimizationResult OptimizeSkill(const SkillDesign& design,
     SkillOptimizationSummary s1;
     const Eigen::VectorXd x1 = internal::SolveModel1(design, base1, options, &s1);
     result.stages.push_back(s1);
+    stop_if_cancelled();
     result.optimized = SkillTrajectoryFromParameters(design, base1, SkillModel::kTrajectory, x1);
   }
   result.summary = result.stages.back();

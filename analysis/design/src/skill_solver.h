@@ -16,11 +16,12 @@
 
 namespace acro::analysis::internal {
 
-/// Hands "<stage> iteration k: J = …" to the options' progress function after every iteration.
+/// Hands "<stage> iteration k: J = …" to the options' progress function after every iteration,
+/// and stops the solve when the options' `cancelled` says so.
 class SkillProgressCallback : public ceres::IterationCallback {
  public:
-  SkillProgressCallback(const std::function<void(const std::string&)>& out, std::string stage)
-      : out_(out), stage_(std::move(stage)) {}
+  SkillProgressCallback(const SkillOptimizationOptions& options, std::string stage)
+      : out_(options.progress), cancelled_(options.cancelled), stage_(std::move(stage)) {}
   ceres::CallbackReturnType operator()(const ceres::IterationSummary& s) override {
     if (out_) {
       std::ostringstream line;
@@ -28,11 +29,12 @@ class SkillProgressCallback : public ceres::IterationCallback {
            << (s.step_is_successful ? "" : " (step rejected)");
       out_(line.str());
     }
-    return ceres::SOLVER_CONTINUE;
+    return cancelled_ && cancelled_() ? ceres::SOLVER_ABORT : ceres::SOLVER_CONTINUE;
   }
 
  private:
   const std::function<void(const std::string&)>& out_;
+  const std::function<bool()>& cancelled_;
   std::string stage_;
 };
 

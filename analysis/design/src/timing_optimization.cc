@@ -190,7 +190,7 @@ Eigen::VectorXd SolveModel2(const SkillDesign& design,
   for (int j = 0; j + 1 < n; ++j) problem.SetParameterLowerBound(gaps, j, min_gap);
 
   ceres::Solver::Options so = MakeSkillSolverOptions(options, ceres::DENSE_QR, blocks);
-  SkillProgressCallback callback(options.progress, "model 2");
+  SkillProgressCallback callback(options, "model 2");
   so.callbacks.push_back(&callback);
   ceres::Solver::Summary s;
   ceres::Solve(so, &problem, &s);

@@ -645,7 +645,7 @@ Eigen::VectorXd SolveModel1(const SkillDesign& design,
   ceres::Solver::Options so =
       MakeSkillSolverOptions(options, ceres::SPARSE_NORMAL_CHOLESKY, threads);
   so.function_tolerance = options.model1_function_tolerance;
-  SkillProgressCallback callback(options.progress, "model 1");
+  SkillProgressCallback callback(options, "model 1");
   so.callbacks.push_back(&callback);
   ceres::Solver::Summary s;
   ceres::Solve(so, &problem, &s);

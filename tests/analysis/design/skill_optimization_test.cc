@@ -7,6 +7,8 @@
 
 #include <gtest/gtest.h>
 
+#include "acro/base/input_error.h"
+
 #include "refdata.h"
 
 namespace acro::analysis {
@@ -124,6 +126,25 @@ void ExpectKeyframePosesAtTheirTimes(const SkillDesign& d, const SkillTrajectory
 }
 
 // The designed motion passes through every keyframe pose at its time.
+// A run is stopped from outside (the studio's Cancel): Model 1 on the paper's example, which runs
+// for minutes, stops after its third iteration and says so in one line.
+TEST(SkillOptimization, ACancelledRunStopsAfterTheIterationAndSaysSo) {
+  SkillOptimizationOptions options;
+  options.model = SkillModel::kTrajectory;
+  int iterations = 0;
+  options.progress = [&](const std::string& line) {
+    if (line.rfind("model 1 iteration", 0) == 0) ++iterations;
+  };
+  options.cancelled = [&] { return iterations >= 3; };
+  try {
+    OptimizeSkill(FrontExample(), options);
+    ADD_FAILURE() << "a cancelled run returned";
+  } catch (const InputError& e) {
+    EXPECT_STREQ(e.what(), "optimisation: cancelled");
+  }
+  EXPECT_EQ(iterations, 3);
+}
+
 TEST(SkillOptimization, TheMotionPassesThroughTheKeyframes) {
   const SkillDesign& d = FrontExample();
   const SkillTrajectory t = MakeKeyframeTrajectory(d, d.EvenTimes());

@@ -277,6 +277,19 @@ TEST(Studio, TheSkillDesignerRunsModel2OnThePapersExample) {
   EXPECT_EQ(designer->timing_plot()->chart().title.rfind("Keyframe timing", 0), 0u);
   EXPECT_FALSE(designer->keyframes()->item(1, 2)->text().isEmpty());  // optimised times shown
   Shot("studio_skill_designer");
+  // Model 1 takes minutes here: Cancel stops it within a few seconds, the Model 2 result stays.
+  designer->Run(1);
+  EXPECT_TRUE(designer->running());
+  QTest::qWait(500);
+  QElapsedTimer stopping;
+  stopping.start();
+  designer->Cancel();
+  ASSERT_TRUE(WaitUntil([&] { return !designer->running(); }, 60000));
+  EXPECT_LT(stopping.elapsed(), 15000);
+  EXPECT_NE(designer->summary().find("Cancelled"), std::string::npos) << designer->summary();
+  ASSERT_NE(designer->result(), nullptr);
+  EXPECT_EQ(designer->result()->model, analysis::SkillModel::kTiming);
+  EXPECT_TRUE(designer->last_error().empty()) << designer->last_error();
   const fs::path dir = acro::testing::ScratchDir("studio_design");
   ASSERT_TRUE(designer->SaveDesign((dir / "design").string())) << designer->last_error();
   const analysis::DesignedSkill saved = analysis::ReadDesignedSkill(

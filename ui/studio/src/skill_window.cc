@@ -13,9 +13,9 @@
 #include <fmt/format.h>
 
 #include "acro/report/skill_report.h"
+#include "acro/studio/image_view.h"
 #include "acro/studio/plot_view.h"
 #include "acro/views/design_filmstrip.h"
-#include "acro/studio/image_view.h"
 
 namespace acro::studio {
 
@@ -58,6 +58,8 @@ SkillWindow::SkillWindow(QWidget* parent) : QWidget(parent, Qt::Window) {
   auto* model2 = new QPushButton("Run Model 2 (timing)");
   auto* model1 = new QPushButton("Run Model 1 (timing and trajectory)");
   auto* save = new QPushButton("Save the design…");
+  auto* cancel = new QPushButton("Cancel");
+  connect(cancel, &QPushButton::clicked, this, [this] { Cancel(); });
   connect(open, &QPushButton::clicked, this, [this] {
     const QString path =
         QFileDialog::getOpenFileName(this, "Open a skill", {}, "Skills (*.yaml *.yml)");
@@ -70,7 +72,7 @@ SkillWindow::SkillWindow(QWidget* parent) : QWidget(parent, Qt::Window) {
     if (!dir.isEmpty()) SaveDesign(dir.toStdString());
   });
   auto* buttons = new QHBoxLayout;
-  for (QPushButton* b : {open, model2, model1, save}) buttons->addWidget(b);
+  for (QPushButton* b : {open, model2, model1, cancel, save}) buttons->addWidget(b);
   buttons->addWidget(progress_, 1);
   auto* right = new QVBoxLayout;
   right->addWidget(strip_, 3);
@@ -86,7 +88,12 @@ SkillWindow::SkillWindow(QWidget* parent) : QWidget(parent, Qt::Window) {
 }
 
 SkillWindow::~SkillWindow() {
+  cancel_ = true;
   Join();
+}
+
+std::string SkillWindow::summary() const {
+  return summary_->text().toStdString();
 }
 
 void SkillWindow::Join() {
@@ -156,6 +163,7 @@ void SkillWindow::Run(int model) {
   if (running()) return;
   Join();
   done_ = false;
+  cancel_ = false;
   progress_->setRange(0, 0);
   progress_->show();
   const analysis::Skill skill = *skill_;
@@ -173,6 +181,7 @@ void SkillWindow::Run(int model) {
             [this, line] { summary_->setText(QString::fromStdString(line)); },
             Qt::QueuedConnection);
       };
+      options.cancelled = [this] { return cancel_.load(); };
       result = analysis::OptimizeSkill(design, options);
     } catch (const std::exception& e) {
       error = e.what();
@@ -182,6 +191,13 @@ void SkillWindow::Run(int model) {
         [this, result, error] {
           progress_->hide();
           done_ = true;
+          if (cancel_) {
+            // Asked for: a line, not an error; what was shown before stays.
+            summary_->setText(
+                "Cancelled: the optimisation stopped; the result shown is the "
+                "previous one, if any.");
+            return;
+          }
           if (!error.empty()) return ShowError(error);
           result_ = result;
           ShowResult();

@@ -80,6 +80,9 @@ struct SkillOptimizationOptions {
   int num_threads = 0;
   /// Progress lines (iteration, objective) are handed here when set; the library prints nothing.
   std::function<void(const std::string&)> progress;
+  /// Asked after every solver iteration when set: true stops the optimisation, and OptimizeSkill
+  /// throws acro::InputError ("optimisation: cancelled").
+  std::function<bool()> cancelled;
 
   bool IsValid(std::string* why) const;
 };

@@ -37,11 +37,15 @@ class SkillWindow : public QWidget {
   /// Model 2 (`model` 2) or Model 1 on a worker thread.
   void Run(int model);
   bool running() const { return worker_.joinable() && !done_; }
+  /// Stops the run after its current iteration; the result shown before stays.
+  void Cancel() { cancel_ = true; }
   const analysis::SkillOptimizationResult* result() const { return result_ ? &*result_ : nullptr; }
   /// Writes the design's folder (result.json, motion.mot, charts, filmstrip, report.html).
   bool SaveDesign(const std::string& dir);
   QTableWidget* keyframes() { return keyframes_; }
   PlotView* timing_plot() { return timing_; }
+  /// The line under the window (what the run is doing, or its result).
+  std::string summary() const;
   const std::string& last_error() const { return last_error_; }
 
  private:
@@ -60,6 +64,7 @@ class SkillWindow : public QWidget {
   std::string last_error_;
   std::thread worker_;
   std::atomic<bool> done_{true};
+  std::atomic<bool> cancel_{false};
 };
 
 }  // namespace acro::studio
