@@ -9,8 +9,8 @@
 #include "acro/athlete/body_mesh.h"
 #include "acro/report/compare_report.h"
 #include "acro/scene/place_scene.h"
-#include "acro/views/compare_video.h"
 #include "acro/studio/image_view.h"
+#include "acro/views/compare_video.h"
 
 namespace acro::studio {
 

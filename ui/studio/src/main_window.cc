@@ -33,12 +33,12 @@
 #include "acro/report/analysis_report.h"
 #include "acro/scene/place_scene.h"
 #include "acro/studio/compare_window.h"
+#include "acro/studio/image_view.h"
 #include "acro/studio/plot_view.h"
 #include "acro/studio/skill_window.h"
 #include "acro/studio/timeline.h"
 #include "acro/views/scene_overlay.h"
 #include "acro/views/trial_view.h"
-#include "acro/studio/image_view.h"
 
 namespace acro::studio {
 
