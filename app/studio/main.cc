@@ -1,14 +1,12 @@
 // `acrolab-studio [TRIAL] [--athlete A] [--video V --calib C [--camera NAME] [--offset-s S]]
 // [--session FILE.acrolab]`: the workstation window (ui/studio; docs/studio.md).
 
-#include <QApplication>
-
 #include <cstdio>
 #include <string>
 
 #include <CLI/CLI.hpp>
 
-#include "acro/studio/main_window.h"
+#include "acro/studio/studio.h"
 
 int main(int argc, char** argv) {
   CLI::App app{"Acrolab Studio: the workstation window (docs/studio.md)", "acrolab-studio"};
@@ -35,13 +33,5 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "acrolab-studio: --video and --calib go together\n");
     return 2;
   }
-  QApplication qt(argc, argv);
-  acro::studio::MainWindow window;
-  window.show();
-  if (!session.empty()) {
-    window.OpenSessionFile(session);
-  } else if (!files.trial.empty()) {
-    window.OpenFiles(files);
-  }
-  return qt.exec();
+  return acro::studio::RunStudio(argc, argv, files, session);
 }

@@ -13,8 +13,8 @@
 #include <QTest>
 #include <QThread>
 
-#include "acro/studio/main_window.h"
 #include "acro/views/display.h"
+#include "main_window.h"
 #include "refdata.h"
 
 namespace {

@@ -6,7 +6,7 @@
 // session saved and reopened; a bad file is a dialog and the session stays. With
 // ACRO_STUDIO_SCREENSHOTS=DIR each state is saved as a picture there (docs/studio.md).
 
-#include "acro/studio/main_window.h"
+#include "main_window.h"
 
 #include <gtest/gtest.h>
 
@@ -25,13 +25,13 @@
 
 #include "acro/athlete/standard_human.h"
 #include "acro/scene/designed_skill.h"
-#include "acro/studio/compare_window.h"
-#include "acro/studio/image_view.h"
-#include "acro/studio/plot_view.h"
-#include "acro/studio/skill_window.h"
-#include "acro/studio/timeline.h"
 #include "acro/views/display.h"
+#include "compare_window.h"
+#include "image_view.h"
+#include "plot_view.h"
 #include "refdata.h"
+#include "skill_window.h"
+#include "timeline.h"
 
 namespace acro::studio {
 namespace {

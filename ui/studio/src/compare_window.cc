@@ -1,4 +1,4 @@
-#include "acro/studio/compare_window.h"
+#include "compare_window.h"
 
 #include <QVBoxLayout>
 
@@ -9,8 +9,8 @@
 #include "acro/athlete/body_mesh.h"
 #include "acro/report/compare_report.h"
 #include "acro/scene/place_scene.h"
-#include "acro/studio/image_view.h"
 #include "acro/views/compare_video.h"
+#include "image_view.h"
 
 namespace acro::studio {
 

@@ -1,4 +1,4 @@
-#include "acro/studio/main_window.h"
+#include "main_window.h"
 
 #include <QAction>
 #include <QApplication>
@@ -32,13 +32,13 @@
 #include "acro/dynamics/configuration.h"
 #include "acro/report/analysis_report.h"
 #include "acro/scene/place_scene.h"
-#include "acro/studio/compare_window.h"
-#include "acro/studio/image_view.h"
-#include "acro/studio/plot_view.h"
-#include "acro/studio/skill_window.h"
-#include "acro/studio/timeline.h"
 #include "acro/views/scene_overlay.h"
 #include "acro/views/trial_view.h"
+#include "compare_window.h"
+#include "image_view.h"
+#include "plot_view.h"
+#include "skill_window.h"
+#include "timeline.h"
 
 namespace acro::studio {
 

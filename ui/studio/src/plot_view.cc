@@ -1,4 +1,4 @@
-#include "acro/studio/plot_view.h"
+#include "plot_view.h"
 
 #include <QMouseEvent>
 #include <QPainter>

@@ -1,4 +1,4 @@
-#include "acro/studio/skill_window.h"
+#include "skill_window.h"
 
 #include <QFileDialog>
 #include <QHBoxLayout>
@@ -13,9 +13,9 @@
 #include <fmt/format.h>
 
 #include "acro/report/skill_report.h"
-#include "acro/studio/image_view.h"
-#include "acro/studio/plot_view.h"
 #include "acro/views/design_filmstrip.h"
+#include "image_view.h"
+#include "plot_view.h"
 
 namespace acro::studio {
 

@@ -1,4 +1,4 @@
-#include "acro/studio/timeline.h"
+#include "timeline.h"
 
 #include <QMouseEvent>
 #include <QPainter>
