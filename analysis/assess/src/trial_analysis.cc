@@ -358,23 +358,29 @@ std::string TrialAnalysis::BriefReport() const {
 }
 
 FlightRotation CalcFlightRotation(const TrialAnalysis& analysis, int jump) {
-  FlightRotation out;
   const Motion& m = analysis.reconstruction.motion;
   for (const JumpMetrics& j : analysis.jumps) {
     if (j.index != jump) continue;
     const int first = std::clamp(j.flight.takeoff_frame, 0, m.num_frames() - 1);
-    const int last = std::clamp(j.flight.landing_frame, first, m.num_frames() - 1);
-    std::vector<Eigen::Quaterniond> q_WB;
-    for (int f = first; f <= last; ++f) q_WB.push_back(dynamics::GetRootQuaternion(m.q.col(f)));
-    // The somersault axis: the pelvis's lateral axis at take-off, as the jump metrics count it.
-    const RotationAngles angles = CalcRotationAngles(q_WB, q_WB.front() * Eigen::Vector3d::UnitY());
-    constexpr double kDeg = 180.0 / std::numbers::pi;
-    for (int f = first; f <= last; ++f) {
-      const Eigen::Index k = f - first;
-      out.frames.push_back(f);
-      out.somersault_deg.push_back((angles.somersault_rad(k) - angles.somersault_rad(0)) * kDeg);
-      out.twist_deg.push_back((angles.twist_rad(k) - angles.twist_rad(0)) * kDeg);
-    }
+    return CalcMotionRotation(
+        m, first, std::clamp(j.flight.landing_frame, first, m.num_frames() - 1));
+  }
+  return {};
+}
+
+FlightRotation CalcMotionRotation(const Motion& m, int first, int last) {
+  FlightRotation out;
+  if (first < 0 || last < first || last >= m.num_frames()) return out;
+  std::vector<Eigen::Quaterniond> q_WB;
+  for (int f = first; f <= last; ++f) q_WB.push_back(dynamics::GetRootQuaternion(m.q.col(f)));
+  // The somersault axis: the pelvis's lateral axis at take-off, as the jump metrics count it.
+  const RotationAngles angles = CalcRotationAngles(q_WB, q_WB.front() * Eigen::Vector3d::UnitY());
+  constexpr double kDeg = 180.0 / std::numbers::pi;
+  for (int f = first; f <= last; ++f) {
+    const Eigen::Index k = f - first;
+    out.frames.push_back(f);
+    out.somersault_deg.push_back((angles.somersault_rad(k) - angles.somersault_rad(0)) * kDeg);
+    out.twist_deg.push_back((angles.twist_rad(k) - angles.twist_rad(0)) * kDeg);
   }
   return out;
 }

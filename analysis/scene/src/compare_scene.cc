@@ -4,6 +4,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "acro/athlete/standard_human.h"
 #include "acro/base/input_error.h"
 #include "acro/dynamics/configuration.h"
 
@@ -35,13 +36,25 @@ Eigen::Vector3d Heading(const Eigen::VectorXd& q) {
   return forward.norm() > 1e-6 ? Eigen::Vector3d(forward.normalized()) : Eigen::Vector3d::UnitX();
 }
 
-// The athlete of a jump, checked.
+// The athlete of a jump (or of a design), checked.
 AthleteScene MakeScene(const CompareJump& j, const char* which) {
+  if (j.design != nullptr && j.body != nullptr)
+    return AthleteScene(*j.body, j.mesh, j.design->motion);
   if (j.trial == nullptr || j.analysis == nullptr || j.body == nullptr)
     throw std::invalid_argument(std::string("CompareScene: jump ") + which +
                                 " lacks its trial, analysis or body");
   return AthleteScene(
       *j.body, j.mesh, j.analysis->reconstruction.motion, j.analysis->reconstruction.model);
+}
+
+const Motion& MotionOf(const CompareJump& j) {
+  return j.design != nullptr ? j.design->motion : j.analysis->reconstruction.motion;
+}
+
+// The frame of the jump's motion τ after its take-off `p`.
+int FrameAt(const CompareJump& j, const TakeoffPlacement& p, double tau_s) {
+  return j.design != nullptr ? FrameNearestTime(j.design->motion, p.takeoff_s + tau_s)
+                             : SampleAt(j.analysis->reconstruction.motion, p.takeoff_s + tau_s);
 }
 
 }  // namespace
@@ -87,9 +100,14 @@ CompareScene::CompareScene(CompareJump a, CompareJump b)
     : a_(std::move(a)),
       b_(std::move(b)),
       scene_a_(MakeScene(a_, "A")),
-      scene_b_(MakeScene(b_, "B")),
-      pa_(FindTakeoff(*a_.analysis, a_.jump)),
-      pb_(FindTakeoff(*b_.analysis, b_.jump)) {
+      scene_b_(MakeScene(b_, "B")) {
+  const auto place = [](const CompareJump& j, AthleteScene& scene, Eigen::Matrix3Xd* com) {
+    if (j.design == nullptr) return FindTakeoff(*j.analysis, j.jump);
+    *com = scene.CalcComPath();
+    return FindDesignTakeoff(*j.design, MakeStandardHumanModel(*j.body));
+  };
+  pa_ = place(a_, scene_a_, &design_com_a_);
+  pb_ = place(b_, scene_b_, &design_com_b_);
   b_to_a_ = PlaceAtTakeoff(pb_, pa_);
   start_s_ = 0.0;
   end_s_ = std::max(pa_.landing_s - pa_.takeoff_s, pb_.landing_s - pb_.takeoff_s) + kTailS;
@@ -97,19 +115,23 @@ CompareScene::CompareScene(CompareJump a, CompareJump b)
 
 void CompareScene::Frame(double tau_s, CompareFrame* out) {
   out->tau_s = tau_s;
-  scene_a_.Pose(SampleAt(a_.analysis->reconstruction.motion, pa_.takeoff_s + tau_s), &out->a);
-  scene_b_.Pose(SampleAt(b_.analysis->reconstruction.motion, pb_.takeoff_s + tau_s), &out->b);
+  scene_a_.Pose(FrameAt(a_, pa_, tau_s), &out->a);
+  scene_b_.Pose(FrameAt(b_, pb_, tau_s), &out->b);
   TransformPose(b_to_a_, &out->b);
   out->a_in_flight = tau_s >= 0 && tau_s < pa_.landing_s - pa_.takeoff_s;
   out->b_in_flight = tau_s >= 0 && tau_s < pb_.landing_s - pb_.takeoff_s;
 }
 
-JumpCurves CompareScene::Curves(const CompareJump& j, const Eigen::Isometry3d& to_a) const {
-  const TakeoffPlacement p = FindTakeoff(*j.analysis, j.jump);
-  const Motion& m = j.analysis->reconstruction.motion;
-  const Eigen::Matrix3Xd& com = j.analysis->check.frames.com_W;
+JumpCurves CompareScene::Curves(const CompareJump& j,
+                                const TakeoffPlacement& p,
+                                const Eigen::Matrix3Xd& design_com,
+                                const Eigen::Isometry3d& to_a) const {
+  const Motion& m = MotionOf(j);
+  const Eigen::Matrix3Xd& com = j.design != nullptr ? design_com : j.analysis->check.frames.com_W;
   JumpCurves c;
-  const FlightRotation rotation = CalcFlightRotation(*j.analysis, j.jump);
+  const FlightRotation rotation = j.design != nullptr
+                                      ? CalcMotionRotation(m, 0, FrameNearestTime(m, p.landing_s))
+                                      : CalcFlightRotation(*j.analysis, j.jump);
   if (rotation.frames.size() < 2) return c;
   for (size_t k = 0; k < rotation.frames.size(); ++k) {
     const int f = rotation.frames[k];
@@ -122,10 +144,10 @@ JumpCurves CompareScene::Curves(const CompareJump& j, const Eigen::Isometry3d& t
 }
 
 JumpCurves CompareScene::CurvesA() const {
-  return Curves(a_, Eigen::Isometry3d::Identity());
+  return Curves(a_, pa_, design_com_a_, Eigen::Isometry3d::Identity());
 }
 JumpCurves CompareScene::CurvesB() const {
-  return Curves(b_, b_to_a_);
+  return Curves(b_, pb_, design_com_b_, b_to_a_);
 }
 
 }  // namespace acro::analysis

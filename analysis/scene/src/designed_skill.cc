@@ -150,4 +150,22 @@ int FrameNearestTime(const Motion& motion, double t_s) {
   return int(it - begin);
 }
 
+DesignedSkill MakeDesignedSkill(const SkillDesign& design,
+                                const SkillOptimizationResult& result,
+                                double rate_hz) {
+  DesignedSkill d;
+  d.name = design.skill().name;
+  d.fig_code = design.skill().fig_code;
+  d.athlete = design.skill().athlete.name;
+  d.flight_time_s = design.flight_time_s();
+  for (const SkillKeyframe& k : design.skill().keyframes) d.keyframe_names.push_back(k.name);
+  const auto to_std = [](const Eigen::VectorXd& v) {
+    return std::vector<double>(v.begin(), v.end());
+  };
+  d.keyframe_times_s = to_std(result.optimized.times_s);
+  d.keyframe_times_initial_s = to_std(result.times_initial_s);
+  d.motion = SampleSkillMotion(design, result.optimized, rate_hz);
+  return d;
+}
+
 }  // namespace acro::analysis

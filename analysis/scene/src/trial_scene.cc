@@ -148,13 +148,14 @@ TrialScene::TrialScene(const capture::Trial& trial,
 }
 
 struct TrialScene::Ghost {
-  int jump = 0;                              // the ghost jump, or 0 for a design
+  int own_jump = 0;                          // a jump of this trial: not shown in its own flight
   std::string label;                         // "jump 2", "back tuck (design)"
   TakeoffPlacement takeoff;                  // the ghost's own
-  Motion design_motion;                      // a design's motion (a jump's is the analysis')
+  Motion design_motion;                      // a design's motion
+  const Motion* motion = nullptr;            // the ghost's motion (a jump's is its analysis')
   std::unique_ptr<AthleteScene> athlete;     // posing the ghost
   std::vector<Eigen::Isometry3d> placement;  // per flight: the ghost onto its take-off
-  bool shown_in(int flight) const { return flight >= 0 && flight + 1 != jump; }
+  bool shown_in(int flight) const { return flight >= 0 && flight + 1 != own_jump; }
 };
 
 TrialScene::~TrialScene() = default;
@@ -180,10 +181,27 @@ std::vector<Eigen::Isometry3d> PlaceOnEveryFlight(const TrialAnalysis& analysis,
 void TrialScene::SetGhostJump(int jump) {
   if (!athlete_) throw std::invalid_argument("TrialScene::SetGhostJump: the scene has no athlete");
   auto ghost = std::make_unique<Ghost>();
-  ghost->jump = jump;
+  ghost->own_jump = jump;
   ghost->label = fmt::format("jump {}", jump);
   ghost->takeoff = FindTakeoff(*analysis_, jump);
+  ghost->motion = &analysis_->reconstruction.motion;
   ghost->athlete = std::make_unique<AthleteScene>(*athlete_);
+  ghost->placement = PlaceOnEveryFlight(*analysis_, ghost->takeoff);
+  ghost_ = std::move(ghost);
+}
+
+void TrialScene::SetGhostJump(const TrialAnalysis& other,
+                              const AthleteBody& body,
+                              BodyMesh mesh,
+                              int jump,
+                              const std::string& label) {
+  if (!athlete_) throw std::invalid_argument("TrialScene::SetGhostJump: the scene has no athlete");
+  auto ghost = std::make_unique<Ghost>();
+  ghost->label = label;
+  ghost->takeoff = FindTakeoff(other, jump);
+  ghost->motion = &other.reconstruction.motion;
+  ghost->athlete = std::make_unique<AthleteScene>(
+      body, std::move(mesh), other.reconstruction.motion, other.reconstruction.model);
   ghost->placement = PlaceOnEveryFlight(*analysis_, ghost->takeoff);
   ghost_ = std::move(ghost);
 }
@@ -194,6 +212,7 @@ void TrialScene::SetGhostDesign(const DesignedSkill& design, const AthleteBody& 
   auto ghost = std::make_unique<Ghost>();
   ghost->label = design.name + " (design)";
   ghost->design_motion = design.motion;
+  ghost->motion = &ghost->design_motion;
   ghost->takeoff = FindDesignTakeoff(design, MakeStandardHumanModel(body));
   ghost->athlete = std::make_unique<AthleteScene>(body, athlete_->mesh(), ghost->design_motion);
   ghost->placement = PlaceOnEveryFlight(*analysis_, ghost->takeoff);
@@ -253,9 +272,7 @@ void TrialScene::Frame(int sample, TrialFrame* out) {
     // The ghost at the same time from its own take-off, until it lands.
     const double tau = out->time_s - analysis_->phases.flights[size_t(flight)].takeoff_s;
     const double t = std::min(ghost_->takeoff.takeoff_s + tau, ghost_->takeoff.landing_s);
-    const Motion& motion =
-        ghost_->jump > 0 ? analysis_->reconstruction.motion : ghost_->design_motion;
-    ghost_->athlete->Pose(FrameNearestTime(motion, t), &out->ghost);
+    ghost_->athlete->Pose(FrameNearestTime(*ghost_->motion, t), &out->ghost);
     TransformPose(ghost_->placement[size_t(flight)], &out->ghost);
     out->ghost_shown = true;
   }

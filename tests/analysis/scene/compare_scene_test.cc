@@ -126,6 +126,37 @@ TEST(TrialScene, TheGhostJumpStartsAtEachFlightsTakeoff) {
   EXPECT_THROW(scene.SetGhostJump(7), InputError);
 }
 
+// A ghost from another trial (the studio's compare mode across trials): the same routine read and
+// analysed a second time stands for it. Its jump 2 is shown in every flight — its own number is
+// another trial's — and in this trial's flight 2 it is the athlete exactly (the same motion placed
+// at its own take-off); at the back pike's take-off it is where this trial's own ghost jump 2 is.
+TEST(TrialScene, AGhostFromAnotherTrialIsShownInEveryFlight) {
+  const Sample& s = TheSample();
+  const capture::Trial other_trial = capture::ReadTrial(
+      acro::testing::SourceDir() / "samples/trials/trampoline_routine/trampoline_routine.c3d");
+  const TrialAnalysis other = AnalyzeTrial(other_trial, nullptr, s.body);
+  const BodyMesh mesh = MakeEllipsoidBodyMesh(s.body, OverlayBodyMeshOptions());
+  TrialScene scene(s.trial, s.analysis, s.body, mesh);
+  TrialScene own(s.trial, s.analysis, s.body, mesh);
+  scene.SetGhostJump(other, s.body, mesh, 2, "jump 2 of the other trial");
+  own.SetGhostJump(2);
+  TrialFrame f, g;
+  const Flight& tuck = s.analysis.phases.flights.at(1);
+  for (const int sample : {tuck.takeoff_frame, (tuck.takeoff_frame + tuck.landing_frame) / 2}) {
+    scene.Frame(sample, &f);
+    ASSERT_TRUE(f.ghost_shown) << sample;
+    EXPECT_LT((f.ghost.com_W - f.athlete.com_W).norm(), 1e-9) << sample;
+    EXPECT_LT((f.ghost.mesh.vertices_W - f.athlete.mesh.vertices_W).cwiseAbs().maxCoeff(), 1e-9);
+  }
+  EXPECT_NE(f.heads_up.find("ghost: jump 2 of the other trial"), std::string::npos) << f.heads_up;
+  const Flight& pike = s.analysis.phases.flights.at(2);
+  scene.Frame(pike.takeoff_frame + 20, &f);
+  own.Frame(pike.takeoff_frame + 20, &g);
+  ASSERT_TRUE(f.ghost_shown && g.ghost_shown);
+  EXPECT_LT((f.ghost.com_W - g.ghost.com_W).norm(), 1e-9);
+  EXPECT_THROW(scene.SetGhostJump(other, s.body, mesh, 7, "jump 7"), InputError);
+}
+
 TEST(CompareScene, AJumpThatDoesNotExistIsNamed) {
   try {
     CompareScene scene(Jump(2), Jump(9));

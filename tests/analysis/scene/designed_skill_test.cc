@@ -78,6 +78,86 @@ TEST(DesignedSkill, ReadsOptimizesFolderBackAsTheOptimisedMotion) {
   EXPECT_EQ(ReadDesignedSkill(d.dir / "motion.mot", design.model()).motion.q, m.q);
 }
 
+// The studio's designer hands the optimisation's result to the ghost without writing it: the same
+// design as the folder read back.
+TEST(DesignedSkill, MadeFromTheResultItIsTheFolderReadBack) {
+  const Design& d = TheBackTuck();
+  const SkillDesign design(d.skill);
+  const DesignedSkill read = ReadDesignedSkill(d.dir, design.model());
+  const DesignedSkill made = MakeDesignedSkill(design, d.result);
+  EXPECT_EQ(made.name, read.name);
+  EXPECT_EQ(made.fig_code, read.fig_code);
+  EXPECT_DOUBLE_EQ(made.flight_time_s, read.flight_time_s);
+  EXPECT_EQ(made.keyframe_names, read.keyframe_names);
+  ASSERT_EQ(made.keyframe_times_s.size(), read.keyframe_times_s.size());
+  for (size_t i = 0; i < made.keyframe_times_s.size(); ++i) {
+    EXPECT_NEAR(made.keyframe_times_s[i], read.keyframe_times_s[i], 1e-12);
+    EXPECT_NEAR(made.keyframe_times_initial_s[i], read.keyframe_times_initial_s[i], 1e-12);
+  }
+  // The same motion, sampled evenly (motion.mot's samples are 10 ms apart with the last at T).
+  const Motion& m = made.motion;
+  ASSERT_GE(m.num_frames(), read.motion.num_frames());
+  EXPECT_EQ(m.coordinate_names, read.motion.coordinate_names);
+  EXPECT_EQ(m.time_s(0), 0.0);
+  EXPECT_NEAR(m.time_s(m.num_frames() - 1), design.flight_time_s(), 1e-12);
+  double worst_position = 0, worst_angle = 0;
+  for (int f = 0; f < m.num_frames(); ++f) {
+    const SkillMotionState s = CalcSkillMotion(design, d.result.optimized, m.time_s(f));
+    worst_position = std::max(worst_position, (m.q.col(f).head<3>() - s.q.head<3>()).norm());
+    worst_angle = std::max(
+        worst_angle,
+        dynamics::GetRootQuaternion(m.q.col(f)).angularDistance(dynamics::GetRootQuaternion(s.q)));
+  }
+  EXPECT_LT(worst_position, 1e-9);
+  EXPECT_LT(worst_angle, 1e-9);
+}
+
+// Compare mode with a design as B (the studio): the sample's back tuck (jump 2) against the
+// designed back tuck. At τ = 0 the design stands on the jump's take-off feet; B's curves end at the
+// somersault the skill file's keyframes ask for (the design passes through them: Model 2 keeps the
+// poses), and B's COM follows the design's take-off parabola.
+TEST(DesignedSkill, ComparedWithAJump) {
+  const Design& d = TheBackTuck();
+  const capture::Trial trial = capture::ReadTrial(
+      acro::testing::SourceDir() / "samples/trials/trampoline_routine/trampoline_routine.c3d");
+  const AthleteBody body = MakeAthleteBody(
+      ReadAthleteProfile(acro::testing::SourceDir() / "samples/athletes/sample_athlete.yaml"));
+  const TrialAnalysis analysis = AnalyzeTrial(trial, nullptr, body);
+  const DesignedSkill design = ReadDesignedSkill(d.dir, MakeStandardHumanModel(body));
+  const BodyMesh mesh = MakeEllipsoidBodyMesh(body, OverlayBodyMeshOptions());
+  CompareJump a{&trial, &analysis, &body, mesh, 2, "jump 2"};
+  CompareJump b;
+  b.body = &body;
+  b.mesh = mesh;
+  b.design = &design;
+  b.label = "back tuck (design)";
+  CompareScene scene(a, b);
+  const TakeoffPlacement pa = FindTakeoff(analysis, 2);
+  const TakeoffPlacement pb = FindDesignTakeoff(design, MakeStandardHumanModel(body));
+  EXPECT_LT((scene.b_to_a() * pb.feet_W - pa.feet_W).norm(), 1e-9);
+  EXPECT_NEAR(
+      scene.end_s(), std::max(pa.landing_s - pa.takeoff_s, design.flight_time_s) + 0.25, 1e-9);
+  const JumpCurves c = scene.CurvesB();
+  ASSERT_GT(c.tau_s.size(), 100u);
+  EXPECT_NEAR(c.tau_s.back(), design.flight_time_s, 0.006);
+  const auto& k = d.skill.keyframes;
+  const double asked_deg = (k.back().somersault_rad - k.front().somersault_rad) * 180 / M_PI;
+  std::printf(
+      "design somersault %.1f deg, keyframes %.1f deg\n", c.somersault_deg.back(), asked_deg);
+  EXPECT_NEAR(c.somersault_deg.back(), asked_deg, 1.0);
+  const double vz = d.skill.takeoff_com_velocity_mps.z();
+  const double g = MakeStandardHumanModel(body).gravity_W().norm();
+  for (size_t i = 0; i < c.tau_s.size(); i += 20) {
+    const double t = c.tau_s[i];
+    EXPECT_NEAR(c.com_height_m[i] - c.com_height_m[0], vz * t - 0.5 * g * t * t, 1e-6) << t;
+  }
+  CompareFrame f;
+  scene.Frame(0.0, &f);
+  EXPECT_TRUE(f.b_in_flight);
+  // The design's COM starts at (0, 0, 1) m (CalcSkillMotion's default), moved onto A's take-off.
+  EXPECT_LT((f.b.com_W - scene.b_to_a() * Eigen::Vector3d(0, 0, 1)).norm(), 1e-9);
+}
+
 TEST(DesignedSkill, AMotionForAnotherModelIsNamed) {
   const Design& d = TheBackTuck();
   const std::filesystem::path dir = acro::testing::ScratchDir("designed_skill_bad");

@@ -141,6 +141,10 @@ struct FlightRotation {
 };
 /// For jump `jump` (1-based, as jumps.json numbers them); empty for a jump that is not there.
 FlightRotation CalcFlightRotation(const TrialAnalysis& analysis, int jump);
+/// The same for frames `first` to `last` of any motion of a standard human (a designed skill's):
+/// the somersault about the pelvis's lateral axis at `first`, the twist, both from 0 there. Empty
+/// when the frames are not in the motion.
+FlightRotation CalcMotionRotation(const Motion& motion, int first, int last);
 
 /// Where the feet are in configuration `q` of `model` (a standard human, with r_toe and l_toe
 /// points): the midpoint of the two sole centres, as the jumps' take-off and landing feet are

@@ -20,7 +20,7 @@
 namespace acro::analysis {
 
 /// One jump to compare: an analysed trial, the body it was analysed for, the mesh to draw, and
-/// the jump's index (1-based, as jumps.json numbers them).
+/// the jump's index (1-based, as jumps.json numbers them) — or a designed skill.
 struct CompareJump {
   const capture::Trial* trial = nullptr;
   const TrialAnalysis* analysis = nullptr;
@@ -28,6 +28,10 @@ struct CompareJump {
   BodyMesh mesh;
   int jump = 1;
   std::string label;  ///< "A: 40o back somersault"
+  /// Instead of a trial's jump, a designed skill (ReadDesignedSkill or MakeDesignedSkill) posed on
+  /// `body`'s standard human: `trial` and `analysis` stay null, `jump` is not used. It must
+  /// outlive the scene.
+  const DesignedSkill* design = nullptr;
 };
 
 /// One instant, τ seconds after both take-offs.
@@ -73,7 +77,7 @@ void TransformPose(const Eigen::Isometry3d& X, AthletePose* pose);
 class CompareScene {
  public:
   /// Throws acro::InputError (where "jump") when a jump index is not a flight of its trial, and
-  /// std::invalid_argument when a jump lacks its trial, analysis or body.
+  /// std::invalid_argument when a jump lacks its trial, analysis or body (or its design and body).
   CompareScene(CompareJump a, CompareJump b);
 
   /// τ from the take-offs (0) to a quarter second after the later landing.
@@ -94,7 +98,12 @@ class CompareScene {
   TakeoffPlacement pa_, pb_;
   Eigen::Isometry3d b_to_a_ = Eigen::Isometry3d::Identity();
   double start_s_ = 0.0, end_s_ = 0.0;
-  JumpCurves Curves(const CompareJump& j, const Eigen::Isometry3d& to_a) const;
+  /// A design's centre of mass per frame of its motion (a jump's is its analysis').
+  Eigen::Matrix3Xd design_com_a_, design_com_b_;
+  JumpCurves Curves(const CompareJump& j,
+                    const TakeoffPlacement& p,
+                    const Eigen::Matrix3Xd& design_com,
+                    const Eigen::Isometry3d& to_a) const;
 };
 
 }  // namespace acro::analysis

@@ -12,6 +12,7 @@
 #include <Eigen/Core>
 
 #include "acro/athlete/motion.h"
+#include "acro/design/skill_optimization.h"
 #include "acro/dynamics/model.h"
 
 namespace acro::analysis {
@@ -38,6 +39,14 @@ struct DesignedSkill {
 /// take-off or do not increase).
 DesignedSkill ReadDesignedSkill(const std::filesystem::path& path,
                                 const dynamics::Model<double>& model);
+
+/// The same straight from the optimisation (the studio's designer, before anything is saved): the
+/// optimised motion sampled evenly over the flight at about `rate_hz` (SampleSkillMotion), the
+/// keyframe times before and after: what ReadDesignedSkill reads back from this design's folder,
+/// sampled on an even grid (motion.mot's samples are 1/rate apart, the last at the flight time).
+DesignedSkill MakeDesignedSkill(const SkillDesign& design,
+                                const SkillOptimizationResult& result,
+                                double rate_hz = 100.0);
 
 /// The frame of `motion` nearest to time `t_s` (clamped to the motion's first and last frames).
 int FrameNearestTime(const Motion& motion, double t_s);

@@ -94,6 +94,14 @@ class TrialScene {
   /// has landed). Throws acro::InputError (where "jump") for a jump that is not there, and
   /// std::invalid_argument for a scene without an athlete.
   void SetGhostJump(int jump);
+  /// Shows jump `jump` of another analysed trial (`other`, reconstructed for `body`, drawn with
+  /// `mesh`) as a ghost in every flight of this one, placed the same way; the heads-up line names
+  /// it `label`. `other` must outlive the ghost. Throws as SetGhostJump.
+  void SetGhostJump(const TrialAnalysis& other,
+                    const AthleteBody& body,
+                    BodyMesh mesh,
+                    int jump,
+                    const std::string& label);
   /// Shows a designed skill (ReadDesignedSkill for `body`'s standard human) as a ghost in every
   /// flight, placed the same way at each flight's take-off: where the real jump departs from the
   /// design is where the two part. `body` is the athlete's (the design is posed on its mesh).
