@@ -8,7 +8,6 @@
 #include "commands.h"
 
 #ifdef ACRO_HAVE_VIEWS
-#include <fmt/format.h>
 
 #include "acro/assess/trial_analysis.h"
 #include "acro/athlete/body_mesh.h"
@@ -91,9 +90,7 @@ Side Choose(const std::string& spec,
     if (side.jump == 0) throw UsageError{path + ": no complete jump to compare"};
   }
   analysis::FindTakeoff(a, side.jump);  // names a jump that does not exist
-  for (const analysis::JumpMetrics& j : a.jumps)
-    if (j.index == side.jump)
-      side.label = fmt::format("{} {} (jump {})", j.fig_code, j.skill_name, j.index);
+  side.label = analysis::JumpLabel(a, side.jump);
   return side;
 }
 

@@ -123,12 +123,7 @@ int RunOptimize(OptimizeArguments& args) {
                 result.times_initial_s[i],
                 result.optimized.times_s[i],
                 skill.keyframes[static_cast<size_t>(i)].name.c_str());
-  if (sim)
-    std::printf(
-        "  simulation: %.3f somersaults (designed %.3f), landing %.1f deg from the last keyframe\n",
-        sim->somersault_turns,
-        sim->intended_somersault_turns,
-        sim->final_orientation_error_rad * 180.0 / 3.14159265358979323846);
+  if (sim) std::printf("  simulation: %s\n", analysis::FormatSkillSimulation(*sim).c_str());
   if (sim)
     for (const std::string& line : sim->warnings)
       std::fprintf(stderr, "acrolab optimize: warning: %s\n", line.c_str());

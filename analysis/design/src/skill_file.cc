@@ -3,7 +3,10 @@
 #include <cmath>
 #include <numbers>
 
+#include <yaml-cpp/yaml.h>
+
 #include "acro/athlete/standard_human.h"
+#include "acro/base/file_io.h"
 #include "acro/base/input_error.h"
 
 namespace acro::analysis {
@@ -192,6 +195,68 @@ Skill SkillFromYaml(const YamlNode& root, const std::filesystem::path& base_dir)
 
 Skill ReadSkill(const std::filesystem::path& path) {
   return SkillFromYaml(ReadYamlFile(path), path.parent_path());
+}
+
+std::string FormatSkillYaml(const Skill& skill, const std::filesystem::path& dir) {
+  namespace fs = std::filesystem;
+  constexpr double kRadToDeg = 180.0 / std::numbers::pi;
+  YAML::Emitter out;
+  // 12 significant digits: -30 stays -30 after the degrees' round trip, and 1e-12 of an angle is
+  // far below anything a body does.
+  out.SetDoublePrecision(12);
+  out << YAML::Comment("Written by Acrolab from " + skill.source +
+                       ". Format: docs/formats/skill.md.");
+  out << YAML::BeginMap;
+  out << YAML::Key << "name" << YAML::Value << skill.name;
+  if (!skill.fig_code.empty())
+    out << YAML::Key << "fig_code" << YAML::Value << YAML::DoubleQuoted << skill.fig_code;
+  // The athlete relative to the new file's folder when both are on one tree.
+  std::string athlete = skill.athlete_path.string();
+  if (!athlete.empty()) {
+    const fs::path from = fs::weakly_canonical(fs::absolute(dir));
+    const fs::path to = fs::weakly_canonical(fs::absolute(skill.athlete_path));
+    const fs::path rel = to.lexically_relative(from);
+    int up = 0;
+    for (const fs::path& part : rel) up += part == ".." ? 1 : 0;
+    athlete = rel.empty() || up > 2 ? to.string() : rel.string();
+  }
+  out << YAML::Key << "athlete" << YAML::Value << athlete;
+  const Eigen::Vector3d& v = skill.takeoff_com_velocity_mps;
+  out << YAML::Key << "takeoff" << YAML::Value << YAML::BeginMap << YAML::Key << "com_velocity_mps"
+      << YAML::Value << YAML::Flow << YAML::BeginSeq << v.x() << v.y() << v.z() << YAML::EndSeq
+      << YAML::EndMap;
+  out << YAML::Key << "keyframes" << YAML::Value << YAML::BeginSeq;
+  for (const SkillKeyframe& k : skill.keyframes) {
+    out << YAML::BeginMap;
+    out << YAML::Key << "name" << YAML::Value << k.name;
+    out << YAML::Key << "somersault_deg" << YAML::Value << k.somersault_rad * kRadToDeg;
+    if (k.tilt_rad != 0) out << YAML::Key << "tilt_deg" << YAML::Value << k.tilt_rad * kRadToDeg;
+    if (k.twist_rad != 0) out << YAML::Key << "twist_deg" << YAML::Value << k.twist_rad * kRadToDeg;
+    if (k.time_s) out << YAML::Key << "time_s" << YAML::Value << *k.time_s;
+    out << YAML::Key << "tolerance_position_m" << YAML::Value << k.tolerance_position_m;
+    out << YAML::Key << "tolerance_angle_deg" << YAML::Value << k.tolerance_angle_rad * kRadToDeg;
+    out << YAML::Key << "joints_deg" << YAML::Value << YAML::BeginMap;
+    for (const StandardJoint& j : kStandardJoints) {
+      const int first = StandardJointDofIndex(j.segment, 0);
+      const int n = static_cast<int>(j.axis_sequence.size());
+      // Up to the last angle that is not zero (the rest are the reference pose).
+      int last = -1;
+      for (int a = 0; a < n; ++a)
+        if (first + a < k.joint_angles_rad.size() && k.joint_angles_rad(first + a) != 0) last = a;
+      if (last < 0) continue;
+      out << YAML::Key << std::string(j.segment) << YAML::Value << YAML::Flow << YAML::BeginSeq;
+      for (int a = 0; a <= last; ++a) out << k.joint_angles_rad(first + a) * kRadToDeg;
+      out << YAML::EndSeq;
+    }
+    out << YAML::EndMap << YAML::EndMap;
+  }
+  out << YAML::EndSeq << YAML::EndMap;
+  return std::string(out.c_str()) + "\n";
+}
+
+void WriteSkill(const std::filesystem::path& path, const Skill& skill) {
+  WriteFileAtomically(
+      path, FormatSkillYaml(skill, path.parent_path().empty() ? "." : path.parent_path()));
 }
 
 }  // namespace acro::analysis

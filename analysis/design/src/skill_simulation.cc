@@ -8,6 +8,8 @@
 
 #include <ceres/ceres.h>
 
+#include "acro/athlete/motion.h"
+#include "acro/base/demand.h"
 #include "acro/base/text_format.h"
 #include "acro/dynamics/inverse_dynamics.h"
 #include "acro/dynamics/kinematics.h"
@@ -170,6 +172,45 @@ std::vector<std::string> SkillSimulationWarnings(const SkillSimulationResult& si
                 ": the tilt during the twist (or how tightly the arms wrap) is too small or too "
                 "large for this twist in this time");
   return w;
+}
+
+std::string FormatSkillSimulation(const SkillSimulationResult& sim) {
+  constexpr double kDeg = 180.0 / std::numbers::pi;
+  return "the simulated flight (take-off momentum " + FormatFixed(sim.H_Scm_W.norm(), 1) +
+         " kg·m²/s, the design's mean " + FormatFixed(sim.H_mean_W.norm(), 1) + ") turns " +
+         FormatFixed(sim.somersault_turns, 3) + " somersaults (designed " +
+         FormatFixed(sim.intended_somersault_turns, 3) + ") and " +
+         FormatFixed(sim.twist_turns, 2) + " twists (designed " +
+         FormatFixed(sim.intended_twist_turns, 2) + "), follows the design within " +
+         FormatFixed(sim.rms_orientation_error_rad * kDeg, 1) + "° RMS and lands " +
+         FormatFixed(sim.final_orientation_error_rad * kDeg, 1) +
+         "° from the last keyframe's orientation";
+}
+
+Motion SimulatedSkillMotion(const SkillDesign& design,
+                            const SkillSimulationResult& sim,
+                            double rate_hz) {
+  ACRO_DEMAND(rate_hz > 0);
+  const std::vector<double>& t = sim.flight.t;
+  Motion m;
+  m.coordinate_names = MakeCoordinateNames(design.model());
+  if (t.empty()) return m;
+  const int intervals =
+      std::max(1, static_cast<int>(std::ceil((t.back() - t.front()) * rate_hz - 1e-9)));
+  m.rate_hz = intervals / std::max(t.back() - t.front(), 1e-9);
+  m.time_s.resize(intervals + 1);
+  m.q.resize(design.model().nq(), intervals + 1);
+  for (int k = 0; k <= intervals; ++k) {
+    const double tk = t.front() + (t.back() - t.front()) * k / intervals;
+    // The simulation step nearest tk.
+    const auto it = std::lower_bound(t.begin(), t.end(), tk);
+    size_t i = static_cast<size_t>(it - t.begin());
+    if (i == t.size() || (i > 0 && tk - t[i - 1] < t[i] - tk)) i = i == 0 ? 0 : i - 1;
+    m.time_s(k) = t[i];
+    m.q.col(k) = sim.flight.q[i];
+  }
+  m.fit.assign(static_cast<size_t>(intervals + 1), FrameFit{});
+  return m;
 }
 
 }  // namespace acro::analysis

@@ -85,6 +85,13 @@ TakeoffPlacement FindTakeoff(const TrialAnalysis& analysis, int jump) {
   return p;
 }
 
+std::string JumpLabel(const TrialAnalysis& analysis, int jump) {
+  for (const JumpMetrics& j : analysis.jumps)
+    if (j.index == jump)
+      return j.fig_code + " " + j.skill_name + " (jump " + std::to_string(jump) + ")";
+  return "";
+}
+
 TakeoffPlacement FindDesignTakeoff(const DesignedSkill& design,
                                    const dynamics::Model<double>& model) {
   TakeoffPlacement p;

@@ -91,6 +91,46 @@ TEST(SkillFile, MirrorsAbductionAndRotation) {
   EXPECT_NEAR(s.takeoff_com_velocity_mps.z(), 0.5 * 9.81 * 1.5, 8 * kEps);
 }
 
+// The studio's designer saves an edited skill: every sample written and read back is the same
+// skill (every number within 1e-12: twelve significant digits), and an edit survives.
+TEST(SkillFile, WrittenAndReadBackIsTheSameSkill) {
+  const std::filesystem::path dir = acro::testing::ScratchDir("skill_write");
+  for (const auto& entry : std::filesystem::directory_iterator(Samples() / "skills")) {
+    Skill skill = ReadSkill(entry.path());
+    const std::string name = entry.path().filename().string();
+    skill.keyframes[1].time_s = 0.25;  // a time guess given in the designer
+    skill.keyframes[1].joint_angles_rad(StandardJointDofIndex("l_shank", 0)) = 1.25;  // an edit
+    WriteSkill(dir / name, skill);
+    const Skill back = ReadSkill(dir / name);
+    EXPECT_EQ(back.name, skill.name) << name;
+    EXPECT_EQ(back.fig_code, skill.fig_code) << name;
+    EXPECT_EQ(back.athlete.name, skill.athlete.name) << name;
+    EXPECT_EQ(std::filesystem::weakly_canonical(back.athlete_path),
+              std::filesystem::weakly_canonical(skill.athlete_path))
+        << name;
+    EXPECT_LT((back.takeoff_com_velocity_mps - skill.takeoff_com_velocity_mps).norm(), 1e-12);
+    ASSERT_EQ(back.keyframes.size(), skill.keyframes.size()) << name;
+    for (size_t i = 0; i < skill.keyframes.size(); ++i) {
+      const SkillKeyframe& a = skill.keyframes[i];
+      const SkillKeyframe& b = back.keyframes[i];
+      EXPECT_EQ(a.name, b.name);
+      EXPECT_NEAR(a.somersault_rad, b.somersault_rad, 1e-12) << name << " " << a.name;
+      EXPECT_NEAR(a.tilt_rad, b.tilt_rad, 1e-12) << name << " " << a.name;
+      EXPECT_NEAR(a.twist_rad, b.twist_rad, 1e-12) << name << " " << a.name;
+      EXPECT_LT((a.joint_angles_rad - b.joint_angles_rad).cwiseAbs().maxCoeff(), 1e-12)
+          << name << " " << a.name;
+      EXPECT_EQ(a.time_s.has_value(), b.time_s.has_value());
+      if (a.time_s && b.time_s) EXPECT_NEAR(*a.time_s, *b.time_s, 1e-12);
+      EXPECT_NEAR(a.tolerance_angle_rad, b.tolerance_angle_rad, 1e-12);
+      EXPECT_NEAR(a.tolerance_position_m, b.tolerance_position_m, 1e-12);
+    }
+    EXPECT_NEAR(
+        back.keyframes[1].joint_angles_rad(StandardJointDofIndex("l_shank", 0)), 1.25, 1e-12);
+  }
+  EXPECT_THROW(WriteSkill(dir / "no_such_folder/x.yaml", ReadSkill(Samples() / "skills/full.yaml")),
+               InputError);
+}
+
 TEST(SkillFile, ErrorsNameFileLineAndKey) {
   EXPECT_NE(ErrorOf(std::string(kHead) +
                     "  - name: a\n    joints_deg:\n      r_wing: [1]\n  - name: b\n  - name: c\n")

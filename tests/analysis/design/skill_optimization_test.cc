@@ -8,6 +8,7 @@
 #include <gtest/gtest.h>
 
 #include "acro/base/input_error.h"
+#include "acro/base/text_format.h"
 
 #include "refdata.h"
 
@@ -260,6 +261,21 @@ TEST(SkillOptimization, SimulatedSinglesLandAsDesigned) {
     EXPECT_EQ(sim.flight.summary.status, dynamics::FlightSimulationStatus::kSuccess);
     EXPECT_LT(sim.final_orientation_error_rad, 15 * kDeg) << name;
     EXPECT_NEAR(sim.somersault_turns, sim.intended_somersault_turns, 15.0 / 360.0) << name;
+    // Drawn beside the design (the studio): the simulated motion from take-off to landing, its
+    // last frame the simulation's last state, its landing orientation the one measured above.
+    const Motion m = SimulatedSkillMotion(d, sim);
+    ASSERT_GT(m.num_frames(), 100) << name;
+    EXPECT_EQ(m.time_s(0), 0.0);
+    EXPECT_NEAR(m.time_s(m.num_frames() - 1), d.flight_time_s(), 1e-3) << name;
+    EXPECT_EQ(m.q.col(m.num_frames() - 1), sim.flight.q.back());
+    EXPECT_LT(dynamics::GetRootQuaternion(m.q.col(m.num_frames() - 1))
+                  .angularDistance(sim.final_orientation),
+              1e-9);
+    const std::string line = FormatSkillSimulation(sim);
+    EXPECT_NE(line.find(FormatFixed(sim.somersault_turns, 3) + " somersaults (designed " +
+                        FormatFixed(sim.intended_somersault_turns, 3) + ")"),
+              std::string::npos)
+        << line;
   }
 }
 

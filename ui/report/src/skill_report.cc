@@ -321,17 +321,8 @@ std::vector<std::string> WriteSkillOutputs(const std::filesystem::path& dir,
   }
   if (sim != nullptr)
     html << "<h2>Flight simulation</h2>\n<p>The joints follow the optimised motion, the root flies "
-            "under gravity "
-            "with the take-off momentum the design needs ("
-         << fmt::format("{:.1f}", sim->H_Scm_W.norm()) << " kg·m²/s; the design's mean "
-         << fmt::format("{:.1f}", sim->H_mean_W.norm())
-         << "): " << fmt::format("{:.3f}", sim->somersault_turns) << " somersault turns (designed "
-         << fmt::format("{:.3f}", sim->intended_somersault_turns)
-         << "); the orientation follows the design within "
-         << fmt::format("{:.1f}", sim->rms_orientation_error_rad * kRadToDeg) << "° RMS and lands "
-         << fmt::format("{:.1f}", sim->final_orientation_error_rad * kRadToDeg)
-         << "° from the last keyframe's; twist turns " << fmt::format("{:.2f}", sim->twist_turns)
-         << " (designed " << fmt::format("{:.2f}", sim->intended_twist_turns) << ").</p>\n";
+            "under gravity with the take-off momentum the design needs: "
+         << Html(FormatSkillSimulation(*sim)) << ".</p>\n";
   if (sim != nullptr && !sim->warnings.empty()) {
     html << "<p class=\"warning\"><b>The design does not fly as drawn:</b></p>\n<ul>\n";
     for (const std::string& line : sim->warnings) html << "<li>" << Html(line) << "</li>\n";

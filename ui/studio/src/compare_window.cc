@@ -4,8 +4,6 @@
 
 #include <algorithm>
 
-#include <fmt/format.h>
-
 #include "acro/athlete/body_mesh.h"
 #include "acro/report/compare_report.h"
 #include "acro/scene/place_scene.h"
@@ -23,19 +21,44 @@ analysis::CompareJump Jump(Session& s, int index) {
   j.body = &s.body();
   j.mesh = analysis::MakeEllipsoidBodyMesh(s.body(), analysis::OverlayBodyMeshOptions());
   j.jump = index;
-  for (const analysis::JumpMetrics& m : s.analysis().jumps)
-    if (m.index == index) j.label = fmt::format("{} {} (jump {})", m.fig_code, m.skill_name, index);
+  j.label = analysis::JumpLabel(s.analysis(), index);
   return j;
 }
 
 }  // namespace
 
-CompareWindow::CompareWindow(std::shared_ptr<Session> session, int a, int b, QWidget* parent)
-    : QWidget(parent, Qt::Window), session_(std::move(session)) {
-  scene_ = std::make_unique<analysis::CompareScene>(Jump(*session_, a), Jump(*session_, b));
+CompareWindow::CompareWindow(std::shared_ptr<Session> a_session,
+                             int a,
+                             std::shared_ptr<Session> b_session,
+                             int b,
+                             QWidget* parent)
+    : QWidget(parent, Qt::Window),
+      a_session_(std::move(a_session)),
+      b_session_(std::move(b_session)) {
+  analysis::CompareJump jb = Jump(*b_session_, b);
+  if (b_session_ != a_session_)
+    jb.label += " of " + std::filesystem::path(b_session_->files().trial).filename().string();
+  Build(Jump(*a_session_, a), std::move(jb));
+}
+
+CompareWindow::CompareWindow(std::shared_ptr<Session> a_session,
+                             int a,
+                             std::shared_ptr<const analysis::DesignedSkill> design,
+                             QWidget* parent)
+    : QWidget(parent, Qt::Window), a_session_(std::move(a_session)), design_(std::move(design)) {
+  analysis::CompareJump jb;
+  jb.body = &a_session_->body();
+  jb.mesh = analysis::MakeEllipsoidBodyMesh(a_session_->body(), analysis::OverlayBodyMeshOptions());
+  jb.design = design_.get();
+  jb.label = design_->name + " (design)";
+  Build(Jump(*a_session_, a), std::move(jb));
+}
+
+void CompareWindow::Build(analysis::CompareJump a, analysis::CompareJump b) {
+  scene_ = std::make_unique<analysis::CompareScene>(std::move(a), std::move(b));
   ui::CompareVideoOptions options;
-  if (session_->analysis().bed)
-    options.trampoline = analysis::MakeTrampolineScene(*session_->analysis().bed);
+  if (a_session_->analysis().bed)
+    options.trampoline = analysis::MakeTrampolineScene(*a_session_->analysis().bed);
   const analysis::TimedPanel panel = ui::MakeCompareCharts(scene_->CurvesA(),
                                                            scene_->CurvesB(),
                                                            "A " + scene_->a().label,

@@ -5,16 +5,19 @@
 #include <QCloseEvent>
 #include <QComboBox>
 #include <QDateTime>
+#include <QDialog>
+#include <QDialogButtonBox>
 #include <QFileDialog>
+#include <QFormLayout>
 #include <QHBoxLayout>
 #include <QHeaderView>
-#include <QInputDialog>
 #include <QLabel>
 #include <QLineEdit>
 #include <QMenuBar>
 #include <QMessageBox>
 #include <QProgressBar>
 #include <QPushButton>
+#include <QSpinBox>
 #include <QSplitter>
 #include <QStatusBar>
 #include <QTabWidget>
@@ -28,6 +31,8 @@
 
 #include <fmt/format.h>
 
+#include "acro/athlete/body_mesh.h"
+#include "acro/athlete/standard_human.h"
 #include "acro/base/input_error.h"
 #include "acro/dynamics/configuration.h"
 #include "acro/report/analysis_report.h"
@@ -250,19 +255,7 @@ void MainWindow::BuildMenus() {
   });
   file->addAction("Open s&kill (designer)…", this, [this] { OpenSkillDesigner(); });
   file->addSeparator();
-  file->addAction("&Compare two jumps…", this, [this] {
-    bool ok = false;
-    const QString text = QInputDialog::getText(this,
-                                               "Compare",
-                                               "Jumps A and B (as numbered in the table), e.g. 2 3",
-                                               QLineEdit::Normal,
-                                               "2 3",
-                                               &ok);
-    if (!ok) return;
-    const QStringList parts = text.split(' ', Qt::SkipEmptyParts);
-    if (parts.size() != 2) return ShowError("Give two jump numbers, e.g. 2 3");
-    OpenCompare(parts[0].toInt(), parts[1].toInt());
-  });
+  file->addAction("&Compare two jumps…", this, [this] { AskCompare(); });
   file->addSeparator();
   QAction* quit = file->addAction("&Quit", this, &QWidget::close);
   quit->setShortcut(QKeySequence::Quit);
@@ -316,6 +309,14 @@ void MainWindow::ShowError(const std::string& message) {
 }
 
 void MainWindow::OpenFiles(const SessionFiles& files, const SessionView& view) {
+  OpenInBackground(files, [this, view](std::shared_ptr<Session> opened) {
+    // The session is handed over whole; the previous one goes only now.
+    Adopt(std::move(opened), view);
+  });
+}
+
+void MainWindow::OpenInBackground(const SessionFiles& files,
+                                  std::function<void(std::shared_ptr<Session>)> done) {
   if (busy()) return ShowError("Still opening the previous files: wait or cancel.");
   JoinLoader();
   SetPlaying(false);
@@ -325,14 +326,14 @@ void MainWindow::OpenFiles(const SessionFiles& files, const SessionView& view) {
   progress_->show();
   cancel_->show();
   status_->setText(QString::fromStdString("opening " + files.trial));
-  loader_ = std::thread([this, files, view] {
-    const auto report = [this](const std::string& step, int done, int total) {
+  loader_ = std::thread([this, files, done] {
+    const auto report = [this](const std::string& step, int done_steps, int total) {
       QMetaObject::invokeMethod(
           this,
-          [this, step, done, total] {
+          [this, step, done_steps, total] {
             status_->setText(QString::fromStdString(step));
             progress_->setRange(0, std::max(0, total));
-            progress_->setValue(done);
+            progress_->setValue(done_steps);
           },
           Qt::QueuedConnection);
       return !cancel_load_.load();
@@ -346,13 +347,12 @@ void MainWindow::OpenFiles(const SessionFiles& files, const SessionView& view) {
     }
     QMetaObject::invokeMethod(
         this,
-        [this, opened, error, view]() mutable {
+        [this, opened, error, done]() mutable {
           progress_->hide();
           cancel_->hide();
           loaded_ = true;
           if (!error.empty()) return ShowError(error);
-          // The session is handed over whole; the previous one goes only now.
-          Adopt(std::move(opened), view);
+          done(std::move(opened));
         },
         Qt::QueuedConnection);
   });
@@ -360,6 +360,7 @@ void MainWindow::OpenFiles(const SessionFiles& files, const SessionView& view) {
 
 void MainWindow::Adopt(std::shared_ptr<Session> session, const SessionView& view) {
   compare_.reset();
+  compare_other_.reset();
   overlay_.reset();
   free_view_.reset();
   session_ = std::move(session);
@@ -515,15 +516,124 @@ SkillWindow* MainWindow::OpenSkillDesigner(const std::string& path) {
   return designer_.get();
 }
 
+void MainWindow::AskCompare() {
+  if (!session_) return ShowError("Open a trial first: compare mode starts from one of its jumps.");
+  // A: a jump of this trial; B: another of its jumps, a jump of another trial, or a design.
+  QDialog dialog(this);
+  dialog.setWindowTitle("Compare two jumps");
+  auto* a = new QSpinBox;
+  auto* b = new QSpinBox;
+  const int jumps = int(session_->analysis().jumps.size());
+  a->setRange(1, std::max(1, jumps));
+  b->setRange(1, 99);
+  a->setValue(std::min(2, jumps));
+  b->setValue(std::min(3, jumps));
+  auto* kind = new QComboBox;
+  kind->addItems({"a jump of this trial",
+                  "a jump of another trial",
+                  "a designed skill (acrolab optimize's folder)"});
+  auto* path = new QLineEdit;
+  auto* athlete = new QLineEdit;
+  athlete->setPlaceholderText("the other trial's athlete (empty: this one's)");
+  athlete->setText(QString::fromStdString(session_->files().athlete));
+  auto* browse = new QPushButton("Browse…");
+  connect(browse, &QPushButton::clicked, &dialog, [&] {
+    const QString chosen =
+        kind->currentIndex() == 2
+            ? QFileDialog::getExistingDirectory(&dialog, "The design's folder")
+            : QFileDialog::getOpenFileName(
+                  &dialog, "The other trial", {}, "Trials (*.c3d *.trc *.csv);;All files (*)");
+    if (!chosen.isEmpty()) path->setText(chosen);
+  });
+  const auto update = [&] {
+    path->setEnabled(kind->currentIndex() > 0);
+    browse->setEnabled(kind->currentIndex() > 0);
+    athlete->setEnabled(kind->currentIndex() == 1);
+    b->setEnabled(kind->currentIndex() < 2);
+  };
+  connect(kind, QOverload<int>::of(&QComboBox::currentIndexChanged), &dialog, update);
+  update();
+  auto* file_row = new QHBoxLayout;
+  file_row->addWidget(path, 1);
+  file_row->addWidget(browse);
+  auto* form = new QFormLayout;
+  form->addRow("A: jump of this trial", a);
+  form->addRow("B is", kind);
+  form->addRow("B's trial or design", file_row);
+  form->addRow("B's athlete", athlete);
+  form->addRow("B: jump", b);
+  auto* buttons = new QDialogButtonBox(QDialogButtonBox::Ok | QDialogButtonBox::Cancel);
+  connect(buttons, &QDialogButtonBox::accepted, &dialog, &QDialog::accept);
+  connect(buttons, &QDialogButtonBox::rejected, &dialog, &QDialog::reject);
+  auto* layout = new QVBoxLayout(&dialog);
+  layout->addLayout(form);
+  layout->addWidget(buttons);
+  if (dialog.exec() != QDialog::Accepted) return;
+  if (kind->currentIndex() > 0 && path->text().isEmpty())
+    return ShowError("Choose B's trial or design.");
+  if (kind->currentIndex() == 0) {
+    OpenCompare(a->value(), b->value());
+  } else if (kind->currentIndex() == 1) {
+    SessionFiles other;
+    other.trial = path->text().toStdString();
+    other.athlete = athlete->text().toStdString();
+    OpenCompareWithTrial(a->value(), other, b->value());
+  } else {
+    OpenCompareWithDesign(a->value(), path->text().toStdString());
+  }
+}
+
 bool MainWindow::OpenCompare(int a, int b) {
   if (!session_) {
     ShowError("Open a trial first: compare mode shows two of its jumps.");
     return false;
   }
-  try {
-    auto window = std::make_unique<CompareWindow>(session_, a, b, this);
-    compare_ = std::move(window);
+  return ShowCompare(a, [&] {
+    auto window = std::make_unique<CompareWindow>(session_, a, session_, b, this);
     session_->scene().SetGhostJump(b);
+    return window;
+  });
+}
+
+void MainWindow::OpenCompareWithTrial(int a, SessionFiles other, int b) {
+  if (!session_) return ShowError("Open a trial first: compare mode starts from one of its jumps.");
+  // Only the jump is needed: the other trial's video stays closed.
+  other.video.clear();
+  other.calibration.clear();
+  other.camera.clear();
+  OpenInBackground(other, [this, a, b](std::shared_ptr<Session> opened) {
+    ShowCompare(a, [&] {
+      auto window = std::make_unique<CompareWindow>(session_, a, opened, b, this);
+      session_->scene().SetGhostJump(
+          opened->analysis(),
+          opened->body(),
+          analysis::MakeEllipsoidBodyMesh(opened->body(), analysis::OverlayBodyMeshOptions()),
+          b,
+          window->scene().b().label);
+      compare_other_ = opened;
+      return window;
+    });
+  });
+}
+
+bool MainWindow::OpenCompareWithDesign(int a, const std::string& design_dir) {
+  if (!session_) {
+    ShowError("Open a trial first: compare mode starts from one of its jumps.");
+    return false;
+  }
+  return ShowCompare(a, [&] {
+    auto design = std::make_shared<const analysis::DesignedSkill>(analysis::ReadDesignedSkill(
+        design_dir, analysis::MakeStandardHumanModel(session_->body())));
+    auto window = std::make_unique<CompareWindow>(session_, a, design, this);
+    session_->scene().SetGhostDesign(*design, session_->body());
+    return window;
+  });
+}
+
+bool MainWindow::ShowCompare(int a, const std::function<std::unique_ptr<CompareWindow>()>& make) {
+  try {
+    std::unique_ptr<CompareWindow> window = make();
+    compare_ = std::move(window);
   } catch (const std::exception& e) {
     ShowError(e.what());
     return false;
@@ -531,6 +641,19 @@ bool MainWindow::OpenCompare(int a, int b) {
   compare_->show();
   GoToJump(a);
   return true;
+}
+
+void MainWindow::ShowDesignGhost(const analysis::DesignedSkill& design) {
+  if (!session_) return ShowError("Open a trial first: the design is drawn in its flights.");
+  try {
+    session_->scene().SetGhostDesign(design, session_->body());
+  } catch (const std::exception& e) {
+    return ShowError(e.what());
+  }
+  status_->setText(QString::fromStdString(
+      "ghost: " + design.name +
+      " (design) at every flight's take-off, in the 3D view and over the video"));
+  Redraw();
 }
 
 void MainWindow::Redraw() {

@@ -12,6 +12,7 @@
 
 #include <atomic>
 #include <deque>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -19,6 +20,7 @@
 #include <vector>
 
 #include "acro/capture/video.h"
+#include "acro/scene/designed_skill.h"
 #include "acro/studio/session.h"
 
 class QAction;
@@ -74,6 +76,13 @@ class MainWindow : public QMainWindow {
   /// own), and B as a ghost in A's flight over the video and in the 3D view. The cursor goes to
   /// A's take-off. False (and the dialog) for a jump that is not there.
   bool OpenCompare(int a, int b);
+  /// The same with jump `b` of another trial (opened and analysed on the worker, without its
+  /// video); a bad file is the dialog and nothing changes.
+  void OpenCompareWithTrial(int a, SessionFiles other, int b);
+  /// The same with a designed skill (`acrolab optimize`'s folder) posed on this athlete.
+  bool OpenCompareWithDesign(int a, const std::string& design_dir);
+  /// A design (the skill designer's) as the ghost in every flight, over the video and in 3D.
+  void ShowDesignGhost(const analysis::DesignedSkill& design);
   CompareWindow* compare() { return compare_.get(); }
   /// The skill designer (File → Open skill…), opened on `path` when given.
   SkillWindow* OpenSkillDesigner(const std::string& path = "");
@@ -101,6 +110,12 @@ class MainWindow : public QMainWindow {
 
  private:
   void BuildMenus();
+  /// Opens `files` as a session on the worker thread (progress, Cancel), then `done` on the
+  /// window's thread; a failure is the dialog and `done` is not called.
+  void OpenInBackground(const SessionFiles& files,
+                        std::function<void(std::shared_ptr<Session>)> done);
+  bool ShowCompare(int a, const std::function<std::unique_ptr<CompareWindow>()>& make);
+  void AskCompare();
   void Adopt(std::shared_ptr<Session> session, const SessionView& view);
   void ShowError(const std::string& message);
   void Redraw();
@@ -115,6 +130,7 @@ class MainWindow : public QMainWindow {
   std::unique_ptr<ui::TrialFreeView> free_view_;
   std::unique_ptr<ui::TrialOverlay> overlay_;
   std::unique_ptr<CompareWindow> compare_;
+  std::shared_ptr<Session> compare_other_;  // the other trial a ghost jump comes from
   std::unique_ptr<SkillWindow> designer_;
   ImageView* view3d_ = nullptr;
   ImageView* video_view_ = nullptr;

@@ -66,4 +66,15 @@ Skill ReadSkill(const std::filesystem::path& path);
 /// The same from parsed YAML; `base_dir` resolves the athlete path.
 Skill SkillFromYaml(const YamlNode& root, const std::filesystem::path& base_dir);
 
+/// The skill as a skill file's text for a file in `dir` (the athlete's path relative to `dir`
+/// when it is at most two folders up): every keyframe with its orientation, its time guess and
+/// tolerances, and each joint that is not at the reference pose by its sided name (r_thigh,
+/// l_thigh), in degrees to 12 significant digits, so that ReadSkill gives back the same skill
+/// within 1e-12 of every number. What the studio's designer saves after editing keyframes.
+std::string FormatSkillYaml(const Skill& skill, const std::filesystem::path& dir);
+
+/// Writes FormatSkillYaml to `path` atomically. Throws acro::InputError naming `path` when it
+/// cannot be written.
+void WriteSkill(const std::filesystem::path& path, const Skill& skill);
+
 }  // namespace acro::analysis

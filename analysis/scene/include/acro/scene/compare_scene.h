@@ -62,6 +62,9 @@ struct TakeoffPlacement {
 };
 TakeoffPlacement FindTakeoff(const TrialAnalysis& analysis, int jump);
 
+/// How a comparison names a jump: "40o back somersault (jump 2)" (empty for a jump not there).
+std::string JumpLabel(const TrialAnalysis& analysis, int jump);
+
 /// The take-off of a designed skill (ReadDesignedSkill for `model`, its standard human): the feet
 /// and heading of its first frame, time 0, landing at its flight time.
 TakeoffPlacement FindDesignTakeoff(const DesignedSkill& design,
