@@ -8,6 +8,7 @@
 #include "acro/athlete/standard_human.h"
 #include "acro/base/file_io.h"
 #include "acro/base/input_error.h"
+#include "acro/base/text_format.h"
 
 namespace acro::analysis {
 namespace {
@@ -187,7 +188,7 @@ Skill SkillFromYaml(const YamlNode& root, const std::filesystem::path& base_dir)
     if (angle > 170.0 * kDegToRad)
       throw InputError(skill.source,
                        "line " + std::to_string(skill.keyframes[i].line),
-                       "orientation turns " + std::to_string(angle / kDegToRad) +
+                       "orientation turns " + FormatFixed(angle / kDegToRad, 1) +
                            "° from the previous keyframe; insert a keyframe (at most 170° apart)");
   }
   return skill;

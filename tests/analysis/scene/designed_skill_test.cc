@@ -186,6 +186,13 @@ TEST(DesignedSkill, AMotionForAnotherModelIsNamed) {
   }
   std::filesystem::remove(dir / "result.json");
   EXPECT_THROW(ReadDesignedSkill(dir, design.model()), InputError);
+  // A folder that is not there is named as given.
+  try {
+    ReadDesignedSkill(dir / "no_such_design", design.model());
+    ADD_FAILURE() << "a folder that is not there was read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("no_such_design"), std::string::npos) << e.what();
+  }
 }
 
 TEST(DesignedSkill, TheGhostTakesOffWithEachFlightAndFliesItsOwnParabola) {

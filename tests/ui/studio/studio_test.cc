@@ -12,6 +12,7 @@
 
 #include <QApplication>
 #include <QElapsedTimer>
+#include <QMessageBox>
 #include <QScreen>
 #include <QTabWidget>
 #include <QTableWidget>
@@ -46,6 +47,13 @@ bool WaitUntil(const std::function<bool()>& done, int ms) {
     QThread::msleep(5);
   }
   return done();
+}
+
+// Closes the message boxes left open (a test reads last_error(); a person presses OK).
+void CloseDialogs() {
+  for (QWidget* top : QApplication::topLevelWidgets())
+    if (auto* box = qobject_cast<QMessageBox*>(top)) box->close();
+  QCoreApplication::processEvents();
 }
 
 // The whole screen (the window and any dialog over it).
@@ -225,6 +233,44 @@ TEST(Studio, TheSampleRoutineWithItsVideoAtOneCursor) {
       << w.view_frame()->heads_up;
   Shot("studio_compare");
   w.compare()->hide();
+
+  // Compare with a jump of another trial (another day's file of the same routine: analysed on the
+  // worker, without its video): its jump 3 is the ghost in every flight — its own number is
+  // another trial's, so in jump 3's flight here too — and the compare window names its file.
+  const fs::path other_dir = acro::testing::ScratchDir("studio_other_trial");
+  fs::copy_file(SampleFiles().trial,
+                other_dir / "another_day.c3d",
+                fs::copy_options::overwrite_existing);
+  SessionFiles other;
+  other.trial = (other_dir / "another_day.c3d").string();
+  other.athlete = SampleFiles().athlete;
+  w.OpenCompareWithTrial(2, other, 3);
+  ASSERT_TRUE(WaitUntil([&] { return !w.busy(); }, 180000));
+  ASSERT_TRUE(w.last_error().empty()) << w.last_error();
+  ASSERT_NE(w.compare(), nullptr);
+  EXPECT_NE(w.compare()->scene().b().label.find("of another_day.c3d"), std::string::npos)
+      << w.compare()->scene().b().label;
+  EXPECT_EQ(w.session(), &s);  // the session open stays
+  EXPECT_EQ(w.cursor(), two.flight.takeoff_frame);
+  const analysis::JumpMetrics& pike = s.analysis().jumps.at(2);
+  w.SetCursor((pike.flight.takeoff_frame + pike.flight.landing_frame) / 2);
+  ASSERT_TRUE(w.view_frame()->ghost_shown);
+  EXPECT_NE(w.view_frame()->heads_up.find("of another_day.c3d"), std::string::npos)
+      << w.view_frame()->heads_up;
+  // The other trial's jump 3 in this trial's jump 3: the same motion at its own take-off.
+  EXPECT_LT((w.view_frame()->ghost.com_W - w.view_frame()->athlete.com_W).norm(), 1e-6);
+  w.SetCursor(two.flight.takeoff_frame + 60);
+  Shot("studio_compare_other_trial");
+  w.compare()->hide();
+  // A bad other trial: the dialog, and the comparison and session stay.
+  CompareWindow* kept_compare = w.compare();
+  std::ofstream(other_dir / "broken.c3d") << "not a C3D\n";
+  other.trial = (other_dir / "broken.c3d").string();
+  w.OpenCompareWithTrial(2, other, 3);
+  ASSERT_TRUE(WaitUntil([&] { return !w.busy(); }, 60000));
+  EXPECT_NE(w.last_error().find("broken.c3d"), std::string::npos) << w.last_error();
+  EXPECT_EQ(w.compare(), kept_compare);
+  EXPECT_EQ(w.session(), &s);
   GoToJumpByClick(w, 6);
 
   // The session saved and reopened in another window: the same files, cursor and view.
@@ -255,8 +301,12 @@ TEST(Studio, TheSampleRoutineWithItsVideoAtOneCursor) {
 
 // The skill designer: the paper's example skill (1¾ front with ½ twist) opened, its keyframes in
 // the table, Model 2 run on the worker thread: J drops at least 10 times (docs/skill-design.md:
-// 10.1), the timing chart is shown; the design saved is a folder `overlay --ghost` reads; a bad
-// skill file is a dialog and the skill stays.
+// 10.1), the timing chart is shown, the flight is simulated and previewed beside the design; Model
+// 1 cancelled; the design saved is a folder `overlay --ghost` reads; a bad skill file is a dialog
+// and the skill stays. Then the back tuck: a joint angle edited in the pose table (the result goes,
+// the skill file saved reads back with it), an edit the reader refuses (the dialog, nothing
+// changes), Model 2, the design shown over the sample routine's video as the ghost, and compared
+// with the real back tuck.
 TEST(Studio, TheSkillDesignerRunsModel2OnThePapersExample) {
   MainWindow w;
   w.resize(1920, 1080);
@@ -276,6 +326,13 @@ TEST(Studio, TheSkillDesignerRunsModel2OnThePapersExample) {
   EXPECT_GE(r.objective_initial / r.objective, 10.0);
   EXPECT_EQ(designer->timing_plot()->chart().title.rfind("Keyframe timing", 0), 0u);
   EXPECT_FALSE(designer->keyframes()->item(1, 2)->text().isEmpty());  // optimised times shown
+  // The flight simulated: its landing in the line under the window, and beside the design in the
+  // preview (two rows) at the landing.
+  ASSERT_NE(designer->simulation(), nullptr);
+  EXPECT_NE(designer->summary().find("The simulated flight"), std::string::npos)
+      << designer->summary();
+  designer->SetPreviewTime(file.flight_time_s);
+  EXPECT_EQ(designer->preview()->image().height(), 2 * 300);
   Shot("studio_skill_designer");
   // Model 1 takes minutes here: Cancel stops it within a few seconds, the Model 2 result stays.
   designer->Run(1);
@@ -299,6 +356,64 @@ TEST(Studio, TheSkillDesignerRunsModel2OnThePapersExample) {
   EXPECT_FALSE(designer->OpenSkill((dir / "bad.yaml").string()));
   EXPECT_NE(designer->last_error().find("bad.yaml"), std::string::npos) << designer->last_error();
   EXPECT_EQ(designer->keyframes()->rowCount(), int(file.keyframes.size()));  // kept
+
+  // The back tuck: its "tuck" keyframe's right knee edited in the pose table.
+  const fs::path tuck_file = acro::testing::SourceDir() / "samples/skills/back_tuck.yaml";
+  ASSERT_TRUE(designer->OpenSkill(tuck_file.string())) << designer->last_error();
+  designer->Run(2);
+  ASSERT_TRUE(
+      WaitUntil([&] { return !designer->running() && designer->result() != nullptr; }, 120000));
+  const int tuck = 2;
+  ASSERT_EQ(designer->skill()->keyframes[tuck].name, "tuck");
+  designer->keyframes()->setCurrentCell(tuck, 0);
+  QTableWidget* pose = designer->pose();
+  int knee_row = -1;
+  for (int row = 0; row < pose->rowCount(); ++row)
+    if (pose->item(row, 0)->text() == "r_knee_flexion") knee_row = row;
+  ASSERT_GE(knee_row, 3);
+  pose->item(knee_row, 1)->setText("120");
+  const int knee = analysis::StandardJointDofIndex("r_shank", 0);
+  EXPECT_NEAR(designer->skill()->keyframes[tuck].joint_angles_rad(knee), 120 * M_PI / 180, 1e-12);
+  EXPECT_EQ(designer->result(), nullptr);  // it described the old pose
+  ASSERT_TRUE(designer->SaveSkill((dir / "my_tuck.yaml").string())) << designer->last_error();
+  const analysis::Skill mine = analysis::ReadSkill(dir / "my_tuck.yaml");
+  EXPECT_NEAR(mine.keyframes[tuck].joint_angles_rad(knee), 120 * M_PI / 180, 1e-12);
+  EXPECT_NEAR(mine.keyframes[tuck].joint_angles_rad(analysis::StandardJointDofIndex("l_shank", 0)),
+              145 * M_PI / 180,  // the file's, untouched
+              1e-12);
+  // A somersault 170° or more from the next keyframe's: the reader's words, nothing changes.
+  const double before = designer->skill()->keyframes[tuck].somersault_rad;
+  EXPECT_FALSE(designer->EditPose(tuck, 0, 135.0));  // 175° from the closing's −40°
+  EXPECT_NE(designer->last_error().find("170"), std::string::npos) << designer->last_error();
+  EXPECT_EQ(designer->skill()->keyframes[tuck].somersault_rad, before);
+
+  // The design over the athlete: the sample routine open, Model 2 again, the ghost in every flight.
+  w.OpenFiles(SampleFiles());
+  ASSERT_TRUE(WaitUntil([&] { return w.session() != nullptr && !w.busy(); }, 180000))
+      << w.last_error();
+  designer->Run(2);
+  ASSERT_TRUE(
+      WaitUntil([&] { return !designer->running() && designer->result() != nullptr; }, 120000));
+  ASSERT_TRUE(designer->ShowOverAthlete()) << designer->last_error();
+  const analysis::JumpMetrics& two = w.session()->analysis().jumps.at(1);
+  w.SetCursor(two.flight.takeoff_frame + 50);
+  ASSERT_NE(w.view_frame(), nullptr);
+  EXPECT_TRUE(w.view_frame()->ghost_shown);
+  EXPECT_NE(w.view_frame()->heads_up.find("ghost: back tuck (design)"), std::string::npos)
+      << w.view_frame()->heads_up;
+  designer->hide();
+  CloseDialogs();
+  Shot("studio_design_ghost");
+  // And compared with the real back tuck (jump 2), from the design's folder.
+  ASSERT_TRUE(designer->SaveDesign((dir / "my_tuck").string())) << designer->last_error();
+  ASSERT_TRUE(w.OpenCompareWithDesign(2, (dir / "my_tuck").string())) << w.last_error();
+  EXPECT_EQ(w.compare()->scene().b().label, "back tuck (design)");
+  EXPECT_EQ(w.cursor(), two.flight.takeoff_frame);
+  w.SetCursor(two.flight.takeoff_frame + 50);
+  EXPECT_GT(w.compare()->tau(), 0.4);
+  Shot("studio_compare_design");
+  EXPECT_FALSE(w.OpenCompareWithDesign(2, (dir / "no_such_design").string()));
+  EXPECT_NE(w.last_error().find("no_such_design"), std::string::npos) << w.last_error();
 }
 
 }  // namespace

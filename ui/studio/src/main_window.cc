@@ -510,7 +510,10 @@ void MainWindow::SetCursor(int sample) {
 }
 
 SkillWindow* MainWindow::OpenSkillDesigner(const std::string& path) {
-  if (!designer_) designer_ = std::make_unique<SkillWindow>(this);
+  if (!designer_) {
+    designer_ = std::make_unique<SkillWindow>(this);
+    designer_->SetGhostTarget([this](const analysis::DesignedSkill& d) { ShowDesignGhost(d); });
+  }
   designer_->show();
   if (!path.empty()) designer_->OpenSkill(path);
   return designer_.get();
