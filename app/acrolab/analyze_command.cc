@@ -142,12 +142,7 @@ int RunAnalyze(AnalyzeArguments& args) {
       check.progress = MakeCancellableProgress("silhouettes", "frames");
       const analysis::SilhouetteCheck silhouettes =
           analysis::CheckSilhouettes(colour, scene, camera, check);
-      for (analysis::JumpMetrics& j : result.jumps) {
-        const size_t f = static_cast<size_t>(j.index - 1);
-        if (f < silhouettes.flight_median_iou.size() &&
-            std::isfinite(silhouettes.flight_median_iou[f]))
-          j.silhouette_iou = silhouettes.flight_median_iou[f];
-      }
+      analysis::AttachSilhouetteCheck(silhouettes, &result);
       for (size_t k = 0; k < silhouettes.iou.size(); ++k) {
         report.silhouette_time_s.push_back(silhouettes.samples[k] / trial.point_rate_hz);
         report.silhouette_iou.push_back(silhouettes.iou[k]);

@@ -220,4 +220,12 @@ AutoVideoSync SyncVideoAutomatically(TrialScene& scene,
   return out;
 }
 
+void AttachSilhouetteCheck(const SilhouetteCheck& check, TrialAnalysis* analysis) {
+  for (JumpMetrics& j : analysis->jumps) {
+    const size_t f = static_cast<size_t>(j.index - 1);
+    if (f < check.flight_median_iou.size() && std::isfinite(check.flight_median_iou[f]))
+      j.silhouette_iou = check.flight_median_iou[f];
+  }
+}
+
 }  // namespace acro::analysis

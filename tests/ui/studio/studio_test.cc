@@ -24,6 +24,8 @@
 #include <fstream>
 #include <functional>
 
+#include <fmt/format.h>
+
 #include "acro/athlete/standard_human.h"
 #include "acro/scene/designed_skill.h"
 #include "acro/views/display.h"
@@ -212,6 +214,24 @@ TEST(Studio, TheSampleRoutineWithItsVideoAtOneCursor) {
   std::getline(csv, header);
   EXPECT_EQ(header, "series,x,y");
   Shot("studio_plot_click");
+  // The silhouettes (the video's athlete against the reconstruction, as `analyze --video` checks
+  // them): the IoU of every filmed flight frame as a plot, each jump's median in the table.
+  ASSERT_FALSE(s.silhouettes().iou.empty());
+  int iou_plot = -1;
+  for (int i = 0; i < w.plot_count(); ++i)
+    if (w.plot_title(i) == "Silhouettes: video against reconstruction") iou_plot = i;
+  ASSERT_GE(iou_plot, 0);
+  w.ShowPlot(iou_plot);
+  EXPECT_EQ(plot->chart().series.at(0).y.size(), s.silhouettes().iou.size());
+  EXPECT_GT(s.silhouettes().median_iou, 0.8);  // docs/overlay.md: 0.894 at the true sync
+  const int iou_column = 8;
+  EXPECT_EQ(w.jump_table()->horizontalHeaderItem(iou_column)->text(), "silhouette IoU");
+  for (const analysis::JumpMetrics& j : s.analysis().jumps) {
+    if (!j.silhouette_iou) continue;
+    EXPECT_EQ(w.jump_table()->item(j.index - 1, iou_column)->text().toStdString(),
+              fmt::format("{:.2f}", *j.silhouette_iou));
+  }
+  Shot("studio_silhouettes");
   GoToJumpByClick(w, 6);
 
   // Compare mode with jumps 2 and 3: the cursor at A's take-off is τ = 0 in the compare window,
@@ -238,9 +258,8 @@ TEST(Studio, TheSampleRoutineWithItsVideoAtOneCursor) {
   // worker, without its video): its jump 3 is the ghost in every flight — its own number is
   // another trial's, so in jump 3's flight here too — and the compare window names its file.
   const fs::path other_dir = acro::testing::ScratchDir("studio_other_trial");
-  fs::copy_file(SampleFiles().trial,
-                other_dir / "another_day.c3d",
-                fs::copy_options::overwrite_existing);
+  fs::copy_file(
+      SampleFiles().trial, other_dir / "another_day.c3d", fs::copy_options::overwrite_existing);
   SessionFiles other;
   other.trial = (other_dir / "another_day.c3d").string();
   other.athlete = SampleFiles().athlete;

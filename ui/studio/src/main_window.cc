@@ -75,7 +75,7 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
     SetPlaying(false);
     SetCursor(s);
   });
-  jumps_ = new QTableWidget(0, 8);
+  jumps_ = new QTableWidget(0, 9);
   jumps_->setHorizontalHeaderLabels({"#",
                                      "code",
                                      "skill",
@@ -83,7 +83,8 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
                                      "apex (m)",
                                      "displacement (m)",
                                      "DD",
-                                     "verdict"});
+                                     "verdict",
+                                     "silhouette IoU"});
   jumps_->setSelectionBehavior(QAbstractItemView::SelectRows);
   jumps_->setEditTriggers(QAbstractItemView::NoEditTriggers);
   jumps_->horizontalHeader()->setStretchLastSection(true);
@@ -427,7 +428,8 @@ void MainWindow::FillJumpTable() {
         fmt::format("{:.2f}", j.apex_m()),
         fmt::format("{:.2f}", j.displacement_from_takeoff_m),
         fmt::format("{:.1f}", j.difficulty.total_tenths() / 10.0),
-        j.verdict};
+        j.verdict,
+        j.silhouette_iou ? fmt::format("{:.2f}", *j.silhouette_iou) : "–"};
     for (size_t c = 0; c < cells.size(); ++c)
       jumps_->setItem(int(r), int(c), new QTableWidgetItem(QString::fromStdString(cells[c])));
   }
@@ -482,6 +484,12 @@ void MainWindow::ShowPlot(int index, const std::string& joint) {
   if (!session_) return;
   ui::AnalysisReportOptions options;
   options.joint = joint.empty() ? joint_box_->currentText().toStdString() : joint;
+  // With a video, the silhouette IoU per filmed flight frame (the report's figure).
+  const analysis::SilhouetteCheck& silhouettes = session_->silhouettes();
+  for (size_t k = 0; k < silhouettes.iou.size(); ++k) {
+    options.silhouette_time_s.push_back(silhouettes.samples[k] / session_->rate_hz());
+    options.silhouette_iou.push_back(silhouettes.iou[k]);
+  }
   std::vector<ui::ReportFigure> figures;
   try {
     figures = ui::MakeAnalysisFigures(session_->analysis(), options);
@@ -495,6 +503,14 @@ void MainWindow::ShowPlot(int index, const std::string& joint) {
   plot_box_->setCurrentIndex(index);
   if (index >= 0) plot_->SetChart(figures[size_t(index)].chart);
   plot_->SetCursorTime(cursor_ / session_->rate_hz());
+}
+
+int MainWindow::plot_count() const {
+  return plot_box_->count();
+}
+
+std::string MainWindow::plot_title(int index) const {
+  return plot_box_->itemText(index).toStdString();
 }
 
 const analysis::TrialFrame* MainWindow::view_frame() const {

@@ -93,6 +93,9 @@ class MainWindow : public QMainWindow {
   /// Shows figure `index` of the analysis' figures (the report's: COM and feet, residual force and
   /// moment, angular momentum, the joint's angle and torque) for `joint`.
   void ShowPlot(int index, const std::string& joint = "");
+  /// The figures offered (their titles), in the plot box's order.
+  int plot_count() const;
+  std::string plot_title(int index) const;
   QTableWidget* jump_table() { return jumps_; }
   /// The verdict panel: a row per judged flight (residuals, momentum, gravity, what failed); a
   /// click puts the cursor where its largest residual window starts and loops the judged frames.

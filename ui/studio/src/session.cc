@@ -62,6 +62,9 @@ std::unique_ptr<Session> Session::Open(const SessionFiles& files, const Progress
       s->body_,
       analysis::MakeEllipsoidBodyMesh(s->body_, analysis::OverlayBodyMeshOptions()));
   if (s->video_) {
+    // The silhouettes with the body's full mesh (what the video shows), as analyze compares them.
+    analysis::TrialScene full(
+        *s->trial_, *s->analysis_, s->body_, analysis::MakeEllipsoidBodyMesh(s->body_));
     if (files.offset_s) {
       s->sync_.offset_s = *files.offset_s;
     } else {
@@ -69,12 +72,15 @@ std::unique_ptr<Session> Session::Open(const SessionFiles& files, const Progress
       motion.progress = Step(progress, "sync (image motion)");
       analysis::SilhouetteCheckOptions refine;
       refine.progress = Step(progress, "sync (silhouettes)");
-      analysis::TrialScene full(
-          *s->trial_, *s->analysis_, s->body_, analysis::MakeEllipsoidBodyMesh(s->body_));
       s->sync_ = analysis::SyncVideoAutomatically(full, s->camera_, files.video, motion, refine)
                      .refined.sync;
       s->files_.offset_s = s->sync_.offset_s;
     }
+    analysis::SilhouetteCheckOptions check;
+    check.sync = s->sync_;
+    check.progress = Step(progress, "silhouettes");
+    s->silhouettes_ = analysis::CheckSilhouettes(*s->video_, full, s->camera_, check);
+    analysis::AttachSilhouetteCheck(s->silhouettes_, s->analysis_.get());
   }
   return s;
 }

@@ -44,6 +44,10 @@ struct SilhouetteCheck {
   double median_iou = 0.0;
 };
 
+/// Records `check` in the analysis it was made for: each jump's median IoU over its flight's frames
+/// (JumpMetrics::silhouette_iou; left empty for a flight the video did not film).
+void AttachSilhouetteCheck(const SilhouetteCheck& check, TrialAnalysis* analysis);
+
 /// One frame's comparison with the video's foreground: the athlete's silhouette (the whole frame),
 /// the box they are compared in — the athlete's silhouette box grown by `margin` of its size on
 /// every side — and their intersection over union there.

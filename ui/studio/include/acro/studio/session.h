@@ -16,6 +16,7 @@
 #include "acro/athlete/athlete_body.h"
 #include "acro/capture/trial.h"
 #include "acro/capture/video.h"
+#include "acro/scene/silhouette_check.h"
 #include "acro/scene/trial_scene.h"
 #include "acro/vision/camera.h"
 #include "acro/vision/video_sync.h"
@@ -66,6 +67,9 @@ class Session {
   capture::VideoReader& video() { return *video_; }
   const vision::Camera& camera() const { return camera_; }
   const vision::VideoSync& sync() const { return sync_; }
+  /// The video's athlete against the reconstructed one in every filmed flight frame, as `analyze
+  /// --video` checks it (the jumps' median IoU is in the analysis); empty without a video.
+  const analysis::SilhouetteCheck& silhouettes() const { return silhouettes_; }
   /// The video frame whose time is nearest the sample's (−1 without a video, or when the sample is
   /// more than half a frame outside the video); the sample a video frame shows (−1 outside the
   /// trial).
@@ -82,6 +86,7 @@ class Session {
   std::unique_ptr<capture::VideoReader> video_;
   vision::Camera camera_;
   vision::VideoSync sync_;
+  analysis::SilhouetteCheck silhouettes_;
   std::vector<std::string> warnings_;
 };
 
