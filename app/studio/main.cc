@@ -1,8 +1,11 @@
-// `acrolab-studio [TRIAL] [--athlete A] [--video V --calib C [--camera NAME] [--offset-s S]]
-// [--session FILE.acrolab]`: the workstation window (ui/studio; docs/studio.md).
+// `acrolab-studio [TRIAL] [--athlete A] [--video V --calib C [--camera NAME] [--offset-s S]]…
+// [--session FILE.acrolab]`: the workstation window (ui/studio; docs/studio.md). Up to four
+// videos: --video, --calib, --camera and --offset-s are given once per video, in the same order
+// (--camera and --offset-s for all of them or for none).
 
 #include <cstdio>
 #include <string>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
@@ -12,26 +15,42 @@ int main(int argc, char** argv) {
   CLI::App app{"Acrolab Studio: the workstation window (docs/studio.md)", "acrolab-studio"};
   acro::studio::SessionFiles files;
   std::string session;
-  double offset_s = 0;
+  std::vector<std::string> videos, calibrations, cameras;
+  std::vector<double> offsets;
   app.add_option("TRIAL", files.trial, "a trial to open: C3D, TRC or CSV");
   app.add_option("--athlete", files.athlete, "the athlete's profile (YAML)");
-  app.add_option("--video", files.video, "the trial's video");
-  app.add_option("--calib", files.calibration, "the video's camera calibration");
-  app.add_option("--camera", files.camera, "the camera's name in the calibration");
-  CLI::Option* offset = app.add_option("--offset-s",
-                                       offset_s,
-                                       "video time of the trial's first sample (s); "
-                                       "default: found from the video");
+  app.add_option("--video", videos, "a video of the trial (up to four, each with --calib)");
+  app.add_option("--calib", calibrations, "the video's camera calibration");
+  app.add_option("--camera", cameras, "the camera's name in the calibration");
+  app.add_option("--offset-s",
+                 offsets,
+                 "video time of the trial's first sample (s); default: found from the video");
   app.add_option("--session", session, "a session file (.acrolab) to open");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
   }
-  if (*offset) files.offset_s = offset_s;
-  if (files.video.empty() != files.calibration.empty()) {
-    std::fprintf(stderr, "acrolab-studio: --video and --calib go together\n");
+  const auto fail = [](const std::string& line) {
+    std::fprintf(stderr, "acrolab-studio: %s\n", line.c_str());
     return 2;
+  };
+  if (videos.size() != calibrations.size())
+    return fail("--video and --calib go together: " + std::to_string(videos.size()) + " videos, " +
+                std::to_string(calibrations.size()) + " calibrations");
+  if (videos.size() > size_t(acro::studio::kMaxVideos))
+    return fail(std::to_string(videos.size()) + " videos: at most 4");
+  if (!cameras.empty() && cameras.size() != videos.size())
+    return fail("--camera: one per video or none");
+  if (!offsets.empty() && offsets.size() != videos.size())
+    return fail("--offset-s: one per video or none");
+  for (size_t k = 0; k < videos.size(); ++k) {
+    acro::studio::VideoFiles v;
+    v.video = videos[k];
+    v.calibration = calibrations[k];
+    if (!cameras.empty()) v.camera = cameras[k];
+    if (!offsets.empty()) v.offset_s = offsets[k];
+    files.videos.push_back(v);
   }
   return acro::studio::RunStudio(argc, argv, files, session);
 }

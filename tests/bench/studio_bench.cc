@@ -30,9 +30,11 @@ acro::studio::MainWindow* OpenSample() {
     acro::studio::SessionFiles f;
     f.trial = (dir / "trampoline_routine.c3d").string();
     f.athlete = (acro::testing::SourceDir() / "samples/athletes/sample_athlete.yaml").string();
-    f.video = (dir / "side_camera.mp4").string();
-    f.calibration = (dir / "side_camera.toml").string();
-    f.offset_s = -0.575;
+    acro::studio::VideoFiles v;
+    v.video = (dir / "side_camera.mp4").string();
+    v.calibration = (dir / "side_camera.toml").string();
+    v.offset_s = -0.575;
+    f.videos.push_back(v);
     w->OpenFiles(f);
     QElapsedTimer t;
     t.start();

@@ -27,6 +27,7 @@
 #include <fmt/format.h>
 
 #include "acro/athlete/standard_human.h"
+#include "acro/base/input_error.h"
 #include "acro/scene/designed_skill.h"
 #include "acro/views/display.h"
 #include "compare_window.h"
@@ -80,9 +81,11 @@ SessionFiles SampleFiles() {
   SessionFiles f;
   f.trial = (dir / "trampoline_routine.c3d").string();
   f.athlete = (acro::testing::SourceDir() / "samples/athletes/sample_athlete.yaml").string();
-  f.video = (dir / "side_camera.mp4").string();
-  f.calibration = (dir / "side_camera.toml").string();
-  f.offset_s = -0.575;  // video_truth.json (the automatic sync is analyze's, tested there)
+  VideoFiles v;
+  v.video = (dir / "side_camera.mp4").string();
+  v.calibration = (dir / "side_camera.toml").string();
+  v.offset_s = -0.575;  // video_truth.json (the automatic sync is analyze's, tested there)
+  f.videos.push_back(v);
   return f;
 }
 
@@ -109,7 +112,7 @@ TEST(Studio, TheSampleRoutineWithItsVideoAtOneCursor) {
   // cursor, the 3D view the athlete at the cursor.
   w.SetCursor(s.SampleOf(120));
   ASSERT_EQ(w.video_frame_index(), 120);
-  capture::VideoReader reader(SampleFiles().video);
+  capture::VideoReader reader(SampleFiles().videos.at(0).video);
   for (const auto& [key, expected] :
        {std::pair{Qt::Key_Right, 121}, {Qt::Key_Right, 122}, {Qt::Key_Left, 121}}) {
     QTest::keyClick(&w, key);
@@ -129,7 +132,11 @@ TEST(Studio, TheSampleRoutineWithItsVideoAtOneCursor) {
   const QPoint at = video->TargetRect().topLeft() +
                     QPoint(video->TargetRect().width() / 4, video->TargetRect().height() / 4);
   const QRectF whole = video->SourceRect();
-  const QPointF under = {whole.width() / 4, whole.height() / 4};
+  // The picture point under the pointer before the zoom (about a quarter in).
+  const QPointF under = {whole.x() + double(at.x() - video->TargetRect().x()) /
+                                         video->TargetRect().width() * whole.width(),
+                         whole.y() + double(at.y() - video->TargetRect().y()) /
+                                         video->TargetRect().height() * whole.height()};
   QWheelEvent wheel(at,
                     video->mapToGlobal(at),
                     {},
@@ -142,11 +149,15 @@ TEST(Studio, TheSampleRoutineWithItsVideoAtOneCursor) {
   EXPECT_NEAR(video->zoom(), 1.25 * 1.25 * 1.25, 1e-9);
   const QRectF zoomed = video->SourceRect();
   EXPECT_NEAR(zoomed.width(), whole.width() / video->zoom(), 1e-6);
-  // The picture point under the pointer: a quarter in from the top left, as before.
-  EXPECT_NEAR(zoomed.x() +
-                  (at.x() - video->TargetRect().x()) * zoomed.width() / video->TargetRect().width(),
+  // The picture point under the pointer is the same as before the zoom.
+  EXPECT_NEAR(zoomed.x() + double(at.x() - video->TargetRect().x()) * zoomed.width() /
+                               video->TargetRect().width(),
               under.x(),
-              2.0);
+              1e-6);
+  EXPECT_NEAR(zoomed.y() + double(at.y() - video->TargetRect().y()) * zoomed.height() /
+                               video->TargetRect().height(),
+              under.y(),
+              1e-6);
   QTest::mousePress(video, Qt::LeftButton, {}, at);
   // (QTest::mouseMove carries no button in Qt 5: the drag's move is sent as the window would.)
   QMouseEvent drag(
@@ -316,6 +327,63 @@ TEST(Studio, TheSampleRoutineWithItsVideoAtOneCursor) {
   EXPECT_EQ(w.session(), kept);
   EXPECT_EQ(w.cursor(), six.flight.takeoff_frame);
   Shot("studio_bad_file");
+}
+
+// Several cameras: the sample routine with its video twice (two views, one above the other; a
+// session shows up to four), each view showing its reader's decoded frame of the cursor; the
+// session file keeps both (version 2), and a version 1 file (one video) still opens.
+TEST(Studio, TwoVideoViewsFollowTheCursor) {
+  SessionFiles files = SampleFiles();
+  files.videos.push_back(files.videos.front());
+  files.videos.back().offset_s = -0.575 + 1.0 / 30;  // a camera that started a frame later
+  MainWindow w;
+  w.resize(1920, 1080);
+  w.show();
+  w.OpenFiles(files);
+  ASSERT_TRUE(WaitUntil([&] { return w.session() != nullptr && !w.busy(); }, 180000))
+      << w.last_error();
+  Session& s = *w.session();
+  QApplication::setActiveWindow(&w);
+  QTest::qWait(100);  // the views laid out
+  ASSERT_EQ(w.num_video_views(), 2);
+  EXPECT_LT(w.video_view(0)->geometry().bottom(), w.video_view(1)->geometry().top() + 1);
+  capture::VideoReader reader(files.videos[0].video);
+  w.SetCursor(s.SampleOf(120, 0));
+  for (int step = 0; step < 3; ++step) {
+    EXPECT_EQ(w.video_frame_index(0), 120 + step);
+    // The second camera's clock is a frame later: the same instant is its frame 121 + step.
+    EXPECT_EQ(w.video_frame_index(1), 121 + step);
+    EXPECT_TRUE(w.filmed_frame(0).pixels == reader.Frame(120 + step).pixels);
+    EXPECT_TRUE(w.filmed_frame(1).pixels == reader.Frame(121 + step).pixels);
+    QTest::keyClick(&w, Qt::Key_Right);
+    QCoreApplication::processEvents();
+  }
+  Shot("studio_two_videos");
+  const fs::path dir = acro::testing::ScratchDir("studio_two_videos");
+  WriteSessionFile(dir / "two.acrolab", s.files(), w.view());
+  const auto [read, view] = ReadSessionFile(dir / "two.acrolab");
+  ASSERT_EQ(read.videos.size(), 2u);
+  EXPECT_EQ(read.videos[1].offset_s, files.videos[1].offset_s);
+  EXPECT_EQ(view.cursor_sample, w.cursor());
+  // Version 1: one video's keys at the top level.
+  std::ofstream(dir / "old.acrolab")
+      << "{\"format\": \"acrolab-session\", \"version\": 1, \"trial\": \"" << files.trial
+      << "\", \"video\": \"" << files.videos[0].video << "\", \"calibration\": \""
+      << files.videos[0].calibration << "\", \"offset_s\": -0.575}\n";
+  const auto [old_files, old_view] = ReadSessionFile(dir / "old.acrolab");
+  ASSERT_EQ(old_files.videos.size(), 1u);
+  EXPECT_EQ(old_files.videos[0].offset_s, -0.575);
+  // Five videos: one line naming the file and the field.
+  SessionFiles five = files;
+  five.videos.assign(5, files.videos[0]);
+  WriteSessionFile(dir / "five.acrolab", five, view);
+  try {
+    ReadSessionFile(dir / "five.acrolab");
+    ADD_FAILURE() << "five videos were read";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("five.acrolab"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("videos"), std::string::npos) << e.what();
+  }
 }
 
 // The skill designer: the paper's example skill (1¾ front with ½ twist) opened, its keyframes in

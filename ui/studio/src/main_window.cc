@@ -9,8 +9,10 @@
 #include <QDialogButtonBox>
 #include <QFileDialog>
 #include <QFormLayout>
+#include <QGridLayout>
 #include <QHBoxLayout>
 #include <QHeaderView>
+#include <QInputDialog>
 #include <QLabel>
 #include <QLineEdit>
 #include <QMenuBar>
@@ -66,10 +68,17 @@ ui::ViewPreset PresetOf(const std::string& name) {
 MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   setWindowTitle("Acrolab Studio");
   view3d_ = new ImageView("Open a trial: File → Open trial…");
-  video_view_ = new ImageView("No video: File → Open video…");
+  video_grid_ = new QWidget;
+  new QGridLayout(video_grid_);
+  video_grid_->layout()->setContentsMargins(0, 0, 0, 0);
+  LayOutVideoViews(1);
   auto* views = new QSplitter(Qt::Horizontal);
   views->addWidget(view3d_);
-  views->addWidget(video_view_);
+  views->addWidget(video_grid_);
+  // The 3D view and the videos share the width evenly, whatever the videos' grid.
+  views->setStretchFactor(0, 1);
+  views->setStretchFactor(1, 1);
+  views->setSizes({800, 800});
   timeline_ = new Timeline;
   connect(timeline_, &Timeline::cursorRequested, this, [this](int s) {
     SetPlaying(false);
@@ -202,6 +211,23 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   resize(1600, 950);
 }
 
+void MainWindow::LayOutVideoViews(int count) {
+  auto* grid = static_cast<QGridLayout*>(video_grid_->layout());
+  for (const auto& pane : panes_) {
+    grid->removeWidget(pane->view);
+    delete pane->view;
+  }
+  panes_.clear();
+  for (int k = 0; k < std::max(1, count); ++k) {
+    auto pane = std::make_unique<VideoPane>();
+    pane->view = new ImageView(count == 0 ? "No video: File → Add a video…" : "");
+    // One view; two one above the other (the videos are wide); three or four two by two.
+    const int row = count <= 2 ? k : k / 2, column = count <= 2 ? 0 : k % 2;
+    grid->addWidget(pane->view, row, column);
+    panes_.push_back(std::move(pane));
+  }
+}
+
 MainWindow::~MainWindow() {
   cancel_load_ = true;
   JoinLoader();
@@ -230,18 +256,37 @@ void MainWindow::BuildMenus() {
     files.athlete = athlete.toStdString();
     OpenFiles(files);
   });
-  file->addAction("Open &video…", this, [this] {
+  file->addAction("Add a &video…", this, [this] {
     if (!session_) return ShowError("Open a trial first: the video is synced with it.");
+    if (session_->num_videos() >= kMaxVideos)
+      return ShowError(fmt::format(
+          "The session shows {} videos already: at most {}.", session_->num_videos(), kMaxVideos));
     const QString video = QFileDialog::getOpenFileName(
-        this, "Open the trial's video", {}, "Videos (*.mp4 *.mov *.avi *.mkv)");
+        this, "Add a video of the trial", {}, "Videos (*.mp4 *.mov *.avi *.mkv)");
     if (video.isEmpty()) return;
     const QString calib = QFileDialog::getOpenFileName(
         this, "Its camera calibration", {}, "Calibrations (*.toml *.xml *.yaml *.json)");
     if (calib.isEmpty()) return;
     SessionFiles files = session_->files();
-    files.video = video.toStdString();
-    files.calibration = calib.toStdString();
-    files.offset_s.reset();
+    VideoFiles added;
+    added.video = video.toStdString();
+    added.calibration = calib.toStdString();
+    // A calibration of several cameras: which one filmed it.
+    try {
+      const std::vector<vision::Camera> cameras = vision::ReadCameras(added.calibration);
+      if (cameras.size() > 1) {
+        QStringList names;
+        for (const vision::Camera& c : cameras) names << QString::fromStdString(c.name);
+        bool ok = false;
+        const QString name = QInputDialog::getItem(
+            this, "Which camera", "The camera that filmed it", names, 0, false, &ok);
+        if (!ok) return;
+        added.camera = name.toStdString();
+      }
+    } catch (const std::exception& e) {
+      return ShowError(e.what());
+    }
+    files.videos.push_back(added);
     OpenFiles(files, view());
   });
   file->addAction("&Open session…", this, [this] {
@@ -362,25 +407,26 @@ void MainWindow::OpenInBackground(const SessionFiles& files,
 void MainWindow::Adopt(std::shared_ptr<Session> session, const SessionView& view) {
   compare_.reset();
   compare_other_.reset();
-  overlay_.reset();
+  for (const auto& pane : panes_) pane->overlay.reset();
   free_view_.reset();
   session_ = std::move(session);
   std::optional<analysis::TrampolineScene> trampoline;
   if (session_->analysis().bed)
     trampoline = analysis::MakeTrampolineScene(*session_->analysis().bed);
+  LayOutVideoViews(session_->num_videos());
   try {
     free_view_ = std::make_unique<ui::TrialFreeView>(session_->scene(),
                                                      kViewWidth,
                                                      kViewHeight,
                                                      analysis::ParseSceneShow("mesh,skeleton,com"),
                                                      trampoline);
-    if (session_->has_video()) {
+    for (int k = 0; k < session_->num_videos(); ++k) {
       ui::SceneOverlayOptions options;
       options.show = analysis::ParseSceneShow("mesh,skeleton,com");
-      options.sync = session_->sync();
-      const capture::VideoInfo& info = session_->video().info();
-      overlay_ = std::make_unique<ui::TrialOverlay>(
-          session_->scene(), session_->camera(), info.width, info.height, options);
+      options.sync = session_->sync(k);
+      const capture::VideoInfo& info = session_->video(k).info();
+      panes_[size_t(k)]->overlay = std::make_unique<ui::TrialOverlay>(
+          session_->scene(), session_->camera(k), info.width, info.height, options);
     }
   } catch (const std::exception& e) {
     ShowError(e.what());
@@ -401,17 +447,15 @@ void MainWindow::Adopt(std::shared_ptr<Session> session, const SessionView& view
                                  session_->num_samples(),
                                  session_->rate_hz(),
                                  session_->analysis().jumps.size());
-  if (session_->has_video())
-    note += fmt::format("; video synced: video time = {:.4f} s + trial time",
-                        session_->sync().offset_s);
+  for (int k = 0; k < session_->num_videos(); ++k)
+    note += fmt::format("; video {} synced: video time = {:.4f} s + trial time",
+                        session_->num_videos() > 1 ? std::to_string(k + 1) : "",
+                        session_->sync(k).offset_s);
   for (const std::string& w : session_->warnings()) note += "; warning: " + w;
   status_->setText(QString::fromStdString(note));
   preset_box_->setCurrentIndex(view.preset == "front" ? 1 : view.preset == "top" ? 2 : 0);
   follow_->setChecked(view.follow);
   SetSpeed(view.speed);
-  video_frame_index_ = -1;
-  reader_next_ = -1;
-  recent_.clear();
   SetCursor(std::clamp(view.cursor_sample, 0, session_->num_samples() - 1));
 }
 
@@ -617,9 +661,7 @@ bool MainWindow::OpenCompare(int a, int b) {
 void MainWindow::OpenCompareWithTrial(int a, SessionFiles other, int b) {
   if (!session_) return ShowError("Open a trial first: compare mode starts from one of its jumps.");
   // Only the jump is needed: the other trial's video stays closed.
-  other.video.clear();
-  other.calibration.clear();
-  other.camera.clear();
+  other.videos.clear();
   OpenInBackground(other, [this, a, b](std::shared_ptr<Session> opened) {
     ShowCompare(a, [&] {
       auto window = std::make_unique<CompareWindow>(session_, a, opened, b, this);
@@ -696,48 +738,49 @@ void MainWindow::Redraw() {
     free_view_->Render(cursor_, &rgb3d_);
     view3d_->SetImage(ToImage(rgb3d_, free_view_->width(), free_view_->height()));
   }
-  DrawVideo();
+  for (int k = 0; k < session_->num_videos(); ++k) DrawVideo(k);
 }
 
-void MainWindow::DrawVideo() {
-  if (!session_ || !session_->has_video()) return;
-  const int frame = session_->VideoFrameOf(cursor_);
+void MainWindow::DrawVideo(int k) {
+  VideoPane& pane = *panes_.at(size_t(k));
+  const int frame = session_->VideoFrameOf(cursor_, k);
   if (frame < 0) {
-    video_frame_index_ = -1;
-    video_view_->SetImage({});
+    pane.frame_index = -1;
+    pane.view->SetImage({});
     return;
   }
-  if (frame != video_frame_index_) {
-    capture::VideoReader& video = session_->video();
-    const auto cached = std::find_if(
-        recent_.begin(), recent_.end(), [frame](const auto& f) { return f.index == frame; });
+  if (frame != pane.frame_index) {
+    capture::VideoReader& video = session_->video(k);
+    const auto cached = std::find_if(pane.recent.begin(),
+                                     pane.recent.end(),
+                                     [frame](const auto& f) { return f.index == frame; });
     try {
-      if (cached != recent_.end()) {
-        filmed_ = *cached;
-      } else if (frame == reader_next_ && video.ReadNext(&filmed_)) {
+      if (cached != pane.recent.end()) {
+        pane.filmed = *cached;
+      } else if (frame == pane.reader_next && video.ReadNext(&pane.filmed)) {
         // The frame after the last decoded is read on (playing, stepping forward); any other is
         // sought.
-        reader_next_ = filmed_.index + 1;
+        pane.reader_next = pane.filmed.index + 1;
       } else {
-        filmed_ = video.Frame(frame);
-        reader_next_ = frame + 1;
+        pane.filmed = video.Frame(frame);
+        pane.reader_next = frame + 1;
       }
     } catch (const std::exception& e) {
       return ShowError(e.what());
     }
-    if (cached == recent_.end()) {
-      recent_.push_back(filmed_);
+    if (cached == pane.recent.end()) {
+      pane.recent.push_back(pane.filmed);
       constexpr size_t kRecentFrames = 8;
-      if (recent_.size() > kRecentFrames) recent_.pop_front();
+      if (pane.recent.size() > kRecentFrames) pane.recent.pop_front();
     }
-    video_frame_index_ = frame;
+    pane.frame_index = frame;
   }
-  drawn_ = filmed_;
-  if (overlay_) {
-    const int sample = session_->SampleOf(frame);
-    if (sample >= 0) overlay_->Draw(sample, &drawn_);
+  pane.drawn = pane.filmed;
+  if (pane.overlay) {
+    const int sample = session_->SampleOf(frame, k);
+    if (sample >= 0) pane.overlay->Draw(sample, &pane.drawn);
   }
-  video_view_->SetImage(ToImage(drawn_.pixels, drawn_.width, drawn_.height));
+  pane.view->SetImage(ToImage(pane.drawn.pixels, pane.drawn.width, pane.drawn.height));
 }
 
 void MainWindow::StepFrame(int direction) {

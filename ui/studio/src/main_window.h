@@ -1,12 +1,12 @@
 #pragma once
 
-// The workstation window (`acrolab-studio`, docs/studio.md): a free 3D view of the athlete and the
-// calibrated camera's video with the athlete drawn over it, both at one cursor; the timeline of
-// the whole trial with its jumps; the transport (play and pause, a frame either way, the next or
-// previous take-off, ½ to ⅛ speed, a loop over the jump); the jump table. What it shows comes from
-// the library (ui/views draws, analysis computes): no analysis here. Opening and analysing run on
-// a worker thread with progress and cancel; a bad file is a dialog with its one-line error and
-// the session open stays as it was.
+// The workstation window (`acrolab-studio`, docs/studio.md): a free 3D view of the athlete and up
+// to four calibrated cameras' videos with the athlete drawn over each, all at one cursor; the
+// timeline of the whole trial with its jumps; the transport (play and pause, a frame either way,
+// the next or previous take-off, ½ to ⅛ speed, a loop over the jump); the jump table. What it shows
+// comes from the library (ui/views draws, analysis computes): no analysis here. Opening and
+// analysing run on a worker thread with progress and cancel; a bad file is a dialog with its
+// one-line error and the session open stays as it was.
 
 #include <QMainWindow>
 
@@ -88,7 +88,9 @@ class MainWindow : public QMainWindow {
   SkillWindow* OpenSkillDesigner(const std::string& path = "");
 
   Timeline* timeline() { return timeline_; }
-  ImageView* video_view() { return video_view_; }
+  /// The video views: one per video of the session (up to four, in a grid), or one empty view.
+  int num_video_views() const { return int(panes_.size()); }
+  ImageView* video_view(int k = 0) { return panes_.at(size_t(k))->view; }
   PlotView* plot() { return plot_; }
   /// Shows figure `index` of the analysis' figures (the report's: COM and feet, residual force and
   /// moment, angular momentum, the joint's angle and torque) for `joint`.
@@ -100,10 +102,10 @@ class MainWindow : public QMainWindow {
   /// The verdict panel: a row per judged flight (residuals, momentum, gravity, what failed); a
   /// click puts the cursor where its largest residual window starts and loops the judged frames.
   QTableWidget* verdict_table() { return verdict_; }
-  /// The video frame shown (−1: none), as decoded (before the overlay), and the 3D view's scene
+  /// Video `k`'s frame shown (−1: none), as decoded (before the overlay), and the 3D view's scene
   /// frame: what a test compares with the reader and the scene.
-  int video_frame_index() const { return video_frame_index_; }
-  const capture::VideoFrame& filmed_frame() const { return filmed_; }
+  int video_frame_index(int k = 0) const { return panes_.at(size_t(k))->frame_index; }
+  const capture::VideoFrame& filmed_frame(int k = 0) const { return panes_.at(size_t(k))->filmed; }
   const analysis::TrialFrame* view_frame() const;
   /// The last error shown in a dialog (empty: none).
   const std::string& last_error() const { return last_error_; }
@@ -122,7 +124,9 @@ class MainWindow : public QMainWindow {
   void Adopt(std::shared_ptr<Session> session, const SessionView& view);
   void ShowError(const std::string& message);
   void Redraw();
-  void DrawVideo();
+  void DrawVideo(int k);
+  /// `count` video views (at least one) in a grid: one, two one above the other, or two by two.
+  void LayOutVideoViews(int count);
   void Tick();
   void FillJumpTable();
   void FillPlots();
@@ -131,12 +135,23 @@ class MainWindow : public QMainWindow {
 
   std::shared_ptr<Session> session_;
   std::unique_ptr<ui::TrialFreeView> free_view_;
-  std::unique_ptr<ui::TrialOverlay> overlay_;
   std::unique_ptr<CompareWindow> compare_;
   std::shared_ptr<Session> compare_other_;  // the other trial a ghost jump comes from
   std::unique_ptr<SkillWindow> designer_;
   ImageView* view3d_ = nullptr;
-  ImageView* video_view_ = nullptr;
+  /// One video view: its camera's video with the athlete drawn over it.
+  struct VideoPane {
+    ImageView* view = nullptr;
+    std::unique_ptr<ui::TrialOverlay> overlay;
+    int frame_index = -1;
+    int reader_next = -1;  // the frame the video reader's next ReadNext returns
+    capture::VideoFrame filmed, drawn;
+    /// The last frames decoded (1080p: 6 MB each): a step back, or a loop over a few frames,
+    /// needs no seek (a seek decodes from the keyframe before: about 120 ms at 1080p here).
+    std::deque<capture::VideoFrame> recent;
+  };
+  std::vector<std::unique_ptr<VideoPane>> panes_;
+  QWidget* video_grid_ = nullptr;
   Timeline* timeline_ = nullptr;
   QTableWidget* jumps_ = nullptr;
   QTableWidget* verdict_ = nullptr;
@@ -160,12 +175,6 @@ class MainWindow : public QMainWindow {
   double play_position_ = 0.0;  // fractional sample while playing
   qint64 last_tick_ms_ = 0;
   std::optional<std::pair<int, int>> loop_jump_;  // take-off, landing samples
-  int video_frame_index_ = -1;
-  int reader_next_ = -1;  // the frame the video reader's next ReadNext returns
-  capture::VideoFrame filmed_, drawn_;
-  /// The last frames decoded (1080p: 6 MB each): a step back, or a loop over a few frames, needs
-  /// no seek (a seek decodes from the keyframe before: about 120 ms at 1080p here).
-  std::deque<capture::VideoFrame> recent_;
   std::vector<std::uint8_t> rgb3d_;
   std::string last_error_;
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "acro/athlete/athlete_profile.h"
@@ -31,10 +32,16 @@ std::unique_ptr<Session> Session::Open(const SessionFiles& files, const Progress
   std::unique_ptr<Session> s(new Session());
   s->files_ = files;
   if (files.trial.empty()) throw InputError("", "trial", "no trial to open");
-  if (files.video.empty() != files.calibration.empty())
-    throw InputError(files.video.empty() ? files.calibration : files.video,
+  if (files.videos.size() > size_t(kMaxVideos))
+    throw InputError(files.videos.back().video,
                      "video",
-                     "a video and its camera calibration go together");
+                     "at most " + std::to_string(kMaxVideos) + " videos in a session, got " +
+                         std::to_string(files.videos.size()));
+  for (const VideoFiles& v : files.videos)
+    if (v.video.empty() || v.calibration.empty())
+      throw InputError(v.video.empty() ? v.calibration : v.video,
+                       "video",
+                       "a video and its camera calibration go together");
   if (progress && !progress("reading " + files.trial, 0, 1))
     throw InputError(files.trial, "", "cancelled");
   s->trial_ = std::make_unique<capture::Trial>(capture::ReadTrial(files.trial));
@@ -44,11 +51,12 @@ std::unique_ptr<Session> Session::Open(const SessionFiles& files, const Progress
     s->body_ = analysis::MakeDeLevaBody(1.70, 65.0, analysis::Sex::kMale);
     s->warnings_.push_back("no athlete profile: a de Leva athlete of 1.70 m and 65 kg");
   }
-  // The camera before the work: a wrong calibration costs nothing.
-  if (!files.video.empty()) {
-    s->camera_ =
-        vision::FindCamera(vision::ReadCameras(files.calibration), files.camera, files.calibration);
-    s->video_ = std::make_unique<capture::VideoReader>(files.video);
+  // The cameras before the work: a wrong calibration costs nothing.
+  for (const VideoFiles& v : files.videos) {
+    Video video;
+    video.camera = vision::FindCamera(vision::ReadCameras(v.calibration), v.camera, v.calibration);
+    video.reader = std::make_unique<capture::VideoReader>(v.video);
+    s->videos_.push_back(std::move(video));
   }
   if (progress && !progress("analysing " + files.trial, 0, 1))
     throw InputError(files.trial, "", "cancelled");
@@ -61,47 +69,54 @@ std::unique_ptr<Session> Session::Open(const SessionFiles& files, const Progress
       *s->analysis_,
       s->body_,
       analysis::MakeEllipsoidBodyMesh(s->body_, analysis::OverlayBodyMeshOptions()));
-  if (s->video_) {
-    // The silhouettes with the body's full mesh (what the video shows), as analyze compares them.
-    analysis::TrialScene full(
-        *s->trial_, *s->analysis_, s->body_, analysis::MakeEllipsoidBodyMesh(s->body_));
-    if (files.offset_s) {
-      s->sync_.offset_s = *files.offset_s;
+  if (s->videos_.empty()) return s;
+  // The silhouettes with the body's full mesh (what the video shows), as analyze compares them.
+  analysis::TrialScene full(
+      *s->trial_, *s->analysis_, s->body_, analysis::MakeEllipsoidBodyMesh(s->body_));
+  for (size_t k = 0; k < s->videos_.size(); ++k) {
+    Video& video = s->videos_[k];
+    VideoFiles& given = s->files_.videos[k];
+    const std::string which =
+        s->videos_.size() > 1 ? fmt::format(" (video {} of {})", k + 1, s->videos_.size()) : "";
+    if (given.offset_s) {
+      video.sync.offset_s = *given.offset_s;
     } else {
       vision::AutoSyncOptions motion;
-      motion.progress = Step(progress, "sync (image motion)");
+      motion.progress = Step(progress, "sync (image motion)" + which);
       analysis::SilhouetteCheckOptions refine;
-      refine.progress = Step(progress, "sync (silhouettes)");
-      s->sync_ = analysis::SyncVideoAutomatically(full, s->camera_, files.video, motion, refine)
-                     .refined.sync;
-      s->files_.offset_s = s->sync_.offset_s;
+      refine.progress = Step(progress, "sync (silhouettes)" + which);
+      video.sync = analysis::SyncVideoAutomatically(full, video.camera, given.video, motion, refine)
+                       .refined.sync;
+      given.offset_s = video.sync.offset_s;
     }
     analysis::SilhouetteCheckOptions check;
-    check.sync = s->sync_;
-    check.progress = Step(progress, "silhouettes");
-    s->silhouettes_ = analysis::CheckSilhouettes(*s->video_, full, s->camera_, check);
-    analysis::AttachSilhouetteCheck(s->silhouettes_, s->analysis_.get());
+    check.sync = video.sync;
+    check.progress = Step(progress, "silhouettes" + which);
+    video.silhouettes = analysis::CheckSilhouettes(*video.reader, full, video.camera, check);
   }
+  analysis::AttachSilhouetteCheck(s->videos_.front().silhouettes, s->analysis_.get());
   return s;
 }
 
-int Session::VideoFrameOf(int sample) const {
-  if (!video_ || trial_->point_rate_hz <= 0) return -1;
-  const std::vector<double>& times = video_->frame_times_s();
+int Session::VideoFrameOf(int sample, int k) const {
+  if (k < 0 || size_t(k) >= videos_.size() || trial_->point_rate_hz <= 0) return -1;
+  const Video& video = videos_[size_t(k)];
+  const std::vector<double>& times = video.reader->frame_times_s();
   if (times.empty()) return -1;
-  const double t = sync_.VideoTime(sample / trial_->point_rate_hz);
+  const double t = video.sync.VideoTime(sample / trial_->point_rate_hz);
   const auto it = std::lower_bound(times.begin(), times.end(), t);
-  size_t k = size_t(it - times.begin());
-  if (k == times.size() || (k > 0 && t - times[k - 1] < times[k] - t)) k = k == 0 ? 0 : k - 1;
+  size_t i = size_t(it - times.begin());
+  if (i == times.size() || (i > 0 && t - times[i - 1] < times[i] - t)) i = i == 0 ? 0 : i - 1;
   const double frame_s = times.size() > 1 ? (times.back() - times.front()) / (times.size() - 1) : 0;
-  if (std::abs(times[k] - t) > 0.5 * frame_s + 1e-9) return -1;
-  return int(k);
+  if (std::abs(times[i] - t) > 0.5 * frame_s + 1e-9) return -1;
+  return int(i);
 }
 
-int Session::SampleOf(int video_frame) const {
-  if (!video_ || video_frame < 0 || size_t(video_frame) >= video_->frame_times_s().size())
-    return -1;
-  return sync_.NearestSample(*trial_, video_->frame_times_s()[size_t(video_frame)]);
+int Session::SampleOf(int video_frame, int k) const {
+  if (k < 0 || size_t(k) >= videos_.size()) return -1;
+  const Video& video = videos_[size_t(k)];
+  if (video_frame < 0 || size_t(video_frame) >= video.reader->frame_times_s().size()) return -1;
+  return video.sync.NearestSample(*trial_, video.reader->frame_times_s()[size_t(video_frame)]);
 }
 
 void WriteSessionFile(const fs::path& path, const SessionFiles& files, const SessionView& view) {
@@ -115,13 +130,15 @@ void WriteSessionFile(const fs::path& path, const SessionFiles& files, const Ses
   };
   Json j;
   j["format"] = "acrolab-session";
-  j["version"] = 1;
+  j["version"] = 2;
   j["trial"] = relative(files.trial);
   j["athlete"] = relative(files.athlete);
-  j["video"] = relative(files.video);
-  j["calibration"] = relative(files.calibration);
-  j["camera"] = files.camera;
-  j["offset_s"] = files.offset_s ? Json(*files.offset_s) : Json();
+  j["videos"] = Json::array();
+  for (const VideoFiles& v : files.videos)
+    j["videos"].push_back({{"video", relative(v.video)},
+                           {"calibration", relative(v.calibration)},
+                           {"camera", v.camera},
+                           {"offset_s", v.offset_s ? Json(*v.offset_s) : Json()}});
   j["cursor_sample"] = view.cursor_sample;
   j["speed"] = view.speed;
   j["view"] = view.preset;
@@ -135,28 +152,55 @@ std::pair<SessionFiles, SessionView> ReadSessionFile(const fs::path& path) {
   const Json j = Json::parse(bytes.begin(), bytes.end(), nullptr, false);
   if (j.is_discarded() || !j.is_object() || j.value("format", "") != "acrolab-session")
     throw InputError(file, "format", "not an Acrolab session file (JSON, format acrolab-session)");
-  if (j.value("version", 0) != 1)
-    throw InputError(file, "version", j.value("version", Json()).dump() + " is not 1");
+  const int version =
+      j.contains("version") && j["version"].is_number_integer() ? j["version"].get<int>() : 0;
+  if (version != 1 && version != 2)
+    throw InputError(file,
+                     "version",
+                     (j.contains("version") ? j["version"].dump() : "missing") + ": not 1 or 2");
   const fs::path base = fs::absolute(path).parent_path();
-  const auto text = [&](const char* key) -> std::string {
-    if (!j.contains(key) || j[key].is_null()) return "";
-    if (!j[key].is_string()) throw InputError(file, key, "not a string");
-    return j[key].get<std::string>();
+  // A video's keys: in `videos` (version 2) or at the top level (version 1).
+  const auto text = [&](const Json& o, const std::string& key, const std::string& field) {
+    if (!o.contains(key) || o[key].is_null()) return std::string();
+    if (!o[key].is_string()) throw InputError(file, field, "not a string");
+    return o[key].get<std::string>();
   };
-  const auto located = [&](const char* key) -> std::string {
-    const std::string p = text(key);
+  const auto located = [&](const Json& o, const std::string& key, const std::string& field) {
+    const std::string p = text(o, key, field);
     if (p.empty() || fs::path(p).is_absolute()) return p;
     return (base / p).lexically_normal().string();
   };
+  const auto read_video = [&](const Json& o, const std::string& prefix) {
+    VideoFiles v;
+    v.video = located(o, "video", prefix + "video");
+    v.calibration = located(o, "calibration", prefix + "calibration");
+    v.camera = text(o, "camera", prefix + "camera");
+    if (o.contains("offset_s") && !o["offset_s"].is_null()) {
+      if (!o["offset_s"].is_number()) throw InputError(file, prefix + "offset_s", "not a number");
+      v.offset_s = o["offset_s"].get<double>();
+    }
+    if (v.video.empty() != v.calibration.empty())
+      throw InputError(file, prefix + "video", "a video and its calibration go together");
+    return v;
+  };
   SessionFiles files;
-  files.trial = located("trial");
-  files.athlete = located("athlete");
-  files.video = located("video");
-  files.calibration = located("calibration");
-  files.camera = text("camera");
-  if (j.contains("offset_s") && !j["offset_s"].is_null()) {
-    if (!j["offset_s"].is_number()) throw InputError(file, "offset_s", "not a number");
-    files.offset_s = j["offset_s"].get<double>();
+  files.trial = located(j, "trial", "trial");
+  files.athlete = located(j, "athlete", "athlete");
+  if (version == 1) {
+    const VideoFiles v = read_video(j, "");
+    if (!v.video.empty()) files.videos.push_back(v);
+  } else if (j.contains("videos")) {
+    const Json& list = j["videos"];
+    if (!list.is_array()) throw InputError(file, "videos", "not a list");
+    if (list.size() > size_t(kMaxVideos))
+      throw InputError(file, "videos", std::to_string(list.size()) + " videos: at most 4");
+    for (size_t k = 0; k < list.size(); ++k) {
+      const std::string prefix = "videos[" + std::to_string(k) + "].";
+      if (!list[k].is_object())
+        throw InputError(file, "videos[" + std::to_string(k) + "]", "not an object");
+      files.videos.push_back(read_video(list[k], prefix));
+      if (files.videos.back().video.empty()) throw InputError(file, prefix + "video", "missing");
+    }
   }
   SessionView view;
   const auto number = [&](const char* key, double fallback) {
@@ -169,7 +213,7 @@ std::pair<SessionFiles, SessionView> ReadSessionFile(const fs::path& path) {
   view.speed = number("speed", 1.0);
   if (!(view.speed > 0 && view.speed <= 4))
     throw InputError(file, "speed", std::to_string(view.speed) + " is not between 0 and 4");
-  view.preset = text("view").empty() ? "side" : text("view");
+  view.preset = text(j, "view", "view").empty() ? "side" : text(j, "view", "view");
   if (view.preset != "side" && view.preset != "front" && view.preset != "top")
     throw InputError(file, "view", "'" + view.preset + "' is not side, front or top");
   view.follow = j.contains("follow") && j["follow"].is_boolean() && j["follow"].get<bool>();

@@ -1,9 +1,9 @@
 #pragma once
 
-// What the studio has open (no Qt here): a trial analysed for an athlete, and optionally a
-// calibrated camera's video synced with it — read, analysed and synced by the same library
-// functions as `acrolab analyze` — and the session file that says what was open and where the
-// cursor was, so that a coach picks up where they left off (docs/studio.md).
+// What the studio has open (no Qt here): a trial analysed for an athlete, and up to four
+// calibrated cameras' videos synced with it — read, analysed, synced and checked by the same
+// library functions as `acrolab analyze` — and the session file that says what was open and where
+// the cursor was, so that a coach picks up where they left off (docs/studio.md).
 
 #include <filesystem>
 #include <functional>
@@ -23,15 +23,23 @@
 
 namespace acro::studio {
 
+/// One calibrated camera's video of the trial.
+struct VideoFiles {
+  std::string video;
+  std::string calibration;         ///< the camera's calibration (TOML, XML…)
+  std::string camera;              ///< the camera's name in the calibration; empty: the only one
+  std::optional<double> offset_s;  ///< the sync; empty: found from the video
+};
+
+/// The most videos a session shows (the window's four video views).
+constexpr int kMaxVideos = 4;
+
 /// The files a session opens. Paths as given (relative to the working directory, or to the
 /// session file when read from one).
 struct SessionFiles {
   std::string trial;
-  std::string athlete;      ///< empty: a default de Leva athlete (1.70 m, 65 kg), with a warning
-  std::string video;        ///< empty: no video
-  std::string calibration;  ///< the video's camera calibration (TOML, XML…), with `video`
-  std::string camera;       ///< the camera's name in the calibration; empty: the only one
-  std::optional<double> offset_s;  ///< the sync; empty: found from the video
+  std::string athlete;  ///< empty: a default de Leva athlete (1.70 m, 65 kg), with a warning
+  std::vector<VideoFiles> videos;  ///< none to kMaxVideos
 };
 
 /// Where the session was left.
@@ -47,9 +55,10 @@ class Session {
   /// Called with (step, done, total); returns false to cancel.
   using Progress = std::function<bool(const std::string&, int, int)>;
 
-  /// Reads the trial and the athlete, analyses the trial, opens the video and its camera and syncs
-  /// them (automatically when files.offset_s is empty). Slow (seconds): off the window's thread.
-  /// Throws acro::InputError naming the file and what is wrong (or "cancelled").
+  /// Reads the trial and the athlete, analyses the trial, opens each video and its camera, syncs
+  /// them (automatically when a video's offset_s is empty) and checks the silhouettes. Slow
+  /// (seconds per video): off the window's thread. Throws acro::InputError naming the file and
+  /// what is wrong (or "cancelled").
   static std::unique_ptr<Session> Open(const SessionFiles& files, const Progress& progress = {});
 
   /// The files, with the offset found when it was found here.
@@ -63,35 +72,44 @@ class Session {
   int num_samples() const { return trial_->num_frames; }
   double rate_hz() const { return trial_->point_rate_hz; }
 
-  bool has_video() const { return video_ != nullptr; }
-  capture::VideoReader& video() { return *video_; }
-  const vision::Camera& camera() const { return camera_; }
-  const vision::VideoSync& sync() const { return sync_; }
-  /// The video's athlete against the reconstructed one in every filmed flight frame, as `analyze
-  /// --video` checks it (the jumps' median IoU is in the analysis); empty without a video.
-  const analysis::SilhouetteCheck& silhouettes() const { return silhouettes_; }
-  /// The video frame whose time is nearest the sample's (−1 without a video, or when the sample is
-  /// more than half a frame outside the video); the sample a video frame shows (−1 outside the
-  /// trial).
-  int VideoFrameOf(int sample) const;
-  int SampleOf(int video_frame) const;
+  int num_videos() const { return static_cast<int>(videos_.size()); }
+  bool has_video() const { return !videos_.empty(); }
+  /// Video `k` (0-based, in the order of files().videos): its reader, camera, sync, and its
+  /// athlete against the reconstructed one in every filmed flight frame, as `analyze --video`
+  /// checks it. The jumps' median IoU in the analysis is the first video's.
+  capture::VideoReader& video(int k = 0) { return *videos_.at(size_t(k)).reader; }
+  const vision::Camera& camera(int k = 0) const { return videos_.at(size_t(k)).camera; }
+  const vision::VideoSync& sync(int k = 0) const { return videos_.at(size_t(k)).sync; }
+  const analysis::SilhouetteCheck& silhouettes(int k = 0) const {
+    return videos_.at(size_t(k)).silhouettes;
+  }
+  /// The frame of video `k` whose time is nearest the sample's (−1 without that video, or when
+  /// the sample is more than half a frame outside it); the sample a frame of video `k` shows (−1
+  /// outside the trial).
+  int VideoFrameOf(int sample, int k = 0) const;
+  int SampleOf(int video_frame, int k = 0) const;
 
  private:
+  struct Video {
+    std::unique_ptr<capture::VideoReader> reader;
+    vision::Camera camera;
+    vision::VideoSync sync;
+    analysis::SilhouetteCheck silhouettes;
+  };
   Session() = default;
   SessionFiles files_;
   std::unique_ptr<capture::Trial> trial_;
   analysis::AthleteBody body_;
   std::unique_ptr<analysis::TrialAnalysis> analysis_;
   std::unique_ptr<analysis::TrialScene> scene_;
-  std::unique_ptr<capture::VideoReader> video_;
-  vision::Camera camera_;
-  vision::VideoSync sync_;
-  analysis::SilhouetteCheck silhouettes_;
+  std::vector<Video> videos_;
   std::vector<std::string> warnings_;
 };
 
-/// The session file (JSON, `.acrolab`): format "acrolab-session", version 1, the files (relative
-/// to the session file's folder when they are below it), the view. Written atomically.
+/// The session file (JSON, `.acrolab`): format "acrolab-session", version 2, the files (relative
+/// to the session file's folder when they are below it; `videos` a list of {video, calibration,
+/// camera, offset_s}), the view. Written atomically. Version 1 (one video's keys at the top
+/// level) is read too.
 void WriteSessionFile(const std::filesystem::path& path,
                       const SessionFiles& files,
                       const SessionView& view);
