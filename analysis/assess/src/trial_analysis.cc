@@ -204,6 +204,10 @@ TrialAnalysis AnalyzeTrial(const capture::Trial& trial,
   auto progress = [&](const std::string& line) {
     if (options.progress) options.progress(line);
   };
+  const auto stop_if_cancelled = [&] {
+    if (options.cancelled && options.cancelled())
+      throw InputError(trial.source.path, "", "cancelled");
+  };
   TrialAnalysis out;
   out.trial_name = std::filesystem::path(trial.source.path).filename().string();
   out.stature_m = body.height_m;
@@ -211,7 +215,10 @@ TrialAnalysis AnalyzeTrial(const capture::Trial& trial,
   // 1. Reconstruction.
   auto start = std::chrono::steady_clock::now();
   progress(fmt::format("reconstruct: {} frames at {:g} Hz", trial.num_frames, trial.point_rate_hz));
-  out.reconstruction = Reconstruct(trial, static_trial, body, options.reconstruction);
+  ReconstructionOptions reconstruction = options.reconstruction;
+  if (!reconstruction.cancelled) reconstruction.cancelled = options.cancelled;
+  out.reconstruction = Reconstruct(trial, static_trial, body, reconstruction);
+  stop_if_cancelled();
   const ReconstructionResult& rec = out.reconstruction;
   const Motion& motion = rec.motion;
   const dynamics::Model<double>& model = rec.model;
@@ -250,6 +257,7 @@ TrialAnalysis AnalyzeTrial(const capture::Trial& trial,
   for (const Flight& f : out.phases.flights) complete += f.partial ? 0 : 1;
   progress("phases: " + std::to_string(out.phases.flights.size()) + " flights (" +
            std::to_string(complete) + " complete) from the " + out.phases.method);
+  stop_if_cancelled();
 
   // 3. Physical check, localised when it fails.
   out.check_options = options.check;
@@ -260,6 +268,7 @@ TrialAnalysis AnalyzeTrial(const capture::Trial& trial,
         model, motion, rec.marker_positions, rec.markers, options.check, out.check);
   progress("check: " + out.check.verdict);
   out.check_s = Seconds(start);
+  stop_if_cancelled();
 
   // 4. Jump metrics per flight.
   start = std::chrono::steady_clock::now();

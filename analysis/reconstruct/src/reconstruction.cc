@@ -481,7 +481,7 @@ class FrameSolver {
     int last_fitted = warm ? begin - step : -1000000;
     Eigen::Matrix3Xd predicted;
     Eigen::VectorXd dist;
-    for (int f = begin; f != end; f += step) {
+    for (int f = begin; f != end && !stopped_; f += step) {
       Eigen::Matrix3Xd obs = Observations(f);
       const bool cold = std::abs(f - last_fitted) > 10;
       if (!cold && options_.repair_swaps) RepairSwapsByPrediction(ik, q, f, obs, predicted);
@@ -493,6 +493,8 @@ class FrameSolver {
 
   // Takes back the progress of `frames` frames about to be solved again.
   void ForgetProgress(int frames) { done_ -= frames; }
+  // Whether options.cancelled asked to stop (the frames after are not solved).
+  bool stopped() const { return stopped_; }
 
   int swaps() const { return swaps_; }
 
@@ -543,12 +545,14 @@ class FrameSolver {
     return fit.valid;
   }
 
-  // Counts a solved frame; calls options.progress every 10 frames and at the last.
+  // Counts a solved frame; calls options.progress (and asks options.cancelled) every 10 frames
+  // and at the last.
   void ReportProgress() {
     const int d = ++done_;
-    if (options_.progress && (d % 10 == 0 || d == F_)) {
+    if ((options_.progress || options_.cancelled) && (d % 10 == 0 || d == F_)) {
       std::lock_guard<std::mutex> lock(progress_mutex_);
-      options_.progress(d, F_);
+      if (options_.progress) options_.progress(d, F_);
+      if (options_.cancelled && options_.cancelled()) stopped_ = true;
     }
   }
 
@@ -561,6 +565,7 @@ class FrameSolver {
   Motion& motion_;
   std::atomic<int> done_{0};
   std::atomic<int> swaps_{0};
+  std::atomic<bool> stopped_{false};
   std::mutex progress_mutex_;
 };
 
@@ -752,6 +757,7 @@ ReconstructionResult Reconstruct(const capture::Trial& trial,
   for (int c = 0; c <= chunks; ++c) bounds[size_t(c)] = int(std::int64_t(F) * c / chunks);
   FrameSolver solver(options, markers, recorded, P, motion);
   SolveChunksInParallel(result.model, markers, limits, ik_options, bounds, seeds, motion, solver);
+  if (solver.stopped()) throw InputError(trial.source.path, "", "cancelled");
   summary.chunks_resolved =
       JoinChunks(result.model, markers, limits, ik_options, bounds, solver, motion);
   MakeQuaternionSignsContinuous(motion);

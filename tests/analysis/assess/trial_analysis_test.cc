@@ -7,6 +7,7 @@
 
 #include "acro/assess/trial_analysis.h"
 
+#include <atomic>
 #include <cmath>
 #include <fstream>
 #include <limits>
@@ -16,6 +17,7 @@
 
 #include "acro/athlete/athlete_profile.h"
 #include "acro/base/file_io.h"
+#include "acro/base/input_error.h"
 #include "acro/capture/c3d.h"
 #include "acro/capture/storage.h"
 #include "acro/capture/trial_io.h"
@@ -245,6 +247,32 @@ TEST(TrialAnalysis, DoubledSegmentMassFailsTheVerdictAndTheSegmentIsNamed) {
   ASSERT_EQ(r.jumps.size(), CleanAnalysis().jumps.size());
   for (size_t k = 0; k < r.jumps.size(); ++k)
     EXPECT_EQ(r.jumps[k].fig_code, CleanAnalysis().jumps[k].fig_code);
+}
+
+// Cancel (the studio's loading): asked every ten frames of the inverse kinematics, a yes stops the
+// analysis there — few frames solved, no result, one line — and a no changes nothing.
+TEST(TrialAnalysis, CancelStopsTheInverseKinematicsWithinTenFrames) {
+  TrialAnalysisOptions options;
+  std::atomic<int> asked{0}, solved{0};
+  options.reconstruction.progress = [&](int done, int) { solved = done; };
+  options.cancelled = [&] { return ++asked >= 3; };
+  try {
+    AnalyzeTrial(SampleTrial(), nullptr, MakeAthleteBody(SampleProfile()), options);
+    ADD_FAILURE() << "a cancelled analysis finished";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("cancelled"), std::string::npos) << e.what();
+    EXPECT_NE(std::string(e.what()).find("trampoline_routine.c3d"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(asked.load(), 3);
+  // Each worker stops at its next frame: the frames solved are the 30 asked about and at most a
+  // frame per other worker (the sample has 1266).
+  EXPECT_LE(solved.load(), 40);
+  TrialAnalysisOptions never;
+  never.cancelled = [] { return false; };
+  const TrialAnalysis a =
+      AnalyzeTrial(SampleTrial(), nullptr, MakeAthleteBody(SampleProfile()), never);
+  EXPECT_EQ(a.jumps.size(), CleanAnalysis().jumps.size());
+  EXPECT_EQ(a.reconstruction.motion.q, CleanAnalysis().reconstruction.motion.q);
 }
 
 TEST(TrialAnalysis, TablesAreWrittenAndReadBack) {

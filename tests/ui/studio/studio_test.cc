@@ -13,6 +13,7 @@
 #include <QApplication>
 #include <QElapsedTimer>
 #include <QMessageBox>
+#include <QPushButton>
 #include <QScreen>
 #include <QTabWidget>
 #include <QTableWidget>
@@ -314,6 +315,31 @@ TEST(Studio, TheSampleRoutineWithItsVideoAtOneCursor) {
   EXPECT_EQ(fs::weakly_canonical(again.session()->files().trial),
             fs::weakly_canonical(s.files().trial));
   EXPECT_EQ(again.session()->sync().offset_s, s.sync().offset_s);
+
+  // Opening again and cancelling during the analysis: it stops within a second or two (the inverse
+  // kinematics asks every ten frames), no dialog, the session and cursor stay.
+  {
+    const int cursor = w.cursor();
+    const std::string error_before = w.last_error();
+    w.OpenFiles(SampleFiles());
+    ASSERT_TRUE(WaitUntil(
+        [&] { return w.status_text().find("inverse kinematics") != std::string::npos; }, 30000))
+        << w.status_text();
+    ASSERT_TRUE(w.busy());
+    QPushButton* cancel = nullptr;
+    for (QPushButton* b : w.findChildren<QPushButton*>())
+      if (b->text() == "Cancel") cancel = b;
+    ASSERT_NE(cancel, nullptr);
+    QElapsedTimer stopping;
+    stopping.start();
+    QTest::mouseClick(cancel, Qt::LeftButton);
+    ASSERT_TRUE(WaitUntil([&] { return !w.busy(); }, 30000));
+    std::printf("loading cancelled in %lld ms\n", static_cast<long long>(stopping.elapsed()));
+    EXPECT_LT(stopping.elapsed(), 3000);
+    EXPECT_EQ(w.last_error(), error_before);  // no new dialog
+    EXPECT_EQ(w.session(), &s);
+    EXPECT_EQ(w.cursor(), cursor);
+  }
 
   // A bad file: a dialog with its one-line error; the session stays as it was.
   std::ofstream(dir / "not_a_trial.c3d") << "this is not a C3D file\n";

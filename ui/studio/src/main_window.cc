@@ -397,6 +397,11 @@ void MainWindow::OpenInBackground(const SessionFiles& files,
           progress_->hide();
           cancel_->hide();
           loaded_ = true;
+          if (!error.empty() && cancel_load_) {
+            // Asked for: a line, not an error; what was open stays.
+            status_->setText("Cancelled: nothing was opened; what was open stays.");
+            return;
+          }
           if (!error.empty()) return ShowError(error);
           done(std::move(opened));
         },
@@ -547,6 +552,10 @@ void MainWindow::ShowPlot(int index, const std::string& joint) {
   plot_box_->setCurrentIndex(index);
   if (index >= 0) plot_->SetChart(figures[size_t(index)].chart);
   plot_->SetCursorTime(cursor_ / session_->rate_hz());
+}
+
+std::string MainWindow::status_text() const {
+  return status_->text().toStdString();
 }
 
 int MainWindow::plot_count() const {

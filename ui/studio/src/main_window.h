@@ -107,6 +107,8 @@ class MainWindow : public QMainWindow {
   int video_frame_index(int k = 0) const { return panes_.at(size_t(k))->frame_index; }
   const capture::VideoFrame& filmed_frame(int k = 0) const { return panes_.at(size_t(k))->filmed; }
   const analysis::TrialFrame* view_frame() const;
+  /// The status bar's line (what the worker is doing, or what is open).
+  std::string status_text() const;
   /// The last error shown in a dialog (empty: none).
   const std::string& last_error() const { return last_error_; }
 

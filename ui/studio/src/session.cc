@@ -1,6 +1,7 @@
 #include "acro/studio/session.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 
 #include <fmt/format.h>
@@ -61,6 +62,14 @@ std::unique_ptr<Session> Session::Open(const SessionFiles& files, const Progress
   if (progress && !progress("analysing " + files.trial, 0, 1))
     throw InputError(files.trial, "", "cancelled");
   analysis::TrialAnalysisOptions options;
+  // The inverse kinematics' progress, frame by frame; Cancel stops it within ten frames.
+  std::atomic<bool> stop{false};
+  if (progress) {
+    options.reconstruction.progress = [&](int done, int total) {
+      if (!progress("analysing " + files.trial + ": inverse kinematics", done, total)) stop = true;
+    };
+    options.cancelled = [&] { return stop.load(); };
+  }
   s->analysis_ = std::make_unique<analysis::TrialAnalysis>(
       analysis::AnalyzeTrial(*s->trial_, nullptr, s->body_, options));
   for (const std::string& w : s->analysis_->warnings) s->warnings_.push_back(w);

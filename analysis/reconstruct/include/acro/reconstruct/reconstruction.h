@@ -66,6 +66,9 @@ struct ReconstructionOptions {
   int min_chunk_frames = 100;
   /// Called with (frames done, total frames) from the worker threads (serialised).
   std::function<void(int, int)> progress;
+  /// Asked with the progress (every ten frames, serialised): true stops the inverse kinematics,
+  /// and Reconstruct throws acro::InputError ("cancelled").
+  std::function<bool()> cancelled;
   bool IsValid(std::string* why) const;
 };
 
