@@ -108,6 +108,13 @@ TEST(Studio, TheSampleRoutineWithItsVideoAtOneCursor) {
   for (size_t k = 0; k < codes.size(); ++k)
     EXPECT_EQ(w.timeline()->jumps()[k].label, std::to_string(k + 1) + "  " + codes[k]);
   EXPECT_EQ(w.jump_table()->rowCount(), 6);
+  // Its events: each jump's take-off and landing, named when the pointer rests on one.
+  ASSERT_EQ(w.timeline()->events().size(), 2 * codes.size());
+  const analysis::JumpMetrics& first_jump = s.analysis().jumps.at(0);
+  const Timeline::Event* takeoff =
+      w.timeline()->EventAt(w.timeline()->XOf(first_jump.flight.takeoff_frame));
+  ASSERT_NE(takeoff, nullptr);
+  EXPECT_EQ(takeoff->label, "take-off 1");
 
   // A frame forward and back with the arrow keys: the video view shows the reader's frame of the
   // cursor, the 3D view the athlete at the cursor.
@@ -304,6 +311,43 @@ TEST(Studio, TheSampleRoutineWithItsVideoAtOneCursor) {
   EXPECT_EQ(w.session(), &s);
   GoToJumpByClick(w, 6);
 
+  // The 3D view: the toolbar's toggles (the skeleton and the markers, no mesh), a drag orbits it
+  // (a third of a degree per pixel), the wheel moves it closer; the picture changes each time, and
+  // the session keeps it all.
+  {
+    const QImage before = w.view3d()->image();
+    w.SetShown("skeleton,markers,com");
+    EXPECT_EQ(w.shown(), "skeleton,markers,com");
+    const QImage skeleton = w.view3d()->image();
+    EXPECT_NE(skeleton, before);
+    ImageView* view3d = w.view3d();
+    const QPoint from = view3d->rect().center();
+    QTest::mousePress(view3d, Qt::LeftButton, {}, from);
+    QMouseEvent orbit(
+        QEvent::MouseMove, from + QPoint(-100, 30), Qt::NoButton, Qt::LeftButton, Qt::NoModifier);
+    QApplication::sendEvent(view3d, &orbit);
+    QTest::mouseRelease(view3d, Qt::LeftButton, {}, from + QPoint(-100, 30));
+    EXPECT_NEAR(w.view().orbit_azimuth_deg, 35.0, 1e-9);
+    EXPECT_NEAR(w.view().orbit_elevation_deg, 10.5, 1e-9);
+    QWheelEvent closer(from,
+                       view3d->mapToGlobal(from),
+                       {},
+                       {0, 240},
+                       Qt::NoButton,
+                       Qt::NoModifier,
+                       Qt::NoScrollPhase,
+                       false);
+    QApplication::sendEvent(view3d, &closer);
+    EXPECT_NEAR(w.view().orbit_distance_scale, 0.81, 1e-9);
+    EXPECT_NE(w.view3d()->image(), skeleton);
+    CloseDialogs();
+    Shot("studio_orbit");
+    // Farther out: the video's camera drawn as a frustum beside the trampoline.
+    w.Orbit(-10, 10, 2.5);
+    Shot("studio_cameras");
+    w.Orbit(10, -10, 1 / 2.5);
+  }
+
   // The session saved and reopened in another window: the same files, cursor and view.
   const fs::path dir = acro::testing::ScratchDir("studio_session");
   ASSERT_TRUE(w.SaveSessionFile((dir / "sample.acrolab").string())) << w.last_error();
@@ -315,6 +359,11 @@ TEST(Studio, TheSampleRoutineWithItsVideoAtOneCursor) {
   EXPECT_EQ(fs::weakly_canonical(again.session()->files().trial),
             fs::weakly_canonical(s.files().trial));
   EXPECT_EQ(again.session()->sync().offset_s, s.sync().offset_s);
+  EXPECT_EQ(again.shown(), "skeleton,markers,com");
+  EXPECT_NEAR(again.view().orbit_azimuth_deg, 35.0, 1e-9);
+  EXPECT_NEAR(again.view().orbit_distance_scale, 0.81, 1e-9);
+  w.ResetOrbit();
+  w.SetShown("mesh,skeleton,com");
 
   // Opening again and cancelling during the analysis: it stops within a second or two (the inverse
   // kinematics asks every ten frames), no dialog, the session and cursor stay.

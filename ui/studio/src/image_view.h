@@ -2,7 +2,8 @@
 
 // A picture scaled to fit its widget, its aspect kept (the studio's 3D and video views), with zoom
 // and pan as in video players: the wheel zooms about the pointer (up to 16×), a drag pans, a
-// double click shows the whole picture again.
+// double click shows the whole picture again. A view that draws a 3D scene takes the mouse itself
+// (SetNavigation: a drag orbits, the wheel moves closer) instead.
 
 #include <QImage>
 #include <QMouseEvent>
@@ -12,6 +13,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 
 namespace acro::studio {
 
@@ -28,6 +30,15 @@ class ImageView : public QWidget {
     update();
   }
   const QImage& image() const { return image_; }
+  /// The mouse moves the scene instead of the picture: `drag` gets each drag step (widget pixels),
+  /// `wheel` the wheel's notches (positive away from the user), `reset` a double click.
+  void SetNavigation(std::function<void(QPointF)> drag,
+                     std::function<void(double)> wheel,
+                     std::function<void()> reset) {
+    on_drag_ = std::move(drag);
+    on_wheel_ = std::move(wheel);
+    on_reset_ = std::move(reset);
+  }
   double zoom() const { return zoom_; }
   /// The part of the picture shown (picture pixels).
   QRectF SourceRect() const {
@@ -60,6 +71,7 @@ class ImageView : public QWidget {
     p.drawImage(QRectF(TargetRect()), image_, SourceRect());
   }
   void wheelEvent(QWheelEvent* event) override {
+    if (on_wheel_) return on_wheel_(event->angleDelta().y() / 120.0);
     if (image_.isNull()) return;
     // The picture point under the pointer stays under it.
     const QPointF before = ToImage(event->position());
@@ -71,6 +83,11 @@ class ImageView : public QWidget {
   }
   void mousePressEvent(QMouseEvent* event) override { drag_ = event->localPos(); }
   void mouseMoveEvent(QMouseEvent* event) override {
+    if (on_drag_ && (event->buttons() & Qt::LeftButton)) {
+      on_drag_(event->localPos() - drag_);
+      drag_ = event->localPos();
+      return;
+    }
     if (!(event->buttons() & Qt::LeftButton) || image_.isNull()) return;
     const double scale = SourceRect().width() / std::max(1, TargetRect().width());
     centre_ -= (event->localPos() - drag_) * scale;
@@ -78,7 +95,10 @@ class ImageView : public QWidget {
     Clamp();
     update();
   }
-  void mouseDoubleClickEvent(QMouseEvent*) override { ResetZoom(); }
+  void mouseDoubleClickEvent(QMouseEvent*) override {
+    if (on_reset_) return on_reset_();
+    ResetZoom();
+  }
 
  private:
   // The picture point under widget point `w`.
@@ -98,6 +118,9 @@ class ImageView : public QWidget {
   double zoom_ = 1.0;
   QPointF centre_;
   QPointF drag_;
+  std::function<void(QPointF)> on_drag_;
+  std::function<void(double)> on_wheel_;
+  std::function<void()> on_reset_;
 };
 
 }  // namespace acro::studio

@@ -68,6 +68,11 @@ ui::ViewPreset PresetOf(const std::string& name) {
 MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   setWindowTitle("Acrolab Studio");
   view3d_ = new ImageView("Open a trial: File → Open trial…");
+  // A drag orbits about the target (a third of a degree per pixel), the wheel moves closer, a
+  // double click goes back to the preset.
+  view3d_->SetNavigation([this](QPointF d) { Orbit(-0.35 * d.x(), 0.35 * d.y(), 1.0); },
+                         [this](double notches) { Orbit(0, 0, std::pow(0.9, notches)); },
+                         [this] { ResetOrbit(); });
   video_grid_ = new QWidget;
   new QGridLayout(video_grid_);
   video_grid_->layout()->setContentsMargins(0, 0, 0, 0);
@@ -256,6 +261,16 @@ void MainWindow::BuildMenus() {
     files.athlete = athlete.toStdString();
     OpenFiles(files);
   });
+  file->addAction("Open &athlete…", this, [this] {
+    if (!session_) return ShowError("Open a trial first: the athlete is whom it is analysed for.");
+    const QString athlete =
+        QFileDialog::getOpenFileName(this, "The athlete's profile", {}, "Profiles (*.yaml *.yml)");
+    if (athlete.isEmpty()) return;
+    // The trial analysed again for this athlete (personalised model), the videos kept in sync.
+    SessionFiles files = session_->files();
+    files.athlete = athlete.toStdString();
+    OpenFiles(files, view());
+  });
   file->addAction("Add a &video…", this, [this] {
     if (!session_) return ShowError("Open a trial first: the video is synced with it.");
     if (session_->num_videos() >= kMaxVideos)
@@ -336,12 +351,61 @@ void MainWindow::BuildMenus() {
   preset_box_ = new QComboBox;
   for (const char* s : {"side", "front", "top"}) preset_box_->addItem(s);
   connect(preset_box_, QOverload<int>::of(&QComboBox::currentIndexChanged), this, [this](int) {
-    Redraw();
+    ResetOrbit();
   });
   transport->addWidget(preset_box_);
   follow_ = transport->addAction("follow");
   follow_->setCheckable(true);
   connect(follow_, &QAction::toggled, this, [this](bool) { Redraw(); });
+  // What the 3D view shows.
+  transport->addSeparator();
+  for (const auto& [name, tip] : {std::pair{"mesh", "the athlete's body"},
+                                  {"skeleton", "the segments, left red, right green"},
+                                  {"markers", "the measured markers or keypoints"},
+                                  {"com", "the centre of mass and its path since take-off"}}) {
+    QAction* a = transport->addAction(name);
+    a->setCheckable(true);
+    a->setToolTip(QString("Show ") + tip + " in the 3D view");
+    connect(a, &QAction::toggled, this, [this](bool) { ApplyShow(); });
+    show_actions_.push_back(a);
+  }
+  SetShown("mesh,skeleton,com");
+}
+
+std::string MainWindow::shown() const {
+  std::string list;
+  for (const QAction* a : show_actions_)
+    if (a->isChecked()) list += (list.empty() ? "" : ",") + a->text().toStdString();
+  return list;
+}
+
+void MainWindow::SetShown(const std::string& list) {
+  const analysis::SceneShow show = analysis::ParseSceneShow(list);
+  const bool on[] = {show.mesh, show.skeleton, show.markers, show.com};
+  for (size_t k = 0; k < show_actions_.size(); ++k) {
+    const QSignalBlocker block(show_actions_[k]);
+    show_actions_[k]->setChecked(on[k]);
+  }
+  ApplyShow();
+}
+
+void MainWindow::ApplyShow() {
+  if (!free_view_) return;
+  free_view_->SetShow(analysis::ParseSceneShow(shown()));
+  Redraw();
+}
+
+void MainWindow::Orbit(double azimuth_deg, double elevation_deg, double distance_scale) {
+  orbit_azimuth_deg_ += azimuth_deg;
+  orbit_elevation_deg_ = std::clamp(orbit_elevation_deg_ + elevation_deg, -80.0, 80.0);
+  orbit_distance_scale_ = std::clamp(orbit_distance_scale_ * distance_scale, 0.2, 5.0);
+  Redraw();
+}
+
+void MainWindow::ResetOrbit() {
+  orbit_azimuth_deg_ = orbit_elevation_deg_ = 0.0;
+  orbit_distance_scale_ = 1.0;
+  Redraw();
 }
 
 void MainWindow::ShowError(const std::string& message) {
@@ -414,17 +478,18 @@ void MainWindow::Adopt(std::shared_ptr<Session> session, const SessionView& view
   compare_other_.reset();
   for (const auto& pane : panes_) pane->overlay.reset();
   free_view_.reset();
+  SetShown(view.show);  // before the 3D view exists: nothing drawn yet
   session_ = std::move(session);
   std::optional<analysis::TrampolineScene> trampoline;
   if (session_->analysis().bed)
     trampoline = analysis::MakeTrampolineScene(*session_->analysis().bed);
   LayOutVideoViews(session_->num_videos());
   try {
-    free_view_ = std::make_unique<ui::TrialFreeView>(session_->scene(),
-                                                     kViewWidth,
-                                                     kViewHeight,
-                                                     analysis::ParseSceneShow("mesh,skeleton,com"),
-                                                     trampoline);
+    free_view_ = std::make_unique<ui::TrialFreeView>(
+        session_->scene(), kViewWidth, kViewHeight, analysis::ParseSceneShow(shown()), trampoline);
+    std::vector<vision::Camera> cameras;
+    for (int k = 0; k < session_->num_videos(); ++k) cameras.push_back(session_->camera(k));
+    free_view_->SetCameras(cameras);
     for (int k = 0; k < session_->num_videos(); ++k) {
       ui::SceneOverlayOptions options;
       options.show = analysis::ParseSceneShow("mesh,skeleton,com");
@@ -443,7 +508,18 @@ void MainWindow::Adopt(std::shared_ptr<Session> session, const SessionView& view
                      fmt::format("{}  {}", j.index, j.fig_code),
                      j.check.has_value(),
                      j.check.has_value() && j.check->pass});
-  timeline_->SetTrial(session_->num_samples(), session_->rate_hz(), std::move(jumps));
+  // The events: each flight's take-off and landing, and the trial file's own.
+  std::vector<Timeline::Event> events;
+  for (const analysis::JumpMetrics& j : session_->analysis().jumps) {
+    events.push_back({j.flight.takeoff_frame, fmt::format("take-off {}", j.index), false});
+    events.push_back({j.flight.landing_frame, fmt::format("landing {}", j.index), false});
+  }
+  for (const capture::Event& e : session_->trial().events)
+    events.push_back({int(std::lround(e.time_s * session_->rate_hz())),
+                      e.context.empty() ? e.label : e.context + " " + e.label,
+                      true});
+  timeline_->SetTrial(
+      session_->num_samples(), session_->rate_hz(), std::move(jumps), std::move(events));
   FillJumpTable();
   FillVerdict();
   FillPlots();
@@ -458,8 +534,14 @@ void MainWindow::Adopt(std::shared_ptr<Session> session, const SessionView& view
                         session_->sync(k).offset_s);
   for (const std::string& w : session_->warnings()) note += "; warning: " + w;
   status_->setText(QString::fromStdString(note));
-  preset_box_->setCurrentIndex(view.preset == "front" ? 1 : view.preset == "top" ? 2 : 0);
+  {
+    const QSignalBlocker block(preset_box_);
+    preset_box_->setCurrentIndex(view.preset == "front" ? 1 : view.preset == "top" ? 2 : 0);
+  }
   follow_->setChecked(view.follow);
+  orbit_azimuth_deg_ = view.orbit_azimuth_deg;
+  orbit_elevation_deg_ = view.orbit_elevation_deg;
+  orbit_distance_scale_ = view.orbit_distance_scale;
   SetSpeed(view.speed);
   SetCursor(std::clamp(view.cursor_sample, 0, session_->num_samples() - 1));
 }
@@ -743,6 +825,9 @@ void MainWindow::Redraw() {
     ui::FreeViewpoint v =
         ui::PresetViewpoint(preset, target, preset == ui::ViewPreset::kTop ? 14 : 12);
     v.view_angle_deg = 35;
+    // The user's orbit about the target, and closer or farther.
+    v = ui::OrbitViewpoint(v, orbit_azimuth_deg_, orbit_elevation_deg_);
+    v.eye_W = v.target_W + orbit_distance_scale_ * (v.eye_W - v.target_W);
     free_view_->SetViewpoint(v, follow_->isChecked());
     free_view_->Render(cursor_, &rgb3d_);
     view3d_->SetImage(ToImage(rgb3d_, free_view_->width(), free_view_->height()));
@@ -882,6 +967,10 @@ SessionView MainWindow::view() const {
   v.speed = speed_;
   v.preset = preset_box_->currentText().toStdString();
   v.follow = follow_->isChecked();
+  v.show = shown();
+  v.orbit_azimuth_deg = orbit_azimuth_deg_;
+  v.orbit_elevation_deg = orbit_elevation_deg_;
+  v.orbit_distance_scale = orbit_distance_scale_;
   return v;
 }
 

@@ -72,6 +72,13 @@ class MainWindow : public QMainWindow {
   bool playing() const { return playing_; }
   void SetSpeed(double speed);
   SessionView view() const;
+  /// What the 3D view shows, as a list ("mesh,skeleton,com"; the toolbar's toggles).
+  std::string shown() const;
+  void SetShown(const std::string& list);
+  /// Turns the 3D view about its target (degrees, added to the orbit so far) and moves it closer
+  /// (a scale < 1) or farther; ResetOrbit goes back to the preset.
+  void Orbit(double azimuth_deg, double elevation_deg, double distance_scale);
+  void ResetOrbit();
   /// Compare mode: jumps `a` and `b` of the trial side by side at the cursor (a window of their
   /// own), and B as a ghost in A's flight over the video and in the 3D view. The cursor goes to
   /// A's take-off. False (and the dialog) for a jump that is not there.
@@ -88,6 +95,7 @@ class MainWindow : public QMainWindow {
   SkillWindow* OpenSkillDesigner(const std::string& path = "");
 
   Timeline* timeline() { return timeline_; }
+  ImageView* view3d() { return view3d_; }
   /// The video views: one per video of the session (up to four, in a grid), or one empty view.
   int num_video_views() const { return int(panes_.size()); }
   ImageView* video_view(int k = 0) { return panes_.at(size_t(k))->view; }
@@ -117,6 +125,7 @@ class MainWindow : public QMainWindow {
 
  private:
   void BuildMenus();
+  void ApplyShow();
   /// Opens `files` as a session on the worker thread (progress, Cancel), then `done` on the
   /// window's thread; a failure is the dialog and `done` is not called.
   void OpenInBackground(const SessionFiles& files,
@@ -164,6 +173,8 @@ class MainWindow : public QMainWindow {
   QComboBox* speed_box_ = nullptr;
   QComboBox* preset_box_ = nullptr;
   QAction* follow_ = nullptr;
+  std::vector<QAction*> show_actions_;  // mesh, skeleton, markers, com
+  double orbit_azimuth_deg_ = 0.0, orbit_elevation_deg_ = 0.0, orbit_distance_scale_ = 1.0;
   QAction* loop_ = nullptr;
   QLabel* status_ = nullptr;
   QProgressBar* progress_ = nullptr;

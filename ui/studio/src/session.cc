@@ -152,6 +152,10 @@ void WriteSessionFile(const fs::path& path, const SessionFiles& files, const Ses
   j["speed"] = view.speed;
   j["view"] = view.preset;
   j["follow"] = view.follow;
+  j["show"] = view.show;
+  j["orbit_azimuth_deg"] = view.orbit_azimuth_deg;
+  j["orbit_elevation_deg"] = view.orbit_elevation_deg;
+  j["orbit_distance_scale"] = view.orbit_distance_scale;
   WriteFileAtomically(path, j.dump(2) + "\n");
 }
 
@@ -226,6 +230,22 @@ std::pair<SessionFiles, SessionView> ReadSessionFile(const fs::path& path) {
   if (view.preset != "side" && view.preset != "front" && view.preset != "top")
     throw InputError(file, "view", "'" + view.preset + "' is not side, front or top");
   view.follow = j.contains("follow") && j["follow"].is_boolean() && j["follow"].get<bool>();
+  if (j.contains("show")) {
+    view.show = text(j, "show", "show");
+    try {
+      analysis::ParseSceneShow(view.show);
+    } catch (const std::exception&) {
+      throw InputError(
+          file, "show", "'" + view.show + "' is not a list of mesh, skeleton, markers, com");
+    }
+  }
+  view.orbit_azimuth_deg = number("orbit_azimuth_deg", 0.0);
+  view.orbit_elevation_deg = std::clamp(number("orbit_elevation_deg", 0.0), -80.0, 80.0);
+  view.orbit_distance_scale = number("orbit_distance_scale", 1.0);
+  if (!(view.orbit_distance_scale >= 0.2 && view.orbit_distance_scale <= 5))
+    throw InputError(file,
+                     "orbit_distance_scale",
+                     std::to_string(view.orbit_distance_scale) + " is not between 0.2 and 5");
   if (files.trial.empty()) throw InputError(file, "trial", "missing");
   return {files, view};
 }

@@ -15,13 +15,17 @@ constexpr int kMargin = 8;
 
 Timeline::Timeline(QWidget* parent) : QWidget(parent) {
   setMinimumHeight(60);
-  setMouseTracking(false);
+  setMouseTracking(true);  // an event's name when the pointer rests on it
 }
 
-void Timeline::SetTrial(int num_samples, double rate_hz, std::vector<Jump> jumps) {
+void Timeline::SetTrial(int num_samples,
+                        double rate_hz,
+                        std::vector<Jump> jumps,
+                        std::vector<Event> events) {
   num_samples_ = std::max(1, num_samples);
   rate_hz_ = rate_hz > 0 ? rate_hz : 1.0;
   jumps_ = std::move(jumps);
+  events_ = std::move(events);
   first_ = 0;
   last_ = num_samples_ - 1;
   cursor_ = 0;
@@ -78,6 +82,15 @@ void Timeline::paintEvent(QPaintEvent*) {
                Qt::AlignCenter,
                QString::fromStdString(j.label));
   }
+  // Events: ticks under the strip (the analysis' take-offs and landings short, the file's own tall
+  // and named).
+  for (const Event& e : events_) {
+    const int ex = XOf(e.sample);
+    if (ex < 0 || ex > width()) continue;
+    p.setPen(QPen(e.from_file ? QColor(120, 40, 160) : QColor(60, 60, 60), e.from_file ? 2 : 1));
+    p.drawLine(ex, bottom - (e.from_file ? 16 : 7), ex, bottom);
+    if (e.from_file) p.drawText(ex + 3, bottom - 8, QString::fromStdString(e.label));
+  }
   // The cursor.
   const int x = XOf(cursor_);
   p.setPen(QPen(QColor(200, 20, 20), 2));
@@ -88,9 +101,29 @@ void Timeline::mousePressEvent(QMouseEvent* event) {
   Q_EMIT cursorRequested(SampleAt(int(event->localPos().x())));
 }
 
+const Timeline::Event* Timeline::EventAt(int x) const {
+  const Event* best = nullptr;
+  int best_d = 5;
+  for (const Event& e : events_) {
+    const int d = std::abs(XOf(e.sample) - x);
+    if (d < best_d) {
+      best_d = d;
+      best = &e;
+    }
+  }
+  return best;
+}
+
 void Timeline::mouseMoveEvent(QMouseEvent* event) {
-  if (event->buttons() & Qt::LeftButton)
+  if (event->buttons() & Qt::LeftButton) {
     Q_EMIT cursorRequested(SampleAt(int(event->localPos().x())));
+    return;
+  }
+  const Event* e = EventAt(int(event->localPos().x()));
+  const QString tip =
+      e ? QString::fromStdString(e->label) + QString(" (%1 s)").arg(e->sample / rate_hz_, 0, 'f', 3)
+        : QString();
+  if (tip != toolTip()) setToolTip(tip);
 }
 
 void Timeline::wheelEvent(QWheelEvent* event) {

@@ -1,8 +1,10 @@
 #pragma once
 
 // The whole trial on one strip (the studio's timeline): the flights shaded in their verdict's
-// colour and labelled with their FIG code, the contacts between, the cursor as a red line. A click
-// or a drag asks for the cursor there (cursorRequested); the wheel zooms about the pointer.
+// colour and labelled with their FIG code, the contacts between, the events (take-offs and
+// landings found by the analysis, the file's own events such as a C3D's Foot Strike) as ticks, the
+// cursor as a red line. A click or a drag asks for the cursor there (cursorRequested); the wheel
+// zooms about the pointer; an event's name shows when the pointer rests on it.
 
 #include <QWidget>
 
@@ -23,9 +25,21 @@ class Timeline : public QWidget {
     bool pass = false;
   };
 
+  struct Event {
+    int sample = 0;
+    std::string label;       ///< "take-off 3", "Left Foot Strike"
+    bool from_file = false;  ///< the trial file's own event (drawn taller, labelled)
+  };
+
   explicit Timeline(QWidget* parent = nullptr);
 
-  void SetTrial(int num_samples, double rate_hz, std::vector<Jump> jumps);
+  void SetTrial(int num_samples,
+                double rate_hz,
+                std::vector<Jump> jumps,
+                std::vector<Event> events = {});
+  const std::vector<Event>& events() const { return events_; }
+  /// The event drawn nearest pixel column x, within 4 pixels (nullptr: none).
+  const Event* EventAt(int x) const;
   void SetCursor(int sample);
   int cursor() const { return cursor_; }
   const std::vector<Jump>& jumps() const { return jumps_; }
@@ -48,6 +62,7 @@ class Timeline : public QWidget {
   int num_samples_ = 0;
   double rate_hz_ = 1.0;
   std::vector<Jump> jumps_;
+  std::vector<Event> events_;
   int cursor_ = 0;
   double first_ = 0, last_ = 1;  // the samples shown (zoom)
 };

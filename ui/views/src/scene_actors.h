@@ -73,6 +73,9 @@ class SceneActors {
     Update(f, true);
   }
 
+  /// What to show from the next Update on.
+  void SetShow(const Show& show) { show_ = show; }
+
   void Update(const analysis::TrialFrame& f, bool visible) {
     if (athlete_) {
       renderer_->UpdateMesh(mesh_, f.athlete.mesh.vertices_W);

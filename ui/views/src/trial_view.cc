@@ -19,6 +19,7 @@ struct TrialFreeView::Impl {
   bool follow = false;
   analysis::TrialFrame tf;
   RenderImage image;
+  std::vector<int> cameras;  // the frustums' actors
 };
 
 TrialFreeView::TrialFreeView(analysis::TrialScene& scene,
@@ -58,6 +59,34 @@ const FreeViewpoint& TrialFreeView::rendered_viewpoint() const {
 }
 const analysis::TrialFrame& TrialFreeView::frame() const {
   return impl_->tf;
+}
+
+void TrialFreeView::SetShow(const analysis::SceneShow& show) {
+  static_cast<analysis::SceneShow&>(impl_->show) = show;
+  if (impl_->actors) impl_->actors->SetShow(impl_->show);
+}
+
+const analysis::SceneShow& TrialFreeView::show() const {
+  return impl_->show;
+}
+
+void TrialFreeView::SetCameras(const std::vector<vision::Camera>& cameras, double depth_m) {
+  Impl& m = *impl_;
+  for (const int id : m.cameras) m.renderer.SetVisible(id, false);
+  // Actors are kept (the renderer has no removal): hidden ones are reused first.
+  size_t k = 0;
+  for (const vision::Camera& camera : cameras) {
+    analysis::SceneLines frustum = analysis::MakeCameraFrustum(camera, depth_m);
+    frustum.colour = {0.2f, 0.2f, 0.25f, 1.0f};
+    frustum.width_px = 2.0;
+    if (k < m.cameras.size()) {
+      m.renderer.UpdateLines(m.cameras[k], frustum.points_W);
+      m.renderer.SetVisible(m.cameras[k], true);
+    } else {
+      m.cameras.push_back(m.renderer.AddLines(frustum));
+    }
+    ++k;
+  }
 }
 
 void TrialFreeView::Render(int sample, std::vector<std::uint8_t>* rgb) {

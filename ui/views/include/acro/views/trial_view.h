@@ -13,6 +13,7 @@
 #include "acro/scene/place_scene.h"
 #include "acro/scene/trial_scene.h"
 #include "acro/views/scene_renderer.h"
+#include "acro/vision/camera.h"
 
 namespace acro::ui {
 
@@ -39,6 +40,13 @@ class TrialFreeView {
   const FreeViewpoint& viewpoint() const;
   /// The viewpoint the last render used (followed when following).
   const FreeViewpoint& rendered_viewpoint() const;
+  /// What to show (the athlete's mesh, skeleton, the markers, the COM and its path, the
+  /// residual) from the next render on.
+  void SetShow(const analysis::SceneShow& show);
+  const analysis::SceneShow& show() const;
+  /// Draws these cameras as frustums `depth_m` deep (the calibrated cameras of the session's
+  /// videos), replacing any drawn before.
+  void SetCameras(const std::vector<vision::Camera>& cameras, double depth_m = 1.0);
   /// Renders trial sample `sample` into `rgb` (width × height × 3, rows top to bottom).
   void Render(int sample, std::vector<std::uint8_t>* rgb);
   /// The scene frame last rendered.
