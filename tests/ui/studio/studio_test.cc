@@ -342,10 +342,15 @@ TEST(Studio, TheSampleRoutineWithItsVideoAtOneCursor) {
     EXPECT_NE(w.view3d()->image(), skeleton);
     CloseDialogs();
     Shot("studio_orbit");
-    // Farther out: the video's camera drawn as a frustum beside the trampoline.
+    // Farther out, with the cameras: the video's camera drawn as a frustum beside the trampoline.
     w.Orbit(-10, 10, 2.5);
+    const QImage without_cameras = w.view3d()->image();
+    w.SetShown("skeleton,markers,com,cameras");
+    EXPECT_EQ(w.shown(), "skeleton,markers,com,cameras");
+    EXPECT_NE(w.view3d()->image(), without_cameras);
     Shot("studio_cameras");
     w.Orbit(10, -10, 1 / 2.5);
+    w.SetShown("skeleton,markers,com");
   }
 
   // The session saved and reopened in another window: the same files, cursor and view.

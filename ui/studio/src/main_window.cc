@@ -30,6 +30,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <sstream>
 
 #include <fmt/format.h>
 
@@ -362,7 +363,8 @@ void MainWindow::BuildMenus() {
   for (const auto& [name, tip] : {std::pair{"mesh", "the athlete's body"},
                                   {"skeleton", "the segments, left red, right green"},
                                   {"markers", "the measured markers or keypoints"},
-                                  {"com", "the centre of mass and its path since take-off"}}) {
+                                  {"com", "the centre of mass and its path since take-off"},
+                                  {"cameras", "the videos' cameras as frustums"}}) {
     QAction* a = transport->addAction(name);
     a->setCheckable(true);
     a->setToolTip(QString("Show ") + tip + " in the 3D view");
@@ -379,9 +381,29 @@ std::string MainWindow::shown() const {
   return list;
 }
 
+namespace {
+
+// The list without "cameras" (the scene's words), and whether it named the cameras.
+std::pair<std::string, bool> SplitCameras(const std::string& list) {
+  std::string scene;
+  bool cameras = false;
+  std::stringstream words(list);
+  for (std::string word; std::getline(words, word, ',');) {
+    if (word == "cameras") {
+      cameras = true;
+    } else {
+      scene += (scene.empty() ? "" : ",") + word;
+    }
+  }
+  return {scene, cameras};
+}
+
+}  // namespace
+
 void MainWindow::SetShown(const std::string& list) {
-  const analysis::SceneShow show = analysis::ParseSceneShow(list);
-  const bool on[] = {show.mesh, show.skeleton, show.markers, show.com};
+  const auto [scene, cameras] = SplitCameras(list);
+  const analysis::SceneShow show = analysis::ParseSceneShow(scene);
+  const bool on[] = {show.mesh, show.skeleton, show.markers, show.com, cameras};
   for (size_t k = 0; k < show_actions_.size(); ++k) {
     const QSignalBlocker block(show_actions_[k]);
     show_actions_[k]->setChecked(on[k]);
@@ -390,9 +412,19 @@ void MainWindow::SetShown(const std::string& list) {
 }
 
 void MainWindow::ApplyShow() {
-  if (!free_view_) return;
-  free_view_->SetShow(analysis::ParseSceneShow(shown()));
+  if (!free_view_ || !session_) return;
+  ShowInView();
   Redraw();
+}
+
+void MainWindow::ShowInView() {
+  if (!free_view_ || !session_) return;
+  const auto [scene, cameras] = SplitCameras(shown());
+  free_view_->SetShow(analysis::ParseSceneShow(scene));
+  std::vector<vision::Camera> shown_cameras;
+  for (int k = 0; cameras && k < session_->num_videos(); ++k)
+    shown_cameras.push_back(session_->camera(k));
+  free_view_->SetCameras(shown_cameras);
 }
 
 void MainWindow::Orbit(double azimuth_deg, double elevation_deg, double distance_scale) {
@@ -486,10 +518,7 @@ void MainWindow::Adopt(std::shared_ptr<Session> session, const SessionView& view
   LayOutVideoViews(session_->num_videos());
   try {
     free_view_ = std::make_unique<ui::TrialFreeView>(
-        session_->scene(), kViewWidth, kViewHeight, analysis::ParseSceneShow(shown()), trampoline);
-    std::vector<vision::Camera> cameras;
-    for (int k = 0; k < session_->num_videos(); ++k) cameras.push_back(session_->camera(k));
-    free_view_->SetCameras(cameras);
+        session_->scene(), kViewWidth, kViewHeight, analysis::SceneShow{}, trampoline);
     for (int k = 0; k < session_->num_videos(); ++k) {
       ui::SceneOverlayOptions options;
       options.show = analysis::ParseSceneShow("mesh,skeleton,com");
@@ -501,6 +530,7 @@ void MainWindow::Adopt(std::shared_ptr<Session> session, const SessionView& view
   } catch (const std::exception& e) {
     ShowError(e.what());
   }
+  ShowInView();
   std::vector<Timeline::Jump> jumps;
   for (const analysis::JumpMetrics& j : session_->analysis().jumps)
     jumps.push_back({j.flight.takeoff_frame,
@@ -529,8 +559,8 @@ void MainWindow::Adopt(std::shared_ptr<Session> session, const SessionView& view
                                  session_->rate_hz(),
                                  session_->analysis().jumps.size());
   for (int k = 0; k < session_->num_videos(); ++k)
-    note += fmt::format("; video {} synced: video time = {:.4f} s + trial time",
-                        session_->num_videos() > 1 ? std::to_string(k + 1) : "",
+    note += fmt::format("; video{} synced: video time = {:.4f} s + trial time",
+                        session_->num_videos() > 1 ? " " + std::to_string(k + 1) : "",
                         session_->sync(k).offset_s);
   for (const std::string& w : session_->warnings()) note += "; warning: " + w;
   status_->setText(QString::fromStdString(note));

@@ -125,6 +125,8 @@ class MainWindow : public QMainWindow {
 
  private:
   void BuildMenus();
+  /// What the 3D view shows (its parts, the cameras) as the toggles say; ApplyShow redraws too.
+  void ShowInView();
   void ApplyShow();
   /// Opens `files` as a session on the worker thread (progress, Cancel), then `done` on the
   /// window's thread; a failure is the dialog and `done` is not called.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <sstream>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -233,10 +234,16 @@ std::pair<SessionFiles, SessionView> ReadSessionFile(const fs::path& path) {
   if (j.contains("show")) {
     view.show = text(j, "show", "show");
     try {
-      analysis::ParseSceneShow(view.show);
+      std::string scene;  // "cameras" is the studio's own word
+      std::stringstream words(view.show);
+      for (std::string word; std::getline(words, word, ',');)
+        if (word != "cameras") scene += word + ",";
+      analysis::ParseSceneShow(scene);
     } catch (const std::exception&) {
       throw InputError(
-          file, "show", "'" + view.show + "' is not a list of mesh, skeleton, markers, com");
+          file,
+          "show",
+          "'" + view.show + "' is not a list of mesh, skeleton, markers, com, cameras");
     }
   }
   view.orbit_azimuth_deg = number("orbit_azimuth_deg", 0.0);

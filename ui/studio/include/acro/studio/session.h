@@ -48,7 +48,8 @@ struct SessionView {
   double speed = 1.0;
   std::string preset = "side";  ///< side, front, top
   bool follow = false;
-  std::string show = "mesh,skeleton,com";  ///< what the 3D view shows (ParseSceneShow's words)
+  /// What the 3D view shows: ParseSceneShow's words, and "cameras" for the videos' cameras.
+  std::string show = "mesh,skeleton,com";
   /// The 3D view turned about its target from the preset, and its distance scaled.
   double orbit_azimuth_deg = 0.0;
   double orbit_elevation_deg = 0.0;
