@@ -45,6 +45,25 @@ const Design& TheBackTuck() {
   return back_tuck;
 }
 
+// The sample routine analysed for its athlete (the real jumps the design meets).
+struct Sample {
+  capture::Trial trial;
+  AthleteBody body;
+  TrialAnalysis analysis;
+};
+const Sample& TheSample() {
+  static const Sample sample = [] {
+    Sample s;
+    s.trial = capture::ReadTrial(acro::testing::SourceDir() /
+                                 "samples/trials/trampoline_routine/trampoline_routine.c3d");
+    s.body = MakeAthleteBody(
+        ReadAthleteProfile(acro::testing::SourceDir() / "samples/athletes/sample_athlete.yaml"));
+    s.analysis = AnalyzeTrial(s.trial, nullptr, s.body);
+    return s;
+  }();
+  return sample;
+}
+
 TEST(DesignedSkill, ReadsOptimizesFolderBackAsTheOptimisedMotion) {
   const Design& d = TheBackTuck();
   const SkillDesign design(d.skill);
@@ -118,11 +137,7 @@ TEST(DesignedSkill, MadeFromTheResultItIsTheFolderReadBack) {
 // poses), and B's COM follows the design's take-off parabola.
 TEST(DesignedSkill, ComparedWithAJump) {
   const Design& d = TheBackTuck();
-  const capture::Trial trial = capture::ReadTrial(
-      acro::testing::SourceDir() / "samples/trials/trampoline_routine/trampoline_routine.c3d");
-  const AthleteBody body = MakeAthleteBody(
-      ReadAthleteProfile(acro::testing::SourceDir() / "samples/athletes/sample_athlete.yaml"));
-  const TrialAnalysis analysis = AnalyzeTrial(trial, nullptr, body);
+  const auto& [trial, body, analysis] = TheSample();
   const DesignedSkill design = ReadDesignedSkill(d.dir, MakeStandardHumanModel(body));
   const BodyMesh mesh = MakeEllipsoidBodyMesh(body, OverlayBodyMeshOptions());
   CompareJump a{&trial, &analysis, &body, mesh, 2, "jump 2"};
@@ -197,11 +212,7 @@ TEST(DesignedSkill, AMotionForAnotherModelIsNamed) {
 
 TEST(DesignedSkill, TheGhostTakesOffWithEachFlightAndFliesItsOwnParabola) {
   const Design& d = TheBackTuck();
-  const capture::Trial trial = capture::ReadTrial(
-      acro::testing::SourceDir() / "samples/trials/trampoline_routine/trampoline_routine.c3d");
-  const AthleteBody body = MakeAthleteBody(
-      ReadAthleteProfile(acro::testing::SourceDir() / "samples/athletes/sample_athlete.yaml"));
-  const TrialAnalysis analysis = AnalyzeTrial(trial, nullptr, body);
+  const auto& [trial, body, analysis] = TheSample();
   const dynamics::Model<double> model = MakeStandardHumanModel(body);
   const DesignedSkill design = ReadDesignedSkill(d.dir, model);
   TrialScene scene(trial, analysis, body, MakeEllipsoidBodyMesh(body, OverlayBodyMeshOptions()));
