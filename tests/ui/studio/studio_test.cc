@@ -493,6 +493,11 @@ TEST(Studio, TheSkillDesignerRunsModel2OnThePapersExample) {
   EXPECT_GE(r.objective_initial / r.objective, 10.0);
   EXPECT_EQ(designer->timing_plot()->chart().title.rfind("Keyframe timing", 0), 0u);
   EXPECT_FALSE(designer->keyframes()->item(1, 2)->text().isEmpty());  // optimised times shown
+  // The momentum chart: |H| about the centre of mass, initial against optimised.
+  designer->ShowChart(1);
+  EXPECT_EQ(designer->timing_plot()->chart().title, "Angular momentum about the centre of mass");
+  ASSERT_EQ(designer->timing_plot()->chart().series.size(), 2u);
+  designer->ShowChart(0);
   // The flight simulated: its landing in the line under the window, and beside the design in the
   // preview (two rows) at the landing.
   ASSERT_NE(designer->simulation(), nullptr);

@@ -200,6 +200,28 @@ Chart MakeSkillTimingChart(const SkillDesign& design, const SkillOptimizationRes
   return timing;
 }
 
+Chart MakeSkillMomentumChart(const SkillDesign& design, const SkillOptimizationResult& r) {
+  constexpr ui::Rgb kInitialGrey{0.5, 0.5, 0.5};
+  constexpr ui::Rgb kOptimisedRed{0.84, 0.15, 0.16};
+  const std::string optimised =
+      "optimised (model " + std::to_string(SkillModelNumber(r.model)) + ")";
+  const SkillMotionProfile p0 = CalcSkillMotionProfile(design, r.initial, 320);
+  const SkillMotionProfile p1 = CalcSkillMotionProfile(design, r.optimized, 320);
+  ui::Chart h;
+  h.title = "Angular momentum about the centre of mass";
+  h.x_label = "time (s)";
+  h.y_label = "|H| (kg·m²/s)";
+  ui::LineSeries h0{
+      .name = "initial timing", .x = ToStd(p0.t_s), .y = {}, .color = kInitialGrey, .dashed = true};
+  ui::LineSeries h1{.name = optimised, .x = ToStd(p1.t_s), .y = {}, .color = kOptimisedRed};
+  for (int k = 0; k < p0.t_s.size(); ++k) {
+    h0.y.push_back(p0.H_Scm_W.col(k).norm());
+    h1.y.push_back(p1.H_Scm_W.col(k).norm());
+  }
+  h.series = {h0, h1};
+  return h;
+}
+
 std::vector<std::string> WriteSkillOutputs(const std::filesystem::path& dir,
                                            const SkillDesign& design,
                                            const SkillOptimizationResult& r,
@@ -239,26 +261,7 @@ std::vector<std::string> WriteSkillOutputs(const std::filesystem::path& dir,
   write("timing.csv", csv.str());
   write_plot("timing", MakeSkillTimingChart(design, r));
 
-  // Angular momentum about the COM, initial and optimised.
-  constexpr ui::Rgb kInitialGrey{0.5, 0.5, 0.5};
-  constexpr ui::Rgb kOptimisedRed{0.84, 0.15, 0.16};
-  const std::string optimised =
-      "optimised (model " + std::to_string(SkillModelNumber(r.model)) + ")";
-  const SkillMotionProfile p0 = CalcSkillMotionProfile(design, r.initial, 320);
-  const SkillMotionProfile p1 = CalcSkillMotionProfile(design, r.optimized, 320);
-  ui::Chart h;
-  h.title = "Angular momentum about the centre of mass";
-  h.x_label = "time (s)";
-  h.y_label = "|H| (kg·m²/s)";
-  ui::LineSeries h0{
-      .name = "initial timing", .x = ToStd(p0.t_s), .y = {}, .color = kInitialGrey, .dashed = true};
-  ui::LineSeries h1{.name = optimised, .x = ToStd(p1.t_s), .y = {}, .color = kOptimisedRed};
-  for (int k = 0; k < p0.t_s.size(); ++k) {
-    h0.y.push_back(p0.H_Scm_W.col(k).norm());
-    h1.y.push_back(p1.H_Scm_W.col(k).norm());
-  }
-  h.series = {h0, h1};
-  write_plot("angular_momentum", h);
+  write_plot("angular_momentum", MakeSkillMomentumChart(design, r));
 
   // The motion.
   const std::vector<std::uint8_t> c3d =

@@ -1,5 +1,6 @@
 #include "skill_window.h"
 
+#include <QComboBox>
 #include <QFileDialog>
 #include <QHBoxLayout>
 #include <QHeaderView>
@@ -97,6 +98,10 @@ SkillWindow::SkillWindow(QWidget* parent) : QWidget(parent, Qt::Window) {
     if (skill_) SetPreviewTime(v / 1000.0 * skill_->flight_time_s);
   });
   timing_ = new PlotView;
+  chart_box_ = new QComboBox;
+  chart_box_->addItems({"Keyframe timing", "Angular momentum"});
+  connect(
+      chart_box_, QOverload<int>::of(&QComboBox::activated), this, [this](int) { ShowChart(); });
   summary_ = new QLabel;
   summary_->setWordWrap(true);
   summary_->setTextInteractionFlags(Qt::TextSelectableByMouse);
@@ -144,9 +149,14 @@ SkillWindow::SkillWindow(QWidget* parent) : QWidget(parent, Qt::Window) {
   preview_layout->setContentsMargins(0, 0, 0, 0);
   preview_layout->addWidget(preview_, 1);
   preview_layout->addWidget(preview_time_);
+  auto* chart_panel = new QWidget;
+  auto* chart_layout = new QVBoxLayout(chart_panel);
+  chart_layout->setContentsMargins(0, 0, 0, 0);
+  chart_layout->addWidget(chart_box_);
+  chart_layout->addWidget(timing_, 1);
   auto* lower = new QSplitter(Qt::Horizontal);
   lower->addWidget(preview_panel);
-  lower->addWidget(timing_);
+  lower->addWidget(chart_panel);
   auto* right = new QSplitter(Qt::Vertical);
   right->addWidget(strip_);
   right->addWidget(lower);
@@ -283,9 +293,9 @@ bool SkillWindow::EditPose(int keyframe, int row, double degrees) {
   // apart, a value that is not finite) is refused here with its words.
   try {
     const std::filesystem::path dir = std::filesystem::path(skill_->source).parent_path();
-    analysis::SkillFromYaml(analysis::ParseYaml(analysis::FormatSkillYaml(edited, dir),
-                                                skill_->source + " (edited)"),
-                            dir);
+    analysis::SkillFromYaml(
+        analysis::ParseYaml(analysis::FormatSkillYaml(edited, dir), skill_->source + " (edited)"),
+        dir);
   } catch (const std::exception& e) {
     ShowError(e.what());
     ShowPose(keyframe);
@@ -460,7 +470,7 @@ void SkillWindow::ShowResult() {
     for (int i = 0; i < design.num_keyframes() && i < keyframes_->rowCount(); ++i)
       keyframes_->item(i, 2)->setText(QString::number(r.optimized.times_s(i), 'f', 3));
   }
-  timing_->SetChart(ui::MakeSkillTimingChart(design, r));
+  ShowChart();
   std::string text = fmt::format(
       "Model {}: J {:.4g} → {:.4g} ({:.1f} times smaller); angular momentum variation {:.1f} % → "
       "{:.1f} %. The filmstrip shows the initial timing above the optimised one.",
@@ -487,6 +497,17 @@ void SkillWindow::ShowResult() {
     ShowError(e.what());
   }
   MakePreview();
+}
+
+void SkillWindow::SetChartIndex(int index) {
+  chart_box_->setCurrentIndex(index);
+}
+
+void SkillWindow::ShowChart() {
+  if (!skill_ || !result_) return;
+  const analysis::SkillDesign design(*skill_);
+  timing_->SetChart(chart_box_->currentIndex() == 1 ? ui::MakeSkillMomentumChart(design, *result_)
+                                                    : ui::MakeSkillTimingChart(design, *result_));
 }
 
 bool SkillWindow::SaveDesign(const std::string& dir) {

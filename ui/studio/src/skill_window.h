@@ -23,6 +23,7 @@
 #include "acro/design/skill_simulation.h"
 #include "acro/scene/designed_skill.h"
 
+class QComboBox;
 class QLabel;
 class QProgressBar;
 class QPushButton;
@@ -73,6 +74,11 @@ class SkillWindow : public QWidget {
   QTableWidget* keyframes() { return keyframes_; }
   QTableWidget* pose() { return pose_; }
   PlotView* timing_plot() { return timing_; }
+  /// The chart beside the preview: 0 the keyframe timing, 1 the angular momentum.
+  void ShowChart(int index) {
+    SetChartIndex(index);
+    ShowChart();
+  }
   ImageView* preview() { return preview_; }
   /// The line under the window (what the run is doing, or its result).
   std::string summary() const;
@@ -83,6 +89,8 @@ class SkillWindow : public QWidget {
   void ShowSkill();
   void ShowPose(int keyframe);
   void ShowResult();
+  void ShowChart();
+  void SetChartIndex(int index);
   void MakePreview();
   void Join();
 
@@ -99,6 +107,7 @@ class SkillWindow : public QWidget {
   ImageView* preview_ = nullptr;
   QSlider* preview_time_ = nullptr;
   PlotView* timing_ = nullptr;
+  QComboBox* chart_box_ = nullptr;
   QLabel* summary_ = nullptr;
   QProgressBar* progress_ = nullptr;
   std::string last_error_;

@@ -38,6 +38,11 @@ capture::Storage MakeSkillMotionTable(const analysis::SkillDesign& design,
 Chart MakeSkillTimingChart(const analysis::SkillDesign& design,
                            const analysis::SkillOptimizationResult& result);
 
+/// |H| about the centre of mass over the flight, the initial timing against the optimised one
+/// (constant for a motion that obeys physics in flight).
+Chart MakeSkillMomentumChart(const analysis::SkillDesign& design,
+                             const analysis::SkillOptimizationResult& result);
+
 /// What the page shows beside the charts, made elsewhere (the 3D views draw the filmstrips).
 struct SkillReportExtras {
   /// The initial and the optimised timing one above the other (file names in the folder; empty:
