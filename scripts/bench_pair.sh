@@ -10,7 +10,12 @@ other=${1:?usage: scripts/bench_pair.sh OTHER_BUILD_DIR [ROUNDS] [FILTER]}
 rounds=${2:-3}
 filter=${3:-.}
 runner=()
-if [ -z "${DISPLAY:-}" ] && command -v xvfb-run >/dev/null 2>&1; then runner=(xvfb-run -a); fi
+# A full-HD true-colour screen (the studio's window is 1920 × 1080), and no server reset when the
+# last client leaves: a reset refuses the connections of whatever starts at that moment (a test
+# run in parallel once failed with "bad X server connection" so).
+if [ -z "${DISPLAY:-}" ] && command -v xvfb-run >/dev/null 2>&1; then
+  runner=(xvfb-run -a -s "-screen 0 1920x1080x24 -noreset")
+fi
 out=$(mktemp)
 trap 'rm -f "$out"' EXIT
 for ((i = 0; i < rounds; i++)); do
