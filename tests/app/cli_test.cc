@@ -267,10 +267,17 @@ TEST(Cli, AnalyzeWithoutAnyDisplayWritesTheMilestoneOneNumbersAndTheCharts) {
                                   "tests/data/sample_routine_jumps_milestone1.json"));
   nlohmann::json actual = nlohmann::json::parse(Slurp(out / "jumps.json"));
   ASSERT_EQ(expected.size(), 6u);
-  // Milestone 2 added one key, null without a video.
+  // Milestone 2 added keys: the silhouette IoU, null without a video, and why the shape (the FIG
+  // body positions held: the same shapes as milestone 1's on this sample, checked below).
   for (nlohmann::json& jump : actual) {
     EXPECT_TRUE(jump["silhouette_iou"].is_null());
     jump.erase("silhouette_iou");
+    const std::string shape = jump["shape"].get<std::string>();
+    EXPECT_EQ(jump["shape_reason"].get<std::string>().rfind(shape + ":", 0), 0u)
+        << jump["shape_reason"];
+    EXPECT_EQ(jump["shape_hold_fraction"].get<double>() >= 0.15, shape != "straight");
+    jump.erase("shape_reason");
+    jump.erase("shape_hold_fraction");
   }
   ExpectSameJson(expected, actual, "jumps");
 }

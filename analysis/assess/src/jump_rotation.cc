@@ -62,8 +62,12 @@ bool JumpRotationOptions::IsValid(std::string* why) const {
     return fail("upright_max_lean_deg must be in (0, 90)");
   if (!(bed_rotation_quarters >= 0 && bed_rotation_quarters < 2))
     return fail("bed_rotation_quarters must be in [0, 2)");
-  if (!(pike_min_hip_flexion_deg > 0)) return fail("pike_min_hip_flexion_deg must be positive");
-  if (!(tuck_min_knee_flexion_deg > 0)) return fail("tuck_min_knee_flexion_deg must be positive");
+  if (!(closed_angle_deg > 0 && closed_angle_deg < 180))
+    return fail("closed_angle_deg must be in (0, 180)");
+  if (!(min_shape_hold_fraction > 0 && min_shape_hold_fraction <= 1))
+    return fail("min_shape_hold_fraction must be in (0, 1]");
+  if (!(shape_median_frames >= 1 && shape_median_frames % 2 == 1 && shape_median_frames <= 99))
+    return fail("shape_median_frames must be odd, 1 to 99");
   return true;
 }
 
@@ -93,6 +97,91 @@ RotationAngles CalcRotationAngles(const std::vector<Eigen::Quaterniond>& q_WB,
   UnwrapAngles(&out.twist_rad);
   return out;
 }
+
+namespace {
+
+// The flight's frames of `angle_rad` median-filtered over `width` frames (the window shrinks at
+// the ends), in degrees.
+std::vector<double> MedianDeg(const Eigen::VectorXd& angle_rad, int first, int last, int width) {
+  std::vector<double> out;
+  std::vector<double> window;
+  for (int i = first; i <= last; ++i) {
+    window.clear();
+    for (int k = std::max(first, i - width / 2); k <= std::min(last, i + width / 2); ++k)
+      window.push_back(angle_rad[k] / kDeg);
+    std::nth_element(window.begin(), window.begin() + window.size() / 2, window.end());
+    out.push_back(window[window.size() / 2]);
+  }
+  return out;
+}
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return 0.0;
+  std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+  return v[v.size() / 2];
+}
+
+// FIG body positions over the flight (JumpRotationOptions::closed_angle_deg).
+void ClassifyShape(const Eigen::VectorXd& hip_flexion_rad,
+                   const Eigen::VectorXd& knee_flexion_rad,
+                   int first,
+                   int last,
+                   const JumpRotationOptions& options,
+                   JumpRotation* out) {
+  const int width = options.shape_median_frames;
+  const std::vector<double> hip = MedianDeg(hip_flexion_rad, first, last, width);
+  const bool has_knee = knee_flexion_rad.size() > last;
+  const std::vector<double> knee =
+      has_knee ? MedianDeg(knee_flexion_rad, first, last, width) : std::vector<double>(hip.size());
+  // Closed: the body angle (180° − flexion) at or below the limit.
+  const double min_flexion = 180.0 - options.closed_angle_deg;
+  // The longest run of frames with the hips closed.
+  int run_start = -1, best_start = 0, best_length = 0;
+  for (int i = 0; i <= static_cast<int>(hip.size()); ++i) {
+    const bool closed = i < static_cast<int>(hip.size()) && hip[size_t(i)] >= min_flexion;
+    if (closed && run_start < 0) run_start = i;
+    if (!closed && run_start >= 0) {
+      if (i - run_start > best_length) {
+        best_length = i - run_start;
+        best_start = run_start;
+      }
+      run_start = -1;
+    }
+  }
+  const int frames = static_cast<int>(hip.size());
+  out->shape_hold_fraction = double(best_length) / std::max(1, frames);
+  std::vector<double> hip_angles, knee_angles;
+  int knees_closed = 0;
+  for (int i = best_start; i < best_start + best_length; ++i) {
+    hip_angles.push_back(180.0 - hip[size_t(i)]);
+    knee_angles.push_back(180.0 - knee[size_t(i)]);
+    knees_closed += knee[size_t(i)] >= min_flexion ? 1 : 0;
+  }
+  out->shape_hip_angle_deg = best_length > 0 ? Median(hip_angles) : 180.0 - Median(hip);
+  out->shape_knee_angle_deg = best_length > 0 ? Median(knee_angles) : 180.0 - Median(knee);
+  out->shape_knees_closed_fraction = double(knees_closed) / std::max(1, best_length);
+  const int limit = static_cast<int>(std::lround(options.closed_angle_deg));
+  const int held_percent = static_cast<int>(std::lround(100 * out->shape_hold_fraction));
+  if (out->shape_hold_fraction < options.min_shape_hold_fraction) {
+    out->skill.shape = SkillShape::kStraight;
+    out->shape_reason = "straight: the trunk–thigh angle stayed above " + std::to_string(limit) +
+                        "° (closed over " + std::to_string(held_percent) +
+                        " % of the flight at the most; median " +
+                        std::to_string(static_cast<int>(std::lround(180.0 - Median(hip)))) + "°)";
+    return;
+  }
+  const bool tuck = has_knee && out->shape_knees_closed_fraction >= 0.5;
+  out->skill.shape = tuck ? SkillShape::kTuck : SkillShape::kPike;
+  out->shape_reason = std::string(tuck ? "tuck" : "pike") + ": trunk–thigh " +
+                      std::to_string(static_cast<int>(std::lround(out->shape_hip_angle_deg))) +
+                      "°, thigh–shank " +
+                      std::to_string(static_cast<int>(std::lround(out->shape_knee_angle_deg))) +
+                      "° (medians) held over " + std::to_string(held_percent) +
+                      " % of the flight (FIG: " + (tuck ? "both" : "the hips") + " at or below " +
+                      std::to_string(limit) + "°" + (tuck ? "" : ", the knees above") + ")";
+}
+
+}  // namespace
 
 JumpRotation CountJumpRotation(const std::vector<Eigen::Quaterniond>& q_WB,
                                int takeoff_frame,
@@ -146,8 +235,9 @@ JumpRotation CountJumpRotation(const std::vector<Eigen::Quaterniond>& q_WB,
   for (double twist : twist_in_slot)
     skill.half_twists.push_back(static_cast<int>(std::lround(std::abs(twist) / kPi)));
 
-  // Shape at the most flexed instant of the flight.
+  // Shape: the longest hold with the hips closed, and whether the knees were closed over it.
   skill.shape = SkillShape::kStraight;
+  out.shape_reason = "straight: no hip angle measured";
   if (hip_flexion_rad.size() > landing_frame) {
     int best = takeoff_frame;
     for (int i = takeoff_frame; i <= landing_frame; ++i) {
@@ -156,11 +246,7 @@ JumpRotation CountJumpRotation(const std::vector<Eigen::Quaterniond>& q_WB,
     out.max_hip_flexion_deg = hip_flexion_rad[best] / kDeg;
     out.knee_flexion_at_max_hip_deg =
         knee_flexion_rad.size() > best ? knee_flexion_rad[best] / kDeg : 0.0;
-    if (out.max_hip_flexion_deg >= options.pike_min_hip_flexion_deg) {
-      skill.shape = out.knee_flexion_at_max_hip_deg >= options.tuck_min_knee_flexion_deg
-                        ? SkillShape::kTuck
-                        : SkillShape::kPike;
-    }
+    ClassifyShape(hip_flexion_rad, knee_flexion_rad, takeoff_frame, landing_frame, options, &out);
   }
   return out;
 }

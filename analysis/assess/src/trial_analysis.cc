@@ -443,6 +443,8 @@ std::string FormatJumpsJson(const TrialAnalysis& a) {
     o["measured_twist_deg"] = j.rotation.measured_twist_rad / kDeg;
     o["max_hip_flexion_deg"] = j.rotation.max_hip_flexion_deg;
     o["knee_flexion_at_max_hip_deg"] = j.rotation.knee_flexion_at_max_hip_deg;
+    o["shape_hold_fraction"] = j.rotation.shape_hold_fraction;
+    o["shape_reason"] = j.rotation.shape_reason;
     o["verdict"] = j.verdict;
     o["silhouette_iou"] = j.silhouette_iou ? Json(*j.silhouette_iou) : Json(nullptr);
     // The physical check of the flight, when it was judged.

@@ -5,6 +5,8 @@
 #include "acro/assess/jump_rotation.h"
 
 #include <cmath>
+#include <cstdint>
+#include <functional>
 
 #include <gtest/gtest.h>
 
@@ -200,6 +202,70 @@ TEST(JumpRotation, ShapeRulesOfTheTrampolineSuite) {
   EXPECT_EQ(shape(85, 5), SkillShape::kPike);
   EXPECT_EQ(shape(90, 15), SkillShape::kPike);
   EXPECT_EQ(shape(20, 10), SkillShape::kStraight);
+}
+
+// The FIG definition (Code of Points, trampoline, body positions): closed at or below 135° between
+// trunk and thighs (hip flexion 45°) and between thigh and shank; held over part of the flight, not
+// at one instant; robust to a frame of noise or of left/right swap.
+TEST(JumpRotation, ShapeIsTheFigBodyPositionHeld) {
+  const int n = 120;
+  std::vector<Eigen::Quaterniond> q;
+  for (int i = 0; i < n; ++i)
+    q.emplace_back(Eigen::AngleAxisd(-i / (n - 1.0) * 3 * kPi / 2, Eigen::Vector3d::UnitY()));
+  // Hip and knee flexion (deg) constant over frames [from, to), zero elsewhere.
+  auto count = [&](double hip_deg,
+                   double knee_deg,
+                   int from,
+                   int to,
+                   const std::function<void(Eigen::VectorXd&, Eigen::VectorXd&)>& edit = {}) {
+    Eigen::VectorXd hip = Eigen::VectorXd::Zero(n), knee = Eigen::VectorXd::Zero(n);
+    for (int i = from; i < to; ++i) {
+      hip[i] = hip_deg * kDeg;
+      knee[i] = knee_deg * kDeg;
+    }
+    if (edit) edit(hip, knee);
+    return CountJumpRotation(q, 0, n - 1, hip, knee);
+  };
+  // 135° is the line: trunk–thigh 133° is closed, 137° is not.
+  EXPECT_EQ(count(47, 10, 20, 100).skill.shape, SkillShape::kPike);
+  EXPECT_EQ(count(43, 10, 20, 100).skill.shape, SkillShape::kStraight);
+  EXPECT_EQ(count(47, 47, 20, 100).skill.shape, SkillShape::kTuck);
+  EXPECT_EQ(count(47, 43, 20, 100).skill.shape, SkillShape::kPike);
+  // Held: a closure over 10 % of the flight is a passing moment (the kick-out, the opening); over
+  // 20 % it is the shape.
+  EXPECT_EQ(count(110, 120, 50, 62).skill.shape, SkillShape::kStraight);
+  EXPECT_EQ(count(110, 120, 50, 74).skill.shape, SkillShape::kTuck);
+  // One frame of a left/right swap (the knees read straight for a frame, the hips open for
+  // another) neither breaks a tuck nor makes a straight jump a pike.
+  const JumpRotation swapped =
+      count(110, 120, 20, 100, [](Eigen::VectorXd& hip, Eigen::VectorXd& knee) {
+        knee[50] = 0;
+        hip[70] = 0;
+      });
+  EXPECT_EQ(swapped.skill.shape, SkillShape::kTuck);
+  EXPECT_GT(swapped.shape_hold_fraction, 0.6);
+  EXPECT_EQ(count(0, 0, 0, 0, [](Eigen::VectorXd& hip, Eigen::VectorXd&) { hip[60] = 120 * kDeg; })
+                .skill.shape,
+            SkillShape::kStraight);
+  // Keypoint noise (±8°, fixed pseudo-random) on a held pike.
+  const JumpRotation noisy = count(70, 5, 20, 100, [](Eigen::VectorXd& hip, Eigen::VectorXd& knee) {
+    std::uint64_t seed = 7;
+    for (int i = 0; i < hip.size(); ++i) {
+      seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
+      const double u = double(seed >> 11) / double(1ULL << 53) - 0.5;
+      hip[i] += 16 * u * kDeg;
+      knee[i] += std::abs(16 * u) * kDeg;
+    }
+  });
+  EXPECT_EQ(noisy.skill.shape, SkillShape::kPike);
+  // The reason, in words: the shape, the angles held and for how long.
+  const JumpRotation tuck = count(110, 120, 20, 100);
+  EXPECT_NEAR(tuck.shape_hip_angle_deg, 70, 1e-9);
+  EXPECT_NEAR(tuck.shape_knee_angle_deg, 60, 1e-9);
+  EXPECT_NEAR(tuck.shape_hold_fraction, 80.0 / n, 0.02);
+  EXPECT_EQ(tuck.shape_reason,
+            "tuck: trunk–thigh 70°, thigh–shank 60° (medians) held over 67 % of the flight (FIG: "
+            "both at or below 135°)");
 }
 
 }  // namespace

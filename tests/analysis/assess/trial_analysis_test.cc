@@ -335,6 +335,8 @@ TEST(TrialAnalysis, JumpsJsonHoldsEveryJumpsValues) {
                                          "measured_twist_deg",
                                          "max_hip_flexion_deg",
                                          "knee_flexion_at_max_hip_deg",
+                                         "shape_hold_fraction",
+                                         "shape_reason",
                                          "verdict",
                                          "silhouette_iou"};
   for (size_t k = 0; k < a.jumps.size(); ++k) {

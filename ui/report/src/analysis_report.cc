@@ -317,7 +317,8 @@ std::string FormatAnalysisReportHtml(const analysis::TrialAnalysis& a,
       << Fixed(j.displacement_from_centre_m, 2) << "</td><td>"
       << Fixed(j.rotation.measured_somersault_rad * kRadToDeg, 0) << "</td><td>"
       << Fixed(j.rotation.measured_twist_rad * kRadToDeg, 0) << "</td><td class=\"l\"><b>"
-      << Html(j.fig_code) << "</b></td><td class=\"l\">" << Html(j.skill_name) << "</td><td>"
+      << Html(j.fig_code) << "</b></td><td class=\"l\" title=\"" << Html(j.rotation.shape_reason)
+      << "\">" << Html(j.skill_name) << "</td><td>"
       << (j.partial() ? "–" : Fixed(j.difficulty.total(), 1)) << "</td><td>"
       << (j.check ? Fixed(j.check->window_force_bw, 3) : "–") << "</td>"
       << (options.silhouette_iou.empty()
@@ -325,7 +326,14 @@ std::string FormatAnalysisReportHtml(const analysis::TrialAnalysis& a,
               : "<td>" + (j.silhouette_iou ? Fixed(*j.silhouette_iou, 2) : "–") + "</td>")
       << "<td class=\"l " << (ok ? "pass" : "fail") << "\">" << Html(j.verdict) << "</td></tr>\n";
   }
-  h << "</table>\n<p>Apex: centre of mass above the bed at rest"
+  h << "</table>\n";
+  // Why each shape (FIG body positions, held): the angles and how long.
+  h << "<p>Shapes (FIG: a body angle at or below 135° is closed; held, not at one "
+       "instant):</p>\n<ul>\n";
+  for (const analysis::JumpMetrics& j : a.jumps)
+    h << "<li>" << j.index << " " << Html(j.fig_code) << ": " << Html(j.rotation.shape_reason)
+      << "</li>\n";
+  h << "</ul>\n<p>Apex: centre of mass above the bed at rest"
     << (a.bed ? " (bed from " + Html(a.bed->source) + ")" : " (no bed known: lab height)")
     << ". HD: horizontal distance of the landing feet from the take-off feet. Somersault (positive "
        "forward) and twist: measured in the air; the code counts the nominal rotation between "

@@ -40,9 +40,18 @@ struct JumpRotationOptions {
   /// in-air rotation of a feet-to-feet skill falls short of the nominal by about this (a double
   /// shows ~1¾ turns in the air, a single ¾–⅞; DESIGN.md, "Trampoline facts").
   double bed_rotation_quarters = 1.0;
-  /// Shape from the anatomical hip and knee flexion at the most flexed instant of the flight.
-  double pike_min_hip_flexion_deg = 60.0;   ///< hips closed at least this much: tuck or pike
-  double tuck_min_knee_flexion_deg = 70.0;  ///< knees bent at least this much: tuck (else pike)
+  /// Shape by the FIG Code of Points (trampoline, body positions), held, not at one instant: the
+  /// hips are closed when the angle between trunk and thighs (180° − the anatomical hip flexion) is
+  /// at or below this, the knees when the angle between thigh and shank (180° − knee flexion) is.
+  /// Tuck: both closed; pike: the hips closed, the knees straight; straight: the hips open.
+  double closed_angle_deg = 135.0;
+  /// A tuck or pike counts when the hips stay closed without a break over at least this fraction
+  /// of the flight (between the opening of the take-off and the kick-out); within that hold, tuck
+  /// when the knees are closed over at least half of it.
+  double min_shape_hold_fraction = 0.15;
+  /// The hip and knee angles are median-filtered over this many frames first (odd; 1: none), so
+  /// that keypoint noise and one frame of left/right swap do not break or fake a hold.
+  int shape_median_frames = 5;
 
   bool IsValid(std::string* why) const;
 };
@@ -57,6 +66,16 @@ struct JumpRotation {
   BodyPosition landing_position = BodyPosition::kFeet;
   double max_hip_flexion_deg = 0;  ///< anatomical, mean of both sides, at the most flexed instant
   double knee_flexion_at_max_hip_deg = 0;
+  /// Why the shape: the fraction of the flight the hips were held closed (the longest hold; 0 when
+  /// never), the median trunk–thigh and thigh–shank angles over it (deg), and the fraction of it
+  /// with the knees closed.
+  double shape_hold_fraction = 0;
+  double shape_hip_angle_deg = 180;
+  double shape_knee_angle_deg = 180;
+  double shape_knees_closed_fraction = 0;
+  /// The same in words: "tuck: trunk–thigh 62°, thigh–shank 55° (medians) held over 48 % of the
+  /// flight (FIG: both at or below 135°)".
+  std::string shape_reason;
 };
 
 /// Counts the rotation of a flight between `takeoff_frame` and `landing_frame` (inclusive). The
