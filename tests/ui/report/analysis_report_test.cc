@@ -10,9 +10,11 @@
 
 #include <cstdlib>
 #include "acro/athlete/athlete_profile.h"
+#include "acro/athlete/de_leva.h"
 #include "acro/base/input_error.h"
 #include "acro/base/text_format.h"
 #include "acro/capture/c3d.h"
+#include "acro/capture/trial_io.h"
 #include "refdata.h"
 
 namespace acro::ui {
@@ -149,6 +151,33 @@ TEST(AnalysisReport, PngAndSvgAreWrittenAndLinkedWithNoDisplay) {
   const std::string html(std::istreambuf_iterator<char>(page), {});
   EXPECT_NE(html.find("<img src=\"com_height.png\""), std::string::npos);
   EXPECT_NE(html.find("<a href=\"com_height.svg\">SVG</a>"), std::string::npos);
+}
+
+// A trial with no flight (the Pose2Sim balancing trial: a person standing on one leg, BODY_25B
+// keypoints) still gets its plots — the centre of mass and the joint — and the page says why the
+// flight charts are absent; it once lost every plot to the empty residual chart.
+TEST(AnalysisReport, ATrialWithoutAFlightStillHasItsPlots) {
+  const fs::path file = acro::testing::RefdataFile(
+      "pose2sim-demo/balancing-trial/pose-3d/S00_P00_T01_BalancingTrial_0-100.trc");
+  ACRO_REQUIRE_REFDATA_FILE(file);
+  const capture::Trial trial = capture::ReadTrial(file);
+  const analysis::TrialAnalysis a = analysis::AnalyzeTrial(
+      trial, nullptr, analysis::MakeDeLevaBody(1.75, 65.0, analysis::Sex::kFemale));
+  ASSERT_TRUE(a.phases.flights.empty());
+  const std::vector<ReportFigure> figures = MakeAnalysisFigures(a, {});
+  std::vector<std::string> files;
+  for (const ReportFigure& f : figures) files.push_back(f.file);
+  EXPECT_EQ(files,
+            (std::vector<std::string>{"com_height.png", "joint_angle.png", "joint_torque.png"}));
+  const fs::path dir = acro::testing::TempDir() / "analysis_report_no_flight";
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const AnalysisReportOutcome outcome = WriteAnalysisReport(a, dir, {});
+  ASSERT_TRUE(outcome.images_rendered) << outcome.reason;
+  EXPECT_EQ(outcome.images.size(), 6u);
+  std::ifstream page(dir / "report.html");
+  const std::string html(std::istreambuf_iterator<char>(page), {});
+  EXPECT_NE(html.find("No flight in this trial"), std::string::npos);
 }
 
 }  // namespace

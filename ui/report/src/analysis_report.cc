@@ -136,32 +136,36 @@ std::vector<ReportFigure> MakeAnalysisFigures(const analysis::TrialAnalysis& a,
         {"com_height.png", "Whole-body centre of mass and the lowest sole; flights shaded.", c});
   }
 
-  // Root residuals in flight against their thresholds.
+  // Root residuals in flight against their thresholds (charts of the judged flights: none
+  // without one — a trial with no flight, a balance trial, has nothing to draw there).
   const analysis::FrameDynamics& f = a.check.frames;
   const Eigen::VectorXd force = f.force_bw.colwise().norm().transpose();
   const Eigen::VectorXd moment = f.moment_bwh.colwise().norm().transpose();
-  out.push_back({"residual_force.png",
-                 "Residual force at the COM over the judged flight frames, in body weights: per "
-                 "frame and averaged over the window the verdict judges. Gravity is the only "
-                 "external force in flight, so it should be zero.",
-                 ResidualChart(a,
-                               "Root residual force in flight",
-                               "|F| / body weight",
-                               "|F|",
-                               InFlights(a, force),
-                               a.check.window_force_bw,
-                               a.check_options.max_force_bw)});
-  out.push_back({"residual_moment.png",
-                 "Residual moment about the COM over the judged flight frames, in body weight × "
-                 "stature, per frame and averaged as judged.",
-                 ResidualChart(a,
-                               "Root residual moment in flight",
-                               "|M| / (body weight × height)",
-                               "|M|",
-                               InFlights(a, moment),
-                               a.check.window_moment_bwh,
-                               a.check_options.max_moment_bwh)});
-  {
+  const bool judged = !a.check.flights.empty();
+  if (judged)
+    out.push_back({"residual_force.png",
+                   "Residual force at the COM over the judged flight frames, in body weights: per "
+                   "frame and averaged over the window the verdict judges. Gravity is the only "
+                   "external force in flight, so it should be zero.",
+                   ResidualChart(a,
+                                 "Root residual force in flight",
+                                 "|F| / body weight",
+                                 "|F|",
+                                 InFlights(a, force),
+                                 a.check.window_force_bw,
+                                 a.check_options.max_force_bw)});
+  if (judged)
+    out.push_back({"residual_moment.png",
+                   "Residual moment about the COM over the judged flight frames, in body weight × "
+                   "stature, per frame and averaged as judged.",
+                   ResidualChart(a,
+                                 "Root residual moment in flight",
+                                 "|M| / (body weight × height)",
+                                 "|M|",
+                                 InFlights(a, moment),
+                                 a.check.window_moment_bwh,
+                                 a.check_options.max_moment_bwh)});
+  if (judged) {
     Chart c = TimeChart(a, "Angular momentum about the centre of mass", "kg·m²/s");
     const Eigen::Matrix3Xd& L = f.angular_momentum;
     c.series.push_back(Series("|L|", t, InFlights(a, L.colwise().norm().transpose()), kBlue));
@@ -221,7 +225,7 @@ std::vector<ReportFigure> MakeAnalysisFigures(const analysis::TrialAnalysis& a,
                    c});
   }
   // Somersault and twist of every flight from its take-off (what the FIG code counts).
-  {
+  if (!a.jumps.empty()) {
     Chart c = TimeChart(a, "Somersault (solid) and twist (dashed) from each take-off", "degrees");
     std::vector<double> somersault(t.size(), std::numeric_limits<double>::quiet_NaN());
     std::vector<double> twist = somersault;
@@ -378,6 +382,9 @@ std::string FormatAnalysisReportHtml(const analysis::TrialAnalysis& a,
 
   // Plots.
   h << "<h2>Plots</h2>\n";
+  if (a.check.flights.empty())
+    h << "<p class=\"note\">No flight in this trial: no residual, angular momentum or rotation "
+         "charts (they cover the flights).</p>\n";
   if (outcome.images_rendered) {
     for (const ReportFigure& f : figures)
       h << "<figure><a href=\"" << Html(SvgName(f.file)) << "\"><img src=\"" << Html(f.file)
