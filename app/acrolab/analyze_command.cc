@@ -74,9 +74,7 @@ int RunAnalyze(AnalyzeArguments& args) {
   auto say = [quiet](const std::string& line) {
     if (!quiet) std::fprintf(stderr, "%s\n", line.c_str());
   };
-  const capture::Trial trial = capture::ReadTrial(common.trial_path);
-  std::optional<capture::Trial> static_trial;
-  if (!common.static_path.empty()) static_trial = capture::ReadTrial(common.static_path);
+  const auto [trial, static_trial] = common.ReadTrials("analyze");
   const analysis::AthleteBody body = common.MakeBody("analyze", &report.athlete);
 
   // The plotted joint must exist before any work is done (and before any file is written).

@@ -12,6 +12,8 @@
 #include "acro/athlete/athlete_profile.h"
 #include "acro/athlete/de_leva.h"
 #include "acro/base/temporaries.h"
+#include "acro/capture/trial_io.h"
+#include "acro/reconstruct/up_axis.h"
 #include "acro/vision/sync.h"
 #include "commands.h"
 
@@ -36,6 +38,11 @@ void TrialArguments::Declare(CLI::App* command, analysis::ReconstructionOptions*
       command->add_option("--sex", sex, "without --athlete: f or m (de Leva's tables)")
           ->check(CLI::IsMember({"f", "m"}));
   for (CLI::Option* o : {height, mass, sex_option}) athlete->excludes(o);
+  command->add_option(
+      "--up",
+      up,
+      "the file's up axis: auto (found from the head and the feet; a Y-up file "
+      "from OpenSim or Pose2Sim is turned to Z up with a warning), x, y, z, -x, -y, -z");
   command->add_option_function<std::string>(
       "--markerset",
       [this, options](const std::string& name) {
@@ -216,6 +223,24 @@ std::function<bool(int, int)> MakeCancellableProgress(const std::string& label,
     bar(done, total);
     return true;
   };
+}
+
+std::pair<capture::Trial, std::optional<capture::Trial>> TrialArguments::ReadTrials(
+    const std::string& command) const {
+  capture::Trial trial = capture::ReadTrial(trial_path);
+  analysis::UpAxis found;
+  const std::string turned = analysis::OrientTrialUp(&trial, up, &found);
+  if (!turned.empty())
+    std::fprintf(stderr, "acrolab %s: warning: %s\n", command.c_str(), turned.c_str());
+  std::optional<capture::Trial> static_trial;
+  if (!static_path.empty()) {
+    static_trial = capture::ReadTrial(static_path);
+    // The static trial was recorded in the same lab: the trial's up, forced.
+    if (found.found)
+      analysis::OrientTrialUp(&*static_trial,
+                              (found.sign > 0 ? "" : "-") + std::string(1, char('x' + found.axis)));
+  }
+  return {std::move(trial), std::move(static_trial)};
 }
 
 }  // namespace acro::app

@@ -5,7 +5,9 @@
 // function per step, print. docs/cli.md.
 
 #include <functional>
+#include <optional>
 #include <string>
+#include <utility>
 
 #include <CLI/CLI.hpp>
 
@@ -51,6 +53,7 @@ struct UsageError {
 /// --height/--mass/--sex, --markerset, -o, --cutoff, --no-scale, --threads, --quiet.
 struct TrialArguments {
   std::string trial_path, static_path, athlete_path, markerset, out_dir, sex = "f";
+  std::string up = "auto";  ///< --up: the file's up axis (auto: found from the head and feet)
   double height_m = 1.75, mass_kg = 65.0;
   bool quiet = false;
   /// Declares these options on `command`; those of the reconstruction write into `options`
@@ -60,6 +63,10 @@ struct TrialArguments {
   /// naming `command`; `athlete_name` (when given) gets the profile's name or a description.
   analysis::AthleteBody MakeBody(const std::string& command,
                                  std::string* athlete_name = nullptr) const;
+  /// The trial and the static trial (empty when none), read and turned Z up as --up says (the
+  /// static trial as the trial); the turn is a warning on stderr naming `command`.
+  std::pair<capture::Trial, std::optional<capture::Trial>> ReadTrials(
+      const std::string& command) const;
 };
 
 /// Throws UsageError with `why` when `options.IsValid` fails (the reason reaches the user).

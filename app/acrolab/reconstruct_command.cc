@@ -39,9 +39,7 @@ int RunReconstruct(ReconstructArguments& args) {
   CheckOutputDirectory(common.out_dir);  // before any work: a bad -o costs nothing
 
   // Inputs: trial, static trial, athlete.
-  const capture::Trial trial = capture::ReadTrial(common.trial_path);
-  std::optional<capture::Trial> static_trial;
-  if (!common.static_path.empty()) static_trial = capture::ReadTrial(common.static_path);
+  const auto [trial, static_trial] = common.ReadTrials("reconstruct");
   const analysis::AthleteBody body = common.MakeBody("reconstruct");
   const std::string& trial_path = common.trial_path;
   const std::string& out_dir = common.out_dir;

@@ -38,4 +38,14 @@ int Trial::FindAnalog(const std::string& label) const {
   return -1;
 }
 
+void RotateTrial(const Eigen::Matrix3d& R_new_old, Trial* trial) {
+  trial->positions = R_new_old * trial->positions;  // NaN gaps stay NaN
+  for (ForcePlate& plate : trial->force_plates) {
+    plate.corners_W_m = R_new_old * plate.corners_W_m;
+    for (Eigen::Matrix3Xd* m :
+         {&plate.force_W_N, &plate.cop_W_m, &plate.free_moment_W_Nm, &plate.moment_at_origin_W_Nm})
+      if (m->cols() > 0) *m = R_new_old * *m;
+  }
+}
+
 }  // namespace acro::capture

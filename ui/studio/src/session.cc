@@ -14,6 +14,7 @@
 #include "acro/base/file_io.h"
 #include "acro/base/input_error.h"
 #include "acro/capture/trial_io.h"
+#include "acro/reconstruct/up_axis.h"
 #include "acro/scene/silhouette_check.h"
 
 namespace acro::studio {
@@ -47,6 +48,9 @@ std::unique_ptr<Session> Session::Open(const SessionFiles& files, const Progress
   if (progress && !progress("reading " + files.trial, 0, 1))
     throw InputError(files.trial, "", "cancelled");
   s->trial_ = std::make_unique<capture::Trial>(capture::ReadTrial(files.trial));
+  // A Y-up file (OpenSim, Pose2Sim) turned Z up, as `acrolab analyze` does by default.
+  if (const std::string turned = analysis::OrientTrialUp(s->trial_.get(), "auto"); !turned.empty())
+    s->warnings_.push_back(turned);
   if (!files.athlete.empty()) {
     s->body_ = analysis::MakeAthleteBody(analysis::ReadAthleteProfile(files.athlete));
   } else {

@@ -145,4 +145,9 @@ struct Trial {
   int FindAnalog(const std::string& label) const;
 };
 
+/// Turns everything the trial holds in W by R_new_old (a rotation): the points, the force plates'
+/// corners and their outputs in W. For a file recorded with another axis up (analysis'
+/// OrientTrialUp). The plates' own frames follow their corners.
+void RotateTrial(const Eigen::Matrix3d& R_new_old, Trial* trial);
+
 }  // namespace acro::capture
