@@ -50,7 +50,8 @@ MarkerSet MarkerSetFromYaml(const YamlNode& root, const dynamics::Model<double>*
 /// Reads a marker-set file.
 MarkerSet ReadMarkerSet(const std::filesystem::path& path,
                         const dynamics::Model<double>* model = nullptr);
-/// Names of the shipped sets: "plug_in_gait", "helen_hayes", "coco17", "trampoline".
+/// Names of the shipped sets: "plug_in_gait", "helen_hayes", "trampoline" (markers); "coco17",
+/// "body25", "body25b", "halpe26", "blazepose33" (video keypoints).
 std::vector<std::string> BuiltinMarkerSetNames();
 /// A shipped set by name; throws acro::InputError (where "markerset") for an unknown name.
 MarkerSet BuiltinMarkerSet(std::string_view name);
