@@ -14,6 +14,7 @@
 #include "acro/athlete/standard_human.h"
 #include "acro/base/input_error.h"
 #include "acro/dynamics/configuration.h"
+#include "acro/dynamics/kinematics.h"
 #include "acro/reconstruct/phases.h"
 
 namespace acro::analysis {
@@ -156,11 +157,47 @@ MarkerSet ChooseMarkerSet(const capture::Trial& trial,
   return markerset;
 }
 
+// The joint angles (indices among the joint dofs) that none of the trial's markers moves by 1 mm
+// per radian or more, in the reference pose nor with every joint bent 0.6 rad (a bent knee lets
+// the ankle see the thigh's rotation): what this set cannot see on this trial.
+std::vector<int> UnseenJointDofs(const dynamics::Model<double>& model,
+                                 const std::vector<ModelMarker>& markers,
+                                 const MarkerSetMatch& match) {
+  dynamics::Workspace<double> ws(model);
+  const auto positions = [&](const Eigen::VectorXd& q) {
+    dynamics::CalcForwardKinematics(model, ws, q);
+    Eigen::Matrix3Xd p(3, Eigen::Index(markers.size()));
+    for (size_t k = 0; k < markers.size(); ++k)
+      p.col(Eigen::Index(k)) =
+          match.trial_point[k] >= 0
+              ? Eigen::Vector3d(ws.X_WB[size_t(markers[k].segment)] * markers[k].p_BoM_B)
+              : Eigen::Vector3d::Zero();
+    return p;
+  };
+  const Eigen::VectorXd q0 = dynamics::MakeNeutralConfiguration(model);
+  Eigen::VectorXd q1 = q0;
+  q1.tail(model.num_joint_dofs()).setConstant(0.6);
+  std::vector<int> unseen;
+  constexpr double kStep = 1e-4;
+  for (int j = 0; j < model.num_joint_dofs(); ++j) {
+    double moved = 0;
+    for (const Eigen::VectorXd& q : {q0, q1}) {
+      Eigen::VectorXd dq = q;
+      dq[dynamics::kRootNq + j] += kStep;
+      moved = std::max(moved, (positions(dq) - positions(q)).colwise().norm().maxCoeff() / kStep);
+    }
+    if (moved < 1e-3) unseen.push_back(j);
+  }
+  return unseen;
+}
+
 // The inverse kinematics options; with video keypoints, the angles that 17 keypoints leave
-// undetermined (thorax, hands, feet, forearm pronation) rest at the reference pose.
+// undetermined (thorax, hands, feet, forearm pronation) and any other the set cannot see
+// (`unseen`) rest at the reference pose.
 InverseKinematicsOptions MakeIkOptions(const ReconstructionOptions& options,
                                        const MarkerSet& markerset,
-                                       const dynamics::Model<double>& model) {
+                                       const dynamics::Model<double>& model,
+                                       const std::vector<int>& unseen_dofs) {
   InverseKinematicsOptions ik_options = options.ik;
   if (!markerset.keypoints || !ik_options.joint_prior_m_per_rad.empty()) return ik_options;
   ik_options.joint_prior_m_per_rad.assign(size_t(model.num_joint_dofs()), 0.0);
@@ -168,8 +205,10 @@ InverseKinematicsOptions MakeIkOptions(const ReconstructionOptions& options,
     const dynamics::Segment<double>& seg = model.segment(s);
     const std::string base = ScaleGroupOf(seg.name);
     for (int k = 0; k < seg.num_axes; ++k) {
+      const int dof = seg.q_start - dynamics::kRootNq + k;
       const bool unseen =
-          base == "thorax" || base == "hand" || base == "foot" || (base == "forearm" && k == 1);
+          base == "thorax" || base == "hand" || base == "foot" || (base == "forearm" && k == 1) ||
+          std::find(unseen_dofs.begin(), unseen_dofs.end(), dof) != unseen_dofs.end();
       if (unseen)
         ik_options.joint_prior_m_per_rad[size_t(seg.q_start - dynamics::kRootNq + k)] =
             options.keypoint_unseen_angle_prior_m_per_rad;
@@ -717,7 +756,21 @@ ReconstructionResult Reconstruct(const capture::Trial& trial,
   const dynamics::Model<double> model0 = MakeStandardHumanModel(body);
   std::vector<ModelMarker> markers = PlaceMarkers(result.markerset, model0, body.height_m);
   const std::vector<JointLimit> limits = StandardJointLimits(model0);
-  const InverseKinematicsOptions ik_options = MakeIkOptions(options, result.markerset, model0);
+  // What the set cannot see on this trial: said, and held at the reference pose.
+  const std::vector<int> unseen = UnseenJointDofs(model0, markers, match);
+  if (!unseen.empty()) {
+    const std::vector<std::string> names = MakeCoordinateNames(model0);
+    std::string list;
+    for (const int j : unseen)
+      list += (list.empty() ? "" : ", ") + names[size_t(dynamics::kRootNq + j)];
+    summary.warnings.push_back("the " + result.markerset.name + " " +
+                               (result.markerset.keypoints ? "keypoints" : "markers") +
+                               " on this trial cannot see " + std::to_string(unseen.size()) +
+                               " joint angles (" + list + ")" +
+                               (result.markerset.keypoints ? ": held at the reference pose" : ""));
+  }
+  const InverseKinematicsOptions ik_options =
+      MakeIkOptions(options, result.markerset, model0, unseen);
   const int M = static_cast<int>(markers.size());
   const int F = trial.num_frames;
   const double rate = trial.point_rate_hz;

@@ -384,6 +384,31 @@ TEST(Reconstruction, RealDataHelenHayesAndKeypoints) {
   EXPECT_GE(b.summary.flights.size(), 4u);
   // Video keypoints: the median frame near the guideline (measured 2.3 cm; docs/reconstruction.md).
   EXPECT_LT(b.summary.median_rms_m, 0.03);
+  // What 17 keypoints on joint centres cannot see, said (and held at the reference pose): the
+  // forearms' twist, the wrists, the ankles. Helen Hayes (no hand markers) cannot see the wrists,
+  // and says so.
+  const auto said = [](const ReconstructionResult& r) {
+    for (const std::string& w : r.summary.warnings)
+      if (w.find("cannot see") != std::string::npos) return w;
+    return std::string();
+  };
+  EXPECT_EQ(said(b),
+            "the coco17 keypoints on this trial cannot see 10 joint angles (r_elbow_pronation, "
+            "r_wrist_flexion, r_wrist_deviation, l_elbow_pronation, l_wrist_flexion, "
+            "l_wrist_deviation, r_ankle_flexion, r_ankle_inversion, l_ankle_flexion, "
+            "l_ankle_inversion): held at the reference pose");
+  EXPECT_EQ(said(a),
+            "the helen_hayes markers on this trial cannot see 4 joint angles (r_wrist_flexion, "
+            "r_wrist_deviation, l_wrist_flexion, l_wrist_deviation)");
+  // Pose2Sim's BODY_25B (toes and heels): the ankles are seen, the forearms and wrists are not.
+  const auto p2s = testing::RefdataFile(
+      "pose2sim-demo/balancing-trial/pose-3d/S00_P00_T01_BalancingTrial_0-100.trc");
+  ACRO_REQUIRE_REFDATA_FILE(p2s);
+  const ReconstructionResult c = Reconstruct(capture::ReadTrial(p2s), nullptr, body, {});
+  EXPECT_EQ(c.summary.markerset, "body25b");
+  EXPECT_NE(said(c).find("cannot see 6 joint angles (r_elbow_pronation"), std::string::npos)
+      << said(c);
+  EXPECT_EQ(said(c).find("ankle"), std::string::npos) << said(c);
 }
 
 INSTANTIATE_TEST_SUITE_P(MarkerSets,
