@@ -179,12 +179,14 @@ std::vector<int> UnseenJointDofs(const dynamics::Model<double>& model,
   q1.tail(model.num_joint_dofs()).setConstant(0.6);
   std::vector<int> unseen;
   constexpr double kStep = 1e-4;
+  const Eigen::VectorXd poses[] = {q0, q1};
+  const Eigen::Matrix3Xd at[] = {positions(q0), positions(q1)};
   for (int j = 0; j < model.num_joint_dofs(); ++j) {
     double moved = 0;
-    for (const Eigen::VectorXd& q : {q0, q1}) {
-      Eigen::VectorXd dq = q;
+    for (int k = 0; k < 2; ++k) {
+      Eigen::VectorXd dq = poses[k];
       dq[dynamics::kRootNq + j] += kStep;
-      moved = std::max(moved, (positions(dq) - positions(q)).colwise().norm().maxCoeff() / kStep);
+      moved = std::max(moved, (positions(dq) - at[k]).colwise().norm().maxCoeff() / kStep);
     }
     if (moved < 1e-3) unseen.push_back(j);
   }

@@ -44,7 +44,8 @@ DesignedSkill ReadDesignedSkill(const std::filesystem::path& path,
                                 const dynamics::Model<double>& model) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec))
-    throw InputError(path.string(), "", "no such folder or file (acrolab optimize's output folder)");
+    throw InputError(
+        path.string(), "", "no such folder or file (acrolab optimize's output folder)");
   const std::filesystem::path dir = std::filesystem::is_directory(path) ? path : path.parent_path();
   const std::filesystem::path result_path = dir / "result.json";
   const std::filesystem::path mot_path = dir / "motion.mot";

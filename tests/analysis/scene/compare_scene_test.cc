@@ -15,29 +15,14 @@
 #include "acro/capture/trial_io.h"
 #include "acro/dynamics/configuration.h"
 #include "acro/scene/trial_scene.h"
+#include "analysed_sample.h"
 #include "refdata.h"
 
 namespace acro::analysis {
 namespace {
 
-struct Sample {
-  capture::Trial trial;
-  AthleteBody body;
-  TrialAnalysis analysis;
-};
-
-const Sample& TheSample() {
-  static const Sample sample = [] {
-    Sample s;
-    s.trial = capture::ReadTrial(acro::testing::SourceDir() /
-                                 "samples/trials/trampoline_routine/trampoline_routine.c3d");
-    s.body = MakeAthleteBody(
-        ReadAthleteProfile(acro::testing::SourceDir() / "samples/athletes/sample_athlete.yaml"));
-    s.analysis = AnalyzeTrial(s.trial, nullptr, s.body);
-    return s;
-  }();
-  return sample;
-}
+using Sample = testing::AnalysedSample;
+using testing::TheSample;
 
 CompareJump Jump(int index) {
   const Sample& s = TheSample();

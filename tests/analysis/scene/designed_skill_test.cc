@@ -20,6 +20,7 @@
 #include "acro/report/skill_report.h"
 #include "acro/scene/compare_scene.h"
 #include "acro/scene/trial_scene.h"
+#include "analysed_sample.h"
 #include "refdata.h"
 
 namespace acro::analysis {
@@ -45,23 +46,30 @@ const Design& TheBackTuck() {
   return back_tuck;
 }
 
-// The sample routine analysed for its athlete (the real jumps the design meets).
-struct Sample {
-  capture::Trial trial;
-  AthleteBody body;
-  TrialAnalysis analysis;
+using testing::TheSample;
+
+// The largest differences between a motion read or made from a design and the design evaluated
+// directly at the motion's times: root position (m), root orientation (rad), joint angles (rad).
+struct Worst {
+  double position = 0, angle = 0, joint = 0;
 };
-const Sample& TheSample() {
-  static const Sample sample = [] {
-    Sample s;
-    s.trial = capture::ReadTrial(acro::testing::SourceDir() /
-                                 "samples/trials/trampoline_routine/trampoline_routine.c3d");
-    s.body = MakeAthleteBody(
-        ReadAthleteProfile(acro::testing::SourceDir() / "samples/athletes/sample_athlete.yaml"));
-    s.analysis = AnalyzeTrial(s.trial, nullptr, s.body);
-    return s;
-  }();
-  return sample;
+Worst AgainstTheDesign(const Motion& m,
+                       const SkillDesign& design,
+                       const SkillTrajectory& trajectory) {
+  Worst w;
+  for (int f = 0; f < m.num_frames(); ++f) {
+    const SkillMotionState s = CalcSkillMotion(design, trajectory, m.time_s(f));
+    w.position = std::max(w.position, (m.q.col(f).head<3>() - s.q.head<3>()).norm());
+    w.angle = std::max(
+        w.angle,
+        dynamics::GetRootQuaternion(m.q.col(f)).angularDistance(dynamics::GetRootQuaternion(s.q)));
+    w.joint = std::max(
+        w.joint,
+        (m.q.col(f).tail(m.nq() - dynamics::kRootNq) - s.q.tail(m.nq() - dynamics::kRootNq))
+            .cwiseAbs()
+            .maxCoeff());
+  }
+  return w;
 }
 
 TEST(DesignedSkill, ReadsOptimizesFolderBackAsTheOptimisedMotion) {
@@ -77,22 +85,10 @@ TEST(DesignedSkill, ReadsOptimizesFolderBackAsTheOptimisedMotion) {
   const Motion& m = read.motion;
   ASSERT_GT(m.num_frames(), 100);  // 100 Hz over ~1.4 s
   EXPECT_NEAR(m.time_s(m.num_frames() - 1), design.flight_time_s(), 1e-9);
-  double worst_position = 0, worst_angle = 0, worst_joint = 0;
-  for (int f = 0; f < m.num_frames(); ++f) {
-    const SkillMotionState s = CalcSkillMotion(design, d.result.optimized, m.time_s(f));
-    worst_position = std::max(worst_position, (m.q.col(f).head<3>() - s.q.head<3>()).norm());
-    worst_angle = std::max(
-        worst_angle,
-        dynamics::GetRootQuaternion(m.q.col(f)).angularDistance(dynamics::GetRootQuaternion(s.q)));
-    worst_joint = std::max(
-        worst_joint,
-        (m.q.col(f).tail(m.nq() - dynamics::kRootNq) - s.q.tail(m.nq() - dynamics::kRootNq))
-            .cwiseAbs()
-            .maxCoeff());
-  }
-  EXPECT_LT(worst_position, 1e-9);
-  EXPECT_LT(worst_angle, 1e-9);
-  EXPECT_LT(worst_joint, 1e-9);
+  const Worst worst = AgainstTheDesign(m, design, d.result.optimized);
+  EXPECT_LT(worst.position, 1e-9);
+  EXPECT_LT(worst.angle, 1e-9);
+  EXPECT_LT(worst.joint, 1e-9);
   // The folder, its result.json or its motion.mot name the same design.
   EXPECT_EQ(ReadDesignedSkill(d.dir / "motion.mot", design.model()).motion.q, m.q);
 }
@@ -119,16 +115,9 @@ TEST(DesignedSkill, MadeFromTheResultItIsTheFolderReadBack) {
   EXPECT_EQ(m.coordinate_names, read.motion.coordinate_names);
   EXPECT_EQ(m.time_s(0), 0.0);
   EXPECT_NEAR(m.time_s(m.num_frames() - 1), design.flight_time_s(), 1e-12);
-  double worst_position = 0, worst_angle = 0;
-  for (int f = 0; f < m.num_frames(); ++f) {
-    const SkillMotionState s = CalcSkillMotion(design, d.result.optimized, m.time_s(f));
-    worst_position = std::max(worst_position, (m.q.col(f).head<3>() - s.q.head<3>()).norm());
-    worst_angle = std::max(
-        worst_angle,
-        dynamics::GetRootQuaternion(m.q.col(f)).angularDistance(dynamics::GetRootQuaternion(s.q)));
-  }
-  EXPECT_LT(worst_position, 1e-9);
-  EXPECT_LT(worst_angle, 1e-9);
+  const Worst worst = AgainstTheDesign(m, design, d.result.optimized);
+  EXPECT_LT(worst.position, 1e-9);
+  EXPECT_LT(worst.angle, 1e-9);
 }
 
 // Compare mode with a design as B (the studio): the sample's back tuck (jump 2) against the

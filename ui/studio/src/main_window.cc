@@ -30,7 +30,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <sstream>
 
 #include <fmt/format.h>
 
@@ -381,29 +380,10 @@ std::string MainWindow::shown() const {
   return list;
 }
 
-namespace {
-
-// The list without "cameras" (the scene's words), and whether it named the cameras.
-std::pair<std::string, bool> SplitCameras(const std::string& list) {
-  std::string scene;
-  bool cameras = false;
-  std::stringstream words(list);
-  for (std::string word; std::getline(words, word, ',');) {
-    if (word == "cameras") {
-      cameras = true;
-    } else {
-      scene += (scene.empty() ? "" : ",") + word;
-    }
-  }
-  return {scene, cameras};
-}
-
-}  // namespace
-
 void MainWindow::SetShown(const std::string& list) {
-  const auto [scene, cameras] = SplitCameras(list);
-  const analysis::SceneShow show = analysis::ParseSceneShow(scene);
-  const bool on[] = {show.mesh, show.skeleton, show.markers, show.com, cameras};
+  const ShownParts parts = ParseShownParts(list);
+  const analysis::SceneShow& show = parts.scene;
+  const bool on[] = {show.mesh, show.skeleton, show.markers, show.com, parts.cameras};
   for (size_t k = 0; k < show_actions_.size(); ++k) {
     const QSignalBlocker block(show_actions_[k]);
     show_actions_[k]->setChecked(on[k]);
@@ -419,10 +399,10 @@ void MainWindow::ApplyShow() {
 
 void MainWindow::ShowInView() {
   if (!free_view_ || !session_) return;
-  const auto [scene, cameras] = SplitCameras(shown());
-  free_view_->SetShow(analysis::ParseSceneShow(scene));
+  const ShownParts parts = ParseShownParts(shown());
+  free_view_->SetShow(parts.scene);
   std::vector<vision::Camera> shown_cameras;
-  for (int k = 0; cameras && k < session_->num_videos(); ++k)
+  for (int k = 0; parts.cameras && k < session_->num_videos(); ++k)
     shown_cameras.push_back(session_->camera(k));
   free_view_->SetCameras(shown_cameras);
 }

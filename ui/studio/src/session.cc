@@ -133,6 +133,21 @@ int Session::SampleOf(int video_frame, int k) const {
   return video.sync.NearestSample(*trial_, video.reader->frame_times_s()[size_t(video_frame)]);
 }
 
+ShownParts ParseShownParts(const std::string& list) {
+  std::string scene;
+  ShownParts parts;
+  std::stringstream words(list);
+  for (std::string word; std::getline(words, word, ',');) {
+    if (word == "cameras") {
+      parts.cameras = true;
+    } else {
+      scene += (scene.empty() ? "" : ",") + word;
+    }
+  }
+  parts.scene = analysis::ParseSceneShow(scene);
+  return parts;
+}
+
 void WriteSessionFile(const fs::path& path, const SessionFiles& files, const SessionView& view) {
   const fs::path base = fs::absolute(path).parent_path();
   // A path below the session's folder is kept relative to it, so the folder can move.
@@ -238,11 +253,7 @@ std::pair<SessionFiles, SessionView> ReadSessionFile(const fs::path& path) {
   if (j.contains("show")) {
     view.show = text(j, "show", "show");
     try {
-      std::string scene;  // "cameras" is the studio's own word
-      std::stringstream words(view.show);
-      for (std::string word; std::getline(words, word, ',');)
-        if (word != "cameras") scene += word + ",";
-      analysis::ParseSceneShow(scene);
+      ParseShownParts(view.show);
     } catch (const std::exception&) {
       throw InputError(
           file,

@@ -112,6 +112,15 @@ class Session {
   std::vector<std::string> warnings_;
 };
 
+/// What a SessionView::show list asks of the 3D view: the scene's parts (analysis::ParseSceneShow's
+/// words) and whether "cameras", the studio's own word, is among them. Throws acro::InputError
+/// (where "--show") for a word that is neither.
+struct ShownParts {
+  analysis::SceneShow scene;
+  bool cameras = false;
+};
+ShownParts ParseShownParts(const std::string& list);
+
 /// The session file (JSON, `.acrolab`): format "acrolab-session", version 2, the files (relative
 /// to the session file's folder when they are below it; `videos` a list of {video, calibration,
 /// camera, offset_s}), the view. Written atomically. Version 1 (one video's keys at the top
