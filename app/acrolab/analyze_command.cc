@@ -256,11 +256,12 @@ void AddAnalyzeCommand(CLI::App& app, CommandRunner* run) {
         args->options.bed = bed;
       },
       "X,Y,Z: centre of the trampoline bed (m), when the trial has no BED markers");
-  command->add_option("--surface-height",
-                      args->options.surface_height_m,
-                      "height of the take-off surface (m) when the trial has no BED markers: "
-                      "1.155 for a FIG trampoline over a floor at z = 0; the phases then come "
-                      "from the soles (default: from the centre of mass)");
+  command->add_option(
+      "--surface-height",
+      args->options.surface_height_m,
+      "height of the take-off surface (m) when the trial has no BED markers: "
+      "1.155 for a FIG trampoline over a floor at z = 0; the phases then come "
+      "from the soles (default: the bed or floor estimated from the motion, docs/metrics.md)");
   command->add_flag_callback(
       "--no-force-plates",
       [args] { args->options.use_force_plates = false; },

@@ -267,11 +267,14 @@ TEST(Cli, AnalyzeWithoutAnyDisplayWritesTheMilestoneOneNumbersAndTheCharts) {
                                   "tests/data/sample_routine_jumps_milestone1.json"));
   nlohmann::json actual = nlohmann::json::parse(Slurp(out / "jumps.json"));
   ASSERT_EQ(expected.size(), 6u);
-  // Milestone 2 added keys: the silhouette IoU, null without a video, and why the shape (the FIG
-  // body positions held: the same shapes as milestone 1's on this sample, checked below).
+  // Milestone 2 added keys: the silhouette IoU, null without a video, why the shape (the FIG
+  // body positions held: the same shapes as milestone 1's on this sample, checked below) and
+  // where the surface's height comes from (here the bed's corner markers).
   for (nlohmann::json& jump : actual) {
     EXPECT_TRUE(jump["silhouette_iou"].is_null());
     jump.erase("silhouette_iou");
+    EXPECT_EQ(jump["surface"], "bed at rest 1.155 m from markers BED_C1–BED_C4");
+    jump.erase("surface");
     const std::string shape = jump["shape"].get<std::string>();
     EXPECT_EQ(jump["shape_reason"].get<std::string>().rfind(shape + ":", 0), 0u)
         << jump["shape_reason"];

@@ -234,6 +234,7 @@ TrialAnalysis AnalyzeTrial(const capture::Trial& trial,
   // is known, else the whole-body COM.
   start = std::chrono::steady_clock::now();
   out.bed = options.bed ? options.bed : FindBed(trial);
+  if (!out.bed) out.surface_height_m = options.surface_height_m;
   Eigen::Matrix3Xd com_W, sole_r, sole_l;
   CalcComAndSoles(model, motion, com_W, sole_r, sole_l);
   out.feet_z_m = sole_r.row(2).cwiseMin(sole_l.row(2)).transpose();
@@ -251,7 +252,22 @@ TrialAnalysis AnalyzeTrial(const capture::Trial& trial,
     const double surface = out.bed ? out.bed->centre_W.z() : *options.surface_height_m;
     out.phases = DetectFlightsFromFeet(motion.time_s, out.feet_z_m, surface, com_z, phase_options);
   } else {
+    // No surface known: the flights from the COM first, then the surface from the soles over the
+    // contacts between them. A bed: the flights from the soles against it (the COM alone misses
+    // the soft start and end of a bed's push by several frames). A floor: the COM's flights stay
+    // (a rigid floor's push starts and ends sharply, and the model's sole point, the middle of
+    // the foot, rises with the heel before the toes leave the floor).
     out.phases = DetectFlightsFromCom(motion.time_s, com_z, phase_options);
+    out.surface =
+        EstimateContactSurface(motion.time_s, out.feet_z_m, com_z, out.phases, phase_options);
+    if (out.surface) {
+      progress("phases: " + out.surface->Describe() + ", estimated from the soles and the COM");
+      if (out.surface->gives_way) {
+        out.phases = DetectFlightsFromFeet(
+            motion.time_s, out.feet_z_m, out.surface->z_m, com_z, phase_options);
+        out.phases.method = "feet, bed estimated";
+      }
+    }
   }
   int complete = 0;
   for (const Flight& f : out.phases.flights) complete += f.partial ? 0 : 1;
@@ -304,9 +320,11 @@ TrialAnalysis AnalyzeTrial(const capture::Trial& trial,
     j.apex_above_bed_m = kNaN;
     j.displacement_from_centre_m = kNaN;
     j.landing_in_bed_m.setConstant(kNaN);
+    if (const std::optional<double> surface = out.SurfaceHeight()) {
+      j.apex_above_bed_m = f.apex_z_m - *surface;
+    }
     if (out.bed) {
       const BedGeometry& bed = *out.bed;
-      j.apex_above_bed_m = f.apex_z_m - bed.centre_W.z();
       const Eigen::Vector3d d = j.landing_feet_W - bed.centre_W;
       const Eigen::Vector3d across = Eigen::Vector3d::UnitZ().cross(bed.long_axis_W);
       j.landing_in_bed_m = Eigen::Vector2d(d.dot(bed.long_axis_W), d.dot(across));
@@ -348,8 +366,23 @@ TrialAnalysis AnalyzeTrial(const capture::Trial& trial,
   return out;
 }
 
+std::optional<double> TrialAnalysis::SurfaceHeight() const {
+  if (bed) return bed->centre_W.z();
+  if (surface_height_m) return surface_height_m;
+  if (surface) return surface->z_m;
+  return std::nullopt;
+}
+
+std::string TrialAnalysis::SurfaceSource() const {
+  if (bed) return fmt::format("bed at rest {:.3f} m from {}", bed->centre_W.z(), bed->source);
+  if (surface_height_m) return fmt::format("surface at {:.3f} m given", *surface_height_m);
+  if (surface) return surface->Describe() + ", estimated from the soles and the COM";
+  return "no surface known";
+}
+
 std::string TrialAnalysis::BriefReport() const {
   std::ostringstream s;
+  s << "surface: " << SurfaceSource() << "\n";
   s << fmt::format("routine: {} skills, DD {:.1f}, time of flight {:.3f} s\n",
                    num_scored,
                    total_difficulty,
@@ -421,6 +454,7 @@ std::string FormatJumpsJson(const TrialAnalysis& a) {
     o["time_of_flight_s"] = j.time_of_flight_s();
     o["apex_m"] = j.apex_m();
     o["apex_above_bed_m"] = j.apex_above_bed_m;
+    o["surface"] = a.SurfaceSource();
     o["takeoff_vertical_velocity_m_per_s"] = j.takeoff_vertical_velocity_m_per_s();
     o["fitted_gravity_m_per_s2"] = j.flight.fitted_gravity_m_per_s2;
     o["takeoff_feet_m"] = {j.takeoff_feet_W.x(), j.takeoff_feet_W.y(), j.takeoff_feet_W.z()};

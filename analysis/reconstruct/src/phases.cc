@@ -3,6 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <numbers>
+#include <string>
+
+#include <fmt/format.h>
 
 #include <Eigen/Dense>
 
@@ -327,6 +331,174 @@ PhaseSegmentation DetectFlightsFromFeet(const Eigen::VectorXd& time_s,
                                                    options);
   result.method = "feet";
   return result;
+}
+
+std::string SurfaceEstimate::Describe() const {
+  const int n = static_cast<int>(contact_z_m.size());
+  return fmt::format("{} at rest {:.3f} m (spread {:.3f} m over {} contact{}{})",
+                     gives_way ? "bed" : "floor",
+                     z_m,
+                     spread_m,
+                     n,
+                     n == 1 ? "" : "s",
+                     gives_way ? fmt::format(", soles sink {:.2f} m", depth_m) : "");
+}
+
+namespace {
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return std::numeric_limits<double>::quiet_NaN();
+  const size_t m = v.size() / 2;
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(m), v.end());
+  const double hi = v[m];
+  if (v.size() % 2 == 1) return hi;
+  return 0.5 * (hi + *std::max_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(m)));
+}
+
+// Linear interpolation of uniformly sampled values at time t.
+double Interpolate(const Eigen::VectorXd& time_s, const Eigen::VectorXd& values, double t) {
+  const int n = static_cast<int>(time_s.size());
+  const double dt = (time_s[n - 1] - time_s[0]) / (n - 1);
+  const double u = std::clamp((t - time_s[0]) / dt, 0.0, n - 1.0);
+  const int i = std::min(static_cast<int>(u), n - 2);
+  return values[i] + (u - i) * (values[i + 1] - values[i]);
+}
+
+// A curve of the COM's height against time with its derivative: a flight's parabola or a
+// contact's sinusoid.
+struct ComCurve {
+  Eigen::Vector3d c = Eigen::Vector3d::Zero();
+  double t_ref = 0, omega = 0;  // omega 0: parabola c0 + c1 τ + c2 τ²
+  double z(double t) const {
+    const double tau = t - t_ref;
+    return omega == 0 ? c[0] + c[1] * tau + c[2] * tau * tau
+                      : c[0] + c[1] * std::cos(omega * tau) + c[2] * std::sin(omega * tau);
+  }
+  double v(double t) const {
+    const double tau = t - t_ref;
+    return omega == 0 ? c[1] + 2 * c[2] * tau
+                      : omega * (-c[1] * std::sin(omega * tau) + c[2] * std::cos(omega * tau));
+  }
+};
+
+// The COM in a contact of a sprung bed: z = z_eq + c1 cos ω(t − t_ref) + c2 sin ω(t − t_ref) over
+// [first, last], ω scanned from 4 to 40 rad/s (bed periods 0.16–1.6 s), each ω one linear solve.
+ComCurve FitContactSinusoid(const Eigen::VectorXd& t,
+                            const Eigen::VectorXd& z,
+                            int first,
+                            int last) {
+  ComCurve best;
+  best.t_ref = t[(first + last) / 2];
+  double best_sse = std::numeric_limits<double>::infinity();
+  const int rows = last - first + 1;
+  Eigen::MatrixXd A(rows, 3);
+  Eigen::VectorXd b = z.segment(first, rows);
+  for (double omega = 4.0; omega <= 40.0; omega += 0.05) {
+    for (int i = 0; i < rows; ++i) {
+      const double tau = t[first + i] - best.t_ref;
+      A.row(i) << 1.0, std::cos(omega * tau), std::sin(omega * tau);
+    }
+    const Eigen::Vector3d c = A.colPivHouseholderQr().solve(b);
+    const double sse = (A * c - b).squaredNorm();
+    if (sse < best_sse) {
+      best_sse = sse;
+      best.c = c;
+      best.omega = omega;
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
+std::optional<SurfaceEstimate> EstimateContactSurface(const Eigen::VectorXd& time_s,
+                                                      const Eigen::VectorXd& feet_z_m,
+                                                      const Eigen::VectorXd& com_z_m,
+                                                      const PhaseSegmentation& com_phases,
+                                                      const PhaseOptions& options) {
+  DemandValidOptions(options, "phase options");
+  ACRO_DEMAND(time_s.size() == feet_z_m.size() && time_s.size() == com_z_m.size());
+  const int n = static_cast<int>(time_s.size());
+  const std::vector<Flight>& flights = com_phases.flights;
+  if (n < 16 || flights.empty() || !feet_z_m.allFinite() || !com_z_m.allFinite())
+    return std::nullopt;
+  const double dt = (time_s[n - 1] - time_s[0]) / (n - 1);
+  const double g = options.gravity_m_per_s2;
+  // The support per unit mass, a + g, lightly smoothed: only used to find where it pushes hard.
+  const int h = std::max(2, static_cast<int>(std::lround(0.025 / dt)));
+  const Eigen::VectorXd support = SavitzkyGolaySecondDerivative(com_z_m, dt, h).array() + g;
+
+  // The core: where the support exceeds one body weight (the bed below its sag point), wide enough
+  // to reach towards the rest level (a real bed stiffens as it sinks), narrow enough to leave out
+  // the force's onset the marker filter smears.
+  constexpr double kCoreSupport = 1.0;
+  SurfaceEstimate out;
+  std::vector<double> depths;
+  int floors = 0;
+  // Contacts: before each flight (after the previous one, or from the recording's start).
+  for (size_t k = 0; k <= flights.size(); ++k) {
+    const int from = k == 0 ? 0 : flights[k - 1].landing_frame;
+    const int to = k == flights.size() ? n - 1 : flights[k].takeoff_frame - 1;
+    if (to - from < 4) continue;
+    // The contact's core: the run around its hardest push where the support exceeds kCoreSupport g
+    // (short dips bridged), which must lie inside the recording.
+    int peak = from;
+    for (int i = from; i <= to; ++i)
+      if (support[i] > support[peak]) peak = i;
+    if (support[peak] < kCoreSupport * g) continue;
+    int first = peak, last = peak;
+    auto pushing = [&](int i) { return i >= from && i <= to && support[i] > kCoreSupport * g; };
+    while (pushing(first - 1) || pushing(first - 2)) first -= pushing(first - 1) ? 1 : 2;
+    while (pushing(last + 1) || pushing(last + 2)) last += pushing(last + 1) ? 1 : 2;
+    if (first <= 0 || last >= n - 1 || last - first < 5) continue;
+    double low = feet_z_m[first], high = feet_z_m[first];
+    for (int i = first; i <= last; ++i) {
+      low = std::min(low, feet_z_m[i]);
+      high = std::max(high, feet_z_m[i]);
+    }
+    if (high - low < 0.06) {
+      // A floor: the soles stay put while it pushes.
+      std::vector<double> soles(feet_z_m.data() + first, feet_z_m.data() + last + 1);
+      out.contact_z_m.push_back(Median(std::move(soles)));
+      depths.push_back(0.0);
+      ++floors;
+      continue;
+    }
+    // A bed: its force per unit mass is ω² d (d the depression below rest), so the COM's
+    // sinusoid accelerates at −g, as in flight, where the feet are at the bed's rest level: the
+    // sinusoid z_eq + R cos θ at R cos θ = g / ω², before (landing) and after (take-off) its
+    // bottom θ = π. The soles at those instants.
+    const ComCurve spring = FitContactSinusoid(time_s, com_z_m, first, last);
+    if (spring.omega <= 4.0 || spring.omega >= 40.0) continue;  // no spring in the scanned range
+    const double R = std::hypot(spring.c[1], spring.c[2]);
+    const double ratio = g / (spring.omega * spring.omega * R);
+    if (!(ratio < 1.0)) continue;
+    const double phi = std::atan2(spring.c[2], spring.c[1]);  // θ = ω (t − t_ref) − φ
+    // The bottom nearest the core's middle, then the rest level on either side of it.
+    const double t_mid = 0.5 * (time_s[first] + time_s[last]);
+    const double theta_mid = spring.omega * (t_mid - spring.t_ref) - phi;
+    const double bottom =
+        std::numbers::pi +
+        2 * std::numbers::pi * std::round((theta_mid - std::numbers::pi) / (2 * std::numbers::pi));
+    const double half = std::numbers::pi - std::acos(ratio);
+    std::vector<double> levels;
+    for (const double theta : {bottom - half, bottom + half}) {
+      const double t = spring.t_ref + (theta + phi) / spring.omega;
+      if (t > time_s[0] && t < time_s[n - 1]) levels.push_back(Interpolate(time_s, feet_z_m, t));
+    }
+    if (levels.empty()) continue;
+    const double level = Median(levels);
+    out.contact_z_m.push_back(level);
+    depths.push_back(level - low);
+  }
+  if (out.contact_z_m.empty()) return std::nullopt;
+  out.z_m = Median(out.contact_z_m);
+  std::vector<double> deviations;
+  for (double z : out.contact_z_m) deviations.push_back(std::abs(z - out.z_m));
+  out.spread_m = 1.4826 * Median(deviations);
+  out.depth_m = Median(depths);
+  out.gives_way = 2 * floors < static_cast<int>(out.contact_z_m.size());
+  return out;
 }
 
 }  // namespace acro::analysis

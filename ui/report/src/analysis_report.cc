@@ -126,10 +126,12 @@ std::vector<ReportFigure> MakeAnalysisFigures(const analysis::TrialAnalysis& a,
     c.series.push_back(
         Series("COM height", t, ToVector(a.check.frames.com_W.row(2).transpose()), kBlue));
     c.series.push_back(Series("lowest sole", t, ToVector(a.feet_z_m), kGreen));
-    if (a.bed) {
+    if (const std::optional<double> surface = a.SurfaceHeight()) {
       ReferenceLine bed;
-      bed.y = a.bed->centre_W.z();
-      bed.label = "bed at rest";
+      bed.y = *surface;
+      bed.label = a.surface && !a.bed && !a.surface_height_m
+                      ? (a.surface->gives_way ? "bed at rest (estimated)" : "floor (estimated)")
+                      : "bed at rest";
       c.reference_lines.push_back(bed);
     }
     out.push_back(
@@ -337,8 +339,9 @@ std::string FormatAnalysisReportHtml(const analysis::TrialAnalysis& a,
   for (const analysis::JumpMetrics& j : a.jumps)
     h << "<li>" << j.index << " " << Html(j.fig_code) << ": " << Html(j.rotation.shape_reason)
       << "</li>\n";
-  h << "</ul>\n<p>Apex: centre of mass above the bed at rest"
-    << (a.bed ? " (bed from " + Html(a.bed->source) + ")" : " (no bed known: lab height)")
+  h << "</ul>\n<p>Apex: centre of mass above the surface at rest"
+    << (a.SurfaceHeight() ? " (" + Html(a.SurfaceSource()) + ")"
+                          : " (no surface known: lab height)")
     << ". HD: horizontal distance of the landing feet from the take-off feet. Somersault (positive "
        "forward) and twist: measured in the air; the code counts the nominal rotation between "
        "landing positions. Residual: the largest mean over "

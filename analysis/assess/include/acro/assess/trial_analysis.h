@@ -77,7 +77,7 @@ struct JumpMetrics {
   double takeoff_vertical_velocity_m_per_s() const {
     return flight.takeoff_vertical_velocity_m_per_s;
   }
-  /// COM apex above the bed at rest (when the bed is known, else NaN).
+  /// COM apex above the surface at rest (the bed's, the one given or the estimated; else NaN).
   double apex_above_bed_m = 0.0;
   /// Midpoint of the soles at take-off and at landing (interpolated at the event times), in W.
   Eigen::Vector3d takeoff_feet_W = Eigen::Vector3d::Zero();
@@ -109,6 +109,16 @@ struct TrialAnalysis {
   PhysicalCheck check;
   PhysicalCheckOptions check_options;  ///< the thresholds the check used
   std::optional<BedGeometry> bed;
+  /// With no bed and no surface height given: the surface estimated from the soles and the COM
+  /// (EstimateContactSurface), from which the phases then come.
+  std::optional<SurfaceEstimate> surface;
+  /// The surface height the options gave (when there is no bed).
+  std::optional<double> surface_height_m;
+  /// The height the athlete takes off from: the bed's, the one given or the estimate's.
+  std::optional<double> SurfaceHeight() const;
+  /// Where that height comes from, one line ("bed at rest 1.155 m from markers BED_C1–BED_C4",
+  /// "bed at rest 1.075 m (spread …), estimated from the soles and the COM", "no surface known").
+  std::string SurfaceSource() const;
   std::vector<JumpMetrics> jumps;
   /// Routine totals over the complete (scored) skills: DD and the time of flight the judges sum.
   int num_scored = 0;

@@ -5,6 +5,7 @@
 // fit summary too). One flight = one skill; flights cut by the start or end of the recording
 // are flagged partial and not scored.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -83,6 +84,37 @@ PhaseSegmentation DetectFlightsFromFeet(const Eigen::VectorXd& time_s,
                                         double surface_z_m,
                                         const Eigen::VectorXd& com_z_m,
                                         const PhaseOptions& options = {});
+
+/// The surface the athlete takes off from, estimated from the motion itself (no bed markers, no
+/// option): a trampoline bed or a floor at rest.
+struct SurfaceEstimate {
+  double z_m = 0.0;  ///< the surface's height at rest: the median of the contacts' estimates
+  /// How much the contacts' own estimates disagree: 1.4826 × their median absolute deviation (a
+  /// standard deviation for normal scatter), 0 with a single contact.
+  double spread_m = 0.0;
+  std::vector<double> contact_z_m;  ///< each contact's estimate, in time order
+  /// How far the lowest sole sank below the surface in the median contact (m).
+  double depth_m = 0.0;
+  bool gives_way = true;  ///< a trampoline bed (the soles sink with it) or a rigid floor
+  /// One line: "bed at rest 1.153 m (spread 0.004 m over 6 contacts, soles sink 0.62 m)".
+  std::string Describe() const;
+};
+
+/// The surface's height at rest from the lowest sole per frame and the whole-body COM (same
+/// frames, uniform rate), over the contacts between the flights `com_phases` found from the COM
+/// (DetectFlightsFromCom), each from its core, where the support exceeds one body weight. A
+/// contact whose soles stay within 6 cm is a floor: the median sole there. Otherwise a sprung bed,
+/// whose force k·d makes the COM a sinusoid of ω = √(k/m): fitted to the COM over the core, it
+/// accelerates at −g (the bed's force is zero, the feet at its rest level) where its excursion
+/// above the equilibrium is g/ω², before and after the bottom; the soles at those two instants.
+/// The sole is the model's, so a constant error of its height is in the estimate too and cancels
+/// when flights are found from the same soles (docs/metrics.md). Nothing without a complete
+/// contact (one whose core lies inside the recording).
+std::optional<SurfaceEstimate> EstimateContactSurface(const Eigen::VectorXd& time_s,
+                                                      const Eigen::VectorXd& feet_z_m,
+                                                      const Eigen::VectorXd& com_z_m,
+                                                      const PhaseSegmentation& com_phases,
+                                                      const PhaseOptions& options = {});
 
 /// Savitzky–Golay (quadratic) second derivative of uniformly sampled values, half-window h samples;
 /// the ends use the nearest full window.
