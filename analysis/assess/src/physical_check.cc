@@ -128,6 +128,8 @@ bool PhysicalCheckOptions::IsValid(std::string* why) const {
   if (!(max_marker_error_m > 0)) return fail("max_marker_error_m must be positive");
   if (std::isnan(edge_margin_s)) return fail("edge_margin_s is not a number");
   if (!(residual_window_s >= 0)) return fail("residual_window_s must be non-negative");
+  if (!(noise_factor >= 1 && noise_factor < 100))
+    return fail("noise_factor must be at least 1 (and below 100)");
   return true;
 }
 
@@ -284,25 +286,21 @@ void MeasureWindowedResidual(const Motion& motion,
                              PhysicalCheck& check) {
   const int m = fc.last_frame - fc.first_frame + 1;
   const int w = std::clamp(static_cast<int>(std::lround(residual_window_s / dt)), 1, m);
-  const Eigen::Matrix3Xd F = check.frames.force_bw.middleCols(fc.first_frame, m);
-  const Eigen::Matrix3Xd M = check.frames.moment_bwh.middleCols(fc.first_frame, m);
-  Eigen::Vector3d sum_f = F.leftCols(w).rowwise().sum();
-  Eigen::Vector3d sum_m = M.leftCols(w).rowwise().sum();
-  for (int a = 0;; ++a) {
-    const double wf = sum_f.norm() / w, wm = sum_m.norm() / w;
-    check.window_force_bw[fc.first_frame + a + w / 2] = wf;
-    check.window_moment_bwh[fc.first_frame + a + w / 2] = wm;
-    if (wf > fc.window_force_bw) {
-      fc.window_force_bw = wf;
+  const Eigen::VectorXd wf =
+      WindowedMeanNorms(check.frames.force_bw.middleCols(fc.first_frame, m), w);
+  const Eigen::VectorXd wm =
+      WindowedMeanNorms(check.frames.moment_bwh.middleCols(fc.first_frame, m), w);
+  for (Eigen::Index a = 0; a < wf.size(); ++a) {
+    check.window_force_bw[fc.first_frame + a + w / 2] = wf[a];
+    check.window_moment_bwh[fc.first_frame + a + w / 2] = wm[a];
+    if (wf[a] > fc.window_force_bw) {
+      fc.window_force_bw = wf[a];
       fc.window_force_at_s = motion.time_s[fc.first_frame + a];
     }
-    if (wm > fc.window_moment_bwh) {
-      fc.window_moment_bwh = wm;
+    if (wm[a] > fc.window_moment_bwh) {
+      fc.window_moment_bwh = wm[a];
       fc.window_moment_at_s = motion.time_s[fc.first_frame + a];
     }
-    if (a + w >= m) break;
-    sum_f += F.col(a + w) - F.col(a);
-    sum_m += M.col(a + w) - M.col(a);
   }
 }
 
@@ -340,36 +338,83 @@ void MeasureMarkerError(const Motion& motion, FlightCheck& fc) {
   }
 }
 
-// The criteria the flight's measures fail, each with its numbers.
+// The limits a flight is judged with: the thresholds, each raised to noise_factor times what the
+// noise alone gives when the flight has a noise floor.
+struct FlightLimits {
+  double force_bw, moment_bwh, momentum_variation, gravity_error_m_per_s2, marker_error_m;
+  bool raised = false;  // some limit is the noise's
+};
+
+FlightLimits LimitsOf(const FlightCheck& fc, const PhysicalCheckOptions& options, double g) {
+  FlightLimits l{options.max_force_bw,
+                 options.max_moment_bwh,
+                 options.max_momentum_variation,
+                 options.max_gravity_error * g,
+                 options.max_marker_error_m};
+  if (!fc.noise) return l;
+  const FlightNoiseFloor& n = *fc.noise;
+  const double k = options.noise_factor;
+  auto raise = [&](double& limit, double floor) {
+    if (k * floor > limit) {
+      limit = k * floor;
+      l.raised = true;
+    }
+  };
+  raise(l.force_bw, n.window_force_bw);
+  raise(l.moment_bwh, n.window_moment_bwh);
+  raise(l.momentum_variation, n.momentum_variation);
+  raise(l.gravity_error_m_per_s2, n.gravity_error_m_per_s2);
+  raise(l.marker_error_m, n.max_marker_error_m);
+  return l;
+}
+
+// The criteria the flight's measures fail, each with its numbers (and, where the noise set the
+// limit, how far beyond what the noise alone gives).
 std::vector<std::string> ListFailures(const FlightCheck& fc,
                                       const PhysicalCheckOptions& options,
                                       double g) {
+  const FlightLimits limit = LimitsOf(fc, options, g);
   std::vector<std::string> failures;
   const std::string over =
       options.residual_window_s > 0 ? fmt::format(" over {:.2f} s", options.residual_window_s) : "";
-  if (fc.window_force_bw > options.max_force_bw)
+  // "(4.2× the noise's)" when the noise floor set this limit.
+  auto beyond = [&](double value, double threshold, double floor) {
+    return fc.noise && options.noise_factor * floor > threshold && floor > 0
+               ? fmt::format(" ({:.1f}× the noise's)", value / floor)
+               : std::string();
+  };
+  const FlightNoiseFloor floor = fc.noise.value_or(FlightNoiseFloor{});
+  if (fc.window_force_bw > limit.force_bw)
     failures.push_back(fmt::format("residual force {:.3f} BW > {:.3f} at {:.2f} s",
                                    fc.window_force_bw,
-                                   options.max_force_bw,
+                                   limit.force_bw,
                                    fc.window_force_at_s) +
-                       over);
-  if (fc.window_moment_bwh > options.max_moment_bwh)
-    failures.push_back(fmt::format("residual moment {:.4f} BW·h > {:.4f} at {:.2f} s",
-                                   fc.window_moment_bwh,
-                                   options.max_moment_bwh,
-                                   fc.window_moment_at_s) +
-                       over);
-  if (fc.momentum_variation > options.max_momentum_variation)
-    failures.push_back(fmt::format("angular momentum varies {:.0f} % > {:.0f} %",
-                                   100 * fc.momentum_variation,
-                                   100 * options.max_momentum_variation));
-  if (std::abs(fc.fitted_gravity_m_per_s2 - g) > options.max_gravity_error * g)
+                       over +
+                       beyond(fc.window_force_bw, options.max_force_bw, floor.window_force_bw));
+  if (fc.window_moment_bwh > limit.moment_bwh)
     failures.push_back(
-        fmt::format("COM falls with {:.2f} m/s² instead of {:.2f}", fc.fitted_gravity_m_per_s2, g));
-  if (fc.max_marker_error_m > options.max_marker_error_m)
-    failures.push_back(fmt::format("marker error {:.1f} cm > {:.1f} cm",
-                                   100 * fc.max_marker_error_m,
-                                   100 * options.max_marker_error_m));
+        fmt::format("residual moment {:.4f} BW·h > {:.4f} at {:.2f} s",
+                    fc.window_moment_bwh,
+                    limit.moment_bwh,
+                    fc.window_moment_at_s) +
+        over + beyond(fc.window_moment_bwh, options.max_moment_bwh, floor.window_moment_bwh));
+  if (fc.momentum_variation > limit.momentum_variation)
+    failures.push_back(
+        fmt::format("angular momentum varies {:.0f} % > {:.0f} %",
+                    100 * fc.momentum_variation,
+                    100 * limit.momentum_variation) +
+        beyond(fc.momentum_variation, options.max_momentum_variation, floor.momentum_variation));
+  const double gravity_error = std::abs(fc.fitted_gravity_m_per_s2 - g);
+  if (gravity_error > limit.gravity_error_m_per_s2)
+    failures.push_back(
+        fmt::format("COM falls with {:.2f} m/s² instead of {:.2f}", fc.fitted_gravity_m_per_s2, g) +
+        beyond(gravity_error, options.max_gravity_error * g, floor.gravity_error_m_per_s2));
+  if (fc.max_marker_error_m > limit.marker_error_m)
+    failures.push_back(
+        fmt::format("marker error {:.1f} cm > {:.1f} cm",
+                    100 * fc.max_marker_error_m,
+                    100 * limit.marker_error_m) +
+        beyond(fc.max_marker_error_m, options.max_marker_error_m, floor.max_marker_error_m));
   return failures;
 }
 
@@ -432,20 +477,28 @@ std::vector<ContactLoad> FindContactLoads(const FrameDynamics& frames,
   return contacts;
 }
 
-// Pass when every judged flight passes; the verdict names each failing flight's failures.
+// Pass when every judged flight passes; the verdict names each failing flight's failures, and the
+// noise when a flight was judged against it.
 void SetVerdict(PhysicalCheck& check) {
   check.pass = true;
+  bool against_noise = false;
   std::string causes;
   for (const FlightCheck& fc : check.flights) {
+    against_noise = against_noise || fc.judged_against_noise;
     if (fc.pass) continue;
     check.pass = false;
     if (!causes.empty()) causes += "; ";
     causes += "flight " + std::to_string(fc.flight + 1) + ": " + fc.FailureText();
   }
+  const std::string noise = fmt::format("its noise (≈ {:.1f} mm per coordinate, {})",
+                                        1e3 * check.noise_rms_m,
+                                        check.data_class.empty() ? "markers" : check.data_class);
   if (check.flights.empty())
     check.verdict = "not judged: no complete flight";
-  else
+  else if (!against_noise)
     check.verdict = check.pass ? "pass" : "fail: " + causes;
+  else
+    check.verdict = check.pass ? "pass within " + noise : "fail beyond " + noise + ": " + causes;
 }
 
 }  // namespace
@@ -473,6 +526,7 @@ PhysicalCheck CheckPhysics(const dynamics::Model<double>& model,
   judging.margin = static_cast<int>(std::ceil(judging.margin_s / judging.dt - 1e-9));
   const double mass = model.total_mass();
   judging.g = model.gravity_W().norm();
+  check.gravity_m_per_s2 = judging.g;
   judging.L_floor = options.momentum_floor_mh2_per_s * mass * height_m * height_m;
   check.window_force_bw = Eigen::VectorXd::Constant(n, kNaN);
   check.window_moment_bwh = Eigen::VectorXd::Constant(n, kNaN);
@@ -485,6 +539,40 @@ PhysicalCheck CheckPhysics(const dynamics::Model<double>& model,
   check.contacts = FindContactLoads(check.frames, motion, flights);
   SetVerdict(check);
   return check;
+}
+
+Eigen::VectorXd WindowedMeanNorms(const Eigen::Matrix3Xd& x, int window) {
+  const int m = static_cast<int>(x.cols());
+  if (m == 0) return Eigen::VectorXd();
+  const int w = std::clamp(window, 1, m);
+  Eigen::VectorXd out(m - w + 1);
+  Eigen::Vector3d sum = x.leftCols(w).rowwise().sum();
+  for (int a = 0;; ++a) {
+    out[a] = sum.norm() / w;
+    if (a + w >= m) break;
+    sum += x.col(a + w) - x.col(a);
+  }
+  return out;
+}
+
+void JudgeAgainstNoise(PhysicalCheck& check,
+                       const std::vector<FlightNoiseFloor>& floors,
+                       double noise_rms_m,
+                       const std::string& data_class,
+                       const PhysicalCheckOptions& options) {
+  DemandValidOptions(options, "physical check options");
+  ACRO_DEMAND(floors.size() == check.flights.size());
+  check.noise_rms_m = noise_rms_m;
+  check.data_class = data_class;
+  for (size_t k = 0; k < floors.size(); ++k) {
+    FlightCheck& fc = check.flights[k];
+    if (fc.last_frame - fc.first_frame < 4) continue;  // too short to judge: stays so
+    fc.noise = floors[k];
+    fc.judged_against_noise = LimitsOf(fc, options, check.gravity_m_per_s2).raised;
+    fc.failures = ListFailures(fc, options, check.gravity_m_per_s2);
+    fc.pass = fc.failures.empty();
+  }
+  SetVerdict(check);
 }
 
 MassSuggestion SuggestSegmentMasses(const dynamics::Model<double>& model,

@@ -128,6 +128,7 @@ bool TrialAnalysisOptions::IsValid(std::string* why) const {
   if (!reconstruction.IsValid(why)) return false;
   if (!phases.IsValid(why)) return false;
   if (!check.IsValid(why)) return false;
+  if (!noise_floor.IsValid(why)) return false;
   if (!rotation.IsValid(why)) return false;
   if (surface_height_m && !std::isfinite(*surface_height_m)) {
     if (why) *why = "surface_height_m must be a number";
@@ -279,6 +280,23 @@ TrialAnalysis AnalyzeTrial(const capture::Trial& trial,
   out.check_options = options.check;
   out.check = CheckPhysics(
       model, motion, out.phases.flights, out.stature_m, rec.summary.cutoff_hz, options.check);
+  const double noise = rec.summary.noise_rms_m;
+  if (options.judge_against_noise && noise > 0 && !out.check.flights.empty()) {
+    progress(fmt::format("check: what {:.1f} mm of noise alone gives the {} flights ({} copies)",
+                         1e3 * noise,
+                         out.check.flights.size(),
+                         options.noise_floor.repetitions));
+    NoiseFloorOptions noise_floor = options.noise_floor;
+    if (!noise_floor.cancelled) noise_floor.cancelled = options.cancelled;
+    const std::vector<FlightNoiseFloor> floors =
+        CalcNoiseFloor(rec, out.check, noise, options.check, noise_floor);
+    stop_if_cancelled();
+    JudgeAgainstNoise(out.check,
+                      floors,
+                      noise,
+                      rec.markerset.keypoints ? "video keypoints" : "markers",
+                      options.check);
+  }
   if (!out.check.pass && options.localise && rec.marker_positions.cols() > 0)
     LocalisePhysicsFailure(
         model, motion, rec.marker_positions, rec.markers, options.check, out.check);
@@ -347,7 +365,7 @@ TrialAnalysis AnalyzeTrial(const capture::Trial& trial,
     } else if (!j.check) {
       j.verdict = "not judged";
     } else if (j.check->pass) {
-      j.verdict = "pass";
+      j.verdict = j.check->judged_against_noise ? "pass within its noise" : "pass";
     } else {
       j.verdict = "fail: " + j.check->FailureText();
     }
@@ -491,7 +509,19 @@ std::string FormatJumpsJson(const TrialAnalysis& a) {
                     {"angular_momentum_kg_m2_per_s", c.mean_angular_momentum},
                     {"momentum_variation", c.momentum_variation},
                     {"fitted_gravity_m_per_s2", c.fitted_gravity_m_per_s2},
-                    {"max_marker_error_m", c.max_marker_error_m}};
+                    {"max_marker_error_m", c.max_marker_error_m},
+                    {"window_force_bw", c.window_force_bw},
+                    {"window_moment_bwh", c.window_moment_bwh}};
+      // What the trial's noise alone gives these measures (docs/physical-check.md), when judged
+      // against it.
+      o["check"]["noise_floor"] =
+          c.noise ? Json{{"window_force_bw", c.noise->window_force_bw},
+                         {"window_moment_bwh", c.noise->window_moment_bwh},
+                         {"momentum_variation", c.noise->momentum_variation},
+                         {"gravity_error_m_per_s2", c.noise->gravity_error_m_per_s2},
+                         {"max_marker_error_m", c.noise->max_marker_error_m},
+                         {"raised_a_limit", c.judged_against_noise}}
+                  : Json(nullptr);
     }
     jumps.push_back(std::move(o));
   }

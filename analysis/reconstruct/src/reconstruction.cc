@@ -65,10 +65,12 @@ std::string ReconstructionSummary::BriefReport() const {
   std::string out = "marker set " + markerset_report + "\n";
   out += "gaps: " + gaps.BriefReport() + "\n";
   if (filtered) {
-    out += fmt::format("filter: zero-lag Butterworth, order {}, cutoff {:.1f} Hz{}\n",
-                       filter_order,
-                       cutoff_hz,
-                       cutoff_from_residual_analysis ? " (Winter's residual analysis)" : "");
+    out +=
+        fmt::format("filter: zero-lag Butterworth, order {}, cutoff {:.1f} Hz{}; noise {:.1f} mm\n",
+                    filter_order,
+                    cutoff_hz,
+                    cutoff_from_residual_analysis ? " (Winter's residual analysis)" : "",
+                    1e3 * noise_rms_m);
   } else {
     out += "filter: none\n";
   }
@@ -296,18 +298,33 @@ void FilterMarkers(const ReconstructionOptions& options,
       for (int d = 0; d < 3; ++d) signals(f, 3 * m + d) = P(d, Eigen::Index(f) * M + m);
   // The cutoff.
   double fc = options.cutoff_hz;
+  double noise_intercept = 0.0;
   if (fc <= 0) {
-    fc = CalcResidualAnalysis(signals, rate, options.filter_order, options.num_threads)
-             .chosen_cutoff_hz;
+    const ResidualAnalysis analysis =
+        CalcResidualAnalysis(signals, rate, options.filter_order, options.num_threads);
+    fc = analysis.chosen_cutoff_hz;
+    noise_intercept = analysis.noise_intercept;
     summary.cutoff_from_residual_analysis = true;
   }
   // Filter each column, across its gaps, and put the columns back.
   const ButterworthFilter filter(options.filter_order, fc, rate);
+  double removed = 0.0;
+  Eigen::Index samples = 0;
   for (Eigen::Index c = 0; c < signals.cols(); ++c) {
     Eigen::VectorXd x = signals.col(c);
     FilterWithGaps(filter, x);
+    for (Eigen::Index f = 0; f < x.size(); ++f)
+      if (!std::isnan(x[f]) && !std::isnan(signals(f, c))) {
+        removed += (x[f] - signals(f, c)) * (x[f] - signals(f, c));
+        ++samples;
+      }
     signals.col(c) = x;
   }
+  // The measurement noise: Winter's intercept (the RMS of the noise, the residual's noise line at
+  // 0 Hz), or with a cutoff given what the filter removed (the noise above the cutoff).
+  summary.noise_rms_m = noise_intercept > 0
+                            ? noise_intercept
+                            : std::sqrt(removed / std::max<Eigen::Index>(1, samples));
   for (int m = 0; m < M; ++m)
     for (int f = 0; f < F; ++f)
       for (int d = 0; d < 3; ++d) P(d, Eigen::Index(f) * M + m) = signals(f, 3 * m + d);
@@ -801,6 +818,9 @@ ReconstructionResult Reconstruct(const capture::Trial& trial,
     seeds = ScaleToTrial(
         static_trial, model0, limits, ik_options, options, match.num_matched, F, markers, result);
   result.markers = markers;
+  result.joint_limits = limits;
+  result.ik_options = ik_options;
+  result.recorded = recorded;
 
   // Inverse kinematics in chunks of frames solved in parallel, each from a scaling pose inside
   // it or cold-started at its first frame; then the chunks joined.

@@ -276,6 +276,13 @@ std::string FormatAnalysisReportHtml(const analysis::TrialAnalysis& a,
   h << "</p>\n";
   h << "<h2>Physical check</h2>\n<p class=\"" << (a.check.pass ? "pass" : "fail") << "\"><b>"
     << Html(a.check.verdict) << "</b></p>\n";
+  if (a.check.noise_rms_m > 0)
+    h << "<p>Measurement noise of this trial: about " << Fixed(1e3 * a.check.noise_rms_m, 1)
+      << " mm per coordinate (" << Html(a.check.data_class)
+      << "; Winter's residual analysis). Each flight is judged against what that noise alone "
+         "gives its residuals after the same filter, fit and differences: a criterion fails only "
+         "beyond both its threshold and "
+      << Fixed(a.check_options.noise_factor, 1) << " times that (docs/physical-check.md).</p>\n";
   if (!a.check.findings.empty()) {
     h << "<p>What drives it:</p><ul>\n";
     for (const analysis::Finding& f : a.check.findings) h << "<li>" << Html(f.text) << "</li>\n";

@@ -8,6 +8,7 @@
 // is from that is the verdict. A failed verdict is localised (markers, timing, segment masses)
 // and a correction suggested, never applied. In contact the root residual is the bed's reaction.
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -50,7 +51,21 @@ struct PhysicalCheckOptions {
   /// Frames this close to take-off or landing are not judged: the zero-lag filter and the
   /// central differences reach across the contact there. Negative: max(2 frames, 0.5/cutoff).
   double edge_margin_s = -1.0;
+  /// With a noise floor (JudgeAgainstNoise): a flight fails a criterion only when its measure is
+  /// beyond both the threshold above and this multiple of what the trial's noise alone gives.
+  double noise_factor = 1.5;
   bool IsValid(std::string* why) const;
+};
+
+/// What the trial's measurement noise alone gives a flight's judged measures, after the same
+/// filtering, inverse kinematics and differentiation as the data (CalcNoiseFloor in
+/// noise_floor.h): the largest over its repetitions.
+struct FlightNoiseFloor {
+  double window_force_bw = 0.0;
+  double window_moment_bwh = 0.0;
+  double momentum_variation = 0.0;
+  double gravity_error_m_per_s2 = 0.0;  ///< |fitted g − g|
+  double max_marker_error_m = 0.0;
 };
 
 /// Per-frame results over the whole trial (columns are frames).
@@ -92,6 +107,10 @@ struct FlightCheck {
   double momentum_variation = 0.0;     ///< see PhysicalCheckOptions::max_momentum_variation
   double fitted_gravity_m_per_s2 = 0.0;
   double max_marker_error_m = 0.0;
+  /// What noise alone gives these measures, when the check was judged against the noise.
+  std::optional<FlightNoiseFloor> noise;
+  /// Whether the noise floor raised a limit above its threshold for this flight.
+  bool judged_against_noise = false;
   bool pass = true;
   std::vector<std::string> failures;  ///< which criteria failed, with their numbers
   /// The failures joined by ", " (empty when the flight passes).
@@ -125,7 +144,15 @@ struct PhysicalCheck {
   std::vector<FlightCheck> flights;  ///< complete flights only
   std::vector<ContactLoad> contacts;
   bool pass = true;
-  std::string verdict;  ///< "pass", or "fail: " and the causes in one line
+  /// "pass", or "fail: " and the causes in one line; judged against a noise floor that raised a
+  /// limit: "pass within its noise (≈ N mm per coordinate, video keypoints)" or "fail beyond its
+  /// noise (…): " and the causes.
+  std::string verdict;
+  /// The measurement noise the check was judged against (RMS per coordinate, m; 0: not judged
+  /// against noise) and the data's class ("markers", "video keypoints").
+  double noise_rms_m = 0.0;
+  std::string data_class;
+  double gravity_m_per_s2 = 9.81;  ///< the model's g the flights are judged with
   std::vector<Finding> findings;
   MassSuggestion mass_suggestion;
   double edge_margin_s = 0.0;
@@ -161,6 +188,20 @@ PhysicalCheck CheckPhysics(const dynamics::Model<double>& model,
                            double height_m,
                            double cutoff_hz,
                            const PhysicalCheckOptions& options = {});
+
+/// The norm of the mean of `x`'s columns over every window of `window` consecutive columns
+/// (window clamped to 1…cols), in order of the window's first column.
+Eigen::VectorXd WindowedMeanNorms(const Eigen::Matrix3Xd& x, int window);
+
+/// Judges the check's flights again with the noise floor of each (`floors`, one per
+/// check.flights entry): each criterion's limit becomes the larger of its threshold and
+/// options.noise_factor times the floor; the verdict names the noise and the data class when a
+/// floor raised a limit.
+void JudgeAgainstNoise(PhysicalCheck& check,
+                       const std::vector<FlightNoiseFloor>& floors,
+                       double noise_rms_m,
+                       const std::string& data_class,
+                       const PhysicalCheckOptions& options);
 
 /// Localises a failed verdict, as findings in this order: pairs of markers that fit each other's
 /// model positions (swaps); markers recorded late (timing: pairs of markers on one segment whose

@@ -17,6 +17,7 @@
 
 #include "acro/assess/fig_skill.h"
 #include "acro/assess/jump_rotation.h"
+#include "acro/assess/noise_floor.h"
 #include "acro/assess/physical_check.h"
 #include "acro/athlete/athlete_body.h"
 #include "acro/capture/storage.h"
@@ -48,6 +49,10 @@ struct TrialAnalysisOptions {
   /// Use the trial's force plates for the phases when it has any (else the whole-body COM).
   bool use_force_plates = true;
   PhysicalCheckOptions check;
+  /// Judge the flights against what the trial's measured noise alone gives them (noise_floor.h;
+  /// docs/physical-check.md): for clean markers the thresholds stay as they are.
+  bool judge_against_noise = true;
+  NoiseFloorOptions noise_floor;
   JumpRotationOptions rotation;
   /// Localise a failed verdict (swaps, timing, segment masses, worst markers).
   bool localise = true;

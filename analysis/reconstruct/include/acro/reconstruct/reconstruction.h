@@ -89,6 +89,9 @@ struct ReconstructionSummary {
   int filter_order = 0;
   double cutoff_hz = 0.0;
   bool cutoff_from_residual_analysis = false;
+  /// The measurement noise, RMS per coordinate (m): the intercept of Winter's residual analysis
+  /// (the RMS of the noise), or with a cutoff given what the filter removed; 0 when not filtered.
+  double noise_rms_m = 0.0;
   std::string scaling_report;  ///< empty when not scaled
   int frames = 0;
   int frames_fitted = 0;
@@ -110,6 +113,12 @@ struct ReconstructionResult {
   std::vector<ModelMarker> markers;  ///< on `model`, in marker-set order
   /// The processed marker trajectories (set order, 3 × frames·markers, frame-major, NaN = gap).
   Eigen::Matrix3Xd marker_positions;
+  /// Which samples of marker_positions were recorded (1 × frames·markers; the others are filled).
+  Eigen::Array<bool, 1, Eigen::Dynamic> recorded;
+  /// The inverse kinematics' limits and options (with the keypoint priors) the motion was fitted
+  /// with, so that the same fit can be run again (the physical check's noise floor).
+  std::vector<JointLimit> joint_limits;
+  InverseKinematicsOptions ik_options;
   Motion motion;
   ReconstructionSummary summary;
 };
