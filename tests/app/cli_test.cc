@@ -329,6 +329,42 @@ TEST(Cli, AnalyzeTakesACocoKeypointTrcWithoutAthlete) {
   EXPECT_TRUE(HasFile(out / "jumps.json"));
 }
 
+// Issue "real-data fidelity", acceptance: the Pose2Sim balancing trial (BODY_25B keypoints, Y up)
+// and the s2mLab routine (COCO-17, no bed markers), each with no option at all.
+TEST(Cli, AnalyzeTakesKeypointTrialsWithNoOptions) {
+  const auto balancing = acro::testing::RefdataFile(
+      "pose2sim-demo/balancing-trial/pose-3d/S00_P00_T01_BalancingTrial_0-100.trc");
+  ACRO_REQUIRE_REFDATA_FILE(balancing);
+  const auto out = acro::testing::TempDir() / "analyze_no_options";
+  std::filesystem::remove_all(out);
+  ProcessResult run = Execute(std::string(ACROLAB_EXE) + " analyze " + Quote(balancing) +
+                              " --no-images -o " + Quote(out));
+  ASSERT_EQ(run.status, 0) << run.err;
+  // The up axis and the keypoint set found, the fit error and "no flight" said.
+  EXPECT_NE(run.err.find("+Y up (detected"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("turned to Z up"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("the body25b keypoints"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("reconstruct: marker RMS median"), std::string::npos) << run.err;
+  EXPECT_NE(run.out.find("physical check: not judged: no complete flight"), std::string::npos)
+      << run.out;
+  EXPECT_NE(run.out.find("routine: 0 skills"), std::string::npos) << run.out;
+
+  const auto s2m = acro::testing::RefdataFile(
+      "s2mLab-EKF_multicamera-trampoline/inputs/trc/1_partie_0429_002.trc");
+  ACRO_REQUIRE_REFDATA_FILE(s2m);
+  std::filesystem::remove_all(out);
+  run = Execute(std::string(ACROLAB_EXE) + " analyze " + Quote(s2m) + " --no-images -o " +
+                Quote(out));
+  ASSERT_EQ(run.status, 0) << run.err;
+  // The bed's level estimated and said with its spread; judged against the trial's noise.
+  EXPECT_NE(run.out.find("surface: bed at rest "), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find(" m (spread "), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("estimated from the soles and the COM"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("routine: 5 skills"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("its noise (≈ "), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("mm per coordinate, video keypoints)"), std::string::npos) << run.out;
+}
+
 }  // namespace
 
 namespace {

@@ -289,7 +289,13 @@ std::string FormatAnalysisReportHtml(const analysis::TrialAnalysis& a,
     h << "</ul>\n";
   }
   const analysis::MassSuggestion& ms = a.check.mass_suggestion;
-  if (!a.check.pass && ms.segments.size() > 0 && ms.residual_before > 0) {
+  // The suggestion only when the localisation found masses that explain the failure (with noisy
+  // keypoints a least-squares fit of 16 masses to glitches gives a 2 kg pelvis).
+  const bool masses_found =
+      std::any_of(a.check.findings.begin(), a.check.findings.end(), [](const analysis::Finding& f) {
+        return f.kind == analysis::Finding::Kind::kSegmentMass;
+      });
+  if (!a.check.pass && masses_found && ms.segments.size() > 0 && ms.residual_before > 0) {
     h << "<p>Segment masses that best zero the flight residuals (least squares, total mass kept; "
          "reported, not applied): RMS residual "
       << Fixed(ms.residual_before, 4) << " → " << Fixed(ms.residual_after, 4)
