@@ -260,12 +260,12 @@ std::vector<FlightNoiseFloor> CalcNoiseFloor(const ReconstructionResult& rec,
     s.clean = Refit(rec, s, 0.0, height_m, 0, &s.clean_marker_error_m);
   });
 
-  // The noisy copies; each flight's floor is the largest of its copies'.
-  const int R = options.repetitions;
-  std::vector<FlightNoiseFloor> copies(judged.size() * size_t(R));
-  RunInParallel(static_cast<int>(copies.size()), threads, stop, options.cancelled, [&](int t) {
-    const int k = judged[size_t(t / R)], r = t % R;
-    copies[size_t(t)] = MeasureNoisyCopy(
+  // The noisy copies; each flight's floor is the largest of its copies'. The first copy of every
+  // flight, then the others only where the first reaches half a threshold (times the factor): a
+  // flight far below (markers' millimetre of noise) cannot have a limit raised unless its other
+  // copies gave more than twice its first.
+  auto copy = [&](int k, int r) {
+    return MeasureNoisyCopy(
         rec,
         spans[size_t(k)],
         noise_rms_m,
@@ -273,17 +273,39 @@ std::vector<FlightNoiseFloor> CalcNoiseFloor(const ReconstructionResult& rec,
         height_m,
         L_floor,
         options.seed + 7919u * static_cast<unsigned>(k) + static_cast<unsigned>(r));
-  });
-  if (stop) return std::vector<FlightNoiseFloor>(check.flights.size());
-  for (size_t t = 0; t < copies.size(); ++t) {
-    FlightNoiseFloor& f = floors[size_t(judged[t / size_t(R)])];
-    const FlightNoiseFloor& c = copies[t];
+  };
+  auto take = [](FlightNoiseFloor& f, const FlightNoiseFloor& c) {
     f.window_force_bw = std::max(f.window_force_bw, c.window_force_bw);
     f.window_moment_bwh = std::max(f.window_moment_bwh, c.window_moment_bwh);
     f.momentum_variation = std::max(f.momentum_variation, c.momentum_variation);
     f.gravity_error_m_per_s2 = std::max(f.gravity_error_m_per_s2, c.gravity_error_m_per_s2);
     f.max_marker_error_m = std::max(f.max_marker_error_m, c.max_marker_error_m);
+  };
+  std::vector<FlightNoiseFloor> first(judged.size());
+  RunInParallel(static_cast<int>(judged.size()), threads, stop, options.cancelled, [&](int i) {
+    first[size_t(i)] = copy(judged[size_t(i)], 0);
+  });
+  const double reach = 0.5 / check_options.noise_factor;
+  const double g = check.gravity_m_per_s2;
+  std::vector<std::pair<int, int>> more;  // (index into judged, copy)
+  for (size_t i = 0; i < judged.size(); ++i) {
+    take(floors[size_t(judged[i])], first[i]);
+    const FlightNoiseFloor& f = first[i];
+    const bool in_reach = f.window_force_bw >= reach * check_options.max_force_bw ||
+                          f.window_moment_bwh >= reach * check_options.max_moment_bwh ||
+                          f.momentum_variation >= reach * check_options.max_momentum_variation ||
+                          f.gravity_error_m_per_s2 >= reach * check_options.max_gravity_error * g ||
+                          f.max_marker_error_m >= reach * check_options.max_marker_error_m;
+    if (in_reach)
+      for (int r = 1; r < options.repetitions; ++r) more.emplace_back(int(i), r);
   }
+  std::vector<FlightNoiseFloor> copies(more.size());
+  RunInParallel(static_cast<int>(more.size()), threads, stop, options.cancelled, [&](int t) {
+    copies[size_t(t)] = copy(judged[size_t(more[size_t(t)].first)], more[size_t(t)].second);
+  });
+  if (stop) return std::vector<FlightNoiseFloor>(check.flights.size());
+  for (size_t t = 0; t < more.size(); ++t)
+    take(floors[size_t(judged[size_t(more[t].first)])], copies[t]);
   return floors;
 }
 

@@ -20,11 +20,12 @@
 namespace acro::analysis {
 
 struct NoiseFloorOptions {
-  /// Noisy copies per flight; the floor is the largest of their measures.
-  int repetitions = 3;
+  /// Noisy copies per flight; the floor is the largest of their measures. Copies after the
+  /// first only for flights whose first copy reaches half a threshold (divided by the factor).
+  int repetitions = 5;
   unsigned seed = 20261202;
   /// Frames fitted on each side of the judged frames, for the filter and the differences (s).
-  double padding_s = 0.4;
+  double padding_s = 0.3;
   /// Worker threads over the flights and copies (0: the hardware's concurrency).
   int num_threads = 0;
   /// Asked between the copies: true stops, and every floor is returned as zero.
