@@ -282,10 +282,11 @@ TrialAnalysis AnalyzeTrial(const capture::Trial& trial,
       model, motion, out.phases.flights, out.stature_m, rec.summary.cutoff_hz, options.check);
   const double noise = rec.summary.noise_rms_m;
   if (options.judge_against_noise && noise > 0 && !out.check.flights.empty()) {
-    progress(fmt::format("check: what {:.1f} mm of noise alone gives the {} flights ({} copies)",
-                         1e3 * noise,
-                         out.check.flights.size(),
-                         options.noise_floor.repetitions));
+    progress(fmt::format(
+        "check: what {:.1f} mm of noise alone gives the {} flights (up to {} noisy copies each)",
+        1e3 * noise,
+        out.check.flights.size(),
+        options.noise_floor.repetitions));
     NoiseFloorOptions noise_floor = options.noise_floor;
     if (!noise_floor.cancelled) noise_floor.cancelled = options.cancelled;
     const std::vector<FlightNoiseFloor> floors =
