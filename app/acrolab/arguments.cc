@@ -50,9 +50,7 @@ void TrialArguments::Declare(CLI::App* command, analysis::ReconstructionOptions*
         options->markerset = name;
       },
       "plug_in_gait | helen_hayes | trampoline | coco17 | body25 | body25b | halpe26 | blazepose33 "
-      "| "
-      "FILE.yaml (default: detected from the "
-      "labels)");
+      "| FILE.yaml (default: detected from the labels)");
   command
       ->add_option_function<double>(
           "--cutoff",

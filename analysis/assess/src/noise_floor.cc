@@ -30,15 +30,6 @@ Motion Slice(const Motion& motion, int first, int count) {
   return out;
 }
 
-// The largest distance between two columns of L, over max(|mean L|, floor).
-double MomentumVariation(const Eigen::Matrix3Xd& L, double floor) {
-  double spread = 0.0;
-  for (Eigen::Index i = 0; i < L.cols(); ++i)
-    for (Eigen::Index j = i + 1; j < L.cols(); ++j)
-      spread = std::max(spread, (L.col(i) - L.col(j)).norm());
-  return spread / std::max(L.rowwise().mean().norm(), floor);
-}
-
 // The motion made smooth, so that the floor measures the noise and not the motion's own glitches
 // (a fit that jumps for a frame or two, a swap): per coordinate a running median of 7 frames, then
 // the trial's low-pass; the root quaternion renormalised.
@@ -70,16 +61,14 @@ void Smooth(Motion& motion, const ReconstructionSummary& summary) {
 // [judged_first, judged_first + judged_count) (offsets into the span).
 struct FlightSpan {
   int first = 0, count = 0, judged_first = 0, judged_count = 0;
-  Motion motion;         // the motion over the span
-  FrameDynamics base;    // its inverse dynamics
+  Motion motion;         // the motion over the span, smoothed
   Eigen::Matrix3Xd p_M;  // its model markers, 3 × count·M, frame-major
   FrameDynamics clean;   // the refit of those markers without noise
-  double clean_marker_error_m = 0.0;
 };
 
 // The span's model markers + white noise of `noise_rms_m` (recorded samples only; 0: none), the
 // trial's filter, the same inverse kinematics warm-started frame by frame, the same inverse
-// dynamics. `max_marker_error_m` gets the fit's largest marker error over the
+// dynamics. `max_marker_error_m` (when given) gets the fit's largest marker error over the
 // judged frames.
 FrameDynamics Refit(const ReconstructionResult& rec,
                     const FlightSpan& span,
@@ -103,18 +92,13 @@ FrameDynamics Refit(const ReconstructionResult& rec,
             present ? span.p_M(d, Eigen::Index(f) * M + m) + (noise_rms_m > 0 ? noise(rng) : 0.0)
                     : std::numeric_limits<double>::quiet_NaN();
     }
-  if (rec.summary.filtered && rec.summary.cutoff_hz > 0) {
-    const ButterworthFilter filter(rec.summary.filter_order, rec.summary.cutoff_hz, 1.0 / dt);
-    for (Eigen::Index c = 0; c < signals.cols(); ++c) {
-      Eigen::VectorXd x = signals.col(c);
-      FilterWithGaps(filter, x);
-      signals.col(c) = x;
-    }
-  }
+  if (rec.summary.filtered && rec.summary.cutoff_hz > 0)
+    FilterColumnsWithGaps(
+        ButterworthFilter(rec.summary.filter_order, rec.summary.cutoff_hz, 1.0 / dt), signals);
   InverseKinematics ik(rec.model, rec.markers, rec.joint_limits, rec.ik_options);
   Motion refit = span.motion;
   Eigen::Matrix3Xd observed(3, M);
-  *max_marker_error_m = 0.0;
+  double max_error = 0.0;
   for (int f = 0; f < F; ++f) {
     for (int m = 0; m < M; ++m)
       for (int d = 0; d < 3; ++d) observed(d, m) = signals(f, 3 * m + d);
@@ -125,8 +109,9 @@ FrameDynamics Refit(const ReconstructionResult& rec,
     const IkFrameResult fit = ik.Solve(observed, q);
     refit.q.col(f) = q;
     if (f >= span.judged_first && f < span.judged_first + span.judged_count)
-      *max_marker_error_m = std::max(*max_marker_error_m, fit.max_m);
+      max_error = std::max(max_error, fit.max_m);
   }
+  if (max_marker_error_m) *max_marker_error_m = max_error;
   return CalcFrameDynamics(rec.model, refit, height_m);
 }
 
@@ -154,20 +139,15 @@ FlightNoiseFloor MeasureNoisyCopy(const ReconstructionResult& rec,
   out.window_moment_bwh =
       WindowedMeanNorms(d.moment_bwh.middleCols(j0, m) - clean.moment_bwh.middleCols(j0, m), w)
           .maxCoeff();
-  // A body whose momentum is exactly the motion's mean, plus the change the noise makes.
+  // A body whose momentum is exactly the clean refit's mean, plus the change the noise makes.
+  const Eigen::Matrix3Xd L_clean = clean.angular_momentum.middleCols(j0, m);
   const Eigen::Matrix3Xd L =
-      (d.angular_momentum.middleCols(j0, m) - clean.angular_momentum.middleCols(j0, m)).colwise() +
-      span.base.angular_momentum.middleCols(j0, m).rowwise().mean();
-  out.momentum_variation = MomentumVariation(L, L_floor);
+      (d.angular_momentum.middleCols(j0, m) - L_clean).colwise() + L_clean.rowwise().mean();
+  out.momentum_variation = CalcMomentumVariation(L, L_floor);
   // The gravity a parabola fitted to the change of the COM height adds.
-  Eigen::MatrixXd A(m, 3);
-  Eigen::VectorXd dz(m);
-  for (int i = 0; i < m; ++i) {
-    const double t = span.motion.time_s[j0 + i] - span.motion.time_s[j0];
-    A.row(i) << 1.0, t, t * t;
-    dz[i] = d.com_W(2, j0 + i) - clean.com_W(2, j0 + i);
-  }
-  out.gravity_error_m_per_s2 = std::abs(2.0 * A.colPivHouseholderQr().solve(dz)[2]);
+  out.gravity_error_m_per_s2 = std::abs(FitFallingGravity(
+      span.motion.time_s.segment(j0, m),
+      (d.com_W.row(2).segment(j0, m) - clean.com_W.row(2).segment(j0, m)).transpose()));
   return out;
 }
 
@@ -229,7 +209,7 @@ std::vector<FlightNoiseFloor> CalcNoiseFloor(const ReconstructionResult& rec,
                           : std::max(1, static_cast<int>(std::thread::hardware_concurrency()));
   std::atomic<bool> stop{false};
 
-  // Each judged flight's span: its motion, inverse dynamics, model markers and clean refit.
+  // Each judged flight's span: its smoothed motion, model markers and clean refit.
   std::vector<FlightSpan> spans(check.flights.size());
   std::vector<int> judged;
   {
@@ -246,7 +226,6 @@ std::vector<FlightNoiseFloor> CalcNoiseFloor(const ReconstructionResult& rec,
       s.judged_count = fc.last_frame - fc.first_frame + 1;
       s.motion = Slice(motion, s.first, s.count);
       Smooth(s.motion, rec.summary);
-      s.base = CalcFrameDynamics(rec.model, s.motion, height_m);
       s.p_M.resize(3, Eigen::Index(s.count) * M);
       for (int f = 0; f < s.count; ++f) {
         ik.CalcMarkerPositions(s.motion.q.col(f), p_M);
@@ -257,7 +236,7 @@ std::vector<FlightNoiseFloor> CalcNoiseFloor(const ReconstructionResult& rec,
   }
   RunInParallel(static_cast<int>(judged.size()), threads, stop, options.cancelled, [&](int i) {
     FlightSpan& s = spans[size_t(judged[size_t(i)])];
-    s.clean = Refit(rec, s, 0.0, height_m, 0, &s.clean_marker_error_m);
+    s.clean = Refit(rec, s, 0.0, height_m, 0, nullptr);
   });
 
   // The noisy copies; each flight's floor is the largest of its copies'. The first copy of every

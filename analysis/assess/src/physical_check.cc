@@ -310,24 +310,14 @@ void MeasureMomentumVariation(const FrameDynamics& frames, double L_floor, Fligh
   const int m = fc.last_frame - fc.first_frame + 1;
   const Eigen::Matrix3Xd L = frames.angular_momentum.middleCols(fc.first_frame, m);
   fc.mean_angular_momentum = L.rowwise().mean().norm();
-  double spread = 0.0;
-  for (int i = 0; i < m; ++i)
-    for (int j = i + 1; j < m; ++j) spread = std::max(spread, (L.col(i) - L.col(j)).norm());
-  fc.momentum_variation = spread / std::max(fc.mean_angular_momentum, L_floor);
+  fc.momentum_variation = CalcMomentumVariation(L, L_floor);
 }
 
-// The gravity the COM falls with: z(t) = c0 + c1 t + c2 t² over the judged frames, g_fit = −2 c2.
+// The gravity the COM falls with over the judged frames.
 void FitGravity(const Motion& motion, const FrameDynamics& frames, FlightCheck& fc) {
   const int m = fc.last_frame - fc.first_frame + 1;
-  Eigen::MatrixXd A(m, 3);
-  Eigen::VectorXd z(m);
-  const double t0 = motion.time_s[fc.first_frame];
-  for (int i = 0; i < m; ++i) {
-    const double t = motion.time_s[fc.first_frame + i] - t0;
-    A.row(i) << 1.0, t, t * t;
-    z[i] = frames.com_W(2, fc.first_frame + i);
-  }
-  fc.fitted_gravity_m_per_s2 = -2.0 * A.colPivHouseholderQr().solve(z)[2];
+  fc.fitted_gravity_m_per_s2 = FitFallingGravity(motion.time_s.segment(fc.first_frame, m),
+                                                 frames.com_W.row(2).segment(fc.first_frame, m));
 }
 
 // The largest marker error of the judged frames' valid fits.
@@ -539,6 +529,24 @@ PhysicalCheck CheckPhysics(const dynamics::Model<double>& model,
   check.contacts = FindContactLoads(check.frames, motion, flights);
   SetVerdict(check);
   return check;
+}
+
+double CalcMomentumVariation(const Eigen::Matrix3Xd& L, double floor) {
+  double spread = 0.0;
+  for (Eigen::Index i = 0; i < L.cols(); ++i)
+    for (Eigen::Index j = i + 1; j < L.cols(); ++j)
+      spread = std::max(spread, (L.col(i) - L.col(j)).norm());
+  return spread / std::max(L.rowwise().mean().norm(), floor);
+}
+
+double FitFallingGravity(const Eigen::VectorXd& time_s, const Eigen::VectorXd& z) {
+  ACRO_DEMAND(time_s.size() == z.size() && z.size() >= 3);
+  Eigen::MatrixXd A(z.size(), 3);
+  for (Eigen::Index i = 0; i < z.size(); ++i) {
+    const double t = time_s[i] - time_s[0];
+    A.row(i) << 1.0, t, t * t;
+  }
+  return -2.0 * A.colPivHouseholderQr().solve(z)[2];
 }
 
 Eigen::VectorXd WindowedMeanNorms(const Eigen::Matrix3Xd& x, int window) {

@@ -249,9 +249,8 @@ TrialAnalysis AnalyzeTrial(const capture::Trial& trial,
     for (Eigen::Index i = 0; i < fz.size(); ++i)
       t[i] = static_cast<double>(i) / trial.analog_rate_hz;
     out.phases = DetectFlightsFromForce(t, fz, motion.time_s, com_z, phase_options);
-  } else if (out.bed || options.surface_height_m) {
-    const double surface = out.bed ? out.bed->centre_W.z() : *options.surface_height_m;
-    out.phases = DetectFlightsFromFeet(motion.time_s, out.feet_z_m, surface, com_z, phase_options);
+  } else if (const std::optional<double> surface = out.SurfaceHeight()) {  // bed or given
+    out.phases = DetectFlightsFromFeet(motion.time_s, out.feet_z_m, *surface, com_z, phase_options);
   } else {
     // No surface known: the flights from the COM first, then the surface from the soles over the
     // contacts between them. A bed: the flights from the soles against it (the COM alone misses

@@ -90,6 +90,10 @@ void FilterWithGaps(const ButterworthFilter& filter, Eigen::Ref<Eigen::VectorXd>
   }
 }
 
+void FilterColumnsWithGaps(const ButterworthFilter& filter, Eigen::MatrixXd& signals) {
+  for (Eigen::Index c = 0; c < signals.cols(); ++c) FilterWithGaps(filter, signals.col(c));
+}
+
 ResidualAnalysis CalcResidualAnalysis(const Eigen::MatrixXd& signals,
                                       double rate_hz,
                                       int order,

@@ -364,30 +364,20 @@ double Interpolate(const Eigen::VectorXd& time_s, const Eigen::VectorXd& values,
   return values[i] + (u - i) * (values[i + 1] - values[i]);
 }
 
-// A curve of the COM's height against time with its derivative: a flight's parabola or a
-// contact's sinusoid.
-struct ComCurve {
+// The COM's height in a contact: z_eq + c1 cos ω(t − t_ref) + c2 sin ω(t − t_ref), c = (z_eq, c1,
+// c2).
+struct ContactSinusoid {
   Eigen::Vector3d c = Eigen::Vector3d::Zero();
-  double t_ref = 0, omega = 0;  // omega 0: parabola c0 + c1 τ + c2 τ²
-  double z(double t) const {
-    const double tau = t - t_ref;
-    return omega == 0 ? c[0] + c[1] * tau + c[2] * tau * tau
-                      : c[0] + c[1] * std::cos(omega * tau) + c[2] * std::sin(omega * tau);
-  }
-  double v(double t) const {
-    const double tau = t - t_ref;
-    return omega == 0 ? c[1] + 2 * c[2] * tau
-                      : omega * (-c[1] * std::sin(omega * tau) + c[2] * std::cos(omega * tau));
-  }
+  double t_ref = 0, omega = 0;
 };
 
 // The COM in a contact of a sprung bed: z = z_eq + c1 cos ω(t − t_ref) + c2 sin ω(t − t_ref) over
 // [first, last], ω scanned from 4 to 40 rad/s (bed periods 0.16–1.6 s), each ω one linear solve.
-ComCurve FitContactSinusoid(const Eigen::VectorXd& t,
-                            const Eigen::VectorXd& z,
-                            int first,
-                            int last) {
-  ComCurve best;
+ContactSinusoid FitContactSinusoid(const Eigen::VectorXd& t,
+                                   const Eigen::VectorXd& z,
+                                   int first,
+                                   int last) {
+  ContactSinusoid best;
   best.t_ref = t[(first + last) / 2];
   double best_sse = std::numeric_limits<double>::infinity();
   const int rows = last - first + 1;
@@ -468,7 +458,7 @@ std::optional<SurfaceEstimate> EstimateContactSurface(const Eigen::VectorXd& tim
     // sinusoid accelerates at −g, as in flight, where the feet are at the bed's rest level: the
     // sinusoid z_eq + R cos θ at R cos θ = g / ω², before (landing) and after (take-off) its
     // bottom θ = π. The soles at those instants.
-    const ComCurve spring = FitContactSinusoid(time_s, com_z_m, first, last);
+    const ContactSinusoid spring = FitContactSinusoid(time_s, com_z_m, first, last);
     if (spring.omega <= 4.0 || spring.omega >= 40.0) continue;  // no spring in the scanned range
     const double R = std::hypot(spring.c[1], spring.c[2]);
     const double ratio = g / (spring.omega * spring.omega * R);

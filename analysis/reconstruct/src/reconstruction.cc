@@ -306,25 +306,21 @@ void FilterMarkers(const ReconstructionOptions& options,
     noise_intercept = analysis.noise_intercept;
     summary.cutoff_from_residual_analysis = true;
   }
-  // Filter each column, across its gaps, and put the columns back.
+  // Filter each column, across its gaps (the columns are put back below). The measurement
+  // noise: Winter's intercept (the RMS of the noise, the residual's noise line at
+  // 0 Hz), or with a cutoff given what the filter removes (the noise above the cutoff).
   const ButterworthFilter filter(options.filter_order, fc, rate);
-  double removed = 0.0;
-  Eigen::Index samples = 0;
-  for (Eigen::Index c = 0; c < signals.cols(); ++c) {
-    Eigen::VectorXd x = signals.col(c);
-    FilterWithGaps(filter, x);
-    for (Eigen::Index f = 0; f < x.size(); ++f)
-      if (!std::isnan(x[f]) && !std::isnan(signals(f, c))) {
-        removed += (x[f] - signals(f, c)) * (x[f] - signals(f, c));
-        ++samples;
-      }
-    signals.col(c) = x;
+  if (noise_intercept > 0) {
+    FilterColumnsWithGaps(filter, signals);
+    summary.noise_rms_m = noise_intercept;
+  } else {
+    const Eigen::MatrixXd raw = signals;
+    FilterColumnsWithGaps(filter, signals);
+    const Eigen::ArrayXXd removed = (signals - raw).array();
+    const Eigen::Index samples = (removed == removed).count();  // not NaN
+    summary.noise_rms_m = std::sqrt(removed.isNaN().select(0.0, removed).square().sum() /
+                                    double(std::max<Eigen::Index>(1, samples)));
   }
-  // The measurement noise: Winter's intercept (the RMS of the noise, the residual's noise line at
-  // 0 Hz), or with a cutoff given what the filter removed (the noise above the cutoff).
-  summary.noise_rms_m = noise_intercept > 0
-                            ? noise_intercept
-                            : std::sqrt(removed / std::max<Eigen::Index>(1, samples));
   for (int m = 0; m < M; ++m)
     for (int f = 0; f < F; ++f)
       for (int d = 0; d < 3; ++d) P(d, Eigen::Index(f) * M + m) = signals(f, 3 * m + d);

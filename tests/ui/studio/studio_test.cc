@@ -315,11 +315,11 @@ TEST(Studio, TheSampleRoutineWithItsVideoAtOneCursor) {
   // (a third of a degree per pixel), the wheel moves it closer; the picture changes each time, and
   // the session keeps it all.
   {
-    const QImage before = w.view3d()->image();
+    const QImage with_mesh = w.view3d()->image();
     w.SetShown("skeleton,markers,com");
     EXPECT_EQ(w.shown(), "skeleton,markers,com");
     const QImage skeleton = w.view3d()->image();
-    EXPECT_NE(skeleton, before);
+    EXPECT_NE(skeleton, with_mesh);
     ImageView* view3d = w.view3d();
     const QPoint from = view3d->rect().center();
     QTest::mousePress(view3d, Qt::LeftButton, {}, from);

@@ -189,6 +189,14 @@ PhysicalCheck CheckPhysics(const dynamics::Model<double>& model,
                            double cutoff_hz,
                            const PhysicalCheckOptions& options = {});
 
+/// How far the angular momentum L (columns: frames) strays: the largest distance between two of
+/// its columns over max(|mean L|, floor).
+double CalcMomentumVariation(const Eigen::Matrix3Xd& L, double floor);
+
+/// The gravity a falling height shows: −2 c₂ of the parabola c₀ + c₁ t + c₂ t² fitted to z(t) by
+/// least squares.
+double FitFallingGravity(const Eigen::VectorXd& time_s, const Eigen::VectorXd& z);
+
 /// The norm of the mean of `x`'s columns over every window of `window` consecutive columns
 /// (window clamped to 1…cols), in order of the window's first column.
 Eigen::VectorXd WindowedMeanNorms(const Eigen::Matrix3Xd& x, int window);

@@ -37,6 +37,9 @@ class ButterworthFilter {
 /// Filters every coordinate of a signal with gaps: each run of non-NaN samples separately.
 void FilterWithGaps(const ButterworthFilter& filter, Eigen::Ref<Eigen::VectorXd> x);
 
+/// FilterWithGaps on every column of `signals` (one signal per column, one row per sample).
+void FilterColumnsWithGaps(const ButterworthFilter& filter, Eigen::MatrixXd& signals);
+
 struct ResidualAnalysis {
   std::vector<double> cutoff_hz;  ///< the cutoffs tried
   std::vector<double> residual;   ///< RMS difference raw − filtered at each cutoff (signal units)
