@@ -278,7 +278,7 @@ TEST(Cli, AnalyzeWithoutAnyDisplayWritesTheMilestoneOneNumbersAndTheCharts) {
     // The judged (windowed) residuals and what the trial's noise alone gives them: with markers
     // of 1 mm noise the floor raises no limit (the verdicts are milestone 1's).
     if (jump["check"].is_object()) {
-      EXPECT_FALSE(jump["check"]["noise_floor"]["raised_a_limit"].get<bool>());
+      EXPECT_FALSE(jump["check"]["noise_floor"]["judged_against_noise"].get<bool>());
       for (const char* key : {"window_force_bw", "window_moment_bwh", "noise_floor"})
         jump["check"].erase(key);
     }

@@ -63,16 +63,17 @@ struct FlightSpan {
   int first = 0, count = 0, judged_first = 0, judged_count = 0;
   Motion motion;         // the motion over the span, smoothed
   Eigen::Matrix3Xd p_M;  // its model markers, 3 × count·M, frame-major
-  FrameDynamics clean;   // the refit of those markers without noise
+  FrameDynamics clean;   // the refit of those markers without noise and without the filter
 };
 
 // The span's model markers + white noise of `noise_rms_m` (recorded samples only; 0: none), the
-// trial's filter, the same inverse kinematics warm-started frame by frame, the same inverse
-// dynamics. `max_marker_error_m` (when given) gets the fit's largest marker error over the
-// judged frames.
+// trial's filter (unless `filtered` is false), the same inverse kinematics warm-started frame by
+// frame, the same inverse dynamics. `max_marker_error_m` (when given) gets the fit's largest
+// marker error over the judged frames.
 FrameDynamics Refit(const ReconstructionResult& rec,
                     const FlightSpan& span,
                     double noise_rms_m,
+                    bool filtered,
                     double height_m,
                     unsigned seed,
                     double* max_marker_error_m) {
@@ -92,7 +93,7 @@ FrameDynamics Refit(const ReconstructionResult& rec,
             present ? span.p_M(d, Eigen::Index(f) * M + m) + (noise_rms_m > 0 ? noise(rng) : 0.0)
                     : std::numeric_limits<double>::quiet_NaN();
     }
-  if (rec.summary.filtered && rec.summary.cutoff_hz > 0)
+  if (filtered && rec.summary.filtered && rec.summary.cutoff_hz > 0)
     FilterColumnsWithGaps(
         ButterworthFilter(rec.summary.filter_order, rec.summary.cutoff_hz, 1.0 / dt), signals);
   InverseKinematics ik(rec.model, rec.markers, rec.joint_limits, rec.ik_options);
@@ -116,8 +117,10 @@ FrameDynamics Refit(const ReconstructionResult& rec,
 }
 
 // What a noisy refit changes in the judged measures against the span's clean refit (the same
-// markers through the same filter and fit without noise, so that what the pipeline itself does to
-// the motion — the filter smooths a fit's jumps — is not taken for noise).
+// markers fitted without noise and without the filter). The filter is in the difference: its
+// cutoff is where the trial's noise put it, and what it removes of a fast motion (a tuck's entry,
+// a kick-out) the inverse dynamics sees as residuals and momentum change — on the sample as COCO-17
+// keypoints more than the noise that gets through it (docs/physical-check.md).
 FlightNoiseFloor MeasureNoisyCopy(const ReconstructionResult& rec,
                                   const FlightSpan& span,
                                   double noise_rms_m,
@@ -127,7 +130,7 @@ FlightNoiseFloor MeasureNoisyCopy(const ReconstructionResult& rec,
                                   unsigned seed) {
   FlightNoiseFloor out;
   double marker_error = 0.0;
-  const FrameDynamics d = Refit(rec, span, noise_rms_m, height_m, seed, &marker_error);
+  const FrameDynamics d = Refit(rec, span, noise_rms_m, true, height_m, seed, &marker_error);
   const FrameDynamics& clean = span.clean;
   out.max_marker_error_m = marker_error;
   const int j0 = span.judged_first, m = span.judged_count;
@@ -236,7 +239,7 @@ std::vector<FlightNoiseFloor> CalcNoiseFloor(const ReconstructionResult& rec,
   }
   RunInParallel(static_cast<int>(judged.size()), threads, stop, options.cancelled, [&](int i) {
     FlightSpan& s = spans[size_t(judged[size_t(i)])];
-    s.clean = Refit(rec, s, 0.0, height_m, 0, nullptr);
+    s.clean = Refit(rec, s, 0.0, false, height_m, 0, nullptr);
   });
 
   // The noisy copies; each flight's floor is the largest of its copies'. The first copy of every

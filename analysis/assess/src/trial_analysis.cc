@@ -520,7 +520,7 @@ std::string FormatJumpsJson(const TrialAnalysis& a) {
                          {"momentum_variation", c.noise->momentum_variation},
                          {"gravity_error_m_per_s2", c.noise->gravity_error_m_per_s2},
                          {"max_marker_error_m", c.noise->max_marker_error_m},
-                         {"raised_a_limit", c.judged_against_noise}}
+                         {"judged_against_noise", c.judged_against_noise}}
                   : Json(nullptr);
     }
     jumps.push_back(std::move(o));

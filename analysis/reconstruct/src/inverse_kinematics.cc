@@ -180,10 +180,15 @@ class JointLimitCost : public ceres::CostFunction {
   double k_;
 };
 
-/// Prior towards the reference pose: r_j = w_j θ_j.
+/// Prior towards the reference pose, r_j = w_j θ_j, or with `target` towards it,
+/// r_j = w_j (θ_j − target_j) (the temporal prior: target = the warm start's angles, `active`
+/// false in cold starts).
 class JointPriorCost : public ceres::CostFunction {
  public:
-  explicit JointPriorCost(const std::vector<double>& w) : w_(w) {
+  explicit JointPriorCost(const std::vector<double>& w,
+                          const Eigen::VectorXd* target = nullptr,
+                          const bool* active = nullptr)
+      : w_(w), target_(target), active_(active) {
     set_num_residuals(static_cast<int>(w.size()));
     mutable_parameter_block_sizes()->assign({static_cast<int>(w.size())});
   }
@@ -191,16 +196,20 @@ class JointPriorCost : public ceres::CostFunction {
                 double* residuals,
                 double** jacobians) const override {
     const size_t n = w_.size();
+    const bool on = active_ == nullptr || *active_;
     if (jacobians && jacobians[0]) std::fill(jacobians[0], jacobians[0] + n * n, 0.0);
     for (size_t j = 0; j < n; ++j) {
-      residuals[j] = w_[j] * parameters[0][j];
-      if (jacobians && jacobians[0]) jacobians[0][j * n + j] = w_[j];
+      const double w = on ? w_[j] : 0.0;
+      residuals[j] = w * (parameters[0][j] - (target_ ? (*target_)[Eigen::Index(j)] : 0.0));
+      if (jacobians && jacobians[0]) jacobians[0][j * n + j] = w;
     }
     return true;
   }
 
  private:
   std::vector<double> w_;
+  const Eigen::VectorXd* target_;
+  const bool* active_;
 };
 
 }  // namespace
@@ -256,6 +265,8 @@ bool InverseKinematicsOptions::IsValid(std::string* why) const {
   for (double w : joint_prior_m_per_rad)
     if (!(w >= 0.0)) return fail("joint_prior_m_per_rad must be >= 0");
   if (!(robust_scale_m >= 0.0)) return fail("robust_scale_m must be >= 0");
+  if (!(temporal_prior_m_per_rad >= 0.0 && std::isfinite(temporal_prior_m_per_rad)))
+    return fail("temporal_prior_m_per_rad must be finite and >= 0");
   if (!(joint_limit_stiffness_m_per_rad >= 0.0))
     return fail("joint_limit_stiffness_m_per_rad must be >= 0");
   if (!(function_tolerance > 0 && gradient_tolerance > 0 && parameter_tolerance > 0))
@@ -300,6 +311,13 @@ struct InverseKinematics::Impl {
       problem->AddResidualBlock(
           new JointPriorCost(options.joint_prior_m_per_rad), nullptr, joints.data());
     }
+    if (options.temporal_prior_m_per_rad > 0)
+      problem->AddResidualBlock(
+          new JointPriorCost(std::vector<double>(joints.size(), options.temporal_prior_m_per_rad),
+                             &joints_start,
+                             &warm),
+          nullptr,
+          joints.data());
     for (const ModelMarker& marker : markers) {
       std::vector<int> cols = {0, 1, 2, 3, 4, 5};
       for (int j = marker.segment; j > 0; j = model.segment(j).parent)
@@ -328,7 +346,9 @@ struct InverseKinematics::Impl {
   Eigen::Vector3d p;
   Eigen::Vector4d quat;  // w x y z, as q stores it and as ceres::QuaternionManifold expects
   Eigen::VectorXd joints;
-  bool robust = true;  // the Huber transform is on (off during a cold start's first fits)
+  bool robust = true;            // the Huber transform is on (off during a cold start's first fits)
+  bool warm = false;             // a warm start: the temporal prior is on
+  Eigen::VectorXd joints_start;  // the warm start's joint angles (the temporal prior's target)
   AllMarkersCost* marker_cost = nullptr;  // owned by the problem
   // Structured warm-start solver: per marker, the velocity columns its point depends on (the
   // root's six and its ancestors' joint axes), and scratch for the normal equations.
@@ -510,7 +530,12 @@ double InverseKinematics::Impl::EvaluateChart(const Eigen::Quaterniond& q0,
     const double wp =
         options.joint_prior_m_per_rad.empty() ? 0.0 : options.joint_prior_m_per_rad[size_t(j)];
     cost += 0.5 * wp * wp * t * t;
+    const double wt = options.temporal_prior_m_per_rad;  // SolveWarm only
+    const double dt = t - joints_start[j];
+    cost += 0.5 * wt * wt * dt * dt;
     if (normal) {
+      H(6 + j, 6 + j) += wt * wt;
+      g[6 + j] += wt * wt * dt;
       if (r != 0.0) {
         H(6 + j, 6 + j) += kl * kl;
         g[6 + j] += kl * kl * r;
@@ -604,6 +629,8 @@ IkFrameResult InverseKinematics::Solve(const Eigen::Matrix3Xd& observed,
   s.p = q.head<3>();
   s.quat = q.segment<4>(3).normalized();
   s.joints = q.tail(s.model.num_joint_dofs());
+  s.joints_start = s.joints;
+  s.warm = !cold;
   int iterations = 0;
   if (!cold && s.options.structured_warm_start) {
     bool converged = false;

@@ -675,23 +675,39 @@ TEST(TrialAnalysis, KeypointNoiseAloneIsConsistentWithinItsNoise) {
   EXPECT_NE(a.check.verdict.find("its noise (≈ "), std::string::npos) << a.check.verdict;
   EXPECT_NE(a.check.verdict.find("video keypoints"), std::string::npos) << a.check.verdict;
   EXPECT_EQ(a.check.data_class, "video keypoints");
-  // The physics — residual force and moment, angular momentum, gravity — of every flight but at
-  // most one is within what the noise gives; against the thresholds alone all six fail (below).
-  // What remains are faults of our keypoint fit that the noisy copies, fitted the same way from a
-  // smooth motion, do not show (docs/physical-check.md): a one-frame jump of the fit at 5.52 s
-  // (86 BW in that frame) in flight 4, and the right wrist lost in the double back's tuck for a
-  // few frames (14–18 cm at 10.00–10.05 s: the marker error of flights 2 and 6).
+  // Every flight's physics — residual force and moment, angular momentum, gravity — and marker
+  // error are within what the noise gives (through the filter its level made necessary): the
+  // verdict is a pass, though against the thresholds alone all six flights fail (below).
+  EXPECT_TRUE(a.check.pass) << a.check.verdict;
+  EXPECT_EQ(a.check.verdict.rfind("pass within its noise (≈ 14.", 0), 0u) << a.check.verdict;
   auto physics_failures = [](const FlightCheck& fc) {
     int n = 0;
     for (const std::string& failure : fc.failures) n += failure.rfind("marker error", 0) != 0;
     return n;
   };
-  int failing = 0;
-  for (const FlightCheck& fc : a.check.flights) {
-    EXPECT_TRUE(fc.judged_against_noise) << fc.flight;
-    failing += physics_failures(fc) > 0;
-  }
-  EXPECT_LE(failing, 1) << a.check.verdict;
+  for (const FlightCheck& fc : a.check.flights) EXPECT_TRUE(fc.judged_against_noise) << fc.flight;
+  // In the flights no joint angle of the fit jumps by more than 0.3 rad from one frame to the
+  // next (the truth's fastest, the tuck's knees, turn 0.1 rad a frame): the angles 17 keypoints see
+  // in some poses only (a hip's rotation while the knee is straight) keep their value through the
+  // others (the temporal prior) and lean weakly to neutral instead of drifting into their gimbal
+  // lock and flipping — without these, 856 such jumps over the trial and a fit that lost an arm in
+  // two flights (docs/reconstruction.md). Measured: none in the flights; three on the bed, in the
+  // first two frames after the cold start and the last two.
+  const Motion& motion = a.reconstruction.motion;
+  int jumps = 0;
+  for (const FlightCheck& fc : a.check.flights)
+    for (int f = fc.first_frame + 1; f <= fc.last_frame; ++f)
+      for (int c = 7; c < motion.nq(); ++c)
+        if (std::abs(motion.q(c, f) - motion.q(c, f - 1)) > 0.3) {
+          ++jumps;
+          std::printf("frame %d: %s %.2f → %.2f rad\n",
+                      f,
+                      motion.coordinate_names[size_t(c)].c_str(),
+                      motion.q(c, f - 1),
+                      motion.q(c, f));
+        }
+  EXPECT_EQ(jumps, 0);
+  EXPECT_LT(a.reconstruction.summary.max_m, 0.06);
 
   TrialAnalysisOptions thresholds_only;
   thresholds_only.judge_against_noise = false;

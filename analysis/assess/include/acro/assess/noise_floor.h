@@ -7,8 +7,10 @@
 // motion, as its model markers, is given white noise of the trial's measured RMS, filtered with
 // the trial's filter, fitted by the same inverse kinematics (same model, markers, limits and
 // priors; each frame warm-started at the motion's own pose) and run through the same inverse
-// dynamics; what changes in the judged measures is what the noise alone gives. The check is then
-// judged against it (JudgeAgainstNoise).
+// dynamics; what changes in the judged measures against the same markers fitted without noise
+// and without filter is what the noise alone gives — through the filter its level made necessary,
+// whose smoothing of a fast motion is part of it. The check is then judged against it
+// (JudgeAgainstNoise).
 
 #include <functional>
 #include <string>

@@ -109,7 +109,8 @@ struct FlightCheck {
   double max_marker_error_m = 0.0;
   /// What noise alone gives these measures, when the check was judged against the noise.
   std::optional<FlightNoiseFloor> noise;
-  /// Whether the noise floor raised a limit above its threshold for this flight.
+  /// Whether the flight fails a threshold alone and the noise floor raised a limit above its
+  /// threshold (its verdict then depends on the noise: "within" or "beyond" it).
   bool judged_against_noise = false;
   bool pass = true;
   std::vector<std::string> failures;  ///< which criteria failed, with their numbers

@@ -47,6 +47,13 @@ struct InverseKinematicsOptions {
   /// keypoints: pelvis tilt against lumbar flexion, forearm pronation, wrists, ankles), so that
   /// they rest at the reference pose instead of drifting along the null space.
   std::vector<double> joint_prior_m_per_rad;
+  /// Warm starts only: residual w (θ_j − θ_j,start) per joint angle (m/rad), pulling each angle
+  /// towards its value at the warm start (the previous frame). 0 disables it. For sparse keypoint
+  /// sets, where an angle is seen in one pose and not in the next (a hip's rotation while its knee
+  /// is straight, a shoulder's while its elbow is): there the angle keeps the previous frame's
+  /// value instead of flipping along the null space, and Levenberg–Marquardt converges. 0.02 m/rad
+  /// makes a 0.1 rad change between frames cost like a 2 mm marker error (docs/reconstruction.md).
+  double temporal_prior_m_per_rad = 0.0;
   /// Warm-started frames by a Levenberg–Marquardt that assembles the normal equations marker by
   /// marker on the columns each marker depends on (the root's six and its chain's joint axes; a
   /// dense JᵀJ of all 3M rows × 38 columns is what dominates Ceres's time here), with the root

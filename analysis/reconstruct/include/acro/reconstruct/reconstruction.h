@@ -46,6 +46,15 @@ struct ReconstructionOptions {
   /// 17 keypoints cannot see — lumbar (pelvis tilt trades against it), forearm pronation, wrists
   /// and ankles (docs/reconstruction.md).
   double keypoint_unseen_angle_prior_m_per_rad = 0.05;
+  /// For keypoint sets without ik.temporal_prior_m_per_rad: the temporal prior of their warm
+  /// starts (InverseKinematicsOptions::temporal_prior_m_per_rad; 0: none).
+  double keypoint_temporal_prior_m_per_rad = 0.02;
+  /// For keypoint sets with no points on the hands and feet (COCO-17), without
+  /// ik.joint_prior_m_per_rad: the prior weight (m/rad) on the shoulders' and hips' rotations,
+  /// which such keypoints see only while the elbow or knee is bent; a
+  /// straight limb's rotation otherwise drifts through the noise towards the gimbal lock of its
+  /// flexion–rotation–abduction sequence (docs/reconstruction.md).
+  double keypoint_limb_rotation_prior_m_per_rad = 0.01;
   /// Frames of the motion used for scaling without a static trial (evenly spread over the window).
   int scaling_window_frames = 20;
   /// Window for scaling without a static trial, in frames of the trial (−1: the whole trial).
