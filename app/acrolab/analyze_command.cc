@@ -75,6 +75,7 @@ int RunAnalyze(AnalyzeArguments& args) {
     if (!quiet) std::fprintf(stderr, "%s\n", line.c_str());
   };
   const auto [trial, static_trial] = common.ReadTrials("analyze");
+  CheckCutoffBelowNyquist(options.reconstruction, trial);
   const analysis::AthleteBody body = common.MakeBody("analyze", &report.athlete);
 
   // The plotted joint must exist before any work is done (and before any file is written).
@@ -101,8 +102,9 @@ int RunAnalyze(AnalyzeArguments& args) {
 
   // Outputs: the video's (silhouettes, overlay), the tables, then the report (with plots when
   // rendering works here).
-  const std::filesystem::path dir(common.out_dir);
-  CreateOutputDirectory(dir);
+  // Written into a staging directory and moved into place when all are complete.
+  OutputTransaction outputs(common.out_dir);
+  const std::filesystem::path& dir = outputs.staging();
   if (camera_found) {
     const vision::Camera& camera = *camera_found;
     analysis::TrialScene scene(trial, result, body, analysis::MakeEllipsoidBodyMesh(body));
@@ -227,8 +229,9 @@ int RunAnalyze(AnalyzeArguments& args) {
   say("report: rendering plots");
   const ui::AnalysisReportOutcome outcome = ui::WriteAnalysisReport(result, dir, report);
   if (!outcome.images_rendered) say("report: no plots: " + outcome.reason);
+  outputs.Commit();
   std::fputs(result.BriefReport().c_str(), stdout);
-  std::printf("report: %s\n", (dir / "report.html").string().c_str());
+  std::printf("report: %s\n", (outputs.dir() / "report.html").string().c_str());
   std::printf("wrote %s/{report.html,jumps.json,angles.mot,torques.sto,residuals.csv}\n",
               common.out_dir.c_str());
   return 0;

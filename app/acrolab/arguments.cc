@@ -228,6 +228,8 @@ std::function<bool(int, int)> MakeCancellableProgress(const std::string& label,
 std::pair<capture::Trial, std::optional<capture::Trial>> TrialArguments::ReadTrials(
     const std::string& command) const {
   capture::Trial trial = capture::ReadTrial(trial_path);
+  for (const std::string& warning : trial.warnings)  // what the import recovered from, said
+    std::fprintf(stderr, "acrolab %s: warning: %s\n", command.c_str(), warning.c_str());
   analysis::UpAxis found;
   const std::string turned = analysis::OrientTrialUp(&trial, up, &found);
   if (!turned.empty())
@@ -241,6 +243,17 @@ std::pair<capture::Trial, std::optional<capture::Trial>> TrialArguments::ReadTri
                               (found.sign > 0 ? "" : "-") + std::string(1, char('x' + found.axis)));
   }
   return {std::move(trial), std::move(static_trial)};
+}
+
+void CheckCutoffBelowNyquist(const analysis::ReconstructionOptions& options,
+                             const capture::Trial& trial) {
+  if (options.filter && options.cutoff_hz > 0 && options.cutoff_hz >= 0.5 * trial.point_rate_hz)
+    throw UsageError{fmt::format(
+        "--cutoff {:g} Hz is at or above the trial's Nyquist frequency, {:g} Hz (its rate is {:g} "
+        "Hz)",
+        options.cutoff_hz,
+        0.5 * trial.point_rate_hz,
+        trial.point_rate_hz)};
 }
 
 }  // namespace acro::app

@@ -76,6 +76,10 @@ void DemandValidCommandLine(const Options& options) {
   if (!options.IsValid(&why)) throw UsageError{why};
 }
 
+/// A --cutoff at or above the trial's Nyquist frequency is a command-line mistake (UsageError).
+void CheckCutoffBelowNyquist(const analysis::ReconstructionOptions& options,
+                             const capture::Trial& trial);
+
 /// Ctrl-C and SIGTERM: from here on both are received by one thread of their own (every thread the
 /// program starts later inherits the blocked mask), which removes every unfinished output
 /// (acro/base/temporaries.h), says so in one line and exits with 128 + the signal (130, 143).

@@ -1,6 +1,7 @@
 #include <cstdio>
 #include <memory>
 
+#include "acro/base/input_error.h"
 #include "acro/capture/trial_io.h"
 #include "commands.h"
 
@@ -14,9 +15,11 @@ struct ConvertArguments {
 
 int RunConvert(const ConvertArguments& args) {
   const capture::Trial trial = capture::ReadTrial(args.in);
-  capture::WriteTrial(trial, args.out);
   for (const std::string& warning : trial.warnings)
-    std::fprintf(stderr, "warning: %s\n", warning.c_str());
+    std::fprintf(stderr, "acrolab convert: warning: %s\n", warning.c_str());
+  if (trial.num_frames < 1)
+    throw InputError(args.in, "", "the trial has no frame; convert needs 1 at least");
+  capture::WriteTrial(trial, args.out);
   std::printf("%s -> %s: %d frames, %d points\n",
               args.in.c_str(),
               args.out.c_str(),

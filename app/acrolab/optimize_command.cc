@@ -74,6 +74,9 @@ int RunOptimize(OptimizeArguments& args) {
   const std::string& skill_path = args.skill_path;
   const std::string& out_dir = args.out_dir;
   analysis::SkillOptimizationOptions& options = args.options;
+  if (options.quadrature_intervals % 2 != 0)
+    throw UsageError{"--intervals " + std::to_string(options.quadrature_intervals) +
+                     " is odd; Simpson's rule needs an even number"};
   DemandValidCommandLine(options);
   CheckOutputDirectory(out_dir);  // before any work: a bad -o costs nothing
 
@@ -96,14 +99,16 @@ int RunOptimize(OptimizeArguments& args) {
     sim = analysis::SimulateSkill(design, result.optimized);
   }
   ui::SkillReportExtras extras;
+  OutputTransaction outputs(out_dir);  // moved into place when all are complete
 #ifdef ACRO_HAVE_VIEWS
   std::fprintf(stderr, "  drawing the filmstrip\n");
-  extras = DrawFilmstrips(design, result, out_dir, args.video);
+  extras = DrawFilmstrips(design, result, outputs.staging(), args.video);
 #else
   if (args.video) NeedTheViews();
 #endif
   std::vector<std::string> files =
-      ui::WriteSkillOutputs(out_dir, design, result, sim ? &*sim : nullptr, extras);
+      ui::WriteSkillOutputs(outputs.staging(), design, result, sim ? &*sim : nullptr, extras);
+  outputs.Commit();
   for (const std::string* f : {&extras.filmstrip, &extras.filmstrip_video})
     if (!f->empty()) files.push_back(*f);
 
@@ -162,9 +167,11 @@ void AddOptimizeCommand(CLI::App& app, CommandRunner* run) {
   command->add_flag("--video",
                     args->video,
                     "also write the filmstrip (initial and optimised timing) as DIR/filmstrip.mp4");
-  command->add_option("--intervals",
-                      args->options.quadrature_intervals,
-                      "quadrature intervals over the flight (even; default 40)");
+  command
+      ->add_option("--intervals",
+                   args->options.quadrature_intervals,
+                   "quadrature intervals over the flight (even, 2–2000; default 40)")
+      ->check(CLI::Range(2, 2000));
   command->callback([args, run] { *run = [args] { return RunOptimize(*args); }; });
 }
 

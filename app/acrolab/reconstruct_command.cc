@@ -40,6 +40,7 @@ int RunReconstruct(ReconstructArguments& args) {
 
   // Inputs: trial, static trial, athlete.
   const auto [trial, static_trial] = common.ReadTrials("reconstruct");
+  CheckCutoffBelowNyquist(options, trial);
   const analysis::AthleteBody body = common.MakeBody("reconstruct");
   const std::string& trial_path = common.trial_path;
   const std::string& out_dir = common.out_dir;
@@ -51,8 +52,8 @@ int RunReconstruct(ReconstructArguments& args) {
 
   // Outputs.
   const std::string stem = std::filesystem::path(trial_path).stem().string();
-  const std::filesystem::path dir(out_dir);
-  CreateOutputDirectory(dir);
+  OutputTransaction outputs(out_dir);  // moved into place when all are complete
+  const std::filesystem::path& dir = outputs.staging();
   analysis::WriteMotionMot(result.motion, dir / (stem + ".mot"));
   analysis::WriteMotionCsv(result.motion, dir / (stem + "_angles.csv"));
   analysis::WriteMotionC3d(result, trial, dir / (stem + "_model.c3d"));
@@ -63,6 +64,7 @@ int RunReconstruct(ReconstructArguments& args) {
                               "athlete " + body.model + ", " + std::to_string(body.height_m) +
                               " m\n" + result.summary.BriefReport();
   WriteFileAtomically(dir / (stem + "_summary.txt"), summary);
+  outputs.Commit();
   std::fputs(summary.c_str(), stdout);
   std::fprintf(stdout,
                "wrote %s/%s{.mot,_angles.csv,_model.c3d,_residuals.csv,_summary.txt}\n",

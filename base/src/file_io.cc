@@ -85,6 +85,62 @@ void CreateOutputDirectory(const std::filesystem::path& dir) {
   if (ec) throw InputError(dir.string(), "", "cannot create the output directory: " + ec.message());
 }
 
+OutputTransaction::OutputTransaction(std::filesystem::path dir) : dir_(std::move(dir)) {
+  CheckOutputDirectory(dir_);
+  // A sibling of `dir` (so that the moves stay on one file system), hidden, unique per run.
+  std::filesystem::path target = dir_.lexically_normal();
+  if (target.filename().empty()) target = target.parent_path();
+  const std::filesystem::path parent =
+      target.parent_path().empty() ? std::filesystem::path(".") : target.parent_path();
+  CreateOutputDirectory(parent);
+  std::random_device seed;
+  std::error_code ec;
+  for (int attempt = 0; attempt < 100; ++attempt) {
+    staging_ = parent / ("." + target.filename().string() + ".partial-" +
+                         std::to_string(seed() % 100000000));
+    if (std::filesystem::create_directory(staging_, ec)) break;
+    staging_.clear();
+    if (ec) break;  // not a name clash
+  }
+  if (staging_.empty()) {
+    throw InputError(dir_.string(),
+                     "",
+                     "cannot create a staging directory beside the outputs" +
+                         (ec ? ": " + ec.message() : std::string()));
+  }
+  registered_ = std::make_unique<ScopedTemporary>(staging_);
+}
+
+OutputTransaction::~OutputTransaction() {
+  if (committed_) return;
+  std::error_code ec;
+  std::filesystem::remove_all(staging_, ec);
+}
+
+void OutputTransaction::Commit() {
+  CreateOutputDirectory(dir_);
+  std::string failure;
+  RunUninterrupted([&] {
+    std::error_code ec;
+    for (const std::filesystem::directory_entry& entry :
+         std::filesystem::directory_iterator(staging_, ec)) {
+      const std::filesystem::path target = dir_ / entry.path().filename();
+      std::error_code move;
+      if (entry.is_directory() && std::filesystem::is_directory(target))
+        std::filesystem::remove_all(target, move);
+      std::filesystem::rename(entry.path(), target, move);
+      if (move && failure.empty())
+        failure =
+            target.string() + ": cannot move the finished output into place: " + move.message();
+    }
+    if (ec && failure.empty()) failure = "cannot list the staging directory: " + ec.message();
+  });
+  if (!failure.empty()) throw InputError(dir_.string(), "", failure);
+  std::error_code ec;
+  std::filesystem::remove_all(staging_, ec);
+  committed_ = true;
+}
+
 void WriteFileAtomically(const std::filesystem::path& path, std::string_view bytes) {
   // A unique temporary name in the same directory, so that the rename stays on one file system.
   std::random_device seed;

@@ -52,6 +52,11 @@ int RemoveRegisteredTemporaries() noexcept {
   return removed;
 }
 
+void RunUninterrupted(const std::function<void()>& work) {
+  const std::lock_guard<std::mutex> lock(RegistryMutex());
+  work();
+}
+
 ScopedChildProcess::ScopedChildProcess(pid_t pid) : pid_(pid) {
   const std::lock_guard<std::mutex> lock(RegistryMutex());
   Children().insert(pid_);

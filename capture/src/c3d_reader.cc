@@ -783,7 +783,14 @@ std::int64_t C3dReader::ChooseDataLayout(const std::vector<int>& point_candidate
     frames = whole;
   }
   // Counts this reader can hold and the file can back.
-  if (frame_size == 0) frames = frames > 0 ? frames : 0;
+  // No points and no analog channels: the frames hold nothing, and a declared count (up to 2³¹
+  // from TRIAL:ACTUAL_END_FIELD) is backed by no byte of the file; read none.
+  if (frame_size == 0 && frames > 0) {
+    warn_("POINT:USED",
+          "no points and no analog channels: the " + std::to_string(frames) +
+              " declared frames hold no data; none read");
+    frames = 0;
+  }
   if (frames > std::numeric_limits<int>::max() / std::max(1, num_points_ + 1)) {
     Fail("POINT:FRAMES", std::to_string(frames) + " frames are more than this reader supports");
   }

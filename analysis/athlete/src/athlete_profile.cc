@@ -2,6 +2,8 @@
 
 #include <cmath>
 
+#include <fmt/format.h>
+
 #include "acro/base/demand.h"
 #include "acro/base/input_error.h"
 
@@ -55,6 +57,19 @@ AthleteProfile AthleteProfileFromYaml(const YamlNode& root, const std::filesyste
     }
     if (const YamlNode* symmetric = yeadon->Find("symmetric"); symmetric != nullptr)
       profile.yeadon_options.symmetric = symmetric->AsBool();
+    // The measurements' own stature against the profile's: a file in centimetres read as metres
+    // (measurementconversionfactor 1) would otherwise give a 175 m athlete (docs/limits.md).
+    YeadonMeasurements m = *profile.yeadon_measurements;
+    m.total_mass_kg = profile.mass_kg;
+    const double h =
+        MakeAthleteBodyFromYeadon(YeadonHuman::Make(m, profile.yeadon_options)).height_m;
+    if (!(std::abs(h - profile.height_m) <= 0.15 * profile.height_m))
+      meas.Fail(
+          fmt::format("the measurements give an athlete of {:.3g} m, the profile's height_m "
+                      "is {:.2f} m: check measurementconversionfactor (0.01 for "
+                      "centimetres, 0.001 for millimetres)",
+                      h,
+                      profile.height_m));
   }
 
   // Optional measured segment lengths (de Leva route).

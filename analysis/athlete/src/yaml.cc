@@ -5,6 +5,7 @@
 #include <limits>
 #include <unordered_set>
 
+#include <yaml-cpp/depthguard.h>
 #include <yaml-cpp/yaml.h>
 
 #include "acro/base/file_io.h"
@@ -228,6 +229,13 @@ YamlNode ParseYaml(std::string_view text, const std::string& file_name) {
   std::vector<YAML::Node> documents;
   try {
     documents = YAML::LoadAll(std::string(text));
+  } catch (const YAML::DeepRecursion& e) {
+    // yaml-cpp stops its recursive parser at its depth guard with the message "bad file".
+    throw InputError(file_name,
+                     "line " + std::to_string(LineOf(e.mark)),
+                     "nested deeper than " + std::to_string(e.depth()) +
+                         " levels (Acrolab's files need " + std::to_string(kMaxDepth) +
+                         " at most)");
   } catch (const YAML::Exception& e) {
     // e.msg is yaml-cpp's problem without its own position prefix.
     throw InputError(file_name, "line " + std::to_string(LineOf(e.mark)), e.msg);

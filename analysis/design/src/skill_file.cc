@@ -1,7 +1,9 @@
 #include "acro/design/skill_file.h"
 
 #include <cmath>
+#include <cstddef>
 #include <numbers>
+#include <utility>
 
 #include <yaml-cpp/yaml.h>
 
@@ -41,12 +43,32 @@ void SetJoint(const YamlNode& node, std::string_view segment, bool mirror, Eigen
   if (count == 0) node.Fail("unknown joint (a standard segment name such as r_thigh or thigh)");
 }
 
+// Limits of a skill file (docs/limits.md): an aerial skill's flight time (a 4 s flight rises
+// 19.6 m; the longest trampoline flights are about 2.2 s), keyframes (a skill has 5–15; the timing
+// problem grows with their cube), root angles (ten turns), tolerances.
+constexpr double kMinFlightTimeS = 0.2, kMaxFlightTimeS = 4.0;
+constexpr double kMaxHorizontalSpeedMps = 10.0;
+constexpr std::size_t kMaxKeyframes = 100;
+constexpr double kMaxRootAngleDeg = 3600.0;
+constexpr double kMaxStepDeg = 170.0;
+
 double AngleDeg(const YamlNode& map, std::string_view key) {
   const YamlNode* n = map.Find(key);
   if (n == nullptr) return 0.0;
   const double v = n->AsDouble();
   if (!std::isfinite(v)) n->Fail("angle is not finite");
+  if (std::abs(v) > kMaxRootAngleDeg)
+    n->Fail(FormatFixed(v, 1) + "° is outside ±" + FormatFixed(kMaxRootAngleDeg, 0) +
+            "° (ten turns)");
   return v * kDegToRad;
+}
+
+// The flight time as the reader checks it: finite and within [kMinFlightTimeS, kMaxFlightTimeS].
+void CheckFlightTime(const YamlNode& node, const std::string& what, double T) {
+  if (!(T >= kMinFlightTimeS && T <= kMaxFlightTimeS))
+    node.Fail((what.empty() ? "a flight time of " : what + " gives a flight time of ") +
+              FormatFixed(T, 3) + " s, outside " + FormatFixed(kMinFlightTimeS, 1) + "–" +
+              FormatFixed(kMaxFlightTimeS, 1) + " s (a 4 s flight rises 19.6 m)");
 }
 
 }  // namespace
@@ -99,10 +121,14 @@ Skill SkillFromYaml(const YamlNode& root, const std::filesystem::path& base_dir)
     if (v.size() != 3) vel->Fail("expected [vx, vy, vz]");
     skill.takeoff_com_velocity_mps = Eigen::Vector3d(v[0], v[1], v[2]);
     if (!skill.takeoff_com_velocity_mps.allFinite() || !(v[2] > 0.0))
-      vel->Fail("the vertical take-off velocity must be positive");
+      vel->Fail("the vertical take-off velocity must be positive and finite");
+    if (std::hypot(v[0], v[1]) > kMaxHorizontalSpeedMps)
+      vel->Fail("a horizontal take-off speed of " + FormatFixed(std::hypot(v[0], v[1]), 2) +
+                " m/s is above " + FormatFixed(kMaxHorizontalSpeedMps, 0) + " m/s");
+    CheckFlightTime(*vel, "the vertical velocity", 2.0 * v[2] / skill.gravity_mps2);
   } else {
     const double T = tof->AsDouble();
-    if (!(T > 0.0)) tof->Fail("must be positive");
+    CheckFlightTime(*tof, "", T);
     skill.takeoff_com_velocity_mps = Eigen::Vector3d(0.0, 0.0, 0.5 * skill.gravity_mps2 * T);
   }
   skill.flight_time_s = 2.0 * skill.takeoff_com_velocity_mps.z() / skill.gravity_mps2;
@@ -114,13 +140,18 @@ Skill SkillFromYaml(const YamlNode& root, const std::filesystem::path& base_dir)
     t->RequireKnownKeys({"position_m", "angle_deg"});
     if (const YamlNode* n = t->Find("position_m")) tol_pos_m = n->AsDouble();
     if (const YamlNode* n = t->Find("angle_deg")) tol_angle_rad = n->AsDouble() * kDegToRad;
-    if (!(tol_pos_m >= 0.0) || !(tol_angle_rad >= 0.0)) t->Fail("tolerances must be non-negative");
+    if (!(tol_pos_m >= 0.0 && tol_pos_m <= 1.0) ||
+        !(tol_angle_rad >= 0.0 && tol_angle_rad <= std::numbers::pi))
+      t->Fail("must be within 0–1 m and 0–180°");
   }
 
   // Keyframes.
   const YamlNode& keyframes = root.At("keyframes");
   if (!keyframes.IsSequence() || keyframes.items().size() < 3)
     keyframes.Fail("expected a sequence of at least 3 keyframes");
+  if (keyframes.items().size() > kMaxKeyframes)
+    keyframes.Fail(std::to_string(keyframes.items().size()) + " keyframes; at most " +
+                   std::to_string(kMaxKeyframes) + " (a skill has 5–15)");
   const int ndof = StandardJointDofCount();
   for (const YamlNode& item : keyframes.items()) {
     if (!item.IsMap()) item.Fail("a keyframe is a map");
@@ -152,15 +183,19 @@ Skill SkillFromYaml(const YamlNode& root, const std::filesystem::path& base_dir)
         }
       }
     }
-    if (const YamlNode* n = item.Find("time_s")) k.time_s = n->AsDouble();
+    if (const YamlNode* n = item.Find("time_s")) {
+      k.time_s = n->AsDouble();
+      if (!std::isfinite(*k.time_s)) n->Fail("not finite");
+    }
     k.tolerance_position_m = tol_pos_m;
     k.tolerance_angle_rad = tol_angle_rad;
     if (const YamlNode* n = item.Find("tolerance_position_m"))
       k.tolerance_position_m = n->AsDouble();
     if (const YamlNode* n = item.Find("tolerance_angle_deg"))
       k.tolerance_angle_rad = n->AsDouble() * kDegToRad;
-    if (!(k.tolerance_position_m >= 0.0) || !(k.tolerance_angle_rad >= 0.0))
-      item.Fail("tolerances must be non-negative");
+    if (!(k.tolerance_position_m >= 0.0 && k.tolerance_position_m <= 1.0) ||
+        !(k.tolerance_angle_rad >= 0.0 && k.tolerance_angle_rad <= std::numbers::pi))
+      item.Fail("tolerances must be within 0–1 m and 0–180°");
     skill.keyframes.push_back(std::move(k));
   }
 
@@ -179,9 +214,31 @@ Skill SkillFromYaml(const YamlNode& root, const std::filesystem::path& base_dir)
           "time_s: the last keyframe is at landing, " + std::to_string(skill.flight_time_s) + " s");
     if (i > 0 && skill.keyframes[i - 1].time_s && !(*k.time_s > *skill.keyframes[i - 1].time_s))
       throw InputError(skill.source, where, "time_s: keyframe times must increase");
+    if (*k.time_s < 0.0 || *k.time_s > skill.flight_time_s)
+      throw InputError(skill.source,
+                       where,
+                       "time_s " + FormatFixed(*k.time_s, 3) + " is outside the flight, 0–" +
+                           FormatFixed(skill.flight_time_s, 3) + " s");
   }
 
-  // Consecutive orientations less than 180° apart (the quaternion spline's log branch).
+  // Consecutive keyframes less than 170° apart in each root angle as written (so that −40 then
+  // −250 is not read as the 150° turn the other way) and as orientations (the quaternion
+  // spline's log branch).
+  for (size_t i = 1; i < n; ++i) {
+    const SkillKeyframe& a = skill.keyframes[i - 1];
+    const SkillKeyframe& b = skill.keyframes[i];
+    const std::pair<const char*, double> steps[] = {
+        {"somersault_deg", b.somersault_rad - a.somersault_rad},
+        {"tilt_deg", b.tilt_rad - a.tilt_rad},
+        {"twist_deg", b.twist_rad - a.twist_rad}};
+    for (const auto& [key, step] : steps)
+      if (std::abs(step) > kMaxStepDeg * kDegToRad)
+        throw InputError(skill.source,
+                         "line " + std::to_string(b.line),
+                         std::string(key) + " changes by " + FormatFixed(step / kDegToRad, 1) +
+                             "° from the previous keyframe; insert a keyframe (at most " +
+                             FormatFixed(kMaxStepDeg, 0) + "° apart)");
+  }
   for (size_t i = 1; i < n; ++i) {
     const double angle = KeyframeOrientation(skill.keyframes[i - 1])
                              .angularDistance(KeyframeOrientation(skill.keyframes[i]));

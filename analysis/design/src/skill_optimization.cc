@@ -71,8 +71,8 @@ bool SkillOptimizationOptions::IsValid(std::string* why) const {
   };
   if (model != SkillModel::kTiming && model != SkillModel::kTrajectory)
     return fail("model must be 1 or 2");
-  if (quadrature_intervals < 2 || quadrature_intervals % 2 != 0)
-    return fail("quadrature_intervals must be even and at least 2");
+  if (quadrature_intervals < 2 || quadrature_intervals > 2000 || quadrature_intervals % 2 != 0)
+    return fail("quadrature_intervals must be even, 2–2000");
   if (!(min_gap_fraction > 0.0 && min_gap_fraction < 1.0))
     return fail("min_gap_fraction must lie in (0, 1)");
   if (max_iterations < 0) return fail("max_iterations must be non-negative");

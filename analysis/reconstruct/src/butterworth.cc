@@ -99,8 +99,9 @@ ResidualAnalysis CalcResidualAnalysis(const Eigen::MatrixXd& signals,
                                       int order,
                                       int num_threads) {
   ResidualAnalysis r;
-  for (double fc = 1.0; fc <= rate_hz / 4.0 + 1e-9; fc += 0.5) r.cutoff_hz.push_back(fc);
-  ACRO_DEMAND(r.cutoff_hz.size() >= 4);
+  ACRO_DEMAND(std::isfinite(rate_hz) && rate_hz >= kMinResidualAnalysisRateHz);
+  const double top = std::min(rate_hz / 4.0, kMaxResidualAnalysisCutoffHz);
+  for (double fc = 1.0; fc <= top + 1e-9; fc += 0.5) r.cutoff_hz.push_back(fc);
   r.residual.assign(r.cutoff_hz.size(), 0.0);
   // R(fc) pooled over all valid samples of all signals; the cutoffs are independent, so workers
   // take every k-th one (each sum is formed in the same order whatever the number of workers).

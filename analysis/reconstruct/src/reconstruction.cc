@@ -788,10 +788,32 @@ ReconstructionResult Reconstruct(const capture::Trial& trial,
                                  const ReconstructionOptions& options) {
   std::string why;
   if (!options.IsValid(&why)) throw InputError(trial.source.path, "options", why);
-  if (!(trial.point_rate_hz > 0) || trial.num_frames < 1)
-    throw InputError(trial.source.path, "POINT:RATE", "a trial with frames and a rate is needed");
+  if (trial.num_frames < 1)
+    throw InputError(trial.source.path, "", "the trial has no frame; the reconstruction needs 1");
+  const double rate = trial.point_rate_hz;
+  if (!(rate >= kMinReconstructionRateHz && rate <= kMaxReconstructionRateHz))
+    throw InputError(
+        trial.source.path,
+        "rate",
+        "a point rate of " + fmt::format("{:g}", rate) + " Hz is outside " +
+            fmt::format("{:g}–{:g}", kMinReconstructionRateHz, kMaxReconstructionRateHz) +
+            " Hz (docs/limits.md)");
+  if (options.filter && options.cutoff_hz >= 0.5 * rate)
+    throw InputError(
+        trial.source.path,
+        "cutoff",
+        fmt::format("a cutoff of {:g} Hz is at or above the trial's Nyquist frequency, "
+                    "{:g} Hz",
+                    options.cutoff_hz,
+                    0.5 * rate));
   ReconstructionResult result;
   ReconstructionSummary& summary = result.summary;
+  if (rate > kPlausibleReconstructionRateHz)
+    summary.warnings.push_back(
+        fmt::format("a point rate of {:g} Hz is above what motion capture records ({:g} Hz); "
+                    "check the file's rate",
+                    rate,
+                    kPlausibleReconstructionRateHz));
 
   // Marker set: given or detected; markers placed on the athlete's standard human.
   MarkerSetMatch match;
@@ -818,7 +840,6 @@ ReconstructionResult Reconstruct(const capture::Trial& trial,
       MakeIkOptions(options, result.markerset, model0, unseen);
   const int M = static_cast<int>(markers.size());
   const int F = trial.num_frames;
-  const double rate = trial.point_rate_hz;
 
   // The set's markers, frame-major, NaN where absent; left/right swaps in the raw data repaired.
   Eigen::Matrix3Xd& P = result.marker_positions;

@@ -145,9 +145,20 @@ TEST(SkillFile, ErrorsNameFileLineAndKey) {
       std::string::npos);
   EXPECT_NE(ErrorOf(std::string(kHead) + "  - name: a\n  - name: b\n").find("at least 3 keyframes"),
             std::string::npos);
+  // A root angle that changes by more than 170° between keyframes, as written (−40° then −250°
+  // would otherwise be the 150° turn the other way), and two that stay below it each but turn
+  // the orientation by 172° together.
   EXPECT_NE(ErrorOf(std::string(kHead) +
                     "  - name: a\n  - name: b\n    somersault_deg: 175\n  - name: c\n")
-                .find("bad.yaml: line 7: orientation turns"),
+                .find("bad.yaml: line 7: somersault_deg changes by 175.0°"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(std::string(kHead) + "  - name: a\n  - name: b\n    somersault_deg: -40\n"
+                                         "  - name: c\n    somersault_deg: -250\n")
+                .find("somersault_deg changes by -210.0°"),
+            std::string::npos);
+  EXPECT_NE(ErrorOf(std::string(kHead) + "  - name: a\n  - name: b\n    somersault_deg: 150\n"
+                                         "    tilt_deg: 150\n  - name: c\n")
+                .find("bad.yaml: line 7: orientation turns 172."),
             std::string::npos);
   EXPECT_NE(
       ErrorOf(std::string(kHead) + "  - name: a\n    twsit_deg: 3\n  - name: b\n  - name: c\n")

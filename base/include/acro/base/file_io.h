@@ -2,11 +2,14 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <memory>
 #include <string>
 #include <string_view>
 #include <vector>
 
 namespace acro {
+
+class ScopedTemporary;
 
 /// Reads a whole file. Throws acro::InputError naming the file when it cannot be opened or read,
 /// or when it is larger than `max_bytes`.
@@ -26,6 +29,34 @@ void CheckOutputDirectory(const std::filesystem::path& dir);
 
 /// Creates `dir` and its parents when missing; acro::InputError (file `dir`) when that fails.
 void CreateOutputDirectory(const std::filesystem::path& dir);
+
+/// A command's outputs as one transaction (docs/limits.md, "Outputs"): they are written into a
+/// staging directory beside `dir` (a unique hidden name, removed by the interrupt handler and by
+/// the destructor unless committed), and Commit() moves them into `dir` in one uninterrupted step.
+/// Until then the previous run's outputs in `dir` stay as they were; a failure or a Ctrl-C in
+/// between leaves nothing.
+class OutputTransaction {
+ public:
+  /// Checks `dir` (CheckOutputDirectory) and creates the staging directory.
+  explicit OutputTransaction(std::filesystem::path dir);
+  ~OutputTransaction();
+  OutputTransaction(const OutputTransaction&) = delete;
+  OutputTransaction& operator=(const OutputTransaction&) = delete;
+
+  /// Where the outputs are written.
+  const std::filesystem::path& staging() const { return staging_; }
+  /// Where they go.
+  const std::filesystem::path& dir() const { return dir_; }
+  /// Creates `dir` when missing and moves every entry of the staging directory into it,
+  /// replacing entries of the same name; removes the staging directory. acro::InputError (file
+  /// `dir`) when a move fails.
+  void Commit();
+
+ private:
+  std::filesystem::path dir_, staging_;
+  std::unique_ptr<ScopedTemporary> registered_;
+  bool committed_ = false;
+};
 
 /// Lower-case extension without the dot ("c3d", "trc"), or empty.
 std::string LowerExtension(const std::filesystem::path& path);

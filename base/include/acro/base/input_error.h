@@ -3,6 +3,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "acro/base/text.h"
+
 namespace acro {
 
 /// Thrown when a file or argument is malformed. what() is a single line
@@ -20,10 +22,9 @@ class InputError : public std::runtime_error {
     std::string line = file;
     if (!where.empty()) line += (line.empty() ? "" : ": ") + where;
     line += (line.empty() ? "" : ": ") + problem;
-    // One line: any newline in a value at fault is shown escaped.
-    std::string out;
-    for (char c : line) out += (c == '\n') ? std::string("\\n") : std::string(1, c);
-    return out;
+    // One line, safe for a terminal: control bytes in a value at fault are shown escaped, and a
+    // huge value is cut.
+    return EscapeForTerminal(line);
   }
 };
 

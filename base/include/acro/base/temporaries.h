@@ -7,6 +7,7 @@
 // registries are thread-safe; the command line's interrupt handler empties them.
 
 #include <filesystem>
+#include <functional>
 
 #include <sys/types.h>
 
@@ -25,8 +26,14 @@ class ScopedTemporary {
 };
 
 /// Removes every registered temporary (directories with their contents) and returns how many it
-/// removed. For the interrupt handler; safe to call from any thread.
+/// removed. For the interrupt handler; safe to call from any thread. Waits while RunUninterrupted
+/// runs.
 int RemoveRegisteredTemporaries() noexcept;
+
+/// Runs `work` while the interrupt handler cannot remove temporaries (it waits until `work`
+/// returns): finished outputs are moved into place as one step, never half. `work` must not
+/// register or unregister temporaries.
+void RunUninterrupted(const std::function<void()>& work);
 
 /// A helper process this program started and must not leave behind (the Xvfb server the 3D views
 /// start when there is no display): registered for the lifetime of this object, so that the

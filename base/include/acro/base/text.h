@@ -36,6 +36,36 @@ class LineCursor {
   int line_number_ = 0;
 };
 
+/// `s` made safe for one line of a terminal or a log (docs/limits.md, "Messages"): newline,
+/// carriage return and tab as \n, \r, \t, every other byte below 0x20 and 0x7f as \xNN (a NUL byte
+/// in a C3D label no longer cuts the message short, an escape sequence in a file never reaches the
+/// terminal raw); bytes from 0x80 up are kept (UTF-8). Longer than `max_bytes`: cut there, with
+/// "… (N more bytes)".
+inline std::string EscapeForTerminal(std::string_view s, std::size_t max_bytes = 2000) {
+  static constexpr char kHex[] = "0123456789abcdef";
+  std::string out;
+  const std::size_t n = s.size() > max_bytes ? max_bytes : s.size();
+  out.reserve(n + 16);
+  for (std::size_t i = 0; i < n; ++i) {
+    const unsigned char c = static_cast<unsigned char>(s[i]);
+    if (c == '\n') {
+      out += "\\n";
+    } else if (c == '\r') {
+      out += "\\r";
+    } else if (c == '\t') {
+      out += "\\t";
+    } else if (c < 0x20 || c == 0x7f) {
+      out += "\\x";
+      out += kHex[c >> 4];
+      out += kHex[c & 0xf];
+    } else {
+      out += static_cast<char>(c);
+    }
+  }
+  if (s.size() > n) out += "… (" + std::to_string(s.size() - n) + " more bytes)";
+  return out;
+}
+
 inline std::string_view Trim(std::string_view s) {
   while (!s.empty() && (s.front() == ' ' || s.front() == '\t' || s.front() == '\r'))
     s.remove_prefix(1);

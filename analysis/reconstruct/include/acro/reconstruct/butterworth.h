@@ -47,8 +47,16 @@ struct ResidualAnalysis {
   double chosen_cutoff_hz = 0.0;  ///< where the residual falls to a (Winter's choice)
 };
 
+/// The residual analysis's scan: from 1 Hz to rate/4, at most kMaxResidualAnalysisCutoffHz (human
+/// motion has nothing above 50 Hz; the scan's upper half, where only noise is removed, stays
+/// wide, and a trial whose rate is 1 MHz costs no more than one at 1 kHz). Below
+/// kMinResidualAnalysisRateHz (rate/4 = 2.5 Hz: four cutoffs) there is nothing to scan.
+inline constexpr double kMaxResidualAnalysisCutoffHz = 250.0;
+inline constexpr double kMinResidualAnalysisRateHz = 10.0;
+
 /// Winter's residual analysis pooled over signals (columns of `signals`, NaN gaps allowed):
-/// R(fc) = RMS(x − x̂_fc) for fc from 1 Hz to rate/4 in 0.5 Hz steps; a straight line fitted to
+/// R(fc) = RMS(x − x̂_fc) for fc from 1 Hz to min(rate/4, 250 Hz) in 0.5 Hz steps; a straight
+/// line fitted to
 /// the upper half of that range (where only noise is removed) gives the intercept a at fc = 0;
 /// the chosen cutoff is the lowest fc with R(fc) ≤ a. The cutoffs are shared out to `num_threads`
 /// workers (0: the hardware's concurrency); the result does not depend on their number.

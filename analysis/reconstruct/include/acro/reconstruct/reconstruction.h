@@ -23,6 +23,14 @@
 
 namespace acro::analysis {
 
+/// The point rates the reconstruction takes (docs/limits.md): below 10 Hz the residual analysis
+/// has nothing to scan and a flight of 1 s has fewer than ten samples; above 100 kHz no motion
+/// capture records (high-speed video tops out there), and the rate is a corrupt header; above
+/// 2 kHz a warning.
+inline constexpr double kMinReconstructionRateHz = 10.0;
+inline constexpr double kMaxReconstructionRateHz = 100000.0;
+inline constexpr double kPlausibleReconstructionRateHz = 2000.0;
+
 struct ReconstructionOptions {
   /// Marker set: a shipped name or a .yaml file; empty = detect from the labels.
   std::string markerset;

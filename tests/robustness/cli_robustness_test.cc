@@ -1,0 +1,388 @@
+// The robustness suite (issue "hardening", docs/limits.md): each class of bad input, made from the
+// samples, given to the real acrolab binary. Every case asserts the exit status (1 for a bad file,
+// 2 for a bad command line, 130/143 for a signal), the message's first words, that the command
+// ends within 10 s under a 2 GB address-space limit, and that nothing is left behind: no output
+// directory, no staging directory, no temporary file.
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <csignal>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "acro/capture/c3d.h"
+#include "acro/capture/trial.h"
+#include "acro/capture/trial_io.h"
+#include "refdata.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct Outcome {
+  int status = -1;  // exit status, or 128 + the signal
+  std::string err;
+  double seconds = 0;
+};
+
+std::string Quote(const fs::path& p) {
+  return "'" + p.string() + "'";
+}
+
+// Runs acrolab with `args` (shell words) under `timeout 10` and a 2 GB address-space limit.
+Outcome Acrolab(const std::string& args, const fs::path& dir) {
+  const fs::path err_path = dir / "stderr.txt";
+  const std::string line = "cd " + Quote(dir) + " && ulimit -v 2000000 && timeout 10 " +
+                           std::string(ACROLAB_EXE) + " " + args + " >/dev/null 2>" +
+                           Quote(err_path);
+  const auto start = std::chrono::steady_clock::now();
+  const int raw = std::system(("sh -c " + Quote(line)).c_str());
+  Outcome run;
+  run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  run.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  std::ifstream err(err_path);
+  run.err.assign(std::istreambuf_iterator<char>(err), {});
+  fs::remove(err_path);
+  return run;
+}
+
+// The last line of stderr: the error or warning a user reads.
+std::string LastLine(const std::string& text) {
+  std::string line, last;
+  std::istringstream in(text);
+  while (std::getline(in, line))
+    if (!line.empty()) last = line;
+  return last;
+}
+
+// Whatever a run left in `dir` besides the inputs in `keep`.
+std::vector<std::string> Leftovers(const fs::path& dir, const std::vector<std::string>& keep) {
+  std::vector<std::string> left;
+  for (const fs::directory_entry& e : fs::directory_iterator(dir)) {
+    const std::string name = e.path().filename().string();
+    if (std::find(keep.begin(), keep.end(), name) == keep.end()) left.push_back(name);
+  }
+  return left;
+}
+
+std::string ReadText(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+void WriteText(const fs::path& p, const std::string& text) {
+  std::ofstream(p, std::ios::binary) << text;
+}
+
+fs::path Samples() {
+  return acro::testing::SourceDir() / "samples";
+}
+
+// A skill file of the samples, its athlete path made absolute, with `from` replaced by `to`.
+std::string SkillWith(const std::string& from, const std::string& to) {
+  std::string s = ReadText(Samples() / "skills" / "back_tuck.yaml");
+  const std::string athlete = "../athletes/sample_athlete.yaml";
+  s.replace(s.find(athlete), athlete.size(), (Samples() / "athletes/sample_athlete.yaml").string());
+  if (!from.empty()) {
+    const size_t at = s.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    if (at != std::string::npos) s.replace(at, from.size(), to);
+  }
+  return s;
+}
+
+// The sample straight jump as a TRC with its rate (header line 3, columns 1, 2 and 6) replaced.
+std::string TrcWithRate(const fs::path& dir, const std::string& rate) {
+  const fs::path trc = dir / "jump.trc";
+  if (!fs::exists(trc))
+    acro::capture::WriteTrial(
+        acro::capture::ReadTrial(Samples() / "trials/straight_jump/straight_jump.c3d"), trc);
+  std::istringstream in(ReadText(trc));
+  std::string out, line;
+  for (int n = 1; std::getline(in, line); ++n) {
+    if (n == 3) {
+      std::vector<std::string> cells;
+      std::istringstream row(line);
+      for (std::string c; std::getline(row, c, '\t');) cells.push_back(c);
+      cells[0] = cells[1] = cells[5] = rate;
+      line.clear();
+      for (size_t k = 0; k < cells.size(); ++k) line += (k ? "\t" : "") + cells[k];
+    }
+    out += line + "\n";
+  }
+  return out;
+}
+
+struct Case {
+  const char* name;
+  int status;
+  const char* message;  // a fragment of the last line of stderr
+};
+
+class Robustness : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ =
+        acro::testing::ScratchDir(std::string("robustness_") +
+                                  ::testing::UnitTest::GetInstance()->current_test_info()->name());
+  }
+  // Runs `args` in the scratch directory and checks the case; `inputs` are the files it made.
+  void Expect(const Case& c, const std::string& args, const std::vector<std::string>& inputs) {
+    SCOPED_TRACE(c.name);
+    const Outcome run = Acrolab(args, dir_);
+    EXPECT_EQ(run.status, c.status) << run.err;
+    const std::string last = LastLine(run.err);
+    EXPECT_NE(last.find(c.message), std::string::npos) << last;
+    EXPECT_EQ(last.rfind("acrolab", 0), 0u) << last;  // one line of ours, not a library's dump
+    EXPECT_LT(run.seconds, 10.0);
+    EXPECT_EQ(Leftovers(dir_, inputs), std::vector<std::string>{}) << run.err;
+    std::printf("%-28s exit %d in %.2f s: %s\n", c.name, run.status, run.seconds, last.c_str());
+  }
+  fs::path dir_;
+};
+
+TEST_F(Robustness, DeeplyNestedYaml) {
+  WriteText(dir_ / "nested.yaml", "height_m: " + std::string(30000, '[') + "\n");
+  Expect(
+      {"30000 nested [", 1, "nested deeper than"}, "body --profile nested.yaml", {"nested.yaml"});
+}
+
+TEST_F(Robustness, YamlWithManyKeys) {
+  std::string keys;
+  for (int i = 0; i < 200000; ++i)
+    keys += "k" + std::to_string(i) + ": " + std::to_string(i) + "\n";
+  WriteText(dir_ / "keys.yaml", ReadText(Samples() / "athletes/sample_athlete.yaml") + keys);
+  Expect({"200000 keys", 1, "unknown key 'k0'"}, "body --profile keys.yaml", {"keys.yaml"});
+}
+
+TEST_F(Robustness, SkillFilesOutOfRange) {
+  const std::string velocity = "  com_velocity_mps: [0, 0, 7.0]";
+  const struct {
+    Case c;
+    std::string from, to;
+  } cases[] = {
+      {{"flight time .inf", 1, "a flight time of inf s, outside 0.2–4.0 s"},
+       velocity,
+       "  flight_time_s: .inf"},
+      {{"flight time 1e6 s", 1, "outside 0.2–4.0 s"}, velocity, "  flight_time_s: 1e6"},
+      {{"take-off 1e3 m/s up",
+        1,
+        "com_velocity_mps: the vertical velocity gives a flight time of 203.874 s"},
+       velocity,
+       "  com_velocity_mps: [0, 0, 1000]"},
+      {{"time_s .nan", 1, "time_s: not finite"},
+       "somersault_deg: -40",
+       "somersault_deg: -40\n    time_s: .nan"},
+      {{"somersault −40 → −250", 1, "somersault_deg changes by -210.0°"},
+       "somersault_deg: -110",
+       "somersault_deg: -250"},
+      {{"angle 1e9°", 1, "somersault_deg: 1000000000.0° is outside ±3600°"},
+       "somersault_deg: -110",
+       "somersault_deg: 1e9"},
+      {{"tolerance −1 m", 1, "tolerances: must be within"}, "position_m: 0.05", "position_m: -1"},
+  };
+  for (const auto& k : cases) {
+    WriteText(dir_ / "skill.yaml", SkillWith(k.from, k.to));
+    Expect(k.c, "optimize skill.yaml -o out", {"skill.yaml"});
+  }
+  // 20,000 keyframes.
+  std::string many = SkillWith("", "");
+  many.erase(many.find("keyframes:"));
+  many += "keyframes:\n";
+  for (int j = 0; j < 20000; ++j)
+    many += "  - name: k" + std::to_string(j) +
+            "\n    somersault_deg: " + std::to_string(-j * 330.0 / 19999) + "\n";
+  WriteText(dir_ / "skill.yaml", many);
+  Expect({"20000 keyframes", 1, "20000 keyframes; at most 100"},
+         "optimize skill.yaml -o out",
+         {"skill.yaml"});
+}
+
+TEST_F(Robustness, CommandLineMistakesExit2NamingTheOption) {
+  const std::string skill = Quote(Samples() / "skills/back_tuck.yaml");
+  Expect({"--intervals 2e9", 2, "--intervals"},
+         "optimize " + skill + " --intervals 2000000000 -o out",
+         {});
+  Expect({"--intervals 4x", 2, "--intervals"}, "optimize " + skill + " --intervals 4x -o out", {});
+  Expect({"--intervals 41", 2, "--intervals 41 is odd"},
+         "optimize " + skill + " --intervals 41 -o out",
+         {});
+  WriteText(dir_ / "jump.trc", TrcWithRate(dir_, "200"));
+  Expect({"--cutoff above Nyquist", 2, "--cutoff 150 Hz is at or above the trial's Nyquist"},
+         "reconstruct jump.trc --cutoff 150 -o out",
+         {"jump.trc"});
+  Expect({"--height 170", 2, "--height"}, "analyze jump.trc --height 170 -o out", {"jump.trc"});
+}
+
+TEST_F(Robustness, TrialRatesOutOfRange) {
+  for (const char* rate : {"1000000", "1e30", "9"}) {
+    WriteText(dir_ / "jump.trc", TrcWithRate(dir_, rate));
+    Expect({rate, 1, "rate"}, "analyze jump.trc -o out", {"jump.trc"});
+  }
+  // A rate of 0 or nan in the header: the time column's 200 Hz, with a warning the user sees.
+  for (const char* rate : {"0", "nan"}) {
+    WriteText(dir_ / "jump.trc", TrcWithRate(dir_, rate));
+    const Outcome run = Acrolab("reconstruct jump.trc --quiet -o out", dir_);
+    EXPECT_EQ(run.status, 0) << run.err;
+    EXPECT_NE(run.err.find("warning: jump.trc: header DataRate missing or not positive; "
+                           "200.000000 Hz taken from the time column"),
+              std::string::npos)
+        << run.err;
+    fs::remove_all(dir_ / "out");
+  }
+}
+
+// Control bytes in a file reach the message escaped, never raw (an escape sequence would act on
+// the terminal; a NUL byte cut the message short).
+TEST_F(Robustness, ControlBytesInAFileAreEscaped) {
+  std::string trc = TrcWithRate(dir_, "200");
+  // The first data row's third coordinate cell: a terminal escape, a NUL byte and letters.
+  size_t row = 0;
+  for (int n = 0; n < 6; ++n) row = trc.find('\n', row) + 1;
+  size_t cell = row;
+  for (int n = 0; n < 4; ++n) cell = trc.find('\t', cell) + 1;
+  trc.replace(cell, trc.find('\t', cell) - cell, std::string("1\x1b[2J\0x", 7));
+  WriteText(dir_ / "jump.trc", trc);
+  const Outcome run = Acrolab("info jump.trc", dir_);
+  const std::string last = LastLine(run.err);
+  std::printf("control bytes: exit %d: %s\n", run.status, last.c_str());
+  EXPECT_EQ(run.err.find('\x1b'), std::string::npos) << last;
+  if (run.status != 0) {
+    EXPECT_EQ(run.status, 1);
+    EXPECT_NE(last.find("1\\x1b[2J\\x00x"), std::string::npos) << last;
+  }
+}
+
+TEST_F(Robustness, PipesAndDirectoriesAreNotFiles) {
+  ASSERT_EQ(mkfifo((dir_ / "fifo.trc").c_str(), 0600), 0);
+  ASSERT_EQ(mkfifo((dir_ / "fifo.yaml").c_str(), 0600), 0);
+  Expect({"FIFO as TRC", 1, "is not a regular file"}, "info fifo.trc", {"fifo.trc", "fifo.yaml"});
+  Expect({"FIFO as profile", 1, "is not a regular file"},
+         "body --profile fifo.yaml",
+         {"fifo.trc", "fifo.yaml"});
+}
+
+TEST_F(Robustness, BadOutputPlacesFailBeforeAnyWork) {
+  WriteText(dir_ / "existing", "");
+  const std::string trial = Quote(Samples() / "trials/straight_jump/straight_jump.c3d");
+  Expect({"-o an existing file", 1, "is a file, not a directory"},
+         "analyze " + trial + " -o existing",
+         {"existing"});
+  fs::create_directory(dir_ / "readonly");
+  fs::permissions(dir_ / "readonly", fs::perms::owner_read | fs::perms::owner_exec);
+  if (geteuid() != 0) {  // root writes anywhere
+    Expect({"-o in a read-only directory", 1, "cannot"},
+           "analyze " + trial + " -o readonly/out",
+           {"existing", "readonly"});
+  }
+  fs::permissions(dir_ / "readonly", fs::perms::owner_all);
+}
+
+TEST_F(Robustness, YeadonFileInTheWrongUnit) {
+  std::string profile = ReadText(Samples() / "athletes/sample_athlete_yeadon.yaml");
+  const std::string factor = "measurementconversionfactor: 0.01";
+  profile.replace(profile.find(factor), factor.size(), "measurementconversionfactor: 1");
+  WriteText(dir_ / "cm.yaml", profile);
+  Expect({"Yeadon cm read as m", 1, "the measurements give an athlete of 175 m"},
+         "body --profile cm.yaml",
+         {"cm.yaml"});
+}
+
+// A 3 KB C3D with no points and no analog channels whose TRIAL:ACTUAL_END_FIELD declares 2³¹
+// frames: nothing backs them; the reader reads none and convert says the trial is empty.
+TEST_F(Robustness, C3dDeclaringTwoBillionEmptyFrames) {
+  acro::capture::Trial t;
+  t.source.format = "generated";
+  t.point_rate_hz = 100;
+  t.first_frame = 1;
+  t.num_frames = 70000;  // > 65535: the writer stores TRIAL:ACTUAL_START/END_FIELD
+  std::vector<std::uint8_t> bytes = acro::capture::WriteC3dToMemory(t);
+  const std::string name = "ACTUAL_END_FIELD";
+  auto at = std::search(bytes.begin(), bytes.end(), name.begin(), name.end());
+  ASSERT_NE(at, bytes.end());
+  // Its value, [70000 & 0xffff, 70000 >> 16] as two 16-bit words, becomes [0xffff, 0x7fff].
+  const std::array<std::uint8_t, 4> value = {0x70, 0x11, 0x01, 0x00};
+  at = std::search(at, bytes.end(), value.begin(), value.end());
+  ASSERT_NE(at, bytes.end());
+  at[0] = 0xff, at[1] = 0xff, at[2] = 0xff, at[3] = 0x7f;
+  std::ofstream(dir_ / "empty.c3d", std::ios::binary)
+      .write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+  EXPECT_LT(bytes.size(), 8000u);
+  Expect({"2^31 empty frames", 1, "no frame"}, "convert empty.c3d out.trc", {"empty.c3d"});
+}
+
+// SIGTERM while analyze works: exit 143, its temporaries removed, and the previous run's outputs
+// exactly as they were (the new set is moved into place only when complete).
+TEST_F(Robustness, SigtermKeepsThePreviousOutputs) {
+  const std::string trial = Quote(Samples() / "trials/trampoline_routine/trampoline_routine.c3d");
+  const std::string args = "analyze " + trial + " --no-images -o out";
+  const Outcome first = Acrolab(args, dir_);
+  ASSERT_EQ(first.status, 0) << first.err;
+  const std::string jumps = ReadText(dir_ / "out/jumps.json");
+  ASSERT_FALSE(jumps.empty());
+  std::vector<std::string> files;
+  for (const fs::directory_entry& e : fs::directory_iterator(dir_ / "out"))
+    files.push_back(e.path().filename().string());
+  for (const double after_s : {0.3, 0.6, 0.9, 1.2}) {
+    const pid_t pid = fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+      fs::current_path(dir_);
+      execl(ACROLAB_EXE,
+            ACROLAB_EXE,
+            "analyze",
+            (Samples() / "trials/trampoline_routine/trampoline_routine.c3d").c_str(),
+            "--no-images",
+            "--quiet",
+            "-o",
+            "out",
+            static_cast<char*>(nullptr));
+      _exit(127);
+    }
+    std::this_thread::sleep_for(std::chrono::duration<double>(after_s));
+    kill(pid, SIGTERM);
+    int raw = 0;
+    waitpid(pid, &raw, 0);
+    const int status = WIFEXITED(raw) ? WEXITSTATUS(raw) : 128 + WTERMSIG(raw);
+    std::printf("SIGTERM after %.1f s: exit %d\n", after_s, status);
+    EXPECT_TRUE(status == 143 || status == 0) << status;  // 0: it had finished
+    EXPECT_EQ(Leftovers(dir_, {"out"}), std::vector<std::string>{});
+    std::vector<std::string> now;
+    for (const fs::directory_entry& e : fs::directory_iterator(dir_ / "out"))
+      now.push_back(e.path().filename().string());
+    std::sort(now.begin(), now.end());
+    std::sort(files.begin(), files.end());
+    EXPECT_EQ(now, files);
+    EXPECT_EQ(ReadText(dir_ / "out/jumps.json"), jumps);  // the same analysis, or untouched
+  }
+}
+
+// Two converts to the same file at once: each completes or fails cleanly, and the file is one of
+// them whole (their temporary names are unique).
+TEST_F(Robustness, TwoConvertsToTheSameFile) {
+  const std::string a = Quote(Samples() / "trials/straight_jump/straight_jump.c3d");
+  const std::string b = Quote(Samples() / "trials/trampoline_routine/trampoline_routine.c3d");
+  for (int round = 0; round < 3; ++round) {
+    const std::string line = "cd " + Quote(dir_) + " && (" + std::string(ACROLAB_EXE) +
+                             " convert " + a + " out.c3d & " + std::string(ACROLAB_EXE) +
+                             " convert " + b + " out.c3d & wait) >/dev/null 2>&1";
+    ASSERT_EQ(std::system(("sh -c " + Quote(line)).c_str()), 0);
+    EXPECT_EQ(Leftovers(dir_, {"out.c3d"}), std::vector<std::string>{});
+    const acro::capture::Trial back = acro::capture::ReadTrial(dir_ / "out.c3d");
+    EXPECT_TRUE(back.num_frames == 444 || back.num_frames == 1266) << back.num_frames;
+    EXPECT_TRUE(back.warnings.empty());
+  }
+}
+
+}  // namespace
