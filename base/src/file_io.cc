@@ -9,6 +9,10 @@
 #include <random>
 #include <system_error>
 
+#include <fcntl.h>
+#include <sys/file.h>
+#include <unistd.h>
+
 #include "acro/base/input_error.h"
 #include "acro/base/temporaries.h"
 
@@ -119,6 +123,11 @@ OutputTransaction::~OutputTransaction() {
 
 void OutputTransaction::Commit() {
   CreateOutputDirectory(dir_);
+  // Another process committing to the same directory waits for this one (an advisory lock on the
+  // directory itself, released when the descriptor closes), so two runs never interleave their
+  // files: the directory holds one run's set whole, the later one's.
+  const int lock = ::open(dir_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
+  if (lock >= 0) ::flock(lock, LOCK_EX);
   std::string failure;
   RunUninterrupted([&] {
     std::error_code ec;
@@ -135,6 +144,7 @@ void OutputTransaction::Commit() {
     }
     if (ec && failure.empty()) failure = "cannot list the staging directory: " + ec.message();
   });
+  if (lock >= 0) ::close(lock);
   if (!failure.empty()) throw InputError(dir_.string(), "", failure);
   std::error_code ec;
   std::filesystem::remove_all(staging_, ec);

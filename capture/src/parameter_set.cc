@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cctype>
 
+#include "acro/base/text.h"
+
 namespace acro::capture {
 namespace {
 
@@ -73,22 +75,22 @@ std::vector<std::string> Parameter::AsStrings() const {
   if (type != ParameterType::kChar) return out;
   // A 1-D character array is one string; higher dimensions are strings of dimensions[0] characters.
   if (dimensions.size() <= 1) {
-    out.push_back(TrimRight(std::string(chars.begin(), chars.end())));
+    out.push_back(Utf8FromUtf8OrLatin1(TrimRight(std::string(chars.begin(), chars.end()))));
     return out;
   }
   const std::size_t width = dimensions[0];
   const std::size_t count = width == 0 ? 0 : chars.size() / width;
   out.reserve(count);
   for (std::size_t i = 0; i < count; ++i) {
-    out.push_back(
-        TrimRight(std::string(chars.begin() + i * width, chars.begin() + (i + 1) * width)));
+    out.push_back(Utf8FromUtf8OrLatin1(
+        TrimRight(std::string(chars.begin() + i * width, chars.begin() + (i + 1) * width))));
   }
   return out;
 }
 
 std::string Parameter::AsString() const {
   if (type != ParameterType::kChar) return {};
-  return TrimRight(std::string(chars.begin(), chars.end()));
+  return Utf8FromUtf8OrLatin1(TrimRight(std::string(chars.begin(), chars.end())));
 }
 
 const Parameter* ParameterGroup::Find(std::string_view parameter_name) const {

@@ -125,6 +125,7 @@ struct TrcRows {
   std::size_t max_columns = 0;           // coordinate columns holding a value, over all rows
   std::int64_t first_frame_number = 1;
   std::vector<double> times;
+  int first_line = 0, last_line = 0;  // of the data rows
 };
 
 // Data rows, after the optional X1 Y1 Z1 line and blank lines.
@@ -152,6 +153,15 @@ TrcRows ReadDataRows(LineCursor& lines, bool tabs, const std::string& name) {
     }
     if (rows.row_offsets.empty())
       rows.first_frame_number = static_cast<std::int64_t>(std::llround(frame_number));
+    // Time runs forward: a row at or before its predecessor is a spliced or sorted-wrong file.
+    if (!rows.times.empty() && !(time > rows.times.back())) {
+      throw InputError(name,
+                       Where(lines.line_number(), 2),
+                       "time " + std::to_string(time) + " s is not after the previous row's " +
+                           std::to_string(rows.times.back()) + " s");
+    }
+    if (rows.row_offsets.empty()) rows.first_line = lines.line_number();
+    rows.last_line = lines.line_number();
     rows.row_offsets.push_back(rows.cells.size());
     rows.times.push_back(time);
     // The coordinates (empty cells are NaN).
@@ -197,6 +207,8 @@ void NameMarkers(std::size_t max_columns,
 // Units (millimetres when unknown) and rate (from the time column when the header has none).
 void ReadUnitsAndRate(const TrcHeader& header,
                       const std::vector<double>& times,
+                      int first_line,
+                      int last_line,
                       const std::string& name,
                       Trial& trial) {
   auto units_it = header.values.find("Units");
@@ -222,6 +234,17 @@ void ReadUnitsAndRate(const TrcHeader& header,
     }
   }
   trial.point_rate_hz = rate;
+  // The time column against the rate: over the whole file, so that times rounded to a millisecond
+  // do not count; a difference of more than 1 % is said (the header's rate is used).
+  if (num_rows >= 3) {
+    const double from_times = (num_rows - 1) / (times.back() - times.front());
+    if (std::abs(from_times - rate) > 0.01 * rate) {
+      trial.warnings.push_back(name + ": lines " + std::to_string(first_line) + "–" +
+                               std::to_string(last_line) + ": the time column runs at " +
+                               std::to_string(from_times) + " Hz but the header's DataRate is " +
+                               std::to_string(rate) + " Hz; the header's rate is used");
+    }
+  }
 }
 
 // The markers' descriptions and their frame-major positions in metres (NaN and residual −1 where
@@ -299,6 +322,20 @@ Trial ReadTrcFromString(std::string_view text, const std::string& name) {
                          " frames and there are none");
   }
   NameMarkers(rows.max_columns, name, names, trial.warnings);
+  // A name given twice would make two markers one; the second gets a suffix, said.
+  for (std::size_t i = 0; i < names.size(); ++i)
+    for (std::size_t j = 0; j < i; ++j)
+      if (names[i] == names[j]) {
+        std::string renamed = names[i];
+        for (int k = 2; std::find(names.begin(), names.end(), renamed) != names.end(); ++k)
+          renamed = names[i] + "_" + std::to_string(k);
+        trial.warnings.push_back(name + ": " + Where(4) + ": marker name '" + names[i] +
+                                 "' repeats (markers " + std::to_string(j + 1) + " and " +
+                                 std::to_string(i + 1) + "); the second is read as '" + renamed +
+                                 "'");
+        names[i] = renamed;
+        break;
+      }
   const int num_markers = static_cast<int>(names.size());
   if (!std::isnan(header_frames) && static_cast<long long>(header_frames) != num_rows) {
     trial.warnings.push_back(
@@ -312,7 +349,7 @@ Trial ReadTrcFromString(std::string_view text, const std::string& name) {
   }
 
   // Units and rate; frames.
-  ReadUnitsAndRate(header, rows.times, name, trial);
+  ReadUnitsAndRate(header, rows.times, rows.first_line, rows.last_line, name, trial);
   trial.first_frame = rows.first_frame_number;
   trial.num_frames = num_rows;
 

@@ -14,12 +14,14 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 #include <thread>
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
 
 #include "acro/capture/c3d.h"
 #include "acro/capture/trial.h"
@@ -40,12 +42,14 @@ std::string Quote(const fs::path& p) {
   return "'" + p.string() + "'";
 }
 
-// Runs acrolab with `args` (shell words) under `timeout 10` and a 2 GB address-space limit.
-Outcome Acrolab(const std::string& args, const fs::path& dir) {
+// Runs acrolab with `args` (shell words) under `timeout 10` and a 2 GB address-space limit;
+// stdout goes to `out` when given.
+Outcome Acrolab(const std::string& args, const fs::path& dir, std::string* out = nullptr) {
   const fs::path err_path = dir / "stderr.txt";
-  const std::string line = "cd " + Quote(dir) + " && ulimit -v 2000000 && timeout 10 " +
-                           std::string(ACROLAB_EXE) + " " + args + " >/dev/null 2>" +
-                           Quote(err_path);
+  const fs::path out_path = dir / "stdout.txt";
+  const std::string line =
+      "cd " + Quote(dir) + " && ulimit -v 2000000 && timeout 10 " + std::string(ACROLAB_EXE) + " " +
+      args + " >" + (out ? Quote(out_path) : std::string("/dev/null")) + " 2>" + Quote(err_path);
   const auto start = std::chrono::steady_clock::now();
   const int raw = std::system(("sh -c " + Quote(line)).c_str());
   Outcome run;
@@ -54,6 +58,11 @@ Outcome Acrolab(const std::string& args, const fs::path& dir) {
   std::ifstream err(err_path);
   run.err.assign(std::istreambuf_iterator<char>(err), {});
   fs::remove(err_path);
+  if (out) {
+    std::ifstream o(out_path, std::ios::binary);
+    out->assign(std::istreambuf_iterator<char>(o), {});
+    fs::remove(out_path);
+  }
   return run;
 }
 
@@ -264,6 +273,78 @@ TEST_F(Robustness, ControlBytesInAFileAreEscaped) {
   }
 }
 
+// A TRC's structure against itself: a time column that goes back is an error naming the line;
+// a marker name given twice, or a time column at another rate than the header's, is a warning
+// the user sees (never a silent reinterpretation).
+TEST_F(Robustness, TrcStructureIsChecked) {
+  const std::string trc = TrcWithRate(dir_, "200");
+  std::vector<std::string> lines;
+  std::istringstream in(trc);
+  for (std::string l; std::getline(in, l);) lines.push_back(l);
+  auto join = [](const std::vector<std::string>& ls) {
+    std::string out;
+    for (const std::string& l : ls) out += l + "\n";
+    return out;
+  };
+  auto cell = [](const std::string& line, int k) {
+    size_t a = 0;
+    for (int n = 0; n < k; ++n) a = line.find('\t', a) + 1;
+    return std::pair<size_t, size_t>(a, line.find('\t', a) - a);
+  };
+  // Rows 8 and 9 (1-based lines) with their times exchanged.
+  std::vector<std::string> back = lines;
+  const auto t8 = cell(back[7], 1), t9 = cell(back[8], 1);
+  const std::string time8 = back[7].substr(t8.first, t8.second);
+  back[7].replace(t8.first, t8.second, back[8].substr(t9.first, t9.second));
+  back[8].replace(t9.first, t9.second, time8);
+  WriteText(dir_ / "jump.trc", join(back));
+  Expect({"time going back", 1, "line 9, column 2: time"}, "info jump.trc", {"jump.trc"});
+  // The second marker named as the first.
+  std::vector<std::string> twice = lines;
+  const auto n1 = cell(twice[3], 2), n2 = cell(twice[3], 5);
+  const std::string first = twice[3].substr(n1.first, n1.second);
+  twice[3].replace(n2.first, n2.second, first);
+  WriteText(dir_ / "jump.trc", join(twice));
+  Outcome run = Acrolab("reconstruct jump.trc --quiet -o out", dir_);
+  EXPECT_EQ(run.status, 0) << run.err;
+  EXPECT_NE(run.err.find("line 4: marker name '" + first + "' repeats (markers 1 and 2)"),
+            std::string::npos)
+      << run.err;
+  fs::remove_all(dir_ / "out");
+  // The header at 100 Hz, the time column at 200 Hz.
+  WriteText(dir_ / "jump.trc", TrcWithRate(dir_, "100"));
+  run = Acrolab("reconstruct jump.trc --quiet -o out", dir_);
+  EXPECT_EQ(run.status, 0) << run.err;
+  EXPECT_NE(run.err.find("the time column runs at 200.000000 Hz but the header's DataRate is "
+                         "100.000000 Hz"),
+            std::string::npos)
+      << run.err;
+  fs::remove_all(dir_ / "out");
+}
+
+// A C3D label in Latin-1 (an old Windows lab's "Genou_é"): valid UTF-8 in info --json, and the
+// file's own bytes kept when the trial is written back.
+TEST_F(Robustness, Latin1LabelsAreUtf8InJsonAndKeptInC3d) {
+  acro::capture::Trial t;
+  t.source.format = "generated";
+  t.point_rate_hz = 100;
+  t.num_frames = 3;
+  t.points.push_back({"Genou_\xe9", "", acro::capture::PointType::kMarker, "m"});
+  t.positions.setZero(3, 3);
+  const std::vector<std::uint8_t> bytes = acro::capture::WriteC3dToMemory(t);
+  std::ofstream(dir_ / "latin1.c3d", std::ios::binary)
+      .write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+  std::string json;
+  const Outcome info = Acrolab("info --json latin1.c3d", dir_, &json);
+  ASSERT_EQ(info.status, 0) << info.err;
+  const nlohmann::json parsed = nlohmann::json::parse(json);  // throws on invalid UTF-8
+  EXPECT_EQ(parsed["marker_labels"][0], "Genou_\xc3\xa9");    // é in UTF-8
+  const Outcome convert = Acrolab("convert latin1.c3d back.c3d", dir_);
+  ASSERT_EQ(convert.status, 0) << convert.err;
+  const std::string written = ReadText(dir_ / "back.c3d");
+  EXPECT_NE(written.find("Genou_\xe9"), std::string::npos);  // the file's byte, not transcoded
+}
+
 TEST_F(Robustness, PipesAndDirectoriesAreNotFiles) {
   ASSERT_EQ(mkfifo((dir_ / "fifo.trc").c_str(), 0600), 0);
   ASSERT_EQ(mkfifo((dir_ / "fifo.yaml").c_str(), 0600), 0);
@@ -382,6 +463,38 @@ TEST_F(Robustness, TwoConvertsToTheSameFile) {
     const acro::capture::Trial back = acro::capture::ReadTrial(dir_ / "out.c3d");
     EXPECT_TRUE(back.num_frames == 444 || back.num_frames == 1266) << back.num_frames;
     EXPECT_TRUE(back.warnings.empty());
+  }
+}
+
+// Two analyses into the same -o at once: both complete, and the directory holds one of them
+// whole — its report and its jumps.json from the same run (the commits take turns).
+TEST_F(Robustness, TwoAnalysesIntoTheSameDirectory) {
+  fs::create_directories(dir_ / "a");
+  fs::create_directories(dir_ / "b");
+  fs::copy_file(Samples() / "trials/straight_jump/straight_jump.c3d", dir_ / "a/trial.c3d");
+  fs::copy_file(Samples() / "trials/trampoline_routine/trampoline_routine.c3d",
+                dir_ / "b/trial.c3d");
+  std::map<std::string, std::string> alone;  // jumps.json of each run on its own
+  for (const char* which : {"a", "b"}) {
+    const Outcome run = Acrolab(
+        std::string("analyze ") + which + "/trial.c3d --no-images --quiet -o " + which + "/out",
+        dir_);
+    ASSERT_EQ(run.status, 0) << run.err;
+    alone[which] = ReadText(dir_ / which / "out/jumps.json");
+  }
+  ASSERT_NE(alone["a"], alone["b"]);
+  for (int round = 0; round < 3; ++round) {
+    const std::string exe = ACROLAB_EXE;
+    const std::string line = "cd " + Quote(dir_) + " && (" + exe +
+                             " analyze a/trial.c3d --no-images --quiet -o out & " + exe +
+                             " analyze b/trial.c3d --no-images --quiet -o out & wait) "
+                             ">/dev/null 2>&1";
+    ASSERT_EQ(std::system(("sh -c " + Quote(line)).c_str()), 0);
+    const std::string report = ReadText(dir_ / "out/report.html");
+    const bool from_a = report.find("a/trial.c3d") != std::string::npos;
+    EXPECT_NE(from_a, report.find("b/trial.c3d") != std::string::npos);
+    EXPECT_EQ(ReadText(dir_ / "out/jumps.json"), alone[from_a ? "a" : "b"]) << round;
+    EXPECT_EQ(Leftovers(dir_, {"a", "b", "out"}), std::vector<std::string>{});
   }
 }
 

@@ -34,9 +34,10 @@ struct Parameter {
   /// int16 values read as unsigned 16-bit (for counts that exceed 32767, e.g. POINT:FRAMES).
   std::vector<std::uint32_t> AsUnsigned() const;
   /// Character arrays split into strings of dimensions[0] characters, trailing blanks and NULs
-  /// removed.
+  /// removed, as UTF-8 (a string that is not UTF-8 is read as Latin-1 and transcoded; `chars`
+  /// keeps the file's bytes, which the writer keeps when the text is unchanged).
   std::vector<std::string> AsStrings() const;
-  /// The whole character array as one string, trailing blanks and NULs removed.
+  /// The whole character array as one string, trailing blanks and NULs removed, as UTF-8.
   std::string AsString() const;
 };
 
