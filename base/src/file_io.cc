@@ -8,6 +8,7 @@
 #include <fstream>
 #include <random>
 #include <system_error>
+#include <vector>
 
 #include <fcntl.h>
 #include <sys/file.h>
@@ -91,12 +92,16 @@ void CreateOutputDirectory(const std::filesystem::path& dir) {
 
 OutputTransaction::OutputTransaction(std::filesystem::path dir) : dir_(std::move(dir)) {
   CheckOutputDirectory(dir_);
-  // A sibling of `dir` (so that the moves stay on one file system), hidden, unique per run.
+  // Hidden and unique per run, in the nearest existing ancestor of `dir` (so that the moves stay
+  // on one file system, and a failed run creates no directory on the way to `dir`).
   std::filesystem::path target = dir_.lexically_normal();
   if (target.filename().empty()) target = target.parent_path();
-  const std::filesystem::path parent =
+  std::filesystem::path parent =
       target.parent_path().empty() ? std::filesystem::path(".") : target.parent_path();
-  CreateOutputDirectory(parent);
+  std::error_code exists_ec;
+  while (!std::filesystem::is_directory(parent, exists_ec) && parent.has_parent_path() &&
+         parent.parent_path() != parent)
+    parent = parent.parent_path();
   std::random_device seed;
   std::error_code ec;
   for (int attempt = 0; attempt < 100; ++attempt) {
@@ -129,10 +134,14 @@ void OutputTransaction::Commit() {
   const int lock = ::open(dir_.c_str(), O_RDONLY | O_DIRECTORY | O_CLOEXEC);
   if (lock >= 0) ::flock(lock, LOCK_EX);
   std::string failure;
+  // The entries first: a directory is not moved out of while it is being listed.
+  std::vector<std::filesystem::directory_entry> entries;
+  std::error_code ec;
+  for (const std::filesystem::directory_entry& entry :
+       std::filesystem::directory_iterator(staging_, ec))
+    entries.push_back(entry);
   RunUninterrupted([&] {
-    std::error_code ec;
-    for (const std::filesystem::directory_entry& entry :
-         std::filesystem::directory_iterator(staging_, ec)) {
+    for (const std::filesystem::directory_entry& entry : entries) {
       const std::filesystem::path target = dir_ / entry.path().filename();
       std::error_code move;
       if (entry.is_directory() && std::filesystem::is_directory(target))
@@ -146,7 +155,6 @@ void OutputTransaction::Commit() {
   });
   if (lock >= 0) ::close(lock);
   if (!failure.empty()) throw InputError(dir_.string(), "", failure);
-  std::error_code ec;
   std::filesystem::remove_all(staging_, ec);
   committed_ = true;
 }

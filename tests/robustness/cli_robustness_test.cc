@@ -370,6 +370,13 @@ TEST_F(Robustness, BadOutputPlacesFailBeforeAnyWork) {
   fs::permissions(dir_ / "readonly", fs::perms::owner_all);
 }
 
+// A failure after the work leaves no directory on the way to -o: here the analysis fails (a rate
+// out of range) with -o two levels below directories that do not exist.
+TEST_F(Robustness, AFailedRunCreatesNoDirectory) {
+  WriteText(dir_ / "jump.trc", TrcWithRate(dir_, "9"));
+  Expect({"-o new/deep/out, failing", 1, "rate"}, "analyze jump.trc -o new/deep/out", {"jump.trc"});
+}
+
 TEST_F(Robustness, YeadonFileInTheWrongUnit) {
   std::string profile = ReadText(Samples() / "athletes/sample_athlete_yeadon.yaml");
   const std::string factor = "measurementconversionfactor: 0.01";

@@ -31,8 +31,9 @@ void CheckOutputDirectory(const std::filesystem::path& dir);
 void CreateOutputDirectory(const std::filesystem::path& dir);
 
 /// A command's outputs as one transaction (docs/limits.md, "Outputs"): they are written into a
-/// staging directory beside `dir` (a unique hidden name, removed by the interrupt handler and by
-/// the destructor unless committed), and Commit() moves them into `dir` in one uninterrupted step.
+/// staging directory in the nearest existing ancestor of `dir` (a unique hidden name, removed by
+/// the interrupt handler and by the destructor unless committed), and Commit() moves them into
+/// `dir` in one uninterrupted step, taking turns with other processes committing there (flock).
 /// Until then the previous run's outputs in `dir` stay as they were; a failure or a Ctrl-C in
 /// between leaves nothing.
 class OutputTransaction {
