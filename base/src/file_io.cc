@@ -99,9 +99,13 @@ OutputTransaction::OutputTransaction(std::filesystem::path dir) : dir_(std::move
   std::filesystem::path parent =
       target.parent_path().empty() ? std::filesystem::path(".") : target.parent_path();
   std::error_code exists_ec;
-  while (!std::filesystem::is_directory(parent, exists_ec) && parent.has_parent_path() &&
-         parent.parent_path() != parent)
+  while (!std::filesystem::is_directory(parent, exists_ec)) {
+    if (!parent.has_parent_path() || parent.parent_path() == parent) {
+      parent = ".";  // a relative path's first component: the working directory
+      break;
+    }
     parent = parent.parent_path();
+  }
   std::random_device seed;
   std::error_code ec;
   for (int attempt = 0; attempt < 100; ++attempt) {

@@ -375,6 +375,13 @@ TEST_F(Robustness, BadOutputPlacesFailBeforeAnyWork) {
 TEST_F(Robustness, AFailedRunCreatesNoDirectory) {
   WriteText(dir_ / "jump.trc", TrcWithRate(dir_, "9"));
   Expect({"-o new/deep/out, failing", 1, "rate"}, "analyze jump.trc -o new/deep/out", {"jump.trc"});
+  // The same place for a run that succeeds: created, with the outputs in it and nothing beside.
+  WriteText(dir_ / "jump.trc", TrcWithRate(dir_, "200"));
+  const Outcome run = Acrolab("reconstruct jump.trc --quiet -o new/deep/out", dir_);
+  EXPECT_EQ(run.status, 0) << run.err;
+  EXPECT_TRUE(fs::exists(dir_ / "new/deep/out/jump.mot"));
+  EXPECT_EQ(Leftovers(dir_, {"jump.trc", "new"}), std::vector<std::string>{});
+  EXPECT_EQ(Leftovers(dir_ / "new/deep", {"out"}), std::vector<std::string>{});
 }
 
 TEST_F(Robustness, YeadonFileInTheWrongUnit) {
