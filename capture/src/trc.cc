@@ -4,6 +4,8 @@
 #include <cmath>
 #include <map>
 #include <string>
+#include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "acro/base/file_io.h"
@@ -322,20 +324,33 @@ Trial ReadTrcFromString(std::string_view text, const std::string& name) {
                          " frames and there are none");
   }
   NameMarkers(rows.max_columns, name, names, trial.warnings);
-  // A name given twice would make two markers one; the second gets a suffix, said.
-  for (std::size_t i = 0; i < names.size(); ++i)
-    for (std::size_t j = 0; j < i; ++j)
-      if (names[i] == names[j]) {
-        std::string renamed = names[i];
-        for (int k = 2; std::find(names.begin(), names.end(), renamed) != names.end(); ++k)
-          renamed = names[i] + "_" + std::to_string(k);
+  // A name given twice would make two markers one; the second gets a suffix, said (the first ten,
+  // then a count). Hash sets and a suffix counter per name, not pairwise comparison: a line of
+  // 300,000 equal names must not take minutes.
+  {
+    std::unordered_set<std::string> taken(names.begin(), names.end());
+    std::unordered_map<std::string, std::size_t> first;  // name → its first marker
+    std::unordered_map<std::string, int> next_suffix;
+    std::size_t repeats = 0;
+    for (std::size_t i = 0; i < names.size(); ++i) {
+      const auto [at, is_first] = first.emplace(names[i], i);
+      if (is_first) continue;
+      int& k = next_suffix.try_emplace(names[i], 2).first->second;
+      std::string renamed = names[i] + "_" + std::to_string(k);
+      while (taken.count(renamed) > 0) renamed = names[i] + "_" + std::to_string(++k);
+      ++k;
+      if (++repeats <= 10)
         trial.warnings.push_back(name + ": " + Where(4) + ": marker name '" + names[i] +
-                                 "' repeats (markers " + std::to_string(j + 1) + " and " +
+                                 "' repeats (markers " + std::to_string(at->second + 1) + " and " +
                                  std::to_string(i + 1) + "); the second is read as '" + renamed +
                                  "'");
-        names[i] = renamed;
-        break;
-      }
+      taken.insert(renamed);
+      names[i] = renamed;
+    }
+    if (repeats > 10)
+      trial.warnings.push_back(name + ": " + Where(4) + ": " + std::to_string(repeats - 10) +
+                               " more repeated marker names, each read with a suffix");
+  }
   const int num_markers = static_cast<int>(names.size());
   if (!std::isnan(header_frames) && static_cast<long long>(header_frames) != num_rows) {
     trial.warnings.push_back(

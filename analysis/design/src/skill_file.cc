@@ -214,7 +214,7 @@ Skill SkillFromYaml(const YamlNode& root, const std::filesystem::path& base_dir)
           "time_s: the last keyframe is at landing, " + std::to_string(skill.flight_time_s) + " s");
     if (i > 0 && skill.keyframes[i - 1].time_s && !(*k.time_s > *skill.keyframes[i - 1].time_s))
       throw InputError(skill.source, where, "time_s: keyframe times must increase");
-    if (*k.time_s < 0.0 || *k.time_s > skill.flight_time_s)
+    if (*k.time_s < 0.0 || *k.time_s > skill.flight_time_s + 1e-3)  // the landing's tolerance
       throw InputError(skill.source,
                        where,
                        "time_s " + FormatFixed(*k.time_s, 3) + " is outside the flight, 0–" +
