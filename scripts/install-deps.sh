@@ -8,7 +8,8 @@ set -euo pipefail
 
 # What the acrolab program needs to build: compiler, Eigen, Ceres, OpenMesh, FFmpeg's libraries
 # (video), OpenCV's calibration modules (cameras), YAML, JSON, TOML and XML (calibrations),
-# formatting, argument parsing, Cairo for the report's charts, and VTK with an X server of its own
+# formatting, argument parsing, Cairo for the report's charts, SQLite and Nettle for the season
+# library (acrolab library, batch), and VTK with an X server of its own
 # (Xvfb) for the 3D views — the athlete over the video, filmstrips, comparisons. Debian's VTK
 # development package is large (it depends on Java, MPI, GDAL and HDF5 development packages): about
 # 190 packages of the main install's 670.
@@ -17,19 +18,18 @@ main_packages=(
   libeigen3-dev libceres-dev libopenmesh-dev
   libavformat-dev libavcodec-dev libswscale-dev libavutil-dev
   libyaml-cpp-dev nlohmann-json3-dev libfmt-dev libcli11-dev libcairo2-dev libtomlplusplus-dev
-  libpugixml-dev
+  libpugixml-dev libsqlite3-dev nettle-dev
   libopencv-calib3d-dev libopencv-imgproc-dev libopencv-imgcodecs-dev
   libvtk9-dev libjsoncpp-dev xvfb xauth
 )
 # Everything else: ChArUco boards (OpenCV's contrib modules), the window (Qt and VTK's Qt module),
-# the tests and their oracles (GoogleTest, Simbody, the ffmpeg command), the benchmarks, the trial
-# library.
+# the tests and their oracles (GoogleTest, Simbody, the ffmpeg command), the benchmarks.
 full_packages=(
   libopencv-contrib-dev
   libvtk9-qt-dev qtbase5-dev
   ffmpeg
   libgtest-dev libgmock-dev libbenchmark-dev
-  libsqlite3-dev libsimbody-dev
+  libsimbody-dev
 )
 
 packages=("${main_packages[@]}")

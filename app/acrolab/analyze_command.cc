@@ -17,6 +17,7 @@
 #include "acro/capture/trial_io.h"
 #include "acro/capture/video.h"
 #include "acro/dynamics/configuration.h"
+#include "acro/library/add_trial.h"
 #include "acro/report/analysis_report.h"
 #include "acro/scene/silhouette_check.h"
 #include "acro/scene/trial_scene.h"
@@ -224,6 +225,9 @@ int RunAnalyze(AnalyzeArguments& args) {
   }
 #endif
   analysis::WriteAnalysisTables(result, dir);
+  // Which Acrolab analysed which content (for acrolab library add --analysis).
+  WriteFileAtomically(dir / "analysis.json",
+                      library::FormatAnalysisProvenance(common.trial_path, report.athlete));
   report.trial_path = common.trial_path;
   report.render_images = images;
   say("report: rendering plots");
@@ -232,7 +236,7 @@ int RunAnalyze(AnalyzeArguments& args) {
   outputs.Commit();
   std::fputs(result.BriefReport().c_str(), stdout);
   std::printf("report: %s\n", (outputs.dir() / "report.html").string().c_str());
-  std::printf("wrote %s/{report.html,jumps.json,angles.mot,torques.sto,residuals.csv}\n",
+  std::printf("wrote %s/{report.html,jumps.json,angles.mot,torques.sto,residuals.csv,analysis.json}\n",
               common.out_dir.c_str());
   return 0;
 }

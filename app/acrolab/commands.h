@@ -39,6 +39,9 @@ void AddSyncCommand(CLI::App& app, CommandRunner* run);
 /// them.
 void AddOverlayCommand(CLI::App& app, CommandRunner* run);
 void AddCompareCommand(CLI::App& app, CommandRunner* run);
+/// `acrolab library …` (the season library) and `acrolab batch`.
+void AddLibraryCommand(CLI::App& app, CommandRunner* run);
+void AddBatchCommand(CLI::App& app, CommandRunner* run);
 /// What `overlay` and `compare` run in a build without the 3D views: throws the UsageError that
 /// says how to get them.
 int NeedTheViews();

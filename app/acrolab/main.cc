@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include "acro/base/input_error.h"
+#include "acro/base/version.h"
 #include "commands.h"
 
 namespace {
@@ -30,7 +31,7 @@ int main(int argc, char** argv) {
       "Acrolab: training analysis for trampoline and other aerial sports. docs/cli.md has every "
       "command and output.",
       "acrolab");
-  app.set_version_flag("--version", "acrolab 0.1.0");
+  app.set_version_flag("--version", std::string("acrolab ") + acro::AcrolabVersion());
   app.require_subcommand(1);
   app.fallthrough(false);
   acro::app::CommandRunner run;
@@ -46,6 +47,8 @@ int main(int argc, char** argv) {
   acro::app::AddSyncCommand(app, &run);
   acro::app::AddOverlayCommand(app, &run);
   acro::app::AddCompareCommand(app, &run);
+  acro::app::AddLibraryCommand(app, &run);
+  acro::app::AddBatchCommand(app, &run);
 
   // Parse: --help and --version exit 0; a bad command line exits 2 with one line and the hint.
   if (argc > 1 && argv[1][0] != '-' &&

@@ -1,0 +1,9 @@
+#include "acro/base/version.h"
+
+namespace acro {
+
+const char* AcrolabVersion() {
+  return ACRO_VERSION;
+}
+
+}  // namespace acro

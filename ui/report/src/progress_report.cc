@@ -1,0 +1,190 @@
+#include "acro/report/progress_report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include <fmt/format.h>
+
+#include "acro/base/file_io.h"
+#include "acro/base/text_format.h"
+
+namespace acro::ui {
+
+namespace {
+
+// The FIG bed (4.28 m × 2.14 m) and its zone A (2.15 m × 1.08 m about the centre), in the bed's
+// frame as jumps.json's landing_in_bed_m: x along the bed's length.
+constexpr double kBedHalfLength = 4.28 / 2, kBedHalfWidth = 2.14 / 2;
+constexpr double kZoneHalfLength = 2.15 / 2, kZoneHalfWidth = 1.08 / 2;
+
+LineSeries Rectangle(const std::string& name, double hx, double hy, Rgb color, bool dashed) {
+  LineSeries s;
+  s.name = name;
+  s.x = {-hx, hx, hx, -hx, -hx};
+  s.y = {-hy, -hy, hy, hy, -hy};
+  s.color = color;
+  s.width_px = 1.5;
+  s.dashed = dashed;
+  return s;
+}
+
+std::string Title(const library::Progress& p) {
+  return p.athlete + (p.fig_code.empty() ? std::string(", every skill") : ", " + p.fig_code);
+}
+
+}  // namespace
+
+std::vector<ProgressFigure> MakeProgressFigures(const library::Progress& p) {
+  std::vector<ProgressFigure> figures;
+  const std::string x_label = "days since " + p.first_date;
+  {
+    Chart c;
+    c.title = fmt::format("{}: {} over the season", Title(p), p.metric_name);
+    c.x_label = x_label;
+    c.y_label = fmt::format("{} ({})", p.metric_name, p.unit);
+    LineSeries jumps;
+    jumps.name = "each jump";
+    jumps.line = false;
+    jumps.markers = true;
+    jumps.color = {0.55, 0.65, 0.8};
+    for (const library::ProgressPoint& q : p.points) {
+      jumps.x.push_back(q.day);
+      jumps.y.push_back(q.value);
+    }
+    LineSeries medians;
+    medians.name = p.metric == library::ProgressMetric::kVerdict ? "session pass fraction"
+                                                                   : "session median";
+    medians.markers = true;
+    medians.color = {0.12, 0.35, 0.7};
+    for (const library::SessionProgress& s : p.sessions) {
+      medians.x.push_back(s.day);
+      medians.y.push_back(s.median);
+    }
+    LineSeries trend;
+    trend.name = fmt::format("trend {:+.3g} {} per 30 days (R² {:.2f})",
+                             30 * p.trend_slope_per_day,
+                             p.unit,
+                             p.trend_r2);
+    trend.dashed = true;
+    trend.color = {0.85, 0.33, 0.1};
+    const double last = p.sessions.back().day;
+    trend.x = {0.0, last};
+    trend.y = {p.trend_intercept, p.trend_intercept + p.trend_slope_per_day * last};
+    c.series = {jumps, medians, trend};
+    if (last <= 0) c.x_range = ValueRange{-1.0, 1.0};
+    figures.push_back({"progress_metric.png",
+                       fmt::format("{} per jump, the median of each session and the trend line "
+                                   "through the jumps ({} jumps in {} sessions).",
+                                   p.metric_name,
+                                   p.points.size(),
+                                   p.sessions.size()),
+                       c});
+  }
+  // Landings: the season in three parts, so that a drift shows as a colour.
+  size_t landings = 0;
+  for (const library::SessionProgress& s : p.sessions) landings += s.landing_x_m.size();
+  if (landings > 0) {
+    Chart c;
+    c.title = Title(p) + ": landings on the bed";
+    c.x_label = "along the bed (m)";
+    c.y_label = "across the bed (m)";
+    c.width_px = 900;
+    c.height_px = 520;
+    c.x_range = ValueRange{-kBedHalfLength, kBedHalfLength};
+    c.y_range = ValueRange{-kBedHalfWidth - 0.3, kBedHalfWidth + 0.3};
+    c.series.push_back(Rectangle("bed", kBedHalfLength, kBedHalfWidth, {0.3, 0.3, 0.3}, false));
+    c.series.push_back(
+        Rectangle("zone A", kZoneHalfLength, kZoneHalfWidth, {0.1, 0.6, 0.2}, true));
+    const Rgb colours[3] = {{0.65, 0.75, 0.9}, {0.2, 0.45, 0.8}, {0.75, 0.1, 0.15}};
+    const size_t n = p.sessions.size();
+    const size_t parts = std::min<size_t>(3, n);
+    for (size_t part = 0; part < parts; ++part) {
+      const size_t first = part * n / parts, last = (part + 1) * n / parts;  // [first, last)
+      LineSeries s;
+      s.line = false;
+      s.markers = true;
+      s.color = colours[parts == 1 ? 2 : part * 2 / (parts - 1)];
+      for (size_t k = first; k < last; ++k) {
+        s.x.insert(s.x.end(), p.sessions[k].landing_x_m.begin(), p.sessions[k].landing_x_m.end());
+        s.y.insert(s.y.end(), p.sessions[k].landing_y_m.begin(), p.sessions[k].landing_y_m.end());
+      }
+      s.name = first + 1 == last
+                   ? p.sessions[first].date
+                   : fmt::format("{} – {}", p.sessions[first].date, p.sessions[last - 1].date);
+      if (!s.x.empty()) c.series.push_back(s);
+    }
+    figures.push_back({"progress_landings.png",
+                       "Landing points in the bed's frame (x along its length), by part of the "
+                       "season; the dashed rectangle is the FIG zone A (2.15 m × 1.08 m).",
+                       c});
+    Chart z;
+    z.title = Title(p) + ": landings in zone A";
+    z.x_label = x_label;
+    z.y_label = "landings in zone A (fraction)";
+    z.y_range = ValueRange{0.0, 1.05};
+    LineSeries share;
+    share.name = "per session";
+    share.markers = true;
+    for (const library::SessionProgress& s : p.sessions) {
+      if (s.landing_x_m.empty()) continue;
+      share.x.push_back(s.day);
+      share.y.push_back(double(s.landings_in_zone_a) / double(s.landing_x_m.size()));
+    }
+    z.series = {share};
+    if (p.sessions.back().day <= 0) z.x_range = ValueRange{-1.0, 1.0};
+    figures.push_back({"progress_zone_a.png",
+                       "The share of each session's landings inside zone A.",
+                       z});
+  }
+  return figures;
+}
+
+std::string FormatProgressHtml(const library::Progress& p,
+                               const std::vector<ProgressFigure>& figures) {
+  std::ostringstream h;
+  const std::string title = "Acrolab: " + Title(p) + " — " + p.metric_name;
+  h << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>" << HtmlEscape(title)
+    << "</title>\n<style>body{font-family:sans-serif;max-width:960px;margin:1em auto}"
+       "table{border-collapse:collapse}td,th{padding:2px 8px;text-align:right;border-bottom:1px "
+       "solid #ddd}td.l,th.l{text-align:left}img{max-width:100%}</style></head><body>\n";
+  h << "<h1>" << HtmlEscape(Title(p)) << "</h1>\n";
+  h << "<p>" << HtmlEscape(p.metric_name) << " (" << HtmlEscape(p.unit) << ") over "
+    << p.sessions.size() << " sessions from " << p.sessions.front().date << " to "
+    << p.sessions.back().date << ", " << p.points.size() << " jumps. Trend: "
+    << fmt::format("{:+.3g}", 30 * p.trend_slope_per_day) << " " << HtmlEscape(p.unit)
+    << " per 30 days (R² " << fmt::format("{:.2f}", p.trend_r2) << ").</p>\n";
+  for (const ProgressFigure& f : figures) {
+    std::string svg = f.file.substr(0, f.file.size() - 4) + ".svg";
+    h << "<figure><a href=\"" << HtmlEscape(svg) << "\"><img src=\"" << HtmlEscape(f.file)
+      << "\" alt=\"" << HtmlEscape(f.chart.title) << "\"></a><figcaption>" << HtmlEscape(f.caption)
+      << " (<a href=\"" << HtmlEscape(svg) << "\">SVG</a>)</figcaption></figure>\n";
+  }
+  h << "<h2>Sessions</h2>\n<table><tr><th class=\"l\">date</th><th>jumps</th><th>"
+    << (p.metric == library::ProgressMetric::kVerdict ? "passed" : "median") << "</th><th>min</th>"
+    << "<th>max</th><th>landings in zone A</th></tr>\n";
+  for (const library::SessionProgress& s : p.sessions)
+    h << "<tr><td class=\"l\">" << s.date << "</td><td>" << s.num_jumps << "</td><td>"
+      << fmt::format("{:.3f}", s.median) << "</td><td>" << fmt::format("{:.3f}", s.min)
+      << "</td><td>" << fmt::format("{:.3f}", s.max) << "</td><td>"
+      << (s.landing_x_m.empty() ? std::string("–")
+                                : fmt::format("{} of {}", s.landings_in_zone_a, s.landing_x_m.size()))
+      << "</td></tr>\n";
+  h << "</table>\n<p>The table as CSV: <a href=\"progress.csv\">progress.csv</a>.</p>\n"
+       "</body></html>\n";
+  return h.str();
+}
+
+void WriteProgressReport(const library::Progress& progress, const std::filesystem::path& dir) {
+  const std::vector<ProgressFigure> figures = MakeProgressFigures(progress);
+  for (const ProgressFigure& f : figures) {
+    std::filesystem::path png = dir / f.file;
+    WriteChart(f.chart, png);
+    WriteChart(f.chart, png.replace_extension(".svg"));
+  }
+  WriteFileAtomically(dir / "progress.csv", library::FormatProgressCsv(progress));
+  WriteFileAtomically(dir / "progress.html", FormatProgressHtml(progress, figures));
+}
+
+}  // namespace acro::ui
