@@ -44,6 +44,11 @@ message(STATUS "OpenCV modules in ${ACRO_OPENCV_INCLUDE_DIR}; ChArUco (aruco): $
 # Cairo: every chart of every report, PNG and SVG, with no display (ui/report only).
 pkg_check_modules(CAIRO REQUIRED IMPORTED_TARGET cairo cairo-svg cairo-png)
 
+# SQLite and Nettle (SHA-256): the season library (analysis/library/src only; SQLite also in its
+# tests, which write old and damaged library files).
+pkg_check_modules(SQLITE3 REQUIRED IMPORTED_TARGET GLOBAL sqlite3)
+pkg_check_modules(NETTLE REQUIRED IMPORTED_TARGET GLOBAL nettle)
+
 # FFmpeg: video input and output (capture/src only).
 pkg_check_modules(FFMPEG REQUIRED IMPORTED_TARGET libavformat libavcodec libswscale libavutil)
 

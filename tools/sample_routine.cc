@@ -241,8 +241,9 @@ struct SkillPlan {
   PoseTrack track;
 };
 
-std::vector<SkillPlan> MakePlans(const Poses& P) {
+std::vector<SkillPlan> MakePlans(const Poses& P, const SampleRoutineOptions& options) {
   std::vector<SkillPlan> plans;
+  const double scale = options.flight_time_scale;
   auto add = [&](std::string name,
                  std::string code,
                  double T,
@@ -256,13 +257,14 @@ std::vector<SkillPlan> MakePlans(const Poses& P) {
     SkillPlan s;
     s.name = std::move(name);
     s.fig_code = std::move(code);
+    T *= scale;  // a higher or lower routine: every flight time scaled
     s.flight_s = T;
     s.direction = dir;
     s.nominal_rad = nominal_deg * kDeg;
     s.twist_halves = halves;
     s.takeoff_lean_rad = lean_deg * kDeg;
     s.landing_short_rad = short_deg * kDeg;
-    s.landing_target_m = target;
+    s.landing_target_m = target + options.landing_offset_m;
     for (const auto& [frac, q] : keys) s.track.Add(frac * T, q);
     plans.push_back(std::move(s));
   };
@@ -338,6 +340,7 @@ std::vector<SkillPlan> MakePlans(const Poses& P) {
        {0.76, P.Tuck()},
        {0.88, P.Straight()},
        {0.96, P.Landing()}});
+  if (options.num_skills < int(plans.size())) plans.resize(size_t(std::max(options.num_skills, 1)));
   return plans;
 }
 
@@ -862,9 +865,9 @@ struct Skills {
   double final_heading = 0;
 };
 
-Skills ShootSkills(Context& ctx) {
+Skills ShootSkills(Context& ctx, const SampleRoutineOptions& options) {
   Skills skills;
-  skills.plans = MakePlans(ctx.poses);
+  skills.plans = MakePlans(ctx.poses, options);
   double heading = 0;
   for (const SkillPlan& plan : skills.plans) {
     skills.headings.push_back(heading);
@@ -1367,7 +1370,7 @@ SampleRoutine MakeSampleRoutine(const std::filesystem::path& athlete_path,
   out.gravity_m_per_s2 = ctx.g;
 
   // 1. Shoot every skill in its own heading (take-off at t = 0, COM above the origin).
-  const Skills skills = ShootSkills(ctx);
+  const Skills skills = ShootSkills(ctx, options);
 
   // 2. Time line: the first contact (from the bottom of a bounce, standing), then per skill the
   // flight and the contact after it.

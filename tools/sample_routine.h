@@ -36,6 +36,12 @@ struct SampleRoutineOptions {
   double bed_width_m = 2.14;
   double noise_sd_m = 0.001;
   unsigned noise_seed = 20261122;
+  /// Variations of the routine (a season of them, tests/library): every flight time scaled (a
+  /// higher or lower routine; 0.9–1.1 keeps every skill within reach), every landing target moved
+  /// on the bed (m, along and across it), and only the first `num_skills` skills (1–6).
+  double flight_time_scale = 1.0;
+  Eigen::Vector2d landing_offset_m = Eigen::Vector2d::Zero();
+  int num_skills = 6;
 };
 
 /// One flight (one skill) as simulated: times are exact (sub-frame).

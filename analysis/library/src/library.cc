@@ -325,74 +325,87 @@ Library::Library(const std::filesystem::path& path, Mode mode, int busy_timeout_
   sqlite3_busy_timeout(m.db, busy_timeout_ms);
   sqlite3_extended_result_codes(m.db, 1);
 
-  // What the file is, before anything is written to it: a file that is not an SQLite database, a
-  // damaged one, or another program's database is refused and left as it is.
-  if (exists && !empty) {
-    int tables = 0;
-    bool ours = false;
-    // (reading the catalogue is the first read: a file that is not a database fails here)
-    char* error = nullptr;
-    struct Found {
+  // SQLite makes FILE-wal and FILE-shm beside a WAL library when it opens it; for a file it
+  // refuses, those it made are removed again, so that the folder is left as it was.
+  const std::filesystem::path wal = file + "-wal", shm = file + "-shm";
+  const bool had_wal = std::filesystem::exists(wal, ec), had_shm = std::filesystem::exists(shm, ec);
+  try {
+    // What the file is, before anything is written to it: a file that is not an SQLite database, a
+    // damaged one, or another program's database is refused and left as it is.
+    if (exists && !empty) {
       int tables = 0;
       bool ours = false;
-    } found;
-    const int rc = sqlite3_exec(
-        m.db,
-        "SELECT name FROM sqlite_master WHERE type = 'table'",
-        [](void* out, int, char** values, char**) {
-          auto* f = static_cast<Found*>(out);
-          ++f->tables;
-          if (values[0] && std::string(values[0]) == "acrolab_library") f->ours = true;
-          return 0;
-        },
-        &found,
-        &error);
-    if (rc != SQLITE_OK) {
-      const std::string message = error ? error : sqlite3_errmsg(m.db);
-      sqlite3_free(error);
-      throw InputError(file, "", "not an Acrolab library: " + message + "; left as it is");
-    }
-    tables = found.tables;
-    ours = found.ours;
-    {
-      Statement check(m.db, "PRAGMA quick_check", file);
-      std::string problems;
-      int count = 0;
-      while (check.Step()) {
-        const std::string line = check.Text(0);
-        if (line == "ok") continue;
-        if (count++ < 1) problems = line;
+      // (reading the catalogue is the first read: a file that is not a database fails here)
+      char* error = nullptr;
+      struct Found {
+        int tables = 0;
+        bool ours = false;
+      } found;
+      const int rc = sqlite3_exec(
+          m.db,
+          "SELECT name FROM sqlite_master WHERE type = 'table'",
+          [](void* out, int, char** values, char**) {
+            auto* f = static_cast<Found*>(out);
+            ++f->tables;
+            if (values[0] && std::string(values[0]) == "acrolab_library") f->ours = true;
+            return 0;
+          },
+          &found,
+          &error);
+      if (rc != SQLITE_OK) {
+        const std::string message = error ? error : sqlite3_errmsg(m.db);
+        sqlite3_free(error);
+        throw InputError(file, "", "not an Acrolab library: " + message + "; left as it is");
       }
-      if (count > 0)
+      tables = found.tables;
+      ours = found.ours;
+      {
+        Statement check(m.db, "PRAGMA quick_check", file);
+        std::string problems;
+        int count = 0;
+        while (check.Step()) {
+          const std::string line = check.Text(0);
+          if (line == "ok") continue;
+          if (count++ < 1) problems = line;
+        }
+        if (count > 0)
+          throw InputError(file,
+                           "",
+                           fmt::format("damaged library ({} problem{}, first: {}); left as it is",
+                                       count,
+                                       count > 1 ? "s" : "",
+                                       problems));
+      }
+      // A database with nothing in it is what opening a new file makes: another process creating
+      // the library, or one that stopped before its first step; made here (when writing).
+      if (tables == 0 && mode == Mode::kReadWrite) {
+        ours = true;
+      } else if (!ours) {
         throw InputError(file,
                          "",
-                         fmt::format("damaged library ({} problem{}, first: {}); left as it is",
-                                     count,
-                                     count > 1 ? "s" : "",
-                                     problems));
+                         tables == 0 ? "an empty SQLite database, not an Acrolab library"
+                                     : "an SQLite database but not an Acrolab library (no table "
+                                       "acrolab_library)");
+      }
+      m.found_version = m.UserVersion();
+      if (m.found_version > kSchemaVersion)
+        throw InputError(file,
+                         "schema",
+                         fmt::format("version {} is newer than this Acrolab's {} (Acrolab {} or "
+                                     "later wrote it)",
+                                     m.found_version,
+                                     kSchemaVersion,
+                                     "a newer"));
+      if (m.found_version < 1 && tables > 0)
+        throw InputError(file, "schema", fmt::format("version {} is not valid", m.found_version));
     }
-    // A database with nothing in it is what opening a new file makes: another process creating
-    // the library, or one that stopped before its first step; made here (when writing).
-    if (tables == 0 && mode == Mode::kReadWrite) {
-      ours = true;
-    } else if (!ours) {
-      throw InputError(file,
-                       "",
-                       tables == 0 ? "an empty SQLite database, not an Acrolab library"
-                                   : "an SQLite database but not an Acrolab library (no table "
-                                     "acrolab_library)");
-    }
-    m.found_version = m.UserVersion();
-    if (m.found_version > kSchemaVersion)
-      throw InputError(file,
-                       "schema",
-                       fmt::format("version {} is newer than this Acrolab's {} (Acrolab {} or "
-                                   "later wrote it)",
-                                   m.found_version,
-                                   kSchemaVersion,
-                                   "a newer"));
-    if (m.found_version < 1 && tables > 0)
-      throw InputError(file, "schema", fmt::format("version {} is not valid", m.found_version));
+  } catch (const InputError&) {
+    sqlite3_close_v2(m.db);
+    m.db = nullptr;
+    if (!had_wal && std::filesystem::exists(wal, ec) && std::filesystem::file_size(wal, ec) == 0)
+      std::filesystem::remove(wal, ec);
+    if (!had_shm) std::filesystem::remove(shm, ec);
+    throw;
   }
   m.Exec("PRAGMA foreign_keys = ON", "foreign keys");
   m.version = m.found_version;
