@@ -1335,6 +1335,7 @@ void AddGaps(SampleRoutine& out) {
     const int m = trial.FindPoint(label);
     ACRO_DEMAND(m >= 0);
     const int first = int(std::lround(t_centre * rate)) - frames / 2;
+    ACRO_DEMAND(first >= 0 && first + frames <= trial.num_frames);
     for (int fr = first; fr < first + frames; ++fr) {
       trial.position(fr, m).setConstant(std::nan(""));
       trial.residuals(m, fr) = -1.0f;
@@ -1344,10 +1345,12 @@ void AddGaps(SampleRoutine& out) {
     return out.flights[flight].takeoff_s +
            frac * (out.flights[flight].landing_s - out.flights[flight].takeoff_s);
   };
-  gap("RFIN", during(4, 0.45), 18);
-  gap("LASI", during(1, 0.45), 12);
-  gap("LELB", during(5, 0.55), 24);
-  gap("RTOE", 0.5 * (out.contacts[3].start_s + out.contacts[3].end_s), 6);
+  // (a routine of fewer skills keeps the gaps of the skills it has)
+  if (out.flights.size() > 4) gap("RFIN", during(4, 0.45), 18);
+  if (out.flights.size() > 1) gap("LASI", during(1, 0.45), 12);
+  if (out.flights.size() > 5) gap("LELB", during(5, 0.55), 24);
+  if (out.contacts.size() > 3)
+    gap("RTOE", 0.5 * (out.contacts[3].start_s + out.contacts[3].end_s), 6);
 }
 
 }  // namespace

@@ -236,8 +236,9 @@ int RunAnalyze(AnalyzeArguments& args) {
   outputs.Commit();
   std::fputs(result.BriefReport().c_str(), stdout);
   std::printf("report: %s\n", (outputs.dir() / "report.html").string().c_str());
-  std::printf("wrote %s/{report.html,jumps.json,angles.mot,torques.sto,residuals.csv,analysis.json}\n",
-              common.out_dir.c_str());
+  std::printf(
+      "wrote %s/{report.html,jumps.json,angles.mot,torques.sto,residuals.csv,analysis.json}\n",
+      common.out_dir.c_str());
   return 0;
 }
 

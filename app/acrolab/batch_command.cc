@@ -8,6 +8,7 @@
 #include <filesystem>
 #include <fstream>
 #include <memory>
+#include <thread>
 
 #include <fmt/format.h>
 
@@ -34,8 +35,8 @@ struct BatchArguments {
 
 // One job: a trial and the `library add` options of its line.
 struct Job {
-  int number = 0;  ///< 1-based, in the list's order
-  std::string where;  ///< "LIST:line" for messages
+  int number = 0;                  ///< 1-based, in the list's order
+  std::string where;               ///< "LIST:line" for messages
   std::vector<std::string> words;  ///< TRIAL then options
   library::AddRequest request;
 };
@@ -126,8 +127,8 @@ std::vector<Job> ReadJobs(const BatchArguments& args) {
       if (trial.is_relative()) trial = source.parent_path() / trial;
       words[0] = trial.lexically_normal().string();
       for (size_t i = 1; i < words.size(); ++i) {
-        static const std::vector<std::string> kTakes = {"--athlete", "--session", "--place",
-                                                        "--notes", "--video", "--calib"};
+        static const std::vector<std::string> kTakes = {
+            "--athlete", "--session", "--place", "--notes", "--video", "--calib"};
         if (std::find(kTakes.begin(), kTakes.end(), words[i]) == kTakes.end() ||
             i + 1 == words.size())
           throw InputError(where,
@@ -153,7 +154,8 @@ std::vector<Job> ReadJobs(const BatchArguments& args) {
     j.number = int(k + 1);
     if (OptionValue(j.words, "--athlete").empty()) {
       if (args.athlete.empty())
-        throw InputError(j.where, "", "no --athlete for this trial (give one to batch, or on the line)");
+        throw InputError(
+            j.where, "", "no --athlete for this trial (give one to batch, or on the line)");
       j.words.insert(j.words.end(), {"--athlete", args.athlete});
     }
     if (OptionValue(j.words, "--session").empty() && !args.session.empty())
@@ -161,7 +163,8 @@ std::vector<Job> ReadJobs(const BatchArguments& args) {
     j.request.trial = j.words[0];
     j.request.athlete_profile = OptionValue(j.words, "--athlete");
     if (!args.analyses.empty())
-      j.request.analysis_dir = std::filesystem::path(args.analyses) / fmt::format("job-{}", j.number);
+      j.request.analysis_dir =
+          std::filesystem::path(args.analyses) / fmt::format("job-{}", j.number);
   }
   return jobs;
 }
@@ -171,12 +174,20 @@ std::vector<Job> ReadJobs(const BatchArguments& args) {
 // library's disk).
 std::vector<std::string> JobCommand(const BatchArguments& args,
                                     const Job& job,
-                                    const std::string& self) {
+                                    const std::string& self,
+                                    bool here) {
   std::vector<std::string> argv = {self};
   if (!args.analyses_to.empty()) {
-    argv.insert(argv.end(), {"analyze", job.words[0], "--athlete", job.request.athlete_profile.string(),
-                             "--no-images", "--quiet", "-o",
-                             (std::filesystem::path(args.analyses_to) / fmt::format("job-{}", job.number)).string()});
+    argv.insert(
+        argv.end(),
+        {"analyze",
+         job.words[0],
+         "--athlete",
+         job.request.athlete_profile.string(),
+         "--no-images",
+         "--quiet",
+         "-o",
+         (std::filesystem::path(args.analyses_to) / fmt::format("job-{}", job.number)).string()});
     return argv;
   }
   argv.insert(argv.end(), {"library", "add"});
@@ -185,6 +196,11 @@ std::vector<std::string> JobCommand(const BatchArguments& args,
       std::filesystem::exists(job.request.analysis_dir / "analysis.json"))
     argv.insert(argv.end(), {"--analysis", job.request.analysis_dir.string()});
   argv.insert(argv.end(), {"--library", args.library, "--quiet"});
+  if (!here) return argv;  // (another machine's scheduler decides its threads)
+  // The cores shared among the jobs running at once (more threads than cores only slows them).
+  const int cores = std::max(1, int(std::thread::hardware_concurrency()));
+  argv.insert(argv.end(),
+              {"--threads", std::to_string(std::max(1, cores / std::max(1, args.jobs)))});
   return argv;
 }
 
@@ -205,8 +221,8 @@ int RunBatch(const BatchArguments& args) {
     // Analyses into folders: a job whose folder holds its analysis is done.
     for (const Job& j : jobs) {
       if (args.only_job > 0 && j.number != args.only_job) continue;
-      const std::filesystem::path done =
-          std::filesystem::path(args.analyses_to) / fmt::format("job-{}", j.number) / "analysis.json";
+      const std::filesystem::path done = std::filesystem::path(args.analyses_to) /
+                                         fmt::format("job-{}", j.number) / "analysis.json";
       if (std::filesystem::exists(done))
         ++unchanged;
       else
@@ -233,19 +249,24 @@ int RunBatch(const BatchArguments& args) {
   if (args.print_jobs) {
     for (const Job* j : pending) {
       std::string line;
-      for (const std::string& w : JobCommand(args, *j, "acrolab")) line += (line.empty() ? "" : " ") + ShellQuote(w);
+      for (const std::string& w : JobCommand(args, *j, "acrolab", false))
+        line += (line.empty() ? "" : " ") + ShellQuote(w);
       std::printf("%s\n", line.c_str());
     }
-    std::fprintf(stderr, "acrolab batch: %zu jobs to run, %d unchanged\n", pending.size(), unchanged);
+    std::fprintf(
+        stderr, "acrolab batch: %zu jobs to run, %d unchanged\n", pending.size(), unchanged);
     return 0;
   }
 
   std::fprintf(stderr,
                "batch: %zu trials: %d already in the library, %zu to %s with %d at a time\n",
-               jobs.size(), unchanged, pending.size(),
-               args.analyses_to.empty() ? "add" : "analyse", args.jobs);
+               jobs.size(),
+               unchanged,
+               pending.size(),
+               args.analyses_to.empty() ? "add" : "analyse",
+               args.jobs);
   std::vector<std::vector<std::string>> commands;
-  for (const Job* j : pending) commands.push_back(JobCommand(args, *j, self));
+  for (const Job* j : pending) commands.push_back(JobCommand(args, *j, self, true));
   const auto bar = MakeProgressBar("batch", "trials");
   int done = 0, ok = 0;
   const auto start = std::chrono::steady_clock::now();
@@ -256,7 +277,8 @@ int RunBatch(const BatchArguments& args) {
       ++ok;
     } else {
       std::string why = outcome.last_error_line;
-      if (outcome.signal != 0) why = fmt::format("stopped by signal {}{}", outcome.signal, why.empty() ? "" : ": " + why);
+      if (outcome.signal != 0)
+        why = fmt::format("stopped by signal {}{}", outcome.signal, why.empty() ? "" : ": " + why);
       if (why.empty()) why = fmt::format("exit status {}", outcome.exit_status);
       failures.push_back(pending[k]->words[0] + ": " + why);
     }
@@ -265,8 +287,12 @@ int RunBatch(const BatchArguments& args) {
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::printf("batch: %zu trials: %d %s, %d unchanged, %zu failed (%.1f s)\n",
-              jobs.size(), ok, args.analyses_to.empty() ? "added" : "analysed", unchanged,
-              failures.size(), seconds);
+              jobs.size(),
+              ok,
+              args.analyses_to.empty() ? "added" : "analysed",
+              unchanged,
+              failures.size(),
+              seconds);
   for (const std::string& f : failures) std::printf("  failed: %s\n", f.c_str());
   return failures.empty() ? 0 : 1;
 }
@@ -285,18 +311,25 @@ void AddBatchCommand(CLI::App& app, CommandRunner* run) {
   command->add_option("-j,--jobs", args->jobs, "trials analysed at once (default 2)")
       ->check(CLI::Range(1, 256));
   command->add_option("--athlete", args->athlete, "the profile for trials whose line names none");
-  command->add_option("--session", args->session, "the session date for trials whose line names none");
-  command->add_option("--library", args->library,
+  command->add_option(
+      "--session", args->session, "the session date for trials whose line names none");
+  command->add_option("--library",
+                      args->library,
                       "the library file (default ~/.local/share/acrolab/library.sqlite)");
-  command->add_flag("--print-jobs", args->print_jobs,
+  command->add_flag("--print-jobs",
+                    args->print_jobs,
                     "print the command of each job left to do, one per line, and run none (for "
                     "GNU parallel or a cluster's scheduler)");
-  command->add_option("--job", args->only_job, "run only job K of the list (1-based; a Slurm array index)")
+  command
+      ->add_option(
+          "--job", args->only_job, "run only job K of the list (1-based; a Slurm array index)")
       ->check(CLI::Range(1, 100000000));
-  command->add_option("--analyses-to", args->analyses_to,
+  command->add_option("--analyses-to",
+                      args->analyses_to,
                       "analyse into ROOT/job-K (acrolab analyze) instead of adding: for machines "
                       "that do not share the library's disk");
-  command->add_option("--analyses", args->analyses,
+  command->add_option("--analyses",
+                      args->analyses,
                       "store the analyses of --analyses-to's ROOT/job-K where present (analysing "
                       "the rest)");
   command->callback([args, run] { *run = [args] { return RunBatch(*args); }; });

@@ -27,6 +27,7 @@ struct LibraryArguments {
   library::AddRequest request;
   std::string athlete, video, calibration, analysis_dir;
   bool quiet = false;
+  int threads = 0;
   // list, show, remove
   bool athletes = false, json = false, csv = false;
   std::vector<std::string> which;
@@ -57,6 +58,7 @@ int RunAdd(LibraryArguments& args) {
   request.calibration = args.calibration;
   request.analysis_dir = args.analysis_dir;
   library::AddOptions options;
+  options.analysis.reconstruction.num_threads = args.threads;
   options.warn = [](const std::string& w) {
     std::fprintf(stderr, "acrolab library add: warning: %s\n", w.c_str());
   };
@@ -99,31 +101,60 @@ int RunList(const LibraryArguments& args) {
   if (args.athletes) {
     const std::vector<library::AthleteSummary> list = lib.ListAthletes();
     std::printf("%-24s %8s %8s %9s %9s %7s %7s\n",
-                "athlete", "stature", "mass", "profiles", "sessions", "trials", "jumps");
+                "athlete",
+                "stature",
+                "mass",
+                "profiles",
+                "sessions",
+                "trials",
+                "jumps");
     for (const library::AthleteSummary& a : list)
       std::printf("%-24s %6.2f m %5.1f kg %9d %9d %7d %7d\n",
-                  a.name.c_str(), a.stature_m, a.mass_kg, a.num_profiles, a.num_sessions,
-                  a.num_trials, a.num_jumps);
+                  a.name.c_str(),
+                  a.stature_m,
+                  a.mass_kg,
+                  a.num_profiles,
+                  a.num_sessions,
+                  a.num_trials,
+                  a.num_jumps);
     return 0;
   }
   const std::vector<library::TrialSummary> trials = lib.ListTrials(args.query.athlete);
   if (args.json) {
     nlohmann::json out = nlohmann::json::array();
     for (const library::TrialSummary& t : trials)
-      out.push_back({{"id", t.id}, {"athlete", t.athlete}, {"date", t.session_date},
-                     {"path", t.path}, {"sha256", t.sha256}, {"verdict", t.verdict},
-                     {"jumps", t.num_jumps}, {"difficulty", t.difficulty},
+      out.push_back({{"id", t.id},
+                     {"athlete", t.athlete},
+                     {"date", t.session_date},
+                     {"path", t.path},
+                     {"sha256", t.sha256},
+                     {"verdict", t.verdict},
+                     {"jumps", t.num_jumps},
+                     {"difficulty", t.difficulty},
                      {"time_of_flight_s", t.time_of_flight_s},
                      {"analysis_version", t.analysis_version}});
     std::printf("%s\n", out.dump(1).c_str());
     return 0;
   }
   std::printf("%6s  %-10s  %-18s %5s %6s %8s  %-10s  %s\n",
-              "id", "date", "athlete", "jumps", "DD", "ToF (s)", "verdict", "trial");
+              "id",
+              "date",
+              "athlete",
+              "jumps",
+              "DD",
+              "ToF (s)",
+              "verdict",
+              "trial");
   for (const library::TrialSummary& t : trials)
     std::printf("%6lld  %-10s  %-18s %5d %6.1f %8.3f  %-10s  %s\n",
-                static_cast<long long>(t.id), t.session_date.c_str(), t.athlete.c_str(),
-                t.num_jumps, t.difficulty, t.time_of_flight_s, t.verdict.c_str(), t.path.c_str());
+                static_cast<long long>(t.id),
+                t.session_date.c_str(),
+                t.athlete.c_str(),
+                t.num_jumps,
+                t.difficulty,
+                t.time_of_flight_s,
+                t.verdict.c_str(),
+                t.path.c_str());
   std::printf("%zu trials in %s\n", trials.size(), args.library.c_str());
   return 0;
 }
@@ -132,26 +163,47 @@ int RunShow(const LibraryArguments& args) {
   const library::Library lib(args.library, library::Library::Mode::kReadOnly);
   const std::optional<library::TrialSummary> t = lib.FindTrialSummary(args.which.front());
   if (!t)
-    throw InputError(args.library, "", "no trial '" + args.which.front() + "' (acrolab library list)");
+    throw InputError(
+        args.library, "", "no trial '" + args.which.front() + "' (acrolab library list)");
   const std::string jumps = lib.TrialJumpsJson(t->id);
   if (args.json) {
     std::printf("%s", jumps.c_str());
     return 0;
   }
   std::printf("trial %lld: %s\n  athlete %s, session %s%s\n  SHA-256 %s, %lld bytes\n",
-              static_cast<long long>(t->id), t->path.c_str(), t->athlete.c_str(),
-              t->session_date.c_str(), t->session_place.empty() ? "" : (", " + t->session_place).c_str(),
-              t->sha256.c_str(), static_cast<long long>(t->size_bytes));
+              static_cast<long long>(t->id),
+              t->path.c_str(),
+              t->athlete.c_str(),
+              t->session_date.c_str(),
+              t->session_place.empty() ? "" : (", " + t->session_place).c_str(),
+              t->sha256.c_str(),
+              static_cast<long long>(t->size_bytes));
   if (!t->video_path.empty())
     std::printf("  video %s, calibration %s\n", t->video_path.c_str(), t->calibration_path.c_str());
-  std::printf("  analysed %s by Acrolab %s (%s); verdict %s\n", t->analysed_at.c_str(),
-              t->analysis_version.c_str(), t->analysis_source.c_str(), t->verdict.c_str());
-  std::printf("  %4s %-6s %-28s %8s %7s %7s %5s  %s\n", "jump", "code", "skill", "ToF (s)",
-              "HD (m)", "apex", "DD", "verdict");
+  std::printf("  analysed %s by Acrolab %s (%s); verdict %s\n",
+              t->analysed_at.c_str(),
+              t->analysis_version.c_str(),
+              t->analysis_source.c_str(),
+              t->verdict.c_str());
+  std::printf("  %4s %-6s %-28s %8s %7s %7s %5s  %s\n",
+              "jump",
+              "code",
+              "skill",
+              "ToF (s)",
+              "HD (m)",
+              "apex",
+              "DD",
+              "verdict");
   for (const library::JumpRecord& j : library::ParseJumpsJson(jumps, t->path))
-    std::printf("  %4d %-6s %-28s %8.3f %7.2f %7.2f %5.1f  %s\n", j.index, j.fig_code.c_str(),
-                j.skill_name.c_str(), j.time_of_flight_s, j.displacement_m, j.apex_above_bed_m,
-                j.difficulty, j.verdict.c_str());
+    std::printf("  %4d %-6s %-28s %8.3f %7.2f %7.2f %5.1f  %s\n",
+                j.index,
+                j.fig_code.c_str(),
+                j.skill_name.c_str(),
+                j.time_of_flight_s,
+                j.displacement_m,
+                j.apex_above_bed_m,
+                j.difficulty,
+                j.verdict.c_str());
   return 0;
 }
 
@@ -168,8 +220,8 @@ int RunQuery(const LibraryArguments& args) {
   else if (args.csv || !args.out.empty())
     text = library::FormatJumpRowsCsv(rows);
   if (!args.out.empty()) {
-    WriteFileAtomically(args.out, args.json ? library::FormatJumpRowsJson(rows)
-                                            : library::FormatJumpRowsCsv(rows));
+    WriteFileAtomically(
+        args.out, args.json ? library::FormatJumpRowsJson(rows) : library::FormatJumpRowsCsv(rows));
     std::printf("%zu jumps (query %.1f ms) written to %s\n", rows.size(), ms, args.out.c_str());
     return 0;
   }
@@ -177,12 +229,26 @@ int RunQuery(const LibraryArguments& args) {
     std::fputs(text.c_str(), stdout);
     return 0;
   }
-  std::printf("%-10s  %-16s %4s %-6s %8s %7s %5s  %-10s  %s\n", "date", "athlete", "jump", "code",
-              "ToF (s)", "HD (m)", "DD", "verdict", "trial");
+  std::printf("%-10s  %-16s %4s %-6s %8s %7s %5s  %-10s  %s\n",
+              "date",
+              "athlete",
+              "jump",
+              "code",
+              "ToF (s)",
+              "HD (m)",
+              "DD",
+              "verdict",
+              "trial");
   for (const library::JumpRow& r : rows)
-    std::printf("%-10s  %-16s %4d %-6s %8.3f %7.2f %5.1f  %-10s  %s\n", r.session_date.c_str(),
-                r.athlete.c_str(), r.jump.index, r.jump.fig_code.c_str(), r.jump.time_of_flight_s,
-                r.jump.displacement_m, r.jump.difficulty, r.jump.verdict_class.c_str(),
+    std::printf("%-10s  %-16s %4d %-6s %8.3f %7.2f %5.1f  %-10s  %s\n",
+                r.session_date.c_str(),
+                r.athlete.c_str(),
+                r.jump.index,
+                r.jump.fig_code.c_str(),
+                r.jump.time_of_flight_s,
+                r.jump.displacement_m,
+                r.jump.difficulty,
+                r.jump.verdict_class.c_str(),
                 r.trial_path.c_str());
   std::printf("%zu jumps (query %.1f ms)\n", rows.size(), ms);
   return 0;
@@ -193,13 +259,12 @@ int RunRemove(const LibraryArguments& args) {
   int missing = 0;
   for (const std::string& w : args.which) {
     const std::optional<library::TrialSummary> t = lib.FindTrialSummary(w);
-    const std::string path =
-        t ? t->path : std::filesystem::absolute(w).lexically_normal().string();
+    const std::string path = t ? t->path : std::filesystem::absolute(w).lexically_normal().string();
     if (lib.RemoveTrial(path)) {
       std::printf("removed %s (the file itself is untouched)\n", path.c_str());
     } else {
-      std::fprintf(stderr, "acrolab library remove: no trial '%s' in %s\n", w.c_str(),
-                   args.library.c_str());
+      std::fprintf(
+          stderr, "acrolab library remove: no trial '%s' in %s\n", w.c_str(), args.library.c_str());
       ++missing;
     }
   }
@@ -210,7 +275,8 @@ int RunExport(const LibraryArguments& args) {
   const library::Library lib(args.library, library::Library::Mode::kReadOnly);
   const std::string ext = LowerExtension(args.out);
   if (ext != "csv" && ext != "json")
-    throw UsageError{"-o " + args.out + ": give a .csv (every jump) or .json (every trial with "
+    throw UsageError{"-o " + args.out +
+                     ": give a .csv (every jump) or .json (every trial with "
                      "its jumps.json) file"};
   if (ext == "csv") {
     library::JumpQuery all;
@@ -226,11 +292,17 @@ int RunExport(const LibraryArguments& args) {
   out["trials"] = nlohmann::json::array();
   const std::vector<library::TrialSummary> trials = lib.ListTrials();
   for (const library::TrialSummary& t : trials)
-    out["trials"].push_back({{"id", t.id}, {"athlete", t.athlete}, {"date", t.session_date},
-                             {"place", t.session_place}, {"path", t.path}, {"sha256", t.sha256},
-                             {"video", t.video_path}, {"calibration", t.calibration_path},
+    out["trials"].push_back({{"id", t.id},
+                             {"athlete", t.athlete},
+                             {"date", t.session_date},
+                             {"place", t.session_place},
+                             {"path", t.path},
+                             {"sha256", t.sha256},
+                             {"video", t.video_path},
+                             {"calibration", t.calibration_path},
                              {"analysis_version", t.analysis_version},
-                             {"analysed_at", t.analysed_at}, {"verdict", t.verdict},
+                             {"analysed_at", t.analysed_at},
+                             {"verdict", t.verdict},
                              {"jumps", nlohmann::json::parse(lib.TrialJumpsJson(t.id))}});
   WriteFileAtomically(args.out, out.dump(1) + "\n");
   std::printf("%zu trials written to %s\n", trials.size(), args.out.c_str());
@@ -252,20 +324,25 @@ int RunProgress(const LibraryArguments& args) {
   std::printf("%s%s: %s over %zu sessions (%zu jumps), trend %+.3g %s per 30 days\n",
               progress.athlete.c_str(),
               progress.fig_code.empty() ? "" : (" " + progress.fig_code).c_str(),
-              progress.metric_name.c_str(), progress.sessions.size(), progress.points.size(),
-              30 * progress.trend_slope_per_day, progress.unit.c_str());
+              progress.metric_name.c_str(),
+              progress.sessions.size(),
+              progress.points.size(),
+              30 * progress.trend_slope_per_day,
+              progress.unit.c_str());
   std::printf("report: %s\n", (outputs.dir() / "progress.html").string().c_str());
   return 0;
 }
 
 void DeclareLibraryOption(CLI::App* command, LibraryArguments* args) {
-  command->add_option("--library", args->library,
+  command->add_option("--library",
+                      args->library,
                       "the library file (default ~/.local/share/acrolab/library.sqlite)");
 }
 
 void DeclareFilters(CLI::App* command, LibraryArguments* args, bool athlete_required) {
   library::JumpQuery& q = args->query;
-  CLI::Option* a = command->add_option("--athlete", q.athlete, "the athlete's name (as her profile gives it)");
+  CLI::Option* a =
+      command->add_option("--athlete", q.athlete, "the athlete's name (as her profile gives it)");
   if (athlete_required) a->required();
   command->add_option("--code", q.fig_code, "a FIG code, e.g. 821o");
   command->add_option("--from", q.date_from, "first session date, YYYY-MM-DD");
@@ -289,16 +366,20 @@ void AddLibraryCommand(CLI::App& app, CommandRunner* run) {
   add->add_option("TRIAL", args->trials, "C3D, TRC or CSV trials")->required();
   add->add_option("--athlete", args->athlete, "the athlete's profile (docs/formats/athlete.md)")
       ->required();
-  add->add_option("--session", args->request.session_date,
+  add->add_option("--session",
+                  args->request.session_date,
                   "the session's date, YYYY-MM-DD (default: the file's modification date)");
   add->add_option("--place", args->request.session_place, "where the session was");
   add->add_option("--notes", args->request.session_notes, "the session's notes");
   add->add_option("--video", args->video, "a video of the trial, attached");
   add->add_option("--calib", args->calibration, "its camera calibration, attached");
-  add->add_option("--analysis", args->analysis_dir,
+  add->add_option("--analysis",
+                  args->analysis_dir,
                   "store this acrolab analyze output of TRIAL instead of analysing");
   add->add_flag("--force", args->request.force, "analyse again even when unchanged");
   add->add_flag("--quiet", args->quiet, "no progress on stderr");
+  add->add_option("--threads", args->threads, "worker threads of the analysis (default: all cores)")
+      ->check(CLI::Range(1, 256));
   DeclareLibraryOption(add, args.get());
   add->callback([args, run] { *run = [args] { return RunAdd(*args); }; });
 
@@ -310,13 +391,15 @@ void AddLibraryCommand(CLI::App& app, CommandRunner* run) {
   list->callback([args, run] { *run = [args] { return RunList(*args); }; });
 
   CLI::App* show = lib->add_subcommand("show", "One stored trial and its jumps.");
-  show->add_option("TRIAL", args->which, "its id (acrolab library list) or path")->required()->expected(1);
+  show->add_option("TRIAL", args->which, "its id (acrolab library list) or path")
+      ->required()
+      ->expected(1);
   show->add_flag("--json", args->json, "its stored jumps.json");
   DeclareLibraryOption(show, args.get());
   show->callback([args, run] { *run = [args] { return RunShow(*args); }; });
 
-  CLI::App* query = lib->add_subcommand(
-      "query", "The jumps that match the filters, as a table, CSV or JSON.");
+  CLI::App* query =
+      lib->add_subcommand("query", "The jumps that match the filters, as a table, CSV or JSON.");
   DeclareFilters(query, args.get(), false);
   library::JumpQuery& q = args->query;
   query->add_option("--verdict", q.verdict_class, "pass, fail or 'not judged'");

@@ -46,7 +46,8 @@ std::string LastLine(const std::filesystem::path& path) {
   size_t end = tail.find_last_not_of("\r\n \t");
   if (end == std::string::npos) return {};
   const size_t start = tail.find_last_of("\r\n", end);
-  std::string line = tail.substr(start == std::string::npos ? 0 : start + 1, end + 1 - (start == std::string::npos ? 0 : start + 1));
+  std::string line = tail.substr(start == std::string::npos ? 0 : start + 1,
+                                 end + 1 - (start == std::string::npos ? 0 : start + 1));
   return EscapeForTerminal(line);
 }
 
@@ -78,8 +79,8 @@ void RunProcesses(const std::vector<std::vector<std::string>>& commands,
     std::string pattern = (tmp / "acrolab-job-XXXXXX").string();
     const int fd = mkstemp(pattern.data());
     if (fd < 0) {
-      failed.last_error_line = std::string("cannot create a file in ") + tmp.string() + ": " +
-                               std::strerror(errno);
+      failed.last_error_line =
+          std::string("cannot create a file in ") + tmp.string() + ": " + std::strerror(errno);
       finished(index, failed);
       return;
     }

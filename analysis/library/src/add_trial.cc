@@ -93,8 +93,8 @@ AddResult PlanAdd(const Library& library, const AddRequest& request) {
   if (stored.sha256 != result.sha256)
     result.why = "the file changed since it was stored";
   else if (request.analysis_dir.empty() && stored.analysis_version != AcrolabVersion())
-    result.why = fmt::format(
-        "stored by Acrolab {}, this is {}", stored.analysis_version, AcrolabVersion());
+    result.why =
+        fmt::format("stored by Acrolab {}, this is {}", stored.analysis_version, AcrolabVersion());
   else if (!request.analysis_dir.empty() &&
            stored.analysis_source != Absolute(request.analysis_dir).string())
     result.why = "another analysis directory";

@@ -188,9 +188,7 @@ class Statement {
   void Check(int rc) {
     if (rc != SQLITE_OK) Fail("bind");
   }
-  [[noreturn]] void Fail(const char* what) {
-    throw InputError(file_, what, sqlite3_errmsg(db_));
-  }
+  [[noreturn]] void Fail(const char* what) { throw InputError(file_, what, sqlite3_errmsg(db_)); }
   sqlite3* db_;
   sqlite3_stmt* stmt_ = nullptr;
   std::string file_;
@@ -285,7 +283,7 @@ void Library::Impl::FillJumpColumnsFromJson() {
 }
 
 std::int64_t Library::Impl::IdOf(const std::string& sql,
-                                  const std::function<void(Statement&)>& bind) {
+                                 const std::function<void(Statement&)>& bind) {
   Statement s(db, sql, File());
   bind(s);
   if (!s.Step()) throw InputError(File(), "lookup", "no row for " + sql);
@@ -446,10 +444,9 @@ void Library::CreateWithSchemaVersion(const std::filesystem::path& path, int ver
   Impl m;
   m.path = path;
   m.mode = Mode::kReadWrite;
-  if (sqlite3_open_v2(path.string().c_str(),
-                      &m.db,
-                      SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE,
-                      nullptr) != SQLITE_OK)
+  if (sqlite3_open_v2(
+          path.string().c_str(), &m.db, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE, nullptr) !=
+      SQLITE_OK)
     throw InputError(path.string(), "", sqlite3_errmsg(m.db));
   m.Exec("PRAGMA journal_mode = WAL", "WAL mode");
   for (int v = 1; v <= version; ++v) m.ApplyStep(v);
@@ -464,7 +461,9 @@ std::int64_t Library::StoreTrial(const TrialToStore& t) {
   const std::vector<JumpRecord> jumps = ParseJumpsJson(t.jumps_json, t.path + " (its jumps.json)");
   std::int64_t trial_id = 0;
   m.Write([&] {
-    Statement(m.db, "INSERT OR IGNORE INTO athletes(name) VALUES (?1)", file).Bind(1, t.athlete).Run();
+    Statement(m.db, "INSERT OR IGNORE INTO athletes(name) VALUES (?1)", file)
+        .Bind(1, t.athlete)
+        .Run();
     const std::int64_t athlete_id = m.IdOf("SELECT id FROM athletes WHERE name = ?1",
                                            [&](Statement& s) { s.Bind(1, t.athlete); });
     const std::string profile_sha = Sha256Hex(t.athlete_profile);
@@ -690,7 +689,8 @@ bool JumpQuery::IsValid(std::string* why) const {
   };
   if (!date_from.empty() && !IsDate(date_from))
     return fail("--from: '" + date_from + "' is not YYYY-MM-DD");
-  if (!date_to.empty() && !IsDate(date_to)) return fail("--to: '" + date_to + "' is not YYYY-MM-DD");
+  if (!date_to.empty() && !IsDate(date_to))
+    return fail("--to: '" + date_to + "' is not YYYY-MM-DD");
   if (!date_from.empty() && !date_to.empty() && date_to < date_from)
     return fail("--to " + date_to + " is before --from " + date_from);
   if (!verdict_class.empty() && verdict_class != "pass" && verdict_class != "fail" &&
@@ -854,9 +854,9 @@ std::vector<JumpRecord> ParseJumpsJson(const std::string& json, const std::strin
     } else {
       j.verdict_class = "not judged";
     }
-    if (const auto it = o.find("landing_in_bed_m");
-        it != o.end() && it->is_array() && it->size() == 2 && (*it)[0].is_number() &&
-        (*it)[1].is_number()) {
+    if (const auto it = o.find("landing_in_bed_m"); it != o.end() && it->is_array() &&
+                                                    it->size() == 2 && (*it)[0].is_number() &&
+                                                    (*it)[1].is_number()) {
       j.landing_x_m = (*it)[0].get<double>();
       j.landing_y_m = (*it)[1].get<double>();
     }

@@ -1,6 +1,7 @@
 #include "acro/library/progress.h"
 
 #include <algorithm>
+#include <chrono>
 #include <map>
 
 #include <fmt/format.h>
@@ -11,21 +12,14 @@ namespace acro::library {
 
 namespace {
 
-// Days since 1970-01-01 of a civil date (H. Hinnant's days_from_civil, public-domain algorithm,
-// http://howardhinnant.github.io/date_algorithms.html).
-long DaysFromCivil(int y, int m, int d) {
-  y -= m <= 2;
-  const long era = (y >= 0 ? y : y - 399) / 400;
-  const long yoe = y - era * 400;
-  const long doy = (153 * (m + (m > 2 ? -3 : 9)) + 2) / 5 + d - 1;
-  const long doe = yoe * 365 + yoe / 4 - yoe / 100 + doy;
-  return era * 146097 + doe - 719468;
-}
-
 long DayNumber(const std::string& date) {
   if (date.size() != 10) throw InputError("", "date", "'" + date + "' is not YYYY-MM-DD");
-  return DaysFromCivil(
-      std::stoi(date.substr(0, 4)), std::stoi(date.substr(5, 2)), std::stoi(date.substr(8, 2)));
+  // C++20's civil calendar (proleptic Gregorian).
+  const std::chrono::year_month_day ymd{std::chrono::year(std::stoi(date.substr(0, 4))),
+                                        std::chrono::month(unsigned(std::stoi(date.substr(5, 2)))),
+                                        std::chrono::day(unsigned(std::stoi(date.substr(8, 2))))};
+  if (!ymd.ok()) throw InputError("", "date", "'" + date + "' is not a calendar date");
+  return std::chrono::sys_days(ymd).time_since_epoch().count();
 }
 
 double Median(std::vector<double> v) {

@@ -56,18 +56,19 @@ std::string JumpsJson(const std::vector<SyntheticJump>& jumps) {
   nlohmann::json a = nlohmann::json::array();
   int index = 1;
   for (const SyntheticJump& j : jumps) {
-    a.push_back({{"index", index},
-                 {"partial", false},
-                 {"takeoff_s", 1.5 * index},
-                 {"time_of_flight_s", j.tof},
-                 {"apex_above_bed_m", 9.81 * j.tof * j.tof / 8},
-                 {"displacement_from_takeoff_m", j.hd},
-                 {"landing_in_bed_m", {j.landing_x, j.landing_y}},
-                 {"landing_in_zone_a", std::abs(j.landing_x) <= 1.075 && std::abs(j.landing_y) <= 0.54},
-                 {"fig_code", j.code},
-                 {"skill_name", "skill " + j.code},
-                 {"difficulty", j.code == "800o" ? 1.0 : 0.5},
-                 {"verdict", j.verdict}});
+    a.push_back(
+        {{"index", index},
+         {"partial", false},
+         {"takeoff_s", 1.5 * index},
+         {"time_of_flight_s", j.tof},
+         {"apex_above_bed_m", 9.81 * j.tof * j.tof / 8},
+         {"displacement_from_takeoff_m", j.hd},
+         {"landing_in_bed_m", {j.landing_x, j.landing_y}},
+         {"landing_in_zone_a", std::abs(j.landing_x) <= 1.075 && std::abs(j.landing_y) <= 0.54},
+         {"fig_code", j.code},
+         {"skill_name", "skill " + j.code},
+         {"difficulty", j.code == "800o" ? 1.0 : 0.5},
+         {"verdict", j.verdict}});
     ++index;
   }
   return a.dump();
@@ -111,7 +112,8 @@ std::vector<Stored> FillSeason(Library& lib) {
   const char* codes[] = {"40o", "41/", "800o", "821o"};
   for (const char* athlete : {"Ann", "Bea", "Cleo"})
     for (int s = 0; s < 10; ++s) {
-      const std::string date = "2026-" + std::string(s < 5 ? "09-0" : "10-1") + std::to_string(s % 5 + 1);
+      const std::string date =
+          "2026-" + std::string(s < 5 ? "09-0" : "10-1") + std::to_string(s % 5 + 1);
       for (int t = 0; t < 3; ++t) {
         std::vector<SyntheticJump> jumps;
         for (int k = 0; k < 4; ++k)
@@ -121,7 +123,8 @@ std::vector<Stored> FillSeason(Library& lib) {
                            u(rng) < 0.2 ? "fail: residual force 0.4 BW" : "pass",
                            2 * u(rng) - 1,
                            u(rng) - 0.5});
-        const std::string path = "/season/" + std::string(athlete) + "/" + date + "/r" + std::to_string(t) + ".c3d";
+        const std::string path =
+            "/season/" + std::string(athlete) + "/" + date + "/r" + std::to_string(t) + ".c3d";
         lib.StoreTrial(MakeTrial(athlete, date, path, jumps));
         for (const SyntheticJump& j : jumps) all.push_back({athlete, date, path, j});
       }
@@ -138,7 +141,9 @@ TEST(Library, StoresReplacesAndFindsTrials) {
     EXPECT_EQ(lib.schema_version(), acro::library::kSchemaVersion);
     lib.StoreTrial(MakeTrial("Ann", "2026-09-01", "/t/a.c3d", {{"40o", 1.3, 0.2, "pass", 0, 0}}));
     // The same path again (a re-analysis): replaced, not added.
-    lib.StoreTrial(MakeTrial("Ann", "2026-09-01", "/t/a.c3d",
+    lib.StoreTrial(MakeTrial("Ann",
+                             "2026-09-01",
+                             "/t/a.c3d",
                              {{"40o", 1.4, 0.2, "pass", 0, 0}, {"41/", 1.5, 0.3, "pass", 0, 0}}));
     EXPECT_EQ(lib.ListTrials().size(), 1u);
     const auto rows = lib.QueryJumps(JumpQuery{});
@@ -223,8 +228,8 @@ TEST(Library, MigratesASchemaOneLibrary) {
   const fs::path file = dir.path() / "old.sqlite";
   Library::CreateWithSchemaVersion(file, 1);
   // A trial as schema 1 stored it (no landing, cause or take-off columns), by hand.
-  const std::string json = JumpsJson({{"40o", 1.3, 0.2, "fail: timing", 0.3, -0.2},
-                                      {"41/", 1.4, 0.1, "pass", -1.5, 0.1}});
+  const std::string json = JumpsJson(
+      {{"40o", 1.3, 0.2, "fail: timing", 0.3, -0.2}, {"41/", 1.4, 0.1, "pass", -1.5, 0.1}});
   {
     sqlite3* db = nullptr;
     ASSERT_EQ(sqlite3_open(file.c_str(), &db), SQLITE_OK);
@@ -324,7 +329,8 @@ TEST(Library, RefusesWhatIsNotALibraryAndLeavesItUntouched) {
   {
     sqlite3* db = nullptr;
     sqlite3_open(newer.c_str(), &db);
-    sqlite3_exec(db, "PRAGMA journal_mode = DELETE; PRAGMA user_version = 9;", nullptr, nullptr, nullptr);
+    sqlite3_exec(
+        db, "PRAGMA journal_mode = DELETE; PRAGMA user_version = 9;", nullptr, nullptr, nullptr);
     sqlite3_close(db);
   }
   ExpectRefused(newer, "version 9 is newer");
@@ -344,9 +350,11 @@ TEST(Library, TwoProcessesWritingAtOnceLoseNothing) {
       try {
         Library lib(file, Library::Mode::kReadWrite);
         for (int t = 0; t < kTrials; ++t)
-          lib.StoreTrial(MakeTrial(p ? "Bea" : "Ann", "2026-09-01",
-                                   "/p" + std::to_string(p) + "/t" + std::to_string(t) + ".c3d",
-                                   {{"40o", 1.3, 0.2, "pass", 0, 0}, {"41/", 1.4, 0.2, "pass", 0, 0}}));
+          lib.StoreTrial(
+              MakeTrial(p ? "Bea" : "Ann",
+                        "2026-09-01",
+                        "/p" + std::to_string(p) + "/t" + std::to_string(t) + ".c3d",
+                        {{"40o", 1.3, 0.2, "pass", 0, 0}, {"41/", 1.4, 0.2, "pass", 0, 0}}));
       } catch (const std::exception& e) {
         std::fprintf(stderr, "child %d: %s\n", p, e.what());
         status = 1;

@@ -54,8 +54,8 @@ std::vector<ProgressFigure> MakeProgressFigures(const library::Progress& p) {
       jumps.y.push_back(q.value);
     }
     LineSeries medians;
-    medians.name = p.metric == library::ProgressMetric::kVerdict ? "session pass fraction"
-                                                                   : "session median";
+    medians.name =
+        p.metric == library::ProgressMetric::kVerdict ? "session pass fraction" : "session median";
     medians.markers = true;
     medians.color = {0.12, 0.35, 0.7};
     for (const library::SessionProgress& s : p.sessions) {
@@ -63,10 +63,8 @@ std::vector<ProgressFigure> MakeProgressFigures(const library::Progress& p) {
       medians.y.push_back(s.median);
     }
     LineSeries trend;
-    trend.name = fmt::format("trend {:+.3g} {} per 30 days (R² {:.2f})",
-                             30 * p.trend_slope_per_day,
-                             p.unit,
-                             p.trend_r2);
+    trend.name = fmt::format(
+        "trend {:+.3g} {} per 30 days (R² {:.2f})", 30 * p.trend_slope_per_day, p.unit, p.trend_r2);
     trend.dashed = true;
     trend.color = {0.85, 0.33, 0.1};
     const double last = p.sessions.back().day;
@@ -75,11 +73,17 @@ std::vector<ProgressFigure> MakeProgressFigures(const library::Progress& p) {
     c.series = {jumps, medians, trend};
     if (last <= 0) c.x_range = ValueRange{-1.0, 1.0};
     figures.push_back({"progress_metric.png",
-                       fmt::format("{} per jump, the median of each session and the trend line "
-                                   "through the jumps ({} jumps in {} sessions).",
-                                   p.metric_name,
-                                   p.points.size(),
-                                   p.sessions.size()),
+                       p.metric == library::ProgressMetric::kVerdict
+                           ? fmt::format("Each jump's physical check, 1 passed and 0 failed, the "
+                                         "share of each session's jumps that passed, and the trend "
+                                         "line through the jumps ({} jumps in {} sessions).",
+                                         p.points.size(),
+                                         p.sessions.size())
+                           : fmt::format("Each jump's {}, the median of each session and the "
+                                         "trend line through the jumps ({} jumps in {} sessions).",
+                                         p.metric_name,
+                                         p.points.size(),
+                                         p.sessions.size()),
                        c});
   }
   // Landings: the season in three parts, so that a drift shows as a colour.
@@ -95,8 +99,7 @@ std::vector<ProgressFigure> MakeProgressFigures(const library::Progress& p) {
     c.x_range = ValueRange{-kBedHalfLength, kBedHalfLength};
     c.y_range = ValueRange{-kBedHalfWidth - 0.3, kBedHalfWidth + 0.3};
     c.series.push_back(Rectangle("bed", kBedHalfLength, kBedHalfWidth, {0.3, 0.3, 0.3}, false));
-    c.series.push_back(
-        Rectangle("zone A", kZoneHalfLength, kZoneHalfWidth, {0.1, 0.6, 0.2}, true));
+    c.series.push_back(Rectangle("zone A", kZoneHalfLength, kZoneHalfWidth, {0.1, 0.6, 0.2}, true));
     const Rgb colours[3] = {{0.65, 0.75, 0.9}, {0.2, 0.45, 0.8}, {0.75, 0.1, 0.15}};
     const size_t n = p.sessions.size();
     const size_t parts = std::min<size_t>(3, n);
@@ -134,9 +137,8 @@ std::vector<ProgressFigure> MakeProgressFigures(const library::Progress& p) {
     }
     z.series = {share};
     if (p.sessions.back().day <= 0) z.x_range = ValueRange{-1.0, 1.0};
-    figures.push_back({"progress_zone_a.png",
-                       "The share of each session's landings inside zone A.",
-                       z});
+    figures.push_back(
+        {"progress_zone_a.png", "The share of each session's landings inside zone A.", z});
   }
   return figures;
 }
@@ -150,11 +152,14 @@ std::string FormatProgressHtml(const library::Progress& p,
        "table{border-collapse:collapse}td,th{padding:2px 8px;text-align:right;border-bottom:1px "
        "solid #ddd}td.l,th.l{text-align:left}img{max-width:100%}</style></head><body>\n";
   h << "<h1>" << HtmlEscape(Title(p)) << "</h1>\n";
-  h << "<p>" << HtmlEscape(p.metric_name) << " (" << HtmlEscape(p.unit) << ") over "
-    << p.sessions.size() << " sessions from " << p.sessions.front().date << " to "
-    << p.sessions.back().date << ", " << p.points.size() << " jumps. Trend: "
-    << fmt::format("{:+.3g}", 30 * p.trend_slope_per_day) << " " << HtmlEscape(p.unit)
-    << " per 30 days (R² " << fmt::format("{:.2f}", p.trend_r2) << ").</p>\n";
+  std::string metric = p.metric_name;
+  if (!metric.empty() && metric[0] >= 'a' && metric[0] <= 'z')
+    metric[0] = char(metric[0] - 'a' + 'A');
+  h << "<p>" << HtmlEscape(metric) << " (" << HtmlEscape(p.unit) << ") over " << p.sessions.size()
+    << " sessions from " << p.sessions.front().date << " to " << p.sessions.back().date << ", "
+    << p.points.size() << " jumps. Trend: " << fmt::format("{:+.3g}", 30 * p.trend_slope_per_day)
+    << " " << HtmlEscape(p.unit) << " per 30 days (R² " << fmt::format("{:.2f}", p.trend_r2)
+    << ").</p>\n";
   for (const ProgressFigure& f : figures) {
     std::string svg = f.file.substr(0, f.file.size() - 4) + ".svg";
     h << "<figure><a href=\"" << HtmlEscape(svg) << "\"><img src=\"" << HtmlEscape(f.file)
@@ -168,8 +173,9 @@ std::string FormatProgressHtml(const library::Progress& p,
     h << "<tr><td class=\"l\">" << s.date << "</td><td>" << s.num_jumps << "</td><td>"
       << fmt::format("{:.3f}", s.median) << "</td><td>" << fmt::format("{:.3f}", s.min)
       << "</td><td>" << fmt::format("{:.3f}", s.max) << "</td><td>"
-      << (s.landing_x_m.empty() ? std::string("–")
-                                : fmt::format("{} of {}", s.landings_in_zone_a, s.landing_x_m.size()))
+      << (s.landing_x_m.empty()
+              ? std::string("–")
+              : fmt::format("{} of {}", s.landings_in_zone_a, s.landing_x_m.size()))
       << "</td></tr>\n";
   h << "</table>\n<p>The table as CSV: <a href=\"progress.csv\">progress.csv</a>.</p>\n"
        "</body></html>\n";
