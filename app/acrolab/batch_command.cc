@@ -109,7 +109,7 @@ std::vector<Job> ReadJobs(const BatchArguments& args) {
     for (const auto& f : files) {
       Job j;
       j.where = f.string();
-      j.words = {f.string()};
+      j.words = {std::filesystem::absolute(f).lexically_normal().string()};
       jobs.push_back(j);
     }
   } else {
@@ -125,7 +125,7 @@ std::vector<Job> ReadJobs(const BatchArguments& args) {
       // A relative trial path is relative to the list's folder.
       std::filesystem::path trial = words[0];
       if (trial.is_relative()) trial = source.parent_path() / trial;
-      words[0] = trial.lexically_normal().string();
+      words[0] = std::filesystem::absolute(trial).lexically_normal().string();
       for (size_t i = 1; i < words.size(); ++i) {
         static const std::vector<std::string> kTakes = {
             "--athlete", "--session", "--place", "--notes", "--video", "--calib"};
@@ -280,7 +280,10 @@ int RunBatch(const BatchArguments& args) {
       if (outcome.signal != 0)
         why = fmt::format("stopped by signal {}{}", outcome.signal, why.empty() ? "" : ": " + why);
       if (why.empty()) why = fmt::format("exit status {}", outcome.exit_status);
-      failures.push_back(pending[k]->words[0] + ": " + why);
+      // The job's one line names the file already (acrolab: FILE: where: what).
+      if (why.rfind("acrolab: ", 0) == 0) why = why.substr(9);
+      const std::string& trial = pending[k]->words[0];
+      failures.push_back(why.rfind(trial, 0) == 0 ? why : trial + ": " + why);
     }
     bar(done, int(commands.size()));
   });

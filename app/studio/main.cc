@@ -1,6 +1,7 @@
 // `acrolab-studio [TRIAL] [--athlete A] [--video V --calib C [--camera NAME] [--offset-s S]]…
-// [--session FILE.acrolab]`: the workstation window (ui/studio; docs/studio.md). Up to four
-// videos: --video, --calib, --camera and --offset-s are given once per video, in the same order
+// [--session FILE.acrolab] [--library FILE]`: the workstation window (ui/studio; docs/studio.md).
+// Up to four videos: --video, --calib, --camera and --offset-s are given once per video, in the
+// same order
 // (--camera and --offset-s for all of them or for none).
 
 #include <cstdio>
@@ -26,6 +27,11 @@ int main(int argc, char** argv) {
                  offsets,
                  "video time of the trial's first sample (s); default: found from the video");
   app.add_option("--session", session, "a session file (.acrolab) to open");
+  std::string library;
+  app.add_option("--library",
+                 library,
+                 "the season library (docs/library.md) for File → Open from library; without a "
+                 "trial, its trials are shown to choose one");
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -52,5 +58,5 @@ int main(int argc, char** argv) {
     if (!offsets.empty()) v.offset_s = offsets[k];
     files.videos.push_back(v);
   }
-  return acro::studio::RunStudio(argc, argv, files, session);
+  return acro::studio::RunStudio(argc, argv, files, session, library);
 }

@@ -494,6 +494,67 @@ TEST_F(Robustness, TwoConvertsToTheSameFile) {
 
 // Two analyses into the same -o at once: both complete, and the directory holds one of them
 // whole — its report and its jumps.json from the same run (the commits take turns).
+// The season library (docs/library.md): a file that is not a library, through every command that
+// reads one, is one line and stays as it was; a job list's mistake names its line; a batch with
+// bad files goes on and names each one.
+TEST_F(Robustness, LibraryFilesAndBatchMistakes) {
+  const std::string notes = "my notes, not a database\n" + std::string(3000, 'x');
+  WriteText(dir_ / "notes.sqlite", notes);
+  for (const char* command : {"library list",
+                              "library query --athlete A",
+                              "library show 1",
+                              "library export -o all.csv"}) {
+    Expect({command, 1, "notes.sqlite: not an Acrolab library"},
+           std::string(command) + " --library notes.sqlite",
+           {"notes.sqlite"});
+    EXPECT_EQ(ReadText(dir_ / "notes.sqlite"), notes);
+  }
+  const std::string athlete = Quote(Samples() / "athletes/sample_athlete.yaml");
+  Expect({"library add to notes", 1, "not an Acrolab library"},
+         "library add " + Quote(Samples() / "trials/straight_jump/straight_jump.c3d") +
+             " --athlete " + athlete + " --library notes.sqlite",
+         {"notes.sqlite"});
+  EXPECT_EQ(ReadText(dir_ / "notes.sqlite"), notes);
+  Expect({"query dates reversed", 2, "--to 2026-01-01 is before --from 2026-02-01"},
+         "library query --from 2026-02-01 --to 2026-01-01 --library notes.sqlite",
+         {"notes.sqlite"});
+  WriteText(dir_ / "jobs.txt", "a.c3d --athlete x.yaml --frames 3\n");
+  Expect({"job list option", 1, "jobs.txt: line 1: '--frames' is not one of"},
+         "batch jobs.txt --library lib.sqlite",
+         {"notes.sqlite", "jobs.txt", "lib.sqlite", "lib.sqlite-wal", "lib.sqlite-shm"});
+  // Two good trials, a C3D cut in its parameter section, a text file named .c3d and a missing
+  // file: the batch goes on, stores the good ones and names each bad one with its error.
+  fs::create_directories(dir_ / "season");
+  fs::copy_file(Samples() / "trials/straight_jump/straight_jump.c3d", dir_ / "season/good_1.c3d");
+  fs::copy_file(Samples() / "trials/trampoline_routine/trampoline_routine.c3d",
+                dir_ / "season/good_2.c3d");
+  const std::string c3d = ReadText(Samples() / "trials/straight_jump/straight_jump.c3d");
+  WriteText(dir_ / "season/cut.c3d", c3d.substr(0, 700));  // in its parameter section
+  WriteText(dir_ / "season/text.c3d", "hello\n");
+  WriteText(dir_ / "list.txt",
+            "season/good_1.c3d\nseason/cut.c3d\nseason/missing.c3d\nseason/text.c3d\n"
+            "season/good_2.c3d\n");
+  std::string out;
+  const Outcome run = Acrolab(
+      "batch list.txt -j 2 --athlete " + athlete + " --session 2026-09-01 --library lib.sqlite",
+      dir_,
+      &out);
+  EXPECT_EQ(run.status, 1) << run.err;
+  EXPECT_NE(out.find("batch: 5 trials: 2 added, 0 unchanged, 3 failed"), std::string::npos) << out;
+  for (const char* bad : {"cut.c3d: byte 699: POINT:DESCRIPTIONS", "missing.c3d: no such file",
+                          "text.c3d: file holds 6 bytes"})
+    EXPECT_NE(out.find(bad), std::string::npos) << bad << "\n" << out;
+  // Run again: nothing to do for the good ones, the bad ones said again.
+  const Outcome again =
+      Acrolab("batch list.txt --athlete " + athlete + " --library lib.sqlite", dir_, &out);
+  EXPECT_EQ(again.status, 1);
+  EXPECT_NE(out.find("0 added, 2 unchanged, 3 failed"), std::string::npos) << out;
+  // --print-jobs: the commands of what is left (the three bad files).
+  Acrolab("batch list.txt --print-jobs --athlete " + athlete + " --library lib.sqlite", dir_, &out);
+  EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 2) << out;  // missing.c3d is not a job
+  EXPECT_NE(out.find("acrolab library add"), std::string::npos) << out;
+}
+
 TEST_F(Robustness, TwoAnalysesIntoTheSameDirectory) {
   fs::create_directories(dir_ / "a");
   fs::create_directories(dir_ / "b");

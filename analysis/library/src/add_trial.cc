@@ -115,6 +115,7 @@ AddResult AddTrial(Library& library, const AddRequest& request, const AddOptions
   TrialToStore t;
   t.athlete = profile.name;
   t.athlete_profile = ReadText(request.athlete_profile, 16 << 20);
+  t.athlete_profile_path = Absolute(request.athlete_profile).string();
   t.stature_m = profile.height_m;
   t.mass_kg = profile.mass_kg;
   t.session_date = request.session_date.empty() ? FileDate(result.path) : request.session_date;

@@ -81,7 +81,8 @@ CREATE TABLE jumps(
 )sql";
 
 // Version 2: each jump's failure cause, take-off time and landing on the bed (for the season's
-// landing charts), designed skills and routines, and the indices of `query`. The new jump columns
+// landing charts), the athlete profile's path of each trial (the studio opens a stored trial with
+// it), designed skills and routines, and the indices of `query`. The new jump columns
 // are filled from each trial's stored jumps.json.
 constexpr const char* kSchemaStep2 = R"sql(
 ALTER TABLE jumps ADD COLUMN cause TEXT NOT NULL DEFAULT '';
@@ -89,6 +90,7 @@ ALTER TABLE jumps ADD COLUMN takeoff_s REAL NOT NULL DEFAULT 0;
 ALTER TABLE jumps ADD COLUMN landing_x_m REAL;
 ALTER TABLE jumps ADD COLUMN landing_y_m REAL;
 ALTER TABLE jumps ADD COLUMN landing_in_zone_a INTEGER;
+ALTER TABLE trials ADD COLUMN athlete_profile_path TEXT NOT NULL DEFAULT '';
 CREATE TABLE designs(
   id INTEGER PRIMARY KEY,
   athlete_id INTEGER NOT NULL REFERENCES athletes(id) ON DELETE CASCADE,
@@ -512,7 +514,8 @@ std::int64_t Library::StoreTrial(const TrialToStore& t) {
     Statement(m.db,
               "INSERT INTO trials(session_id, profile_id, path, sha256, size_bytes, video_path, "
               "calibration_path, analysis_version, analysis_source, analysed_at, verdict, "
-              "jumps_json) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12)",
+              "jumps_json, athlete_profile_path) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, "
+              "?11, ?12, ?13)",
               file)
         .Bind(1, session_id)
         .Bind(2, profile_id)
@@ -526,6 +529,7 @@ std::int64_t Library::StoreTrial(const TrialToStore& t) {
         .Bind(10, UtcNow())
         .Bind(11, TrialVerdict(jumps))
         .Bind(12, t.jumps_json)
+        .Bind(13, t.athlete_profile_path)
         .Run();
     trial_id = sqlite3_last_insert_rowid(m.db);
     Statement insert(m.db,
@@ -593,7 +597,8 @@ constexpr const char* kTrialSummarySelect =
     "(SELECT coalesce(sum(j.difficulty), 0) FROM jumps j WHERE j.trial_id = t.id AND NOT "
     "j.partial), "
     "(SELECT coalesce(sum(j.time_of_flight_s), 0) FROM jumps j WHERE j.trial_id = t.id AND NOT "
-    "j.partial) "
+    "j.partial), "
+    "t.athlete_profile_path "
     "FROM trials t JOIN sessions s ON s.id = t.session_id JOIN athletes a ON a.id = s.athlete_id ";
 
 TrialSummary ReadTrialSummary(const Statement& s) {
@@ -614,6 +619,7 @@ TrialSummary ReadTrialSummary(const Statement& s) {
   t.num_jumps = int(s.Int(13));
   t.difficulty = s.Double(14);
   t.time_of_flight_s = s.Double(15);
+  t.athlete_profile_path = s.Text(16);
   return t;
 }
 

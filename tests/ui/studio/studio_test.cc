@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include <QApplication>
+#include <QComboBox>
 #include <QElapsedTimer>
 #include <QMessageBox>
 #include <QPushButton>
@@ -19,6 +20,8 @@
 #include <QTableWidget>
 #include <QTest>
 #include <QThread>
+
+#include <unistd.h>
 
 #include <cmath>
 #include <cstdlib>
@@ -29,10 +32,12 @@
 
 #include "acro/athlete/standard_human.h"
 #include "acro/base/input_error.h"
+#include "acro/library/add_trial.h"
 #include "acro/scene/designed_skill.h"
 #include "acro/views/display.h"
 #include "compare_window.h"
 #include "image_view.h"
+#include "library_window.h"
 #include "plot_view.h"
 #include "refdata.h"
 #include "skill_window.h"
@@ -412,6 +417,61 @@ TEST(Studio, TheSampleRoutineWithItsVideoAtOneCursor) {
 // Several cameras: the sample routine with its video twice (two views, one above the other; a
 // session shows up to four), each view showing its reader's decoded frame of the cursor; the
 // session file keeps both (version 2), and a version 1 file (one video) still opens.
+// File → Open from library: the season library's trials in a table; the chosen one opens with the
+// athlete it was stored with and its attached video. A file that is not a library is the dialog.
+TEST(Studio, OpensATrialFromTheLibrary) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("acro_studio_library_" + std::to_string(getpid()));
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const fs::path library = dir / "library.sqlite";
+  {
+    const SessionFiles sample = SampleFiles();
+    acro::library::Library lib(library, acro::library::Library::Mode::kReadWrite);
+    acro::library::AddRequest request;
+    request.trial = sample.trial;
+    request.athlete_profile = sample.athlete;
+    request.session_date = "2026-09-01";
+    request.video = sample.videos[0].video;
+    request.calibration = sample.videos[0].calibration;
+    ASSERT_EQ(acro::library::AddTrial(lib, request).num_jumps, 6);
+  }
+  MainWindow w;
+  w.resize(1600, 900);
+  w.show();
+  ASSERT_TRUE(QTest::qWaitForWindowExposed(&w));
+  LibraryDialog* dialog = w.OpenFromLibrary(library.string(), false);
+  ASSERT_NE(dialog, nullptr) << w.last_error();
+  ASSERT_TRUE(QTest::qWaitForWindowExposed(dialog));
+  ASSERT_EQ(dialog->table()->rowCount(), 1);
+  EXPECT_EQ(dialog->table()->item(0, 0)->text().toStdString(), "2026-09-01");
+  EXPECT_EQ(dialog->table()->item(0, 1)->text().toStdString(), "Sample Athlete");
+  EXPECT_EQ(dialog->table()->item(0, 2)->text().toStdString(), "6");
+  EXPECT_EQ(dialog->table()->item(0, 5)->text().toStdString(), "pass");
+  EXPECT_EQ(dialog->athletes()->count(), 2);  // every athlete, Sample Athlete
+  Shot("studio_library");
+  // A double click on the row opens it.
+  const QRect row = dialog->table()->visualItemRect(dialog->table()->item(0, 0));
+  // (item views take a double click after a click: press, release, then the double click)
+  QTest::mouseClick(dialog->table()->viewport(), Qt::LeftButton, {}, row.center());
+  QTest::mouseDClick(dialog->table()->viewport(), Qt::LeftButton, {}, row.center());
+  EXPECT_EQ(dialog->result(), QDialog::Accepted);
+  ASSERT_TRUE(WaitUntil([&] { return w.session() != nullptr && !w.busy(); }, 180000))
+      << w.last_error() << " / " << w.status_text();
+  EXPECT_TRUE(w.last_error().empty()) << w.last_error();
+  EXPECT_EQ(fs::path(w.session()->files().trial), fs::weakly_canonical(SampleFiles().trial));
+  EXPECT_EQ(fs::path(w.session()->files().athlete), fs::weakly_canonical(SampleFiles().athlete));
+  EXPECT_EQ(w.session()->num_videos(), 1);
+  EXPECT_EQ(w.timeline()->jumps().size(), 6u);
+  // Not a library: one line in the dialog, nothing opened instead.
+  const fs::path bad = dir / "notes.sqlite";
+  std::ofstream(bad) << "not a database";
+  EXPECT_EQ(w.OpenFromLibrary(bad.string(), false), nullptr);
+  EXPECT_NE(w.last_error().find("not an Acrolab library"), std::string::npos) << w.last_error();
+  CloseDialogs();
+  fs::remove_all(dir);
+}
+
 TEST(Studio, TwoVideoViewsFollowTheCursor) {
   SessionFiles files = SampleFiles();
   files.videos.push_back(files.videos.front());

@@ -1,5 +1,7 @@
 #include "main_window.h"
 
+#include "library_window.h"
+
 #include <QAction>
 #include <QApplication>
 #include <QCloseEvent>
@@ -304,6 +306,7 @@ void MainWindow::BuildMenus() {
     files.videos.push_back(added);
     OpenFiles(files, view());
   });
+  file->addAction("Open from &library…", this, [this] { OpenFromLibrary(); });
   file->addAction("&Open session…", this, [this] {
     const QString path =
         QFileDialog::getOpenFileName(this, "Open a session", {}, "Sessions (*.acrolab)");
@@ -1006,6 +1009,28 @@ void MainWindow::OpenSessionFile(const std::string& path) {
   } catch (const std::exception& e) {
     ShowError(e.what());
   }
+}
+
+LibraryDialog* MainWindow::OpenFromLibrary(const std::string& library, bool modal) {
+  const std::string path =
+      !library.empty() ? library
+                       : (!library_.empty() ? library_ : library::DefaultLibraryPath().string());
+  try {
+    library_dialog_ = std::make_unique<LibraryDialog>(path, this);
+  } catch (const std::exception& e) {
+    ShowError(e.what());
+    return nullptr;
+  }
+  connect(library_dialog_.get(), &QDialog::accepted, this, [this] {
+    if (const std::optional<SessionFiles> files = library_dialog_->SelectedFiles())
+      OpenFiles(*files);
+  });
+  if (modal) {
+    library_dialog_->exec();
+    return nullptr;
+  }
+  library_dialog_->show();
+  return library_dialog_.get();
 }
 
 }  // namespace acro::studio

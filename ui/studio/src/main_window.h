@@ -40,6 +40,7 @@ namespace acro::studio {
 
 class CompareWindow;
 class SkillWindow;
+class LibraryDialog;
 class ImageView;
 class PlotView;
 class Timeline;
@@ -93,6 +94,12 @@ class MainWindow : public QMainWindow {
   CompareWindow* compare() { return compare_.get(); }
   /// The skill designer (File → Open skill…), opened on `path` when given.
   SkillWindow* OpenSkillDesigner(const std::string& path = "");
+  /// File → Open from library…: the library's trials in a dialog (LibraryDialog); the one chosen
+  /// opens with its athlete and video. An unreadable library is the dialog with its one line.
+  /// `library` empty: the one of SetLibrary (default ~/.local/share/acrolab/library.sqlite).
+  /// `modal` false (tests): the dialog is shown and returned, and accepting it opens the trial.
+  LibraryDialog* OpenFromLibrary(const std::string& library = "", bool modal = true);
+  void SetLibrary(const std::string& library) { library_ = library; }
 
   Timeline* timeline() { return timeline_; }
   ImageView* view3d() { return view3d_; }
@@ -192,6 +199,8 @@ class MainWindow : public QMainWindow {
   std::optional<std::pair<int, int>> loop_jump_;  // take-off, landing samples
   std::vector<std::uint8_t> rgb3d_;
   std::string last_error_;
+  std::string library_;
+  std::unique_ptr<LibraryDialog> library_dialog_;
 
   std::thread loader_;
   std::atomic<bool> cancel_load_{false};

@@ -65,8 +65,9 @@ std::string TrialVerdict(const std::vector<JumpRecord>& jumps);
 
 /// What one store writes: the trial, its athlete and session, and its analysis.
 struct TrialToStore {
-  std::string athlete;          ///< the profile's name
-  std::string athlete_profile;  ///< the profile file's text (kept once per distinct content)
+  std::string athlete;               ///< the profile's name
+  std::string athlete_profile;       ///< the profile file's text (kept once per distinct content)
+  std::string athlete_profile_path;  ///< absolute (for opening the trial again), may be empty
   double stature_m = 0.0;
   double mass_kg = 0.0;
   std::string session_date;  ///< YYYY-MM-DD
@@ -93,6 +94,7 @@ struct TrialSummary {
   std::int64_t size_bytes = 0;
   std::string video_path;
   std::string calibration_path;
+  std::string athlete_profile_path;  ///< the profile the trial was stored with
   std::string analysis_version;
   std::string analysis_source;
   std::string analysed_at;  ///< UTC, ISO 8601
