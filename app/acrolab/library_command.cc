@@ -29,7 +29,7 @@ struct LibraryArguments {
   bool quiet = false;
   int threads = 0;
   // list, show, remove
-  bool athletes = false, json = false, csv = false;
+  bool athletes = false, designs = false, json = false, csv = false;
   std::vector<std::string> which;
   // query, progress
   library::JumpQuery query;
@@ -117,6 +117,28 @@ int RunList(const LibraryArguments& args) {
                   a.num_sessions,
                   a.num_trials,
                   a.num_jumps);
+    return 0;
+  }
+  if (args.designs) {
+    const std::vector<library::DesignSummary> list = lib.ListDesigns(args.query.athlete);
+    std::printf("%6s  %-18s %-8s %-8s %5s  %-20s  %s\n",
+                "id",
+                "athlete",
+                "kind",
+                "codes",
+                "DD",
+                "created",
+                "name");
+    for (const library::DesignSummary& d : list)
+      std::printf("%6lld  %-18s %-8s %-8s %5.1f  %-20s  %s\n",
+                  static_cast<long long>(d.id),
+                  d.athlete.c_str(),
+                  d.kind.c_str(),
+                  d.codes.c_str(),
+                  d.difficulty,
+                  d.created_at.c_str(),
+                  d.name.c_str());
+    std::printf("%zu designs in %s\n", list.size(), args.library.c_str());
     return 0;
   }
   const std::vector<library::TrialSummary> trials = lib.ListTrials(args.query.athlete);
@@ -386,6 +408,9 @@ void AddLibraryCommand(CLI::App& app, CommandRunner* run) {
   CLI::App* list = lib->add_subcommand("list", "The stored trials, newest session first.");
   list->add_option("--athlete", args->query.athlete, "only this athlete's");
   list->add_flag("--athletes", args->athletes, "the athletes instead, with their counts");
+  list->add_flag("--designs",
+                 args->designs,
+                 "the designed skills and routines instead (acrolab optimize --library)");
   list->add_flag("--json", args->json, "as JSON");
   DeclareLibraryOption(list, args.get());
   list->callback([args, run] { *run = [args] { return RunList(*args); }; });

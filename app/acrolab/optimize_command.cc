@@ -7,6 +7,7 @@
 #include "acro/base/input_error.h"
 #include "acro/design/skill_optimization.h"
 #include "acro/design/skill_simulation.h"
+#include "acro/library/designs.h"
 #include "acro/report/skill_report.h"
 #include "commands.h"
 
@@ -65,7 +66,7 @@ ui::SkillReportExtras DrawFilmstrips(const analysis::SkillDesign& design,
 #endif
 
 struct OptimizeArguments {
-  std::string skill_path, out_dir;
+  std::string skill_path, out_dir, library;
   bool simulate = false, video = false;
   analysis::SkillOptimizationOptions options;
 };
@@ -133,6 +134,15 @@ int RunOptimize(OptimizeArguments& args) {
     for (const std::string& line : sim->warnings)
       std::fprintf(stderr, "acrolab optimize: warning: %s\n", line.c_str());
   std::printf("  wrote %zu files to %s\n", files.size(), out_dir.c_str());
+  if (!args.library.empty()) {
+    // The design kept in the season library, beside its folder.
+    library::Library lib(args.library, library::Library::Mode::kReadWrite);
+    const std::int64_t id = library::StoreSkillDesign(lib, skill_path, skill, out_dir);
+    std::printf("  stored as design %lld of %s in %s\n",
+                static_cast<long long>(id),
+                skill.athlete.name.c_str(),
+                args.library.c_str());
+  }
   return 0;
 }
 
@@ -172,6 +182,8 @@ void AddOptimizeCommand(CLI::App& app, CommandRunner* run) {
                    args->options.quadrature_intervals,
                    "quadrature intervals over the flight (even, 2–2000; default 40)")
       ->check(CLI::Range(2, 2000));
+  command->add_option(
+      "--library", args->library, "also store the design in this season library (docs/library.md)");
   command->callback([args, run] { *run = [args] { return RunOptimize(*args); }; });
 }
 

@@ -725,8 +725,16 @@ TEST(Cli, OverlayDrawsADesignedSkillAsTheGhost) {
   const auto dir = acro::testing::ScratchDir("overlay_ghost");
   const ProcessResult design =
       Execute("env -u DISPLAY " + std::string(ACROLAB_EXE) + " optimize " +
-              Quote(RepoFile("samples/skills/back_tuck.yaml")) + " -o " + Quote(dir / "design"));
+              Quote(RepoFile("samples/skills/back_tuck.yaml")) + " -o " + Quote(dir / "design") +
+              " --library " + Quote(dir / "library.sqlite"));
   ASSERT_EQ(design.status, 0) << design.err;
+  // The design is kept in the season library too, under its athlete, with its code and DD.
+  const ProcessResult designs =
+      Execute(std::string(ACROLAB_EXE) + " library list --designs --library " +
+              Quote(dir / "library.sqlite"));
+  ASSERT_EQ(designs.status, 0) << designs.err;
+  EXPECT_NE(designs.out.find("Sample Athlete     skill    40o        0.5"), std::string::npos)
+      << designs.out;
   // optimize's filmstrip (initial and optimised timing, two bands) is on its page.
   EXPECT_TRUE(HasFile(dir / "design" / "filmstrip.png"));
   EXPECT_NE(Slurp(dir / "design" / "report.html").find("src=\"filmstrip.png\""), std::string::npos);

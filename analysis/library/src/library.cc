@@ -809,6 +809,34 @@ std::int64_t Library::StoreDesign(const std::string& athlete,
   return id;
 }
 
+std::vector<DesignSummary> Library::ListDesigns(const std::string& athlete) const {
+  Statement s(impl_->db,
+              "SELECT d.id, a.name, d.kind, d.name, d.codes, d.difficulty, d.created_at FROM "
+              "designs d JOIN athletes a ON a.id = d.athlete_id WHERE ?1 = '' OR a.name = ?1 "
+              "ORDER BY a.name, d.created_at DESC, d.id DESC",
+              impl_->File());
+  s.Bind(1, athlete);
+  std::vector<DesignSummary> out;
+  while (s.Step()) {
+    DesignSummary d;
+    d.id = s.Int(0);
+    d.athlete = s.Text(1);
+    d.kind = s.Text(2);
+    d.name = s.Text(3);
+    d.codes = s.Text(4);
+    d.difficulty = s.Double(5);
+    d.created_at = s.Text(6);
+    out.push_back(d);
+  }
+  return out;
+}
+
+std::string Library::DesignContent(std::int64_t id) const {
+  Statement s(impl_->db, "SELECT content FROM designs WHERE id = ?1", impl_->File());
+  s.Bind(1, id);
+  return s.Step() ? s.Text(0) : std::string();
+}
+
 // ---------------------------------------------------------------------------------------------
 // jumps.json
 

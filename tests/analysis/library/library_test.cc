@@ -265,8 +265,14 @@ TEST(Library, MigratesASchemaOneLibrary) {
   EXPECT_TRUE(*rows[0].jump.landing_in_zone_a);
   EXPECT_FALSE(*rows[1].jump.landing_in_zone_a);
   EXPECT_NEAR(rows[1].jump.takeoff_s, 3.0, 1e-12);
-  // And schema 2's table works.
-  EXPECT_GT(lib.StoreDesign("Ann", "routine", "final", "40o 41/", 1.0, "skills: []"), 0);
+  // And schema 2's table works: a design stored, replaced by name, listed.
+  EXPECT_GT(lib.StoreDesign("Ann", "routine", "final", "40o 41/", 1.0, "{}"), 0);
+  const std::int64_t id = lib.StoreDesign("Ann", "routine", "final", "40o 42/", 1.2, "{\"v\": 2}");
+  const auto designs = lib.ListDesigns("Ann");
+  ASSERT_EQ(designs.size(), 1u);
+  EXPECT_EQ(designs[0].codes, "40o 42/");
+  EXPECT_EQ(lib.DesignContent(id), "{\"v\": 2}");
+  EXPECT_THROW(lib.StoreDesign("Ann", "ballet", "x", "", 0, "{}"), acro::InputError);
 }
 
 // Opens `file` both ways and expects one line naming it and `words`, with its bytes unchanged.

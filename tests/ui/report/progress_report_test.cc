@@ -68,6 +68,19 @@ TEST(ProgressReport, FiguresHoldTheSeason) {
   const acro::ui::Chart& zone = figures[2].chart;
   EXPECT_EQ(zone.series[0].y[7], 1.0);
   EXPECT_EQ(zone.series[0].y[8], 0.0);
+  // One small chart per session: zone A, then its landings inside (and outside) it.
+  const std::vector<acro::ui::ProgressFigure> sessions = acro::ui::MakeSessionLandingFigures(p);
+  ASSERT_EQ(sessions.size(), 9u);
+  EXPECT_EQ(sessions[0].file, "landings_2026-09-10.png");
+  EXPECT_EQ(sessions[0].caption, "4 of 4 in zone A");
+  EXPECT_EQ(sessions[0].chart.series.size(), 2u);  // zone A, the landings inside
+  EXPECT_EQ(sessions[8].caption, "0 of 4 in zone A");
+  ASSERT_EQ(sessions[8].chart.series.size(), 2u);  // zone A, the landings outside
+  EXPECT_EQ(sessions[8].chart.series[1].x.size(), 4u);
+  for (const auto& f : sessions) {
+    std::string why;
+    EXPECT_TRUE(f.chart.IsValid(&why)) << f.file << ": " << why;
+  }
 }
 
 TEST(ProgressReport, WritesThePageAndItsFiles) {

@@ -143,8 +143,44 @@ std::vector<ProgressFigure> MakeProgressFigures(const library::Progress& p) {
   return figures;
 }
 
+std::vector<ProgressFigure> MakeSessionLandingFigures(const library::Progress& p) {
+  std::vector<ProgressFigure> out;
+  for (const library::SessionProgress& s : p.sessions) {
+    if (s.landing_x_m.empty()) continue;
+    Chart c;
+    c.title = s.date;
+    c.x_label = "along (m)";
+    c.y_label = "across (m)";
+    c.width_px = 300;
+    c.height_px = 190;
+    c.show_legend = false;
+    c.x_range = ValueRange{-kBedHalfLength, kBedHalfLength};
+    c.y_range = ValueRange{-kBedHalfWidth, kBedHalfWidth};
+    c.series.push_back(Rectangle("zone A", kZoneHalfLength, kZoneHalfWidth, {0.1, 0.6, 0.2}, true));
+    LineSeries in_a, out_a;
+    in_a.line = out_a.line = false;
+    in_a.markers = out_a.markers = true;
+    in_a.color = {0.2, 0.45, 0.8};
+    out_a.color = {0.75, 0.1, 0.15};
+    for (size_t k = 0; k < s.landing_x_m.size(); ++k) {
+      const bool inside = std::abs(s.landing_x_m[k]) <= kZoneHalfLength &&
+                          std::abs(s.landing_y_m[k]) <= kZoneHalfWidth;
+      LineSeries& to = inside ? in_a : out_a;
+      to.x.push_back(s.landing_x_m[k]);
+      to.y.push_back(s.landing_y_m[k]);
+    }
+    for (LineSeries* series : {&in_a, &out_a})
+      if (!series->x.empty()) c.series.push_back(*series);
+    out.push_back({"landings_" + s.date + ".png",
+                   fmt::format("{} of {} in zone A", s.landings_in_zone_a, s.landing_x_m.size()),
+                   c});
+  }
+  return out;
+}
+
 std::string FormatProgressHtml(const library::Progress& p,
-                               const std::vector<ProgressFigure>& figures) {
+                               const std::vector<ProgressFigure>& figures,
+                               const std::vector<ProgressFigure>& session_landings) {
   std::ostringstream h;
   const std::string title = "Acrolab: " + Title(p) + " — " + p.metric_name;
   h << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>" << HtmlEscape(title)
@@ -165,6 +201,16 @@ std::string FormatProgressHtml(const library::Progress& p,
     h << "<figure><a href=\"" << HtmlEscape(svg) << "\"><img src=\"" << HtmlEscape(f.file)
       << "\" alt=\"" << HtmlEscape(f.chart.title) << "\"></a><figcaption>" << HtmlEscape(f.caption)
       << " (<a href=\"" << HtmlEscape(svg) << "\">SVG</a>)</figcaption></figure>\n";
+  }
+  if (!session_landings.empty()) {
+    h << "<h2>Landings per session</h2>\n<p>Each session's landings on the bed (blue in zone A, "
+         "red outside; the dashed rectangle is zone A).</p>\n<div style=\"display:flex;flex-wrap:"
+         "wrap;gap:6px\">\n";
+    for (const ProgressFigure& f : session_landings)
+      h << "<figure style=\"margin:0\"><img src=\"" << HtmlEscape(f.file) << "\" alt=\""
+        << HtmlEscape(f.chart.title) << "\" width=\"300\"><figcaption>" << HtmlEscape(f.caption)
+        << "</figcaption></figure>\n";
+    h << "</div>\n";
   }
   h << "<h2>Sessions</h2>\n<table><tr><th class=\"l\">date</th><th>jumps</th><th>"
     << (p.metric == library::ProgressMetric::kVerdict ? "passed" : "median") << "</th><th>min</th>"
@@ -189,8 +235,10 @@ void WriteProgressReport(const library::Progress& progress, const std::filesyste
     WriteChart(f.chart, png);
     WriteChart(f.chart, png.replace_extension(".svg"));
   }
+  const std::vector<ProgressFigure> sessions = MakeSessionLandingFigures(progress);
+  for (const ProgressFigure& f : sessions) WriteChart(f.chart, dir / f.file);
   WriteFileAtomically(dir / "progress.csv", library::FormatProgressCsv(progress));
-  WriteFileAtomically(dir / "progress.html", FormatProgressHtml(progress, figures));
+  WriteFileAtomically(dir / "progress.html", FormatProgressHtml(progress, figures, sessions));
 }
 
 }  // namespace acro::ui

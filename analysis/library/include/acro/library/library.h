@@ -138,6 +138,17 @@ struct AthleteSummary {
   int num_jumps = 0;
 };
 
+/// A designed skill or routine as `list --designs` gives it.
+struct DesignSummary {
+  std::int64_t id = 0;
+  std::string athlete;
+  std::string kind;  ///< "skill" or "routine"
+  std::string name;
+  std::string codes;  ///< the FIG code(s), space-separated
+  double difficulty = 0.0;
+  std::string created_at;
+};
+
 /// How the library stands with one source file: absent, stored and current, or stored by an older
 /// content or another Acrolab.
 struct StoredState {
@@ -191,6 +202,11 @@ class Library {
                            const std::string& codes,
                            double difficulty,
                            const std::string& content);
+
+  /// The stored designs, `athlete` empty for all; by athlete, then newest first.
+  std::vector<DesignSummary> ListDesigns(const std::string& athlete = {}) const;
+  /// A stored design's content (JSON), empty when there is none.
+  std::string DesignContent(std::int64_t id) const;
 
   /// For the tests of migrations: a new library file made with the schema of version `version`
   /// (1 … kSchemaVersion) and nothing migrated.
