@@ -36,6 +36,16 @@ struct LibraryArguments {
   std::string metric = "tof", out;
 };
 
+// A stored trial by its id, or by its path as given or as the library names it (absolute, links
+// resolved, as `add` stored it).
+std::optional<library::TrialSummary> FindStoredTrial(const library::Library& lib,
+                                                     const std::string& id_or_path) {
+  if (std::optional<library::TrialSummary> t = lib.FindTrialSummary(id_or_path)) return t;
+  std::error_code ec;
+  const std::filesystem::path canonical = std::filesystem::weakly_canonical(id_or_path, ec);
+  return ec ? std::nullopt : lib.FindTrialSummary(canonical.string());
+}
+
 const char* OutcomeWord(library::AddOutcome o) {
   switch (o) {
     case library::AddOutcome::kAdded:
@@ -183,7 +193,7 @@ int RunList(const LibraryArguments& args) {
 
 int RunShow(const LibraryArguments& args) {
   const library::Library lib(args.library, library::Library::Mode::kReadOnly);
-  const std::optional<library::TrialSummary> t = lib.FindTrialSummary(args.which.front());
+  const std::optional<library::TrialSummary> t = FindStoredTrial(lib, args.which.front());
   if (!t)
     throw InputError(
         args.library, "", "no trial '" + args.which.front() + "' (acrolab library list)");
@@ -280,8 +290,8 @@ int RunRemove(const LibraryArguments& args) {
   library::Library lib(args.library, library::Library::Mode::kReadWrite);
   int missing = 0;
   for (const std::string& w : args.which) {
-    const std::optional<library::TrialSummary> t = lib.FindTrialSummary(w);
-    const std::string path = t ? t->path : std::filesystem::absolute(w).lexically_normal().string();
+    const std::optional<library::TrialSummary> t = FindStoredTrial(lib, w);
+    const std::string path = t ? t->path : w;
     if (lib.RemoveTrial(path)) {
       std::printf("removed %s (the file itself is untouched)\n", path.c_str());
     } else {

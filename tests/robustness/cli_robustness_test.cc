@@ -541,7 +541,8 @@ TEST_F(Robustness, LibraryFilesAndBatchMistakes) {
       &out);
   EXPECT_EQ(run.status, 1) << run.err;
   EXPECT_NE(out.find("batch: 5 trials: 2 added, 0 unchanged, 3 failed"), std::string::npos) << out;
-  for (const char* bad : {"cut.c3d: byte 699: POINT:DESCRIPTIONS", "missing.c3d: no such file",
+  for (const char* bad : {"cut.c3d: byte 699: POINT:DESCRIPTIONS",
+                          "missing.c3d: no such file",
                           "text.c3d: file holds 6 bytes"})
     EXPECT_NE(out.find(bad), std::string::npos) << bad << "\n" << out;
   // Run again: nothing to do for the good ones, the bad ones said again.
@@ -553,6 +554,14 @@ TEST_F(Robustness, LibraryFilesAndBatchMistakes) {
   Acrolab("batch list.txt --print-jobs --athlete " + athlete + " --library lib.sqlite", dir_, &out);
   EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 2) << out;  // missing.c3d is not a job
   EXPECT_NE(out.find("acrolab library add"), std::string::npos) << out;
+  // A stored trial by its path as the user types it: shown, removed (the file stays), gone.
+  EXPECT_EQ(Acrolab("library show season/good_1.c3d --library lib.sqlite", dir_, &out).status, 0);
+  EXPECT_NE(out.find("back somersault"), std::string::npos) << out;
+  EXPECT_EQ(Acrolab("library remove season/good_1.c3d --library lib.sqlite", dir_, &out).status, 0);
+  EXPECT_TRUE(fs::exists(dir_ / "season/good_1.c3d"));
+  EXPECT_EQ(Acrolab("library remove season/good_1.c3d --library lib.sqlite", dir_, &out).status, 1);
+  Acrolab("library list --library lib.sqlite", dir_, &out);
+  EXPECT_NE(out.find("1 trials in lib.sqlite"), std::string::npos) << out;
 }
 
 TEST_F(Robustness, TwoAnalysesIntoTheSameDirectory) {
