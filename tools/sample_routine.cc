@@ -15,6 +15,7 @@
 #include "acro/athlete/orientation.h"
 #include "acro/athlete/standard_human.h"
 #include "acro/base/demand.h"
+#include "acro/design/posture_track.h"
 #include "acro/design/skill_file.h"
 #include "acro/dynamics/configuration.h"
 #include "acro/dynamics/flight_simulation.h"
@@ -64,17 +65,6 @@ Matrix3d RightJacobian(const Vector3d& u) {
   const double t2 = theta * theta;
   return Matrix3d::Identity() - (1.0 - std::cos(theta)) / t2 * S +
          (theta - std::sin(theta)) / (t2 * theta) * S * S;
-}
-
-// Septic smoothstep S(u) = u⁴(35 − 84u + 70u² − 20u³): S′, S″ and S‴ vanish at both ends, so
-// the prescribed joint motion is C³ and the RK4 root integration keeps its full order across
-// keyframes.
-void SmoothStep(double u, double* s, double* ds, double* dds) {
-  u = std::clamp(u, 0.0, 1.0);
-  const double u2 = u * u, v = 1 - u;
-  *s = u2 * u2 * (35 - 84 * u + 70 * u2 - 20 * u2 * u);
-  *ds = 140 * u2 * u * v * v * v;
-  *dds = 420 * u2 * v * v * (1 - 2 * u);
 }
 
 // Cubic Hermite basis on s ∈ [0, 1] and its derivative.
@@ -188,44 +178,9 @@ class Poses {
   int n_;
 };
 
-// Prescribed joint angles of a flight: keyframe poses joined by quintic smoothsteps (C², rates
-// and accelerations zero at the keyframes), held after the last one.
-class PoseTrack {
- public:
-  void Add(double time_s, VectorXd q) { keys_.emplace_back(time_s, std::move(q)); }
-  void Eval(double t,
-            Eigen::Ref<VectorXd> q,
-            Eigen::Ref<VectorXd> qd,
-            Eigen::Ref<VectorXd> qdd) const {
-    qd.setZero();
-    qdd.setZero();
-    if (t <= keys_.front().first) {
-      q = keys_.front().second;
-      return;
-    }
-    for (size_t k = 0; k + 1 < keys_.size(); ++k) {
-      const double t0 = keys_[k].first, t1 = keys_[k + 1].first;
-      if (t < t1) {
-        double s, ds, dds;
-        SmoothStep((t - t0) / (t1 - t0), &s, &ds, &dds);
-        const VectorXd dq = keys_[k + 1].second - keys_[k].second;
-        q = keys_[k].second + s * dq;
-        qd = ds / (t1 - t0) * dq;
-        qdd = dds / ((t1 - t0) * (t1 - t0)) * dq;
-        return;
-      }
-    }
-    q = keys_.back().second;
-  }
-  VectorXd At(double t) const {
-    VectorXd q(keys_.front().second.size()), qd(q.size()), qdd(q.size());
-    Eval(t, q, qd, qdd);
-    return q;
-  }
-
- private:
-  std::vector<std::pair<double, VectorXd>> keys_;
-};
+// Prescribed joint angles of a flight: keyframe poses joined by septic smoothsteps
+// (acro/design/posture_track.h).
+using PoseTrack = analysis::PostureTrack;
 
 // One skill of the routine, as designed.
 struct SkillPlan {

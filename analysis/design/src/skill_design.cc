@@ -214,7 +214,10 @@ SkillMotionProfile CalcSkillMotionProfile(const SkillDesign& design,
     p.H_Scm_W.col(k) = dynamics::CalcCentroidalMomentum(m, ws).rotational();
     Hnorm[k] = p.H_Scm_W.col(k).norm();
   }
-  p.angular_momentum_variation = (Hnorm.maxCoeff() - Hnorm.minCoeff()) / Hnorm.mean();
+  // Relative to the mean |H|, or to 1 kg·m²/s for a flight that hardly rotates (a straight jump's
+  // |H| is near zero and its ratio meaningless).
+  p.angular_momentum_variation =
+      (Hnorm.maxCoeff() - Hnorm.minCoeff()) / std::max(Hnorm.mean(), 1.0);
   return p;
 }
 
