@@ -127,44 +127,12 @@ class Poses {
     Set(q, "l_" + segment, axis, mirror * right);
   }
   VectorXd Standing() const { return Zero(); }
-  VectorXd Takeoff() const {  // arms overhead
-    VectorXd q = Zero();
-    Both(q, "upper_arm", 0, -2.8);
-    return q;
-  }
-  VectorXd Straight() const {  // arms by the sides, toes pointed
-    VectorXd q = Zero();
-    Both(q, "upper_arm", 2, -0.12, -1);
-    Both(q, "foot", 0, 0.4);
-    return q;
-  }
-  VectorXd Tuck() const {
-    VectorXd q = Zero();
-    Set(q, "thorax", 0, 0.25);
-    Set(q, "head", 0, 0.2);
-    Both(q, "thigh", 0, -2.3);
-    Both(q, "shank", 0, 2.25);
-    Both(q, "foot", 0, 0.5);
-    Both(q, "upper_arm", 0, -0.45);
-    Both(q, "forearm", 0, -1.6);
-    return q;
-  }
-  VectorXd Pike() const {
-    VectorXd q = Zero();
-    Set(q, "thorax", 0, 0.3);
-    Set(q, "head", 0, 0.2);
-    Both(q, "thigh", 0, -2.2);
-    Both(q, "foot", 0, 0.5);
-    Both(q, "upper_arm", 0, -1.3);
-    return q;
-  }
-  VectorXd Landing() const {  // arms forward, hips and knees a little flexed
-    VectorXd q = Zero();
-    Both(q, "upper_arm", 0, -1.0);
-    Both(q, "thigh", 0, -0.5);
-    Both(q, "shank", 0, 0.35);
-    return q;
-  }
+  // The postures of the skill designer (acro/design/posture_track.h).
+  VectorXd Takeoff() const { return analysis::PostureJoints(analysis::Posture::kTakeoff); }
+  VectorXd Straight() const { return analysis::PostureJoints(analysis::Posture::kStraight); }
+  VectorXd Tuck() const { return analysis::PostureJoints(analysis::Posture::kTuck); }
+  VectorXd Pike() const { return analysis::PostureJoints(analysis::Posture::kPike); }
+  VectorXd Landing() const { return analysis::PostureJoints(analysis::Posture::kLanding); }
   // Per unit of push: a squat (hips flex φ, knees 2φ, ankles −φ keep the feet flat).
   VectorXd Squat() const {
     VectorXd q = Zero();

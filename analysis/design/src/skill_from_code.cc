@@ -32,106 +32,6 @@ using Eigen::VectorXd;
 constexpr double kPi = std::numbers::pi;
 constexpr double kDeg = kPi / 180.0;
 
-// The postures of the schedule (standard_human.h signs: hip, shoulder and elbow flexion negative,
-// knee flexion positive, foot positive = toes down; abduction of the right arm negative about x,
-// the left one mirrored).
-enum class Posture { kTakeoff, kStraight, kTuck, kPike, kTwist, kLanding };
-
-const char* PostureName(Posture p) {
-  switch (p) {
-    case Posture::kTakeoff:
-      return "take-off";
-    case Posture::kStraight:
-      return "straight";
-    case Posture::kTuck:
-      return "tuck";
-    case Posture::kPike:
-      return "pike";
-    case Posture::kTwist:
-      return "twisting";
-    case Posture::kLanding:
-      return "landing";
-  }
-  return "";
-}
-
-class Postures {
- public:
-  Postures() : n_(StandardJointDofCount()) {}
-
-  // The posture's joint angles; `action` is the asymmetric arm and hip action of an aerial twist
-  // (rad of one arm's abduction: the left arm for a positive action, the right one for a negative;
-  // both hips bend sideways by a quarter of it).
-  VectorXd Joints(Posture p, double action = 0.0) const {
-    VectorXd q = VectorXd::Zero(n_);
-    switch (p) {
-      case Posture::kTakeoff:  // arms overhead
-        Both(q, "upper_arm", 0, -2.8);
-        break;
-      case Posture::kStraight:  // arms by the sides, toes pointed
-        Both(q, "upper_arm", 2, -0.12, -1);
-        Both(q, "foot", 0, 0.4);
-        break;
-      case Posture::kTuck:
-        Set(q, "thorax", 0, 0.25);
-        Set(q, "head", 0, 0.2);
-        Both(q, "thigh", 0, -2.3);
-        Both(q, "shank", 0, 2.25);
-        Both(q, "foot", 0, 0.5);
-        Both(q, "upper_arm", 0, -0.45);
-        Both(q, "forearm", 0, -1.6);
-        break;
-      case Posture::kPike:
-        Set(q, "thorax", 0, 0.3);
-        Set(q, "head", 0, 0.2);
-        Both(q, "thigh", 0, -2.2);
-        Both(q, "foot", 0, 0.5);
-        Both(q, "upper_arm", 0, -1.3);
-        break;
-      case Posture::kTwist:  // arms wrapped in front of the chest, legs straight and together
-        Both(q, "upper_arm", 0, -0.35);
-        Both(q, "upper_arm", 2, -0.1, -1);
-        Both(q, "forearm", 0, -2.0);
-        Both(q, "foot", 0, 0.4);
-        break;
-      case Posture::kLanding:  // arms forward, hips and knees a little flexed
-        Both(q, "upper_arm", 0, -1.0);
-        Both(q, "thigh", 0, -0.5);
-        Both(q, "shank", 0, 0.35);
-        break;
-    }
-    AddAction(q, action);
-    return q;
-  }
-
- private:
-  void AddAction(VectorXd& q, double action) const {
-    // One arm swings out sideways, the other in across the chest by half as much, and both
-    // hips bend sideways: all three turn the trunk the same way about its front-back axis.
-    const double out = std::abs(action), in = -0.5 * std::abs(action);
-    Add(q, "l_upper_arm", 2, action > 0 ? out : -in);
-    Add(q, "r_upper_arm", 2, action > 0 ? -in : -out);
-    Add(q, "r_thigh", 2, 0.4 * action);
-    Add(q, "l_thigh", 2, 0.4 * action);
-  }
-  void Set(VectorXd& q, std::string_view segment, int axis, double value) const {
-    const int i = StandardJointDofIndex(segment, axis);
-    ACRO_DEMAND(i >= 0);
-    q[i] = value;
-  }
-  void Add(VectorXd& q, std::string_view segment, int axis, double value) const {
-    const int i = StandardJointDofIndex(segment, axis);
-    ACRO_DEMAND(i >= 0);
-    q[i] += value;
-  }
-  void Both(
-      VectorXd& q, const std::string& segment, int axis, double right, double mirror = 1) const {
-    Set(q, "r_" + segment, axis, right);
-    Set(q, "l_" + segment, axis, mirror * right);
-  }
-  int n_;
-};
-
 // One segment of the schedule: a posture held until the nominal somersault angle (deg; the
 // analysis' count: 45° of bed rotation before take-off, then the rotation in the air) reaches
 // `nu_end`, or, for the last segment, until the landing is prepared. `somersault` is the
@@ -310,10 +210,9 @@ class Shooter {
 
   // The postures over time for the unknowns x (the aerial actions) and the current segment times.
   PostureTrack MakeTrack(const VectorXd& x, double* prepare_start) const {
-    const Postures P;
     const double T = plan_.T;
     PostureTrack track;
-    track.Add(0.0, P.Joints(Posture::kTakeoff));
+    track.Add(0.0, PostureJoints(Posture::kTakeoff));
     const std::vector<Segment>& s = plan_.segments;
     const double prepare = std::min(0.24, 0.2 * T);  // into the landing posture
     const double landing_reached = T - 0.04;
@@ -323,7 +222,7 @@ class Shooter {
     double previous_end = 0.0;
     for (size_t i = 0; i < s.size(); ++i) {
       const VectorXd joints =
-          P.Joints(s[i].posture, s[i].action_for > 0 ? Action(x, s[i].action_for) : 0.0);
+          PostureJoints(s[i].posture, s[i].action_for > 0 ? Action(x, s[i].action_for) : 0.0);
       if (i == 0) {
         const double entry = std::min(SegmentEntryDuration(s[0].posture), 0.6 * ends[0]);
         track.Add(std::max(entry, 0.05), joints);
@@ -342,7 +241,7 @@ class Shooter {
     }
     const double from = std::max(ends.back(), track.keys().back().first);
     track.Add(from, track.keys().back().second);
-    track.Add(std::max(landing_reached, from + 0.05), P.Joints(Posture::kLanding));
+    track.Add(std::max(landing_reached, from + 0.05), PostureJoints(Posture::kLanding));
     if (prepare_start) *prepare_start = from;
     return track;
   }
@@ -594,7 +493,6 @@ std::string KeyframeName(const Plan& plan, const Flight& f, size_t i, size_t las
   if (i == last) return "landing";
   // The posture the track is in or moving to at this instant, and the somersaults done.
   const double t = f.t[i];
-  const Postures P;
   Posture now = Posture::kTakeoff;
   double best = 1e300;
   const VectorXd q = f.track.At(t);
@@ -604,7 +502,7 @@ std::string KeyframeName(const Plan& plan, const Flight& f, size_t i, size_t las
                     Posture::kPike,
                     Posture::kTwist,
                     Posture::kLanding}) {
-    const double d = (P.Joints(p) - q).norm();
+    const double d = (PostureJoints(p) - q).norm();
     if (d < best) {
       best = d;
       now = p;
