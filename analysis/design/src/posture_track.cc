@@ -99,7 +99,7 @@ Eigen::VectorXd PostureJoints(Posture posture, double action) {
   }
   if (action != 0.0) {
     const double out = std::abs(action), in = 0.5 * std::abs(action);
-    Add(q, "l_upper_arm", 2, action > 0 ? out : in);
+    Add(q, "l_upper_arm", 2, action > 0 ? out : -in);
     Add(q, "r_upper_arm", 2, action > 0 ? in : -out);
     Add(q, "r_thigh", 2, 0.4 * action);
     Add(q, "l_thigh", 2, 0.4 * action);
