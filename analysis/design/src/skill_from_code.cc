@@ -191,7 +191,6 @@ class Shooter {
   }
 
   const dynamics::Model<double>& model() const { return model_; }
-  const Plan& plan() const { return plan_; }
   double mass() const { return mass_; }
   int simulations() const { return simulations_; }
 

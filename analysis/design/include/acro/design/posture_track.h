@@ -36,7 +36,6 @@ class PostureTrack {
  public:
   /// Appends a posture (joint angles, rad) at `time_s`; times must not decrease.
   void Add(double time_s, Eigen::VectorXd joints);
-  bool empty() const { return keys_.empty(); }
   const std::vector<std::pair<double, Eigen::VectorXd>>& keys() const { return keys_; }
   /// Angles, rates and accelerations at t.
   void Eval(double t,
