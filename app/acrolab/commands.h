@@ -4,17 +4,21 @@
 // from the same declarations as the parsing), and after parsing runs: read, call one library
 // function per step, print. docs/cli.md.
 
+#include <filesystem>
 #include <functional>
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include <CLI/CLI.hpp>
 
 #include "acro/athlete/athlete_body.h"
 #include "acro/capture/trial.h"
 #include "acro/capture/video.h"
+#include "acro/design/skill_optimization.h"
 #include "acro/reconstruct/reconstruction.h"
+#include "acro/report/skill_report.h"
 #include "acro/vision/camera.h"
 #include "acro/vision/video_sync.h"
 
@@ -115,6 +119,34 @@ struct VideoArguments {
 void WarnIfAnotherSize(const std::string& video,
                        const capture::VideoInfo& info,
                        const vision::Camera& camera);
+
+/// What `optimize` and `design` share: Model 2 (then Model 1), the flight simulation, the
+/// filmstrip.
+struct SkillRunArguments {
+  bool simulate = false, video = false;
+  analysis::SkillOptimizationOptions options;
+  /// Declares --model, --fixed-joints, --video and --intervals on `command`.
+  void Declare(CLI::App* command);
+};
+/// Checks the options and the output folder before any work (UsageError, acro::InputError).
+void PrepareSkillRun(SkillRunArguments& args, const std::string& out_dir);
+/// Optimises `skill`, simulates it when asked, writes result.json, the timing and momentum plots,
+/// motion.c3d/.mot, the filmstrip and report.html (with `more`'s extra lines) and what `write_more`
+/// writes into the staging folder, all moved into `out_dir` at once; prints the summary on stdout,
+/// progress on stderr ("acrolab COMMAND: …").
+analysis::SkillOptimizationResult RunSkill(
+    const std::string& command,
+    const analysis::Skill& skill,
+    SkillRunArguments& args,
+    const std::string& out_dir,
+    const ui::SkillReportExtras& more,
+    const std::function<std::vector<std::string>(const std::filesystem::path&)>& write_more);
+/// Stores a designed skill (its file and output folder) in the season library `library_path`.
+void StoreDesign(const std::string& library_path,
+                 const std::string& skill_path,
+                 const analysis::Skill& skill,
+                 const std::string& out_dir);
+void AddDesignCommand(CLI::App& app, CommandRunner* run);
 
 /// Progress on stderr: "LABEL [####    ] 42% (done/total UNIT)" redrawn in place on a terminal, one
 /// line at the end otherwise (logs, pipes).

@@ -31,7 +31,8 @@ namespace {
 // The paper's comparison (its Figure 8): the initial and the optimised timing one above the
 // other at the same eight instants, DIR/filmstrip.png, and with `video` DIR/filmstrip.mp4. The
 // 3D views are an extra here: without a display or Xvfb the page says why.
-ui::SkillReportExtras DrawFilmstrips(const analysis::SkillDesign& design,
+ui::SkillReportExtras DrawFilmstrips(const std::string& command,
+                                     const analysis::SkillDesign& design,
                                      const analysis::SkillOptimizationResult& result,
                                      const std::filesystem::path& dir,
                                      bool video) {
@@ -59,7 +60,7 @@ ui::SkillReportExtras DrawFilmstrips(const analysis::SkillDesign& design,
   } catch (const InputError& e) {
     extras.filmstrip.clear();
     extras.filmstrip_note = std::string("no filmstrip: ") + e.what();
-    std::fprintf(stderr, "acrolab optimize: %s\n", extras.filmstrip_note.c_str());
+    std::fprintf(stderr, "acrolab %s: %s\n", command.c_str(), extras.filmstrip_note.c_str());
   }
   return extras;
 }
@@ -67,28 +68,41 @@ ui::SkillReportExtras DrawFilmstrips(const analysis::SkillDesign& design,
 
 struct OptimizeArguments {
   std::string skill_path, out_dir, library;
-  bool simulate = false, video = false;
-  analysis::SkillOptimizationOptions options;
+  SkillRunArguments run;
 };
 
 int RunOptimize(OptimizeArguments& args) {
-  const std::string& skill_path = args.skill_path;
-  const std::string& out_dir = args.out_dir;
-  analysis::SkillOptimizationOptions& options = args.options;
-  if (options.quadrature_intervals % 2 != 0)
-    throw UsageError{"--intervals " + std::to_string(options.quadrature_intervals) +
-                     " is odd; Simpson's rule needs an even number"};
-  DemandValidCommandLine(options);
-  CheckOutputDirectory(out_dir);  // before any work: a bad -o costs nothing
-
-  // Read, optimise, simulate, write.
-  const analysis::Skill skill = analysis::ReadSkill(skill_path);
+  PrepareSkillRun(args.run, args.out_dir);
+  const analysis::Skill skill = analysis::ReadSkill(args.skill_path);
   std::fprintf(stderr,
                "acrolab optimize: %s, %zu keyframes, flight time %.3f s, model %d\n",
                skill.name.c_str(),
                skill.keyframes.size(),
                skill.flight_time_s,
-               analysis::SkillModelNumber(options.model));
+               analysis::SkillModelNumber(args.run.options.model));
+  RunSkill("optimize", skill, args.run, args.out_dir, {}, {});
+  if (!args.library.empty()) StoreDesign(args.library, args.skill_path, skill, args.out_dir);
+  return 0;
+}
+
+}  // namespace
+
+void PrepareSkillRun(SkillRunArguments& args, const std::string& out_dir) {
+  if (args.options.quadrature_intervals % 2 != 0)
+    throw UsageError{"--intervals " + std::to_string(args.options.quadrature_intervals) +
+                     " is odd; Simpson's rule needs an even number"};
+  DemandValidCommandLine(args.options);
+  CheckOutputDirectory(out_dir);  // before any work: a bad -o costs nothing
+}
+
+analysis::SkillOptimizationResult RunSkill(
+    const std::string& command,
+    const analysis::Skill& skill,
+    SkillRunArguments& args,
+    const std::string& out_dir,
+    const ui::SkillReportExtras& more,
+    const std::function<std::vector<std::string>(const std::filesystem::path&)>& write_more) {
+  analysis::SkillOptimizationOptions& options = args.options;
   const analysis::SkillDesign design(skill);
   options.progress = [](const std::string& line) { std::fprintf(stderr, "  %s\n", line.c_str()); };
   const analysis::SkillOptimizationResult result = analysis::OptimizeSkill(design, options);
@@ -99,16 +113,24 @@ int RunOptimize(OptimizeArguments& args) {
     std::fprintf(stderr, "  simulating the flight\n");
     sim = analysis::SimulateSkill(design, result.optimized);
   }
-  ui::SkillReportExtras extras;
+  ui::SkillReportExtras extras = more;
   OutputTransaction outputs(out_dir);  // moved into place when all are complete
 #ifdef ACRO_HAVE_VIEWS
   std::fprintf(stderr, "  drawing the filmstrip\n");
-  extras = DrawFilmstrips(design, result, outputs.staging(), args.video);
+  const ui::SkillReportExtras strip =
+      DrawFilmstrips(command, design, result, outputs.staging(), args.video);
+  extras.filmstrip = strip.filmstrip;
+  extras.filmstrip_video = strip.filmstrip_video;
+  extras.filmstrip_note = strip.filmstrip_note;
+  extras.filmstrip_times_s = strip.filmstrip_times_s;
 #else
   if (args.video) NeedTheViews();
 #endif
   std::vector<std::string> files =
-      ui::WriteSkillOutputs(outputs.staging(), design, result, sim ? &*sim : nullptr, extras);
+      write_more ? write_more(outputs.staging()) : std::vector<std::string>{};
+  for (std::string& f :
+       ui::WriteSkillOutputs(outputs.staging(), design, result, sim ? &*sim : nullptr, extras))
+    files.push_back(std::move(f));
   outputs.Commit();
   for (const std::string* f : {&extras.filmstrip, &extras.filmstrip_video})
     if (!f->empty()) files.push_back(*f);
@@ -132,21 +154,46 @@ int RunOptimize(OptimizeArguments& args) {
   if (sim) std::printf("  simulation: %s\n", analysis::FormatSkillSimulation(*sim).c_str());
   if (sim)
     for (const std::string& line : sim->warnings)
-      std::fprintf(stderr, "acrolab optimize: warning: %s\n", line.c_str());
+      std::fprintf(stderr, "acrolab %s: warning: %s\n", command.c_str(), line.c_str());
   std::printf("  wrote %zu files to %s\n", files.size(), out_dir.c_str());
-  if (!args.library.empty()) {
-    // The design kept in the season library, beside its folder.
-    library::Library lib(args.library, library::Library::Mode::kReadWrite);
-    const std::int64_t id = library::StoreSkillDesign(lib, skill_path, skill, out_dir);
-    std::printf("  stored as design %lld of %s in %s\n",
-                static_cast<long long>(id),
-                skill.athlete.name.c_str(),
-                args.library.c_str());
-  }
-  return 0;
+  return result;
 }
 
-}  // namespace
+void StoreDesign(const std::string& library_path,
+                 const std::string& skill_path,
+                 const analysis::Skill& skill,
+                 const std::string& out_dir) {
+  // The design kept in the season library, beside its folder.
+  library::Library lib(library_path, library::Library::Mode::kReadWrite);
+  const std::int64_t id = library::StoreSkillDesign(lib, skill_path, skill, out_dir);
+  std::printf("  stored as design %lld of %s in %s\n",
+              static_cast<long long>(id),
+              skill.athlete.name.c_str(),
+              library_path.c_str());
+}
+
+void SkillRunArguments::Declare(CLI::App* command) {
+  const std::map<std::string, analysis::SkillModel> models = {
+      {"1", analysis::SkillModel::kTrajectory}, {"2", analysis::SkillModel::kTiming}};
+  command
+      ->add_option("--model",
+                   options.model,
+                   "2: keyframe times only; 1: times and trajectory coefficients (default: 2 for "
+                   "optimize, 1 for design)")
+      ->transform(CLI::CheckedTransformer(models));
+  command->add_flag_callback(
+      "--fixed-joints",
+      [this] { options.model1_vary_joints = false; },
+      "Model 1 keeps the keyframe joint angles and varies the times and the root orientation only");
+  command->add_flag("--video",
+                    video,
+                    "also write the filmstrip (initial and optimised timing) as DIR/filmstrip.mp4");
+  command
+      ->add_option("--intervals",
+                   options.quadrature_intervals,
+                   "quadrature intervals over the flight (even, 2–2000; default 40)")
+      ->check(CLI::Range(2, 2000));
+}
 
 void AddOptimizeCommand(CLI::App& app, CommandRunner* run) {
   auto args = std::make_shared<OptimizeArguments>();
@@ -160,28 +207,10 @@ void AddOptimizeCommand(CLI::App& app, CommandRunner* run) {
       "method: docs/skill-design.md.");
   command->add_option("SKILL", args->skill_path, "the skill file (YAML)")->required();
   command->add_option("-o,--output", args->out_dir, "output folder (created)")->required();
-  const std::map<std::string, analysis::SkillModel> models = {
-      {"1", analysis::SkillModel::kTrajectory}, {"2", analysis::SkillModel::kTiming}};
-  command
-      ->add_option("--model",
-                   args->options.model,
-                   "2 (default): keyframe times only; 1: times and trajectory coefficients")
-      ->transform(CLI::CheckedTransformer(models));
-  command->add_flag_callback(
-      "--fixed-joints",
-      [args] { args->options.model1_vary_joints = false; },
-      "Model 1 keeps the keyframe joint angles and varies the times and the root orientation only");
+  args->run.Declare(command);
   command->add_flag("--simulate",
-                    args->simulate,
+                    args->run.simulate,
                     "also simulate the flight with the optimised motion (somersaults, landing)");
-  command->add_flag("--video",
-                    args->video,
-                    "also write the filmstrip (initial and optimised timing) as DIR/filmstrip.mp4");
-  command
-      ->add_option("--intervals",
-                   args->options.quadrature_intervals,
-                   "quadrature intervals over the flight (even, 2–2000; default 40)")
-      ->check(CLI::Range(2, 2000));
   command->add_option(
       "--library", args->library, "also store the design in this season library (docs/library.md)");
   command->callback([args, run] { *run = [args] { return RunOptimize(*args); }; });

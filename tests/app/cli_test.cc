@@ -760,6 +760,50 @@ TEST(Cli, OverlayDrawsADesignedSkillAsTheGhost) {
   EXPECT_FALSE(std::filesystem::exists(dir / "bad"));
 }
 
+// `design CODE`: a barani from its code for the sample athlete, optimised by Model 1 by default;
+// its skill.yaml is a skill file `optimize` takes; a code it cannot read is one line and no folder.
+TEST(Cli, DesignABaraniFromItsCode) {
+  const auto dir = acro::testing::ScratchDir("design_code");
+  const std::string athlete = Quote(RepoFile("samples/athletes/sample_athlete.yaml"));
+  const ProcessResult run =
+      Execute("env -u DISPLAY " + std::string(ACROLAB_EXE) + " design 41/ --athlete " + athlete +
+              " -o " + Quote(dir / "barani"));
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_NE(run.out.find("barani (41/): DD 0.6"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("feasible for this athlete"), std::string::npos) << run.out;
+  const nlohmann::json design = nlohmann::json::parse(Slurp(dir / "barani" / "design.json"));
+  EXPECT_EQ(design["fig_code"], "41/");
+  EXPECT_DOUBLE_EQ(design["difficulty"].get<double>(), 0.6);
+  EXPECT_TRUE(design["feasible"].get<bool>());
+  EXPECT_NEAR(design["air_twists"].get<double>(), 0.5, 1e-6);
+  EXPECT_NEAR(design["air_somersaults"].get<double>(), 0.875, 1e-6);  // 15° + 30° on the bed
+  const nlohmann::json result = nlohmann::json::parse(Slurp(dir / "barani" / "result.json"));
+  EXPECT_EQ(result["model"], 1);
+  EXPECT_LE(result["angular_momentum_variation"].get<double>(), 0.02);
+  EXPECT_TRUE(result["keyframes_within_tolerance"].get<bool>());
+  EXPECT_NE(Slurp(dir / "barani" / "report.html").find("Designed from its FIG code"),
+            std::string::npos);
+  // The keyframes as a skill file a person edits and `optimize` reads.
+  const ProcessResult again =
+      Execute(std::string(ACROLAB_EXE) + " optimize " + Quote(dir / "barani" / "skill.yaml") +
+              " -o " + Quote(dir / "again"));
+  ASSERT_EQ(again.status, 0) << again.err;
+  EXPECT_NE(again.out.find("barani (41/) (model 2)"), std::string::npos) << again.out;
+  // A quadruple somersault in 1.2 s: designed, and said not feasible with its momentum.
+  const ProcessResult quad =
+      Execute(std::string(ACROLAB_EXE) + " design 160000o --no-simulate " +
+              "--model 2 --flight-time 1.2 --athlete " + athlete + " -o " + Quote(dir / "quad"));
+  ASSERT_EQ(quad.status, 0) << quad.err;
+  EXPECT_NE(quad.out.find("not feasible: needs a somersault angular momentum of"),
+            std::string::npos)
+      << quad.out;
+  const ProcessResult bad = Execute(std::string(ACROLAB_EXE) + " design 4x2 --athlete " + athlete +
+                                    " -o " + Quote(dir / "bad"));
+  EXPECT_EQ(bad.status, 1);
+  EXPECT_NE(bad.err.find("acrolab: FIG code '4x2': "), std::string::npos) << bad.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "bad"));
+}
+
 // `compare` of the sample's back tuck and back pike: an MP4 of the frames it says, at 30 fps.
 TEST(Cli, CompareTwoJumpsOfTheSampleWritesTheVideo) {
   const auto out = acro::testing::TempDir() / "compare.mp4";

@@ -48,6 +48,37 @@ std::string Html(const std::string& s) {
 
 }  // namespace
 
+std::string MakeSkillFromCodeJson(const SkillFromCodeResult& r) {
+  using Json = nlohmann::ordered_json;  // keys in the order written
+  Json j;
+  j["fig_code"] = r.skill.fig_code;
+  j["skill"] = r.skill.name;
+  j["athlete"] = r.skill.athlete.name;
+  j["difficulty"] = r.difficulty.total();
+  j["difficulty_explained"] = r.difficulty.Explain();
+  j["flight_time_s"] = r.flight_time_s;
+  j["takeoff_vertical_velocity_m_per_s"] = r.takeoff_vertical_velocity_mps;
+  j["angular_momentum_N_m_s"] = {r.H_Scm_W.x(), r.H_Scm_W.y(), r.H_Scm_W.z()};
+  j["somersault_momentum_N_m_s"] = r.somersault_momentum;
+  j["twist_momentum_N_m_s"] = r.twist_momentum;
+  j["normalized_somersault_momentum_per_s"] = r.normalized_somersault_momentum;
+  j["aerial_twist_actions_deg"] = Json::array();
+  for (double a : r.aerial_twist_actions_rad)
+    j["aerial_twist_actions_deg"].push_back(a * kRadToDeg);
+  j["air_somersaults"] = r.air_somersault_rad / (2 * std::numbers::pi);
+  j["air_twists"] = r.air_twist_rad / (2 * std::numbers::pi);
+  j["half_twists_per_somersault"] = r.half_twists_per_somersault;
+  j["max_tilt_deg"] = r.max_tilt_rad * kRadToDeg;
+  j["landing_tilt_deg"] = r.landing_tilt_rad * kRadToDeg;
+  j["time_to_prepare_landing_s"] = r.time_to_prepare_landing_s;
+  j["shooting_residual_deg"] = r.shooting_residual_rad * kRadToDeg;
+  j["shooting_simulations"] = r.shooting_simulations;
+  j["keyframes"] = r.skill.keyframes.size();
+  j["feasible"] = r.feasible();
+  j["not_feasible"] = r.not_feasible;
+  return j.dump(2) + "\n";
+}
+
 std::string MakeSkillResultJson(const SkillDesign& design,
                                 const SkillOptimizationResult& r,
                                 const SkillSimulationResult* sim) {
@@ -283,6 +314,14 @@ std::vector<std::string> WriteSkillOutputs(const std::filesystem::path& dir,
        << "</h1>\n<p>Athlete: " << Html(design.skill().athlete.name) << ". Flight time "
        << fmt::format("{:.3f}", design.flight_time_s()) << " s. Model ("
        << SkillModelNumber(r.model) << ").</p>\n";
+  if (!extras.design_lines.empty()) {
+    html << "<h2>Designed from its FIG code</h2>\n<ul>\n";
+    for (const std::string& line : extras.design_lines)
+      html << (line.rfind("not feasible", 0) == 0 ? "<li class=\"warning\">" : "<li>") << Html(line)
+           << "</li>\n";
+    html << "</ul>\n<p>The keyframes (skill.yaml) are samples of a simulated flight; the "
+            "optimisation below only removes what the splines between them add.</p>\n";
+  }
   html << "<table><tr><th></th><th>initial timing</th><th>optimised</th></tr>\n"
        << "<tr><td>J = T⁻¹∫|L̇/(m g h)|² dt</td><td>" << r.objective_initial << "</td><td>"
        << r.objective << "</td></tr>\n<tr><td>angular momentum variation</td><td>"

@@ -11,6 +11,7 @@
 
 #include "acro/capture/storage.h"
 #include "acro/capture/trial.h"
+#include "acro/design/skill_from_code.h"
 #include "acro/design/skill_optimization.h"
 #include "acro/design/skill_simulation.h"
 #include "acro/report/chart.h"
@@ -22,6 +23,12 @@ namespace acro::ui {
 std::string MakeSkillResultJson(const analysis::SkillDesign& design,
                                 const analysis::SkillOptimizationResult& result,
                                 const analysis::SkillSimulationResult* simulation);
+
+/// design.json's text for a skill designed from its FIG code: the code, its difficulty, the
+/// take-off it needs (vertical velocity, flight time, angular momentum: somersault, twist,
+/// normalised), the aerial twist actions, the flight (somersaults, twists, half twists per
+/// somersault, tilt, time left to prepare the landing) and the feasibility with its reasons.
+std::string MakeSkillFromCodeJson(const analysis::SkillFromCodeResult& result);
 
 /// The designed motion sampled at `rate_hz`: the standard human's named points as virtual markers.
 capture::Trial MakeSkillMarkerTrial(const analysis::SkillDesign& design,
@@ -52,6 +59,9 @@ struct SkillReportExtras {
   std::string filmstrip_note;
   /// The instants the filmstrip shows (s from take-off).
   std::vector<double> filmstrip_times_s;
+  /// A skill designed from its FIG code (`acrolab design`): what its take-off needs and whether the
+  /// athlete can do it, one sentence per line (FormatSkillFromCode), shown first; empty: none.
+  std::vector<std::string> design_lines;
 };
 
 /// Writes result.json, timing.csv, timing.svg/.png, angular_momentum.svg/.png, motion.c3d,
