@@ -19,21 +19,16 @@
 #include <Eigen/Core>
 
 #include "acro/capture/trial.h"
+#include "acro/design/routine_simulation.h"
 #include "acro/dynamics/model.h"
 
 namespace acro::samples {
 
-struct SampleRoutineOptions {
-  double point_rate_hz = 120.0;
-  /// Integration steps per frame, for flights (RK4) and contacts.
-  int substeps_per_frame = 20;
-  /// Bed: effective vertical stiffness and damping of the woven bed and its springs at the centre.
-  double bed_stiffness_N_per_m = 6500.0;
-  double bed_damping_N_s_per_m = 25.0;
-  /// The bed's centre cross at rest (Z up, the bed's long axis along X).
-  Eigen::Vector3d bed_centre_m = Eigen::Vector3d(0.4, -0.2, 1.155);
-  double bed_length_m = 4.28;
-  double bed_width_m = 2.14;
+/// The routine's rate, integration grid and bed (acro/design/routine_simulation.h; the sample
+/// keeps the reverse squat it was first made with, absorb_by_late_squat = false), the markers'
+/// noise, and the variations of a season.
+struct SampleRoutineOptions : analysis::RoutineSimulationOptions {
+  SampleRoutineOptions() { absorb_by_late_squat = false; }
   double noise_sd_m = 0.001;
   unsigned noise_seed = 20261122;
   /// Variations of the routine (a season of them, tests/library): every flight time scaled (a
@@ -44,56 +39,15 @@ struct SampleRoutineOptions {
   int num_skills = 6;
 };
 
-/// One flight (one skill) as simulated: times are exact (sub-frame).
-struct SampleFlightTruth {
-  std::string name;
-  std::string fig_code;
-  double takeoff_s = 0.0;  ///< the bed force falls to zero: the feet leave the bed
-  double landing_s = 0.0;  ///< the feet reach the bed's rest level
-  double takeoff_vertical_velocity_m_per_s = 0.0;
-  double apex_com_z_m = 0.0;
-  Eigen::Vector3d takeoff_com_m = Eigen::Vector3d::Zero();
-  Eigen::Vector3d landing_com_m = Eigen::Vector3d::Zero();
-  Eigen::Vector3d landing_feet_m = Eigen::Vector3d::Zero();  ///< midpoint of the soles
-  /// Rotation in the air (take-off to landing), signed (forward positive), and twist.
-  double air_somersault_rad = 0.0;
-  double air_twist_rad = 0.0;
-  double takeoff_lean_rad = 0.0;  ///< signed somersault angle of the pelvis at take-off
-  /// Angular momentum about the COM at take-off, in W (N·m·s).
-  Eigen::Vector3d H_Scm_W = Eigen::Vector3d::Zero();
-};
+/// One flight and one bed contact as simulated (acro/design/routine_simulation.h).
+using SampleFlightTruth = analysis::RoutineFlightTruth;
+using SampleContactTruth = analysis::RoutineContactTruth;
 
-/// One contact with the bed (the first starts at the bottom of a bounce, the last ends at the
-/// bottom after the last landing).
-struct SampleContactTruth {
-  double start_s = 0.0;
-  double end_s = 0.0;
-  double peak_force_body_weights = 0.0;
-  double max_depression_m = 0.0;
-};
-
-struct SampleRoutine {
-  dynamics::Model<double> model;
-  double mass_kg = 0.0;
-  double gravity_m_per_s2 = 9.81;
-  SampleRoutineOptions options;
+/// The simulated routine (its model, flights, contacts, noise-free q and v per frame, C¹ check)
+/// and its trial: the markers placed from q, with noise and a few gaps.
+struct SampleRoutine : analysis::SimulatedRoutine {
   std::string athlete_file;
   capture::Trial trial;
-  std::vector<SampleFlightTruth> flights;
-  std::vector<SampleContactTruth> contacts;
-  /// Noise-free generalised coordinates and velocities per frame (columns), as the markers were
-  /// placed from them.
-  Eigen::MatrixXd q;
-  Eigen::MatrixXd v;
-  /// Largest mismatch of the COM position (m) and velocity (m/s), the orientation (rad), the root
-  /// angular velocity (rad/s) and the joint angles (rad) between the end of one phase and the start
-  /// of the next (C¹ continuity), over all take-offs and landings.
-  double max_boundary_position_jump_m = 0.0;
-  double max_boundary_velocity_jump_m_per_s = 0.0;
-  double max_boundary_orientation_jump_rad = 0.0;
-  double max_boundary_angular_velocity_jump_rad_per_s = 0.0;
-  double max_boundary_joint_jump_rad = 0.0;
-  double max_boundary_joint_rate_jump_rad_per_s = 0.0;
 
   /// truth.json: the flights, contacts, bed and athlete.
   std::string TruthJson() const;
@@ -106,19 +60,7 @@ SampleRoutine MakeSampleRoutine(const std::filesystem::path& athlete_path,
                                 const SampleRoutineOptions& options = {});
 
 /// Physics of one flight on the noise-free frames strictly between take-off and landing.
-struct SampleFlightPhysics {
-  int num_frames = 0;
-  /// max |H(t) − H(t₀)| / |H(t₀)| of the angular momentum about the COM (for a flight with no
-  /// rotation, |H| < 1 N·m·s, divided by 1 N·m·s instead).
-  double max_relative_momentum_drift = 0.0;
-  double momentum_norm_N_m_s = 0.0;
-  /// The vertical COM acceleration of a least-squares parabola through the COM heights, and the
-  /// largest |z(t) − parabola|.
-  double fitted_vertical_acceleration_m_per_s2 = 0.0;
-  double parabola_max_error_m = 0.0;
-  /// max |horizontal COM velocity change| over the flight (m/s).
-  double max_horizontal_velocity_change_m_per_s = 0.0;
-};
+using SampleFlightPhysics = analysis::RoutineFlightPhysics;
 
 SampleFlightPhysics CheckSampleFlight(const SampleRoutine& routine, int flight);
 

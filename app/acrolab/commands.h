@@ -147,6 +147,7 @@ void StoreDesign(const std::string& library_path,
                  const analysis::Skill& skill,
                  const std::string& out_dir);
 void AddDesignCommand(CLI::App& app, CommandRunner* run);
+void AddRoutineCommand(CLI::App& app, CommandRunner* run);
 
 /// Progress on stderr: "LABEL [####    ] 42% (done/total UNIT)" redrawn in place on a terminal, one
 /// line at the end otherwise (logs, pipes).

@@ -41,6 +41,7 @@ int main(int argc, char** argv) {
   acro::app::AddReconstructCommand(app, &run);
   acro::app::AddOptimizeCommand(app, &run);
   acro::app::AddDesignCommand(app, &run);
+  acro::app::AddRoutineCommand(app, &run);
   acro::app::AddAnalyzeCommand(app, &run);
   acro::app::AddVideoCommand(app, &run);
   acro::app::AddProjectCommand(app, &run);

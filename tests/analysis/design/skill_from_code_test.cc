@@ -85,8 +85,7 @@ TEST_P(FromCode, IsDesignedConsistentAndLandsAsDesigned) {
   EXPECT_NEAR(back.keyframes.back().twist_rad, r.skill.keyframes.back().twist_rad, 1e-9);
 }
 
-// The list, less 800o (Model 1 leaves 5 % of momentum variation), 821o and 831< (no
-// flight found yet with the twist in the first half somersault): docs/skill-design.md.
+// The list (docs/skill-design.md, "Skills from their code").
 INSTANTIATE_TEST_SUITE_P(Codes,
                          FromCode,
                          ::testing::Values("00",
@@ -97,11 +96,14 @@ INSTANTIATE_TEST_SUITE_P(Codes,
                                            "42/",
                                            "43/",
                                            "44/",
+                                           "800o",
                                            "800<",
                                            "801o",
                                            "801<",
                                            "811o",
+                                           "821o",
                                            "822/",
+                                           "831<",
                                            "12001o"));
 
 TEST(SkillFromCode, CodesItCannotBuildAreOneLine) {

@@ -1,5 +1,8 @@
 #include "acro/views/design_filmstrip.h"
 
+#include <algorithm>
+#include <cmath>
+
 #include "acro/athlete/athlete_body.h"
 #include "acro/athlete/body_mesh.h"
 #include "acro/dynamics/configuration.h"
@@ -44,6 +47,34 @@ int DesignFilmstrip::WriteVideo(const std::filesystem::path& path,
                                 const FilmstripOptions& options,
                                 const FilmstripVideoOptions& video) const {
   return WriteFilmstripVideo(rows_, heading_W_, path, options, video);
+}
+
+std::vector<std::vector<std::uint8_t>> RenderRoutineFilmstrips(
+    const analysis::SimulatedRoutine& routine,
+    const analysis::AthleteProfile& athlete,
+    const FilmstripOptions& options,
+    int instants) {
+  const analysis::AthleteBody body = analysis::MakeAthleteBody(athlete);
+  analysis::Motion motion;
+  motion.coordinate_names = analysis::MakeCoordinateNames(routine.model);
+  motion.rate_hz = routine.options.point_rate_hz;
+  motion.q = routine.q;
+  motion.time_s = Eigen::VectorXd::LinSpaced(
+      routine.num_frames(), 0.0, (routine.num_frames() - 1) / motion.rate_hz);
+  analysis::AthleteScene scene(
+      body, analysis::MakeEllipsoidBodyMesh(body, analysis::OverlayBodyMeshOptions()), motion);
+  std::vector<std::vector<std::uint8_t>> pictures;
+  for (const analysis::RoutineFlightTruth& f : routine.flights) {
+    // The frames inside the flight.
+    const int first = static_cast<int>(std::ceil(f.takeoff_s * motion.rate_hz));
+    const int last = std::min(static_cast<int>(std::floor(f.landing_s * motion.rate_hz)),
+                              routine.num_frames() - 1);
+    const Eigen::Vector3d heading =
+        dynamics::GetRootQuaternion(motion.q.col(first)) * Eigen::Vector3d::UnitX();
+    pictures.push_back(
+        RenderFilmstrip(scene, EvenlySpacedFrames(first, last, instants), heading, options));
+  }
+  return pictures;
 }
 
 FilmstripOptions DesignFilmstripOptions() {

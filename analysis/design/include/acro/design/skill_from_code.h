@@ -22,6 +22,7 @@
 
 #include "acro/assess/fig_skill.h"
 #include "acro/athlete/athlete_profile.h"
+#include "acro/design/posture_track.h"
 #include "acro/design/skill_file.h"
 
 namespace acro::analysis {
@@ -78,6 +79,15 @@ struct SkillFromCodeResult {
   double time_to_prepare_landing_s = 0.0;
   double shooting_residual_rad = 0.0;
   int shooting_simulations = 0;
+  /// What a routine needs to fly the skill again from a bed contact (routine_design.h): the joints'
+  /// schedule over the flight (t = 0 at take-off), the somersault done on the bed before take-off
+  /// and still to do after landing (rad, magnitudes), and the take-off momentum's somersault
+  /// component (along W's y) and contact-twist component (along the body's long axis at take-off)
+  /// as the shooting found them (kg·m²/s, signed).
+  PostureTrack track;
+  double takeoff_lean_rad = 0.0;
+  double landing_short_rad = 0.0;
+  Eigen::Vector2d momentum_components = Eigen::Vector2d::Zero();
   /// Empty when the athlete can do it; otherwise each reason in one line with its numbers.
   std::vector<std::string> not_feasible;
   bool feasible() const { return not_feasible.empty(); }

@@ -12,6 +12,7 @@
 #include <utility>
 #include <vector>
 
+#include "acro/design/routine_simulation.h"
 #include "acro/design/skill_design.h"
 #include "acro/scene/athlete_scene.h"
 #include "acro/views/filmstrip.h"
@@ -43,6 +44,15 @@ class DesignFilmstrip {
   std::vector<double> times_s_;
   Eigen::Vector3d heading_W_ = Eigen::Vector3d::UnitX();
 };
+
+/// One picture per flight of a simulated routine (`acrolab routine`'s report): the athlete at
+/// `instants` instants evenly spaced from take-off to landing, seen from its left as it faces at
+/// take-off; each options.width × options.height RGB.
+std::vector<std::vector<std::uint8_t>> RenderRoutineFilmstrips(
+    const analysis::SimulatedRoutine& routine,
+    const analysis::AthleteProfile& athlete,
+    const FilmstripOptions& options,
+    int instants = 8);
 
 /// The options `acrolab optimize` draws its filmstrip with: poses 1.5 m apart (the tucked poses at
 /// the apex do not overlap).
