@@ -804,6 +804,67 @@ TEST(Cli, DesignABaraniFromItsCode) {
   EXPECT_FALSE(std::filesystem::exists(dir / "bad"));
 }
 
+// `routine --codes`: the ten skills for the sample athlete, flown through the bed, then
+// the routine's C3D (1 mm of marker noise) analysed by `analyze`: every time of flight back within
+// 10 ms, every code and the DD back — but for the two twist-ins, which our analysis reads as
+// straight (821/, 831/): their designs hold the tuck or pike over 9–11 % of the flight, the
+// analysis asks 15 % (docs/skill-design.md, "Routines": not done). A repeated skill is refused.
+TEST(Cli, RoutineOfTenSkillsRoundTripsThroughAnalyze) {
+  const auto dir = acro::testing::ScratchDir("routine_codes");
+  const std::string athlete = Quote(RepoFile("samples/athletes/sample_athlete.yaml"));
+  const std::vector<std::string> codes = {
+      "40o", "41/", "42/", "43/", "800o", "800<", "801<", "811o", "821o", "831<"};
+  std::string list;
+  for (const std::string& c : codes) list += (list.empty() ? "" : " ") + c;
+  const ProcessResult run =
+      Execute("env -u DISPLAY " + std::string(ACROLAB_EXE) + " routine --codes '" + list +
+              "' --athlete " + athlete + " --marker-noise-mm 1 -o " + Quote(dir / "routine"));
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_NE(run.out.find("10 skills, DD 10.6"), std::string::npos) << run.out;
+  const nlohmann::json routine = nlohmann::json::parse(Slurp(dir / "routine" / "routine.json"));
+  EXPECT_NEAR(routine["difficulty"].get<double>(), 10.6, 1e-9);  // the sum of the FIG values
+  EXPECT_TRUE(routine["notes"].empty());
+  ASSERT_EQ(routine["skills"].size(), codes.size());
+  for (const char* f :
+       {"report.html", "routine.c3d", "routine.mot", "height.svg", "skills/10.yaml"})
+    EXPECT_TRUE(HasFile(dir / "routine" / f)) << f;
+#ifdef ACRO_HAVE_VIEWS
+  EXPECT_TRUE(HasFile(dir / "routine" / "filmstrip_10.png"));
+#endif
+
+  const ProcessResult analyze =
+      Execute(std::string(ACROLAB_EXE) + " analyze " + Quote(dir / "routine" / "routine.c3d") +
+              " --athlete " + athlete + " -o " + Quote(dir / "analysis"));
+  ASSERT_EQ(analyze.status, 0) << analyze.err;
+  const nlohmann::json jumps = nlohmann::json::parse(Slurp(dir / "analysis" / "jumps.json"));
+  ASSERT_EQ(jumps.size(), codes.size());
+  double dd_designed = 0, dd_analysed = 0;
+  for (size_t i = 0; i < codes.size(); ++i) {
+    const nlohmann::json& designed = routine["skills"][i];
+    EXPECT_NEAR(jumps[i]["time_of_flight_s"].get<double>(),
+                designed["time_of_flight_s"].get<double>(),
+                0.010)
+        << codes[i];
+    const bool twist_in = codes[i] == "821o" || codes[i] == "831<";
+    const std::string expected = twist_in ? codes[i].substr(0, 3) + "/" : codes[i];
+    EXPECT_EQ(jumps[i]["fig_code"].get<std::string>(), expected) << i;
+    if (!twist_in) {
+      dd_designed += designed["difficulty"].get<double>();
+      dd_analysed += jumps[i]["difficulty"].get<double>();
+    }
+  }
+  EXPECT_NEAR(dd_analysed, dd_designed, 1e-9);
+
+  // A skill twice: refused before any work, naming it.
+  const ProcessResult again =
+      Execute(std::string(ACROLAB_EXE) + " routine --codes '40o 41/ 40o' --athlete " + athlete +
+              " -o " + Quote(dir / "again"));
+  EXPECT_EQ(again.status, 1);
+  EXPECT_NE(again.err.find("acrolab: skill 3 (40o): repeats skill 1 (40o)"), std::string::npos)
+      << again.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "again"));
+}
+
 // `compare` of the sample's back tuck and back pike: an MP4 of the frames it says, at 30 fps.
 TEST(Cli, CompareTwoJumpsOfTheSampleWritesTheVideo) {
   const auto out = acro::testing::TempDir() / "compare.mp4";

@@ -1,10 +1,12 @@
 #include "acro/design/skill_from_code.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <memory>
 #include <numbers>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <fmt/format.h>
@@ -191,7 +193,6 @@ class Shooter {
  public:
   Shooter(const AthleteProfile& athlete, Plan plan)
       : model_(MakeStandardHumanModel(MakeAthleteBody(athlete))),
-        ws_(std::make_unique<dynamics::Workspace<double>>(model_)),
         plan_(std::move(plan)) {
     g_ = model_.gravity_W().norm();
     mass_ = model_.total_mass();
@@ -205,7 +206,7 @@ class Shooter {
 
   const dynamics::Model<double>& model() const { return model_; }
   double mass() const { return mass_; }
-  int simulations() const { return simulations_; }
+  int simulations() const { return simulations_.load(); }
 
   int num_unknowns() const {
     return 1 + (plan_.unknowns.contact_twist ? 1 : 0) +
@@ -296,7 +297,8 @@ class Shooter {
     VectorXd v = VectorXd::Zero(model_.nv());
     v.tail(nj) = qdj;
     const Vector3d v_com(0, 0, g_ * plan_.T / 2);
-    v.head<6>() = dynamics::CalcRootVelocityFromMomentum<double>(model_, *ws_, q, v, v_com, H);
+    dynamics::Workspace<double> ws(model_);  // one per call: the Jacobian's columns run at once
+    v.head<6>() = dynamics::CalcRootVelocityFromMomentum<double>(model_, ws, q, v, v_com, H);
     dynamics::FlightSimulationOptions o;
     o.duration_s = plan_.T;
     o.step_s = plan_.step;
@@ -410,12 +412,20 @@ class Shooter {
     const int n = num_unknowns();
     for (int it = 0; it < 40 && r.cwiseAbs().maxCoeff() > 1e-7; ++it) {
       if (options.cancelled && options.cancelled()) throw InputError("", "design", "cancelled");
+      // The forward-difference Jacobian, its columns on two threads (each a flight simulation).
       Eigen::MatrixXd J(r.size(), n);
-      for (int j = 0; j < n; ++j) {
+      auto column = [&](int j) {
         const double h = (j == 0 ? 1e-4 : 1e-5) * std::max(1.0, std::abs(x[j]));
         VectorXd xp = x;
         xp[j] += h * (Bounded(j) && x[j] + h > kMaxAction ? -1 : 1);
         J.col(j) = (Residual(Simulate(xp)) - r) / (xp[j] - x[j]);
+      };
+      {
+        std::thread odd([&] {
+          for (int j = 1; j < n; j += 2) column(j);
+        });
+        for (int j = 0; j < n; j += 2) column(j);
+        odd.join();
       }
       if (plan_.direction == 0) J.row(0).setZero(), J(0, 0) = 1.0;  // a jump: x[0] stays 0
       VectorXd dx = -J.completeOrthogonalDecomposition().solve(r);
@@ -484,11 +494,10 @@ class Shooter {
 
  private:
   dynamics::Model<double> model_;
-  std::unique_ptr<dynamics::Workspace<double>> ws_;
   Plan plan_;
   double g_ = 9.81, mass_ = 0;
   std::vector<double> segment_end_s_;
-  int simulations_ = 0;
+  std::atomic<int> simulations_{0};
 };
 
 // Keyframe times: every posture key, then even parts of any interval whose orientation or root
