@@ -2,7 +2,11 @@
 
 #include <cmath>
 #include <limits>
+#include <unordered_map>
+#include <unordered_set>
 #include <vector>
+
+#include <fmt/format.h>
 
 #include "acro/base/file_io.h"
 #include "acro/base/input_error.h"
@@ -120,10 +124,45 @@ Trial ReadMarkerCsvFromString(std::string_view text, const std::string& name) {
     PointInfo info;
     info.label = x.substr(0, x.size() - 4);
     info.unit = "m";
+    // Its y and z next, in that order: swapped columns would be read as another motion.
+    for (int axis = 1; axis < 3; ++axis) {
+      const std::string expected = info.label + (axis == 1 ? "_y_m" : "_z_m");
+      const std::string& found = header[2 + 3 * m + axis];
+      if (found != expected)
+        throw InputError(name,
+                         "line 1, column " + std::to_string(3 + 3 * m + axis),
+                         "expected '" + expected + "', found '" + found.substr(0, 80) + "'");
+    }
     trial.points.push_back(info);
+  }
+  // A label given twice would make two markers one: the second gets a suffix, said (the first
+  // ten, then a count).
+  {
+    std::unordered_map<std::string, int> first;
+    std::unordered_set<std::string> taken;
+    for (const PointInfo& p : trial.points) taken.insert(p.label);
+    int repeats = 0;
+    for (int m = 0; m < num_markers; ++m) {
+      std::string& label = trial.points[m].label;
+      const auto [at, is_first] = first.emplace(label, m);
+      if (is_first) continue;
+      int k = 2;
+      std::string renamed = label + "_" + std::to_string(k);
+      while (taken.count(renamed) > 0) renamed = label + "_" + std::to_string(++k);
+      if (++repeats <= 10)
+        trial.warnings.push_back(name + ": line 1: marker label '" + label + "' repeats (markers " +
+                                 std::to_string(at->second + 1) + " and " + std::to_string(m + 1) +
+                                 "); the second is read as '" + renamed + "'");
+      taken.insert(renamed);
+      label = renamed;
+    }
+    if (repeats > 10)
+      trial.warnings.push_back(name + ": line 1: " + std::to_string(repeats - 10) +
+                               " more repeated marker labels, each read with a suffix");
   }
   std::vector<double> values;
   std::vector<double> times;
+  std::vector<int> time_lines;
   while (lines.Next(&line)) {
     if (internal::Trim(line).empty()) continue;
     const std::vector<std::string> fields = SplitCsv(line);
@@ -143,9 +182,16 @@ Trial ReadMarkerCsvFromString(std::string_view text, const std::string& name) {
       }
       if (c == 0 && times.empty())
         trial.first_frame = static_cast<std::int64_t>(std::llround(value));
-      if (c == 1)
+      // Time runs forward: a row at or before its predecessor is a spliced or sorted-wrong file.
+      if (c == 1 && !times.empty() && !(value > times.back()))
+        throw InputError(name,
+                         "line " + std::to_string(lines.line_number()) + ", column 2",
+                         "time " + std::to_string(value) + " s is not after the previous row's " +
+                             std::to_string(times.back()) + " s");
+      if (c == 1) {
         times.push_back(value);
-      else if (c >= 2)
+        time_lines.push_back(lines.line_number());
+      } else if (c >= 2)
         values.push_back(value);
     }
   }
@@ -155,6 +201,24 @@ Trial ReadMarkerCsvFromString(std::string_view text, const std::string& name) {
   } else {
     throw InputError(
         name, "time_s", "at least two frames with increasing times are needed to know the rate");
+  }
+  // The rate comes from the first and last times; rows off that even grid by more than 1 % of a
+  // frame are said (dropped or duplicated frames, another rate spliced in).
+  {
+    const double dt = 1.0 / trial.point_rate_hz;
+    int off = 0;
+    std::string lines_off;
+    for (int f = 0; f < trial.num_frames; ++f) {
+      if (std::abs(times[f] - times.front() - f * dt) <= 0.01 * dt) continue;
+      if (++off <= 5) lines_off += (lines_off.empty() ? "" : ", ") + std::to_string(time_lines[f]);
+    }
+    if (off > 0)
+      trial.warnings.push_back(
+          name + ": line" + (off > 1 ? "s " : " ") + lines_off +
+          (off > 5 ? " and " + std::to_string(off - 5) + " more rows" : "") +
+          ": time_s off the even grid of " + fmt::format("{:g}", trial.point_rate_hz) +
+          " Hz (from the first and last times) by more than 1 % of a frame; frames are taken as "
+          "evenly spaced");
   }
   trial.positions =
       Eigen::Map<Eigen::Matrix3Xd>(values.data(), 3, std::int64_t(trial.num_frames) * num_markers);

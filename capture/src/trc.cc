@@ -127,6 +127,7 @@ struct TrcRows {
   std::size_t max_columns = 0;           // coordinate columns holding a value, over all rows
   std::int64_t first_frame_number = 1;
   std::vector<double> times;
+  std::vector<int> lines;             // each row's line in the file
   int first_line = 0, last_line = 0;  // of the data rows
 };
 
@@ -166,6 +167,7 @@ TrcRows ReadDataRows(LineCursor& lines, bool tabs, const std::string& name) {
     rows.last_line = lines.line_number();
     rows.row_offsets.push_back(rows.cells.size());
     rows.times.push_back(time);
+    rows.lines.push_back(lines.line_number());
     // The coordinates (empty cells are NaN).
     std::size_t last_value = 0;
     for (std::size_t column = 2; column < fields.size(); ++column) {
@@ -361,6 +363,25 @@ Trial ReadTrcFromString(std::string_view text, const std::string& name) {
     trial.warnings.push_back(
         name + ": header NumMarkers = " + std::to_string(static_cast<long long>(header_markers)) +
         " but " + std::to_string(num_markers) + " markers were found; the data were read");
+  }
+
+  // Rows shorter than the markers' columns: their missing markers are read as gaps, and said (the
+  // first five lines, then a count).
+  {
+    const std::size_t columns = 3 * static_cast<std::size_t>(num_markers);
+    std::string first;
+    int short_rows = 0;
+    for (int f = 0; f < num_rows; ++f) {
+      if (rows.row_offsets[f + 1] - rows.row_offsets[f] >= columns) continue;
+      if (++short_rows <= 5) first += (first.empty() ? "" : ", ") + std::to_string(rows.lines[f]);
+    }
+    if (short_rows > 0)
+      trial.warnings.push_back(
+          name + ": line" + (short_rows > 1 ? "s " : " ") + first +
+          (short_rows > 5 ? " and " + std::to_string(short_rows - 5) + " more rows" : "") +
+          (short_rows > 1 ? " hold" : " holds") + " fewer than the " + std::to_string(columns) +
+          " coordinate columns of " + std::to_string(num_markers) +
+          " markers; the markers past a row's end are read as gaps");
   }
 
   // Units and rate; frames.

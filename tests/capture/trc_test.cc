@@ -275,6 +275,31 @@ TEST(Trc, BadCellsNameLineAndColumn) {
   }
 }
 
+// A row cut short of its markers' columns: the missing marker is a gap, and the line is said.
+TEST(Trc, ShortRowsAreGapsAndSaid) {
+  std::string text = WriteTrcToString(SmallTrial(), "x.trc");
+  ASSERT_EQ(text.back(), '\n');
+  // The last row (line 10) without marker 2's three cells.
+  size_t end = text.size() - 1;
+  for (int k = 0; k < 3; ++k) end = text.rfind('\t', end - 1);
+  text.erase(end, text.size() - 1 - end);
+  const Trial trial = ReadTrcFromString(text, "x.trc");
+  ASSERT_EQ(trial.num_points(), 2);
+  EXPECT_TRUE(trial.valid(3, 0));
+  EXPECT_FALSE(trial.valid(3, 1));
+  EXPECT_TRUE(trial.valid(2, 1));
+  bool said = false;
+  for (const std::string& w : trial.warnings)
+    said = said || w.find(
+                       "x.trc: line 10 holds fewer than the 6 coordinate columns of 2 markers; "
+                       "the markers past a row's end are read as gaps") != std::string::npos;
+  EXPECT_TRUE(said);
+  // A whole file of rows is fine: no such warning.
+  for (const std::string& w :
+       ReadTrcFromString(WriteTrcToString(SmallTrial(), "y.trc"), "y.trc").warnings)
+    EXPECT_EQ(w.find("fewer than"), std::string::npos) << w;
+}
+
 TEST(Trc, EveryTruncationLoadsOrFailsCleanly) {
   // Cut a valid file at every length: each prefix either loads or throws InputError, never crashes.
   const std::string text = WriteTrcToString(SmallTrial(), "x.trc");
