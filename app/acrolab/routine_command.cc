@@ -27,12 +27,14 @@ struct RoutineArguments {
   double marker_noise_mm = 0.0;
   double max_push_deg = 0.0;
   int threads = 0;
+  bool video = false;
 };
 
 #ifdef ACRO_HAVE_VIEWS
 // One filmstrip per skill, DIR/filmstrip_NN.png; without a display or Xvfb the page says why.
 ui::RoutineReportExtras DrawFilmstrips(const analysis::RoutineDesignResult& result,
-                                       const std::filesystem::path& dir) {
+                                       const std::filesystem::path& dir,
+                                       bool video) {
   ui::RoutineReportExtras extras;
   try {
     const ui::XDisplay display;
@@ -46,6 +48,15 @@ ui::RoutineReportExtras DrawFilmstrips(const analysis::RoutineDesignResult& resu
           capture::EncodeRgbPng(options.width, options.height, strips[i]);
       WriteFileAtomically(dir / name, std::string(png.begin(), png.end()));
       extras.filmstrips.push_back(name);
+    }
+    if (video) {
+      std::vector<std::string> labels;
+      for (const analysis::SkillFromCodeResult& s : result.skills) labels.push_back(s.skill.name);
+      ui::RoutineVideoOptions v;
+      v.progress = MakeCancellableProgress("routine video", "frames");
+      ui::WriteRoutineVideo(
+          result.simulation, result.skills.front().skill.athlete, labels, dir / "routine.mp4", v);
+      extras.video = "routine.mp4";
     }
   } catch (const InputError& e) {
     extras.filmstrips.clear();
@@ -77,7 +88,9 @@ int RunRoutine(RoutineArguments& args) {
   ui::RoutineReportExtras extras;
 #ifdef ACRO_HAVE_VIEWS
   std::fprintf(stderr, "  drawing the filmstrips\n");
-  extras = DrawFilmstrips(result, outputs.staging());
+  extras = DrawFilmstrips(result, outputs.staging(), args.video);
+#else
+  if (args.video) NeedTheViews();
 #endif
   ui::RoutineMarkerOptions markers;
   markers.noise_sd_m = args.marker_noise_mm / 1000.0;
@@ -106,8 +119,9 @@ int RunRoutine(RoutineArguments& args) {
                 result.skills[i].skill.name.c_str());
   }
   for (const std::string& note : result.notes) std::printf("  note: %s\n", note.c_str());
-  std::printf(
-      "  wrote %zu files to %s\n", files.size() + extras.filmstrips.size(), args.out_dir.c_str());
+  std::printf("  wrote %zu files to %s\n",
+              files.size() + extras.filmstrips.size() + (extras.video.empty() ? 0 : 1),
+              args.out_dir.c_str());
   return 0;
 }
 
@@ -139,6 +153,10 @@ void AddRoutineCommand(CLI::App& app, CommandRunner* run) {
                    "the largest push of a bed contact the athlete gives (deg of hip flexion, knees "
                    "twice as much; default 60)")
       ->check(CLI::Range(1.0, 90.0));
+  command->add_flag(
+      "--video",
+      args->video,
+      "also write the routine as a video, DIR/routine.mp4 (from the side, real time)");
   command->add_option("--threads", args->threads, "skills designed at once (default: every core)")
       ->check(CLI::Range(0, 256));
   command->callback([args, run] { *run = [args] { return RunRoutine(*args); }; });

@@ -816,9 +816,9 @@ TEST(Cli, RoutineOfTenSkillsRoundTripsThroughAnalyze) {
       "40o", "41/", "42/", "43/", "800o", "800<", "801<", "811o", "821o", "831<"};
   std::string list;
   for (const std::string& c : codes) list += (list.empty() ? "" : " ") + c;
-  const ProcessResult run =
-      Execute("env -u DISPLAY " + std::string(ACROLAB_EXE) + " routine --codes '" + list +
-              "' --athlete " + athlete + " --marker-noise-mm 1 -o " + Quote(dir / "routine"));
+  const ProcessResult run = Execute("env -u DISPLAY " + std::string(ACROLAB_EXE) +
+                                    " routine --codes '" + list + "' --athlete " + athlete +
+                                    " --marker-noise-mm 1 --video -o " + Quote(dir / "routine"));
   ASSERT_EQ(run.status, 0) << run.err;
   EXPECT_NE(run.out.find("10 skills, DD 10.6"), std::string::npos) << run.out;
   const nlohmann::json routine = nlohmann::json::parse(Slurp(dir / "routine" / "routine.json"));
@@ -830,6 +830,13 @@ TEST(Cli, RoutineOfTenSkillsRoundTripsThroughAnalyze) {
     EXPECT_TRUE(HasFile(dir / "routine" / f)) << f;
 #ifdef ACRO_HAVE_VIEWS
   EXPECT_TRUE(HasFile(dir / "routine" / "filmstrip_10.png"));
+  // The video: the whole routine in real time at 30 fps.
+  const ProcessResult info = Execute(std::string(ACROLAB_EXE) + " video info --json " +
+                                     Quote(dir / "routine" / "routine.mp4"));
+  ASSERT_EQ(info.status, 0) << info.err;
+  const int samples = routine["num_frames"].get<int>();
+  EXPECT_EQ(nlohmann::json::parse(info.out)["frames"].get<int>(),
+            static_cast<int>(std::floor((samples - 1) / 120.0 * 30.0)) + 1);
 #endif
 
   const ProcessResult analyze =

@@ -293,6 +293,9 @@ std::vector<std::string> WriteRoutineOutputs(const std::filesystem::path& dir,
            << HtmlEscape(result.skills[i].skill.name)
            << ", from take-off to landing, seen from the athlete's left.</figcaption></figure>\n";
   }
+  if (!extras.video.empty())
+    html << "<h2>Video</h2>\n<video src=\"" << HtmlEscape(extras.video)
+         << "\" controls style=\"max-width:100%\"></video>\n";
   html << "<p>Files: routine.json, routine.c3d (trampoline marker set and the bed's corners), "
           "routine.mot, skills/NN.yaml (each skill's keyframes, for acrolab optimize).</p>\n"
           "</body></html>\n";

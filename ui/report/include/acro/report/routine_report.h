@@ -48,6 +48,8 @@ struct RoutineReportExtras {
   /// One picture per skill (file names in the folder, in routine order), or why there are none.
   std::vector<std::string> filmstrips;
   std::string filmstrip_note;
+  /// The routine as a video (file name in the folder; empty: none).
+  std::string video;
 };
 
 /// Writes routine.json, routine.c3d, routine.mot, height.svg/.png, skills/NN.yaml (each skill's

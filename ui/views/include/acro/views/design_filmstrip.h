@@ -7,6 +7,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <string>
 #include <utility>
@@ -53,6 +54,25 @@ std::vector<std::vector<std::uint8_t>> RenderRoutineFilmstrips(
     const analysis::AthleteProfile& athlete,
     const FilmstripOptions& options,
     int instants = 8);
+
+struct RoutineVideoOptions {
+  int width = 1280;
+  int height = 720;
+  double fps = 30.0;
+  /// Called after each frame with (frames done, frames in all); false cancels (acro::InputError,
+  /// nothing written).
+  std::function<bool(int, int)> progress;
+};
+
+/// The routine as an MP4 (H.264) in real time: the athlete over the trampoline (the routine's bed,
+/// FIG frame), seen from the side across the bed by a fixed camera that frames the highest apex,
+/// each flight's code and name written at the top left while it flies. The file appears only when
+/// complete. Returns the number of frames written. Needs an X display.
+int WriteRoutineVideo(const analysis::SimulatedRoutine& routine,
+                      const analysis::AthleteProfile& athlete,
+                      const std::vector<std::string>& flight_labels,
+                      const std::filesystem::path& path,
+                      const RoutineVideoOptions& options = {});
 
 /// The options `acrolab optimize` draws its filmstrip with: poses 1.5 m apart (the tucked poses at
 /// the apex do not overlap).
