@@ -206,8 +206,9 @@ RoutineDesignResult DesignRoutine(const RoutineSpec& spec, const RoutineDesignOp
   if (options.progress) options.progress("flying the routine through the bed contacts");
   std::vector<RoutineSkillPlan> plans;
   for (const SkillFromCodeResult& d : result.skills) plans.push_back(PlanOf(d));
-  const AthleteProfile athlete = ReadAthleteProfile(spec.athlete_path);
-  result.simulation = SimulateRoutine(athlete, plans, options.simulation);
+  // (the athlete as the designs read it)
+  result.simulation =
+      SimulateRoutine(result.skills.front().skill.athlete, plans, options.simulation);
   const SimulatedRoutine& sim = result.simulation;
   for (size_t i = 0; i < sim.flights.size(); ++i) {
     const RoutineFlightTruth& f = sim.flights[i];

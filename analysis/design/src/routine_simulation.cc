@@ -127,8 +127,8 @@ struct Context {
   double g = 9.81;
   double k = 0, c = 0;  // bed
   double z_rest = 0;
-  bool late_squat = true;
-  double h_grid = 0;  // integration step (s); frames lie on the grid
+  bool late_squat = true;  // RoutineSimulationOptions::absorb_by_late_squat
+  double h_grid = 0;       // integration step (s); frames lie on the grid
   int substeps = 10;
   // Sole centres (midpoint of toe tip and the heel below the ankle) of both feet.
   int foot[2] = {0, 0};
@@ -397,7 +397,6 @@ struct Blend {
   Vector3d w0_B = Vector3d::Zero(), r1 = Vector3d::Zero(), m1 = Vector3d::Zero();
   VectorXd q0, qd0, q1, qd1, squat;
   double push = 0;
-  bool late_squat = true;  ///< RoutineSimulationOptions::absorb_by_late_squat
   Vector2d x0 = Vector2d::Zero(), xd0 = Vector2d::Zero(), x1 = Vector2d::Zero(),
            xd1 = Vector2d::Zero();
 
@@ -418,13 +417,13 @@ struct Blend {
     const Vector3d du = (H.d10 * duration * w0_B + H.d01 * r1 + H.d11 * duration * m1) / duration;
     const double bmax = 16.0 / 729.0;
     const double sc = std::clamp(s, 0.0, 1.0);
-    const bool late = push < 0 && late_squat;
+    const bool late = push < 0 && ctx.late_squat;
     const double early = late ? 1 - sc : sc;  // the late shape is the early one mirrored
     const double b = early * early * std::pow(1 - early, 4) / bmax;
     const double db =
         (late ? -1.0 : 1.0) *
         (2 * early * std::pow(1 - early, 4) - 4 * early * early * std::pow(1 - early, 3)) / bmax;
-    const double amplitude = late_squat ? std::abs(push) : push;
+    const double amplitude = ctx.late_squat ? std::abs(push) : push;
     const VectorXd joints = H.h00 * q0 + H.h10 * duration * qd0 + H.h01 * q1 +
                             H.h11 * duration * qd1 + amplitude * b * squat;
     const VectorXd rates = (H.d00 * q0 + H.d10 * duration * qd0 + H.d01 * q1 +
@@ -741,7 +740,6 @@ class TimelineBuilder {
     b.q1 = q_to.tail(nj_);
     b.qd1 = v_to.tail(nj_);
     b.squat = Squat();
-    b.late_squat = ctx_.late_squat;
     // The contact's duration: backward from take-off to the bottom, with the blend spanning it.
     double duration = 0.18;
     std::pair<double, Vector2d> bottom;
@@ -788,7 +786,6 @@ class TimelineBuilder {
     b.q0 = f.q_land.tail(nj_);
     b.qd0 = f.v_land.tail(nj_);
     b.squat = Squat();
-    b.late_squat = ctx_.late_squat;
     b.x0 = com_l.head<2>();
     b.xd0 = vcom_l.head<2>();
     return cp;

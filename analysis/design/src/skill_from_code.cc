@@ -192,8 +192,7 @@ struct Flight {
 class Shooter {
  public:
   Shooter(const AthleteProfile& athlete, Plan plan)
-      : model_(MakeStandardHumanModel(MakeAthleteBody(athlete))),
-        plan_(std::move(plan)) {
+      : model_(MakeStandardHumanModel(MakeAthleteBody(athlete))), plan_(std::move(plan)) {
     g_ = model_.gravity_W().norm();
     mass_ = model_.total_mass();
     // The schedule's first times: the nominal angle spread evenly over the flight.

@@ -121,7 +121,7 @@ capture::Storage MakeRoutineMotionTable(const SimulatedRoutine& routine, const s
   s.data.resize(n, static_cast<Eigen::Index>(s.labels.size()));
   Eigen::Vector3d unwrapped = Eigen::Vector3d::Zero();
   for (int k = 0; k < n; ++k) {
-    const Eigen::VectorXd q = routine.q.col(k);
+    const auto q = routine.q.col(k);
     const SomersaultTiltTwist a =
         CalcSomersaultTiltTwist(dynamics::GetRootQuaternion(q).normalized().toRotationMatrix());
     const Eigen::Vector3d angles(a.somersault_rad, a.tilt_rad, a.twist_rad);
@@ -146,7 +146,7 @@ Chart MakeRoutineHeightChart(const RoutineDesignResult& result) {
   com.name = "centre of mass";
   const double bed = r.options.bed_centre_m.z();
   for (int k = 0; k < r.num_frames(); ++k) {
-    dynamics::CalcForwardKinematics(r.model, ws, Eigen::VectorXd(r.q.col(k)));
+    dynamics::CalcForwardKinematics(r.model, ws, r.q.col(k));
     com.x.push_back(k / r.options.point_rate_hz);
     com.y.push_back(dynamics::CalcCenterOfMassPosition(r.model, ws).z() - bed);
   }
