@@ -2,9 +2,35 @@
 # The whole test suite: installs the dependencies, builds, and runs every test with ctest.
 # Reference data are read from ../shared/refdata (or $ACRO_REFDATA); with ACRO_REQUIRE_REFDATA=1
 # a missing reference file fails its test instead of skipping it.
+#
+# scripts/test.sh --sanitize: an AddressSanitizer + UndefinedBehaviorSanitizer build in
+# ./build-sanitize of only what the reader, robustness and corpus tests need (no views, no window,
+# no benchmarks), and those tests; any sanitizer report fails them.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
+if [ "${1:-}" = --sanitize ]; then
+  # The readers (capture/), the YAML parser, the corpus replays of the fuzz entry points and the
+  # robustness suite against the sanitized acrolab.
+  tests='^(capture/|robustness/|analysis/athlete/(yaml|athlete_profile|yeadon_measurements)$|analysis/design/(yaml_corpus|skill_file)$|analysis/vision/(camera|camera_corpus)$)'
+  flags="-fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=all -fno-omit-frame-pointer"
+  launcher=()
+  if command -v ccache >/dev/null 2>&1; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
+  cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo "${launcher[@]}" \
+    -DACRO_BUILD_TESTS=ON -DACRO_BUILD_BENCHMARKS=OFF -DACRO_BUILD_UI=OFF -DACRO_BUILD_STUDIO=OFF \
+    -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_C_FLAGS="$flags" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined,float-cast-overflow"
+  # The test names say their targets: capture/trc -> test_capture_trc.
+  mapfile -t names < <(cd build-sanitize && ctest -N -R "$tests" | sed -n 's/^ *Test *#[0-9]*: //p')
+  [ ${#names[@]} -gt 0 ] || { echo "test.sh --sanitize: no test matches $tests" >&2; exit 1; }
+  targets=(--target acrolab)
+  for n in "${names[@]}"; do targets+=(--target "test_${n//\//_}"); done
+  cmake --build build-sanitize -j "$(nproc)" "${targets[@]}"
+  cd build-sanitize
+  export ASAN_OPTIONS=detect_leaks=1:abort_on_error=0:strict_string_checks=1
+  export UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
+  ctest --output-on-failure -j "$(nproc)" --timeout 900 -R "$tests"
+  exit
+fi
 scripts/build.sh -DACRO_BUILD_TESTS=ON -DACRO_BUILD_BENCHMARKS=ON -DACRO_BUILD_UI=ON \
   -DACRO_BUILD_STUDIO=ON
 cd build

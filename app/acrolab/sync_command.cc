@@ -70,6 +70,8 @@ int RunSync(const SyncArguments& args) {
       c.camera = &camera_of(name);
       detections.push_back(capture::ReadDetections(path, args.keypoints, c.camera->name));
       c.detections = &detections.back();
+      for (const std::string& w : c.detections->warnings)
+        std::fprintf(stderr, "acrolab sync: warning: %s\n", w.c_str());
       for (const auto& [camera, video] : videos)
         if (camera == c.camera) c.frame_times_s = capture::VideoReader(video).frame_times_s();
       if (c.frame_times_s.empty()) {

@@ -11,6 +11,7 @@
 #include "acro/base/file_io.h"
 #include "acro/base/input_error.h"
 #include "acro/base/text.h"
+#include "acro/capture/trc.h"
 
 namespace acro::capture {
 
@@ -57,17 +58,17 @@ const std::vector<std::string>& KeypointSetNames(const std::string& set) {
 
 namespace {
 
-// The last run of digits in a file name's stem, or -1.
+// The last run of digits in a file name's stem (OpenPose pads to 12: 000000000042), or -1 when
+// there is none or it has more than 9 significant digits.
 long long LastNumber(const std::string& stem) {
-  long long value = -1;
   size_t i = stem.size();
   while (i > 0 && !std::isdigit(static_cast<unsigned char>(stem[i - 1]))) --i;
   if (i == 0) return -1;
   size_t begin = i;
   while (begin > 0 && std::isdigit(static_cast<unsigned char>(stem[begin - 1]))) --begin;
+  while (begin + 1 < i && stem[begin] == '0') ++begin;  // leading zeros
   if (i - begin > 9) return -1;
-  value = std::stoll(stem.substr(begin, i - begin));
-  return value;
+  return std::stoll(stem.substr(begin, i - begin));
 }
 
 }  // namespace
@@ -110,13 +111,19 @@ KeypointDetections ReadOpenPoseJson(const std::filesystem::path& directory,
       doc = nlohmann::json::parse(bytes.begin(), bytes.end());
     } catch (const nlohmann::json::parse_error& e) {
       throw InputError(file, AtByte(static_cast<long long>(e.byte)), "not JSON");
+    } catch (const nlohmann::json::exception& e) {  // a number beyond double, say
+      throw InputError(file, "", fmt::format("not JSON: {}", e.what()));
     }
     if (!doc.is_object() || !doc.contains("people") || !doc["people"].is_array())
       throw InputError(file, "people", "missing or not an array");
     std::vector<DetectedPerson>& people = out.frames[static_cast<size_t>(frame)];
-    for (size_t i = 0; i < doc["people"].size(); ++i) {
-      const nlohmann::json& k = doc["people"][i]["pose_keypoints_2d"];
+    const nlohmann::json& all = doc["people"];
+    for (size_t i = 0; i < all.size(); ++i) {
       const std::string where = fmt::format("people[{}].pose_keypoints_2d", i);
+      if (!all[i].is_object() || !all[i].contains("pose_keypoints_2d"))
+        throw InputError(
+            file, fmt::format("people[{}]", i), "not an object with pose_keypoints_2d");
+      const nlohmann::json& k = all[i]["pose_keypoints_2d"];
       if (!k.is_array()) throw InputError(file, where, "missing or not an array");
       if (k.empty()) continue;  // OpenPose writes an empty list for a person it dropped
       if (k.size() != 3 * K) {
@@ -219,14 +226,63 @@ KeypointDetections ReadDetectionsCsv(const std::filesystem::path& path, const st
   return out;
 }
 
+KeypointDetections ReadDetectionsTrc(const std::filesystem::path& path) {
+  const Trial trial = ReadTrc(path);
+  const std::string file = path.string();
+  if (trial.num_frames == 0 || trial.num_points() == 0) throw InputError(file, "", "no frame");
+  // The file's own numbers (the reader scaled them to metres by the header's unit).
+  const double scale = 1.0 / trial.source.point_units_to_m;
+  bool legacy = true;
+  for (int f = 0; f < trial.num_frames; ++f) {
+    for (int p = 0; p < trial.num_points(); ++p) {
+      if (!trial.valid(f, p)) continue;
+      const Eigen::Vector3d x = trial.position(f, p) * scale;
+      if (x.z() != 0.0) {
+        throw InputError(file,
+                         fmt::format("frame {}", trial.first_frame + f),
+                         fmt::format("{}: Z = {} is not 0: a 3D file, not 2D detections",
+                                     trial.points[static_cast<size_t>(p)].label,
+                                     x.z()));
+      }
+      if (std::abs(x.x()) > 10.0 || std::abs(x.y()) > 10.0 || x.y() > 0.0) legacy = false;
+    }
+  }
+  KeypointDetections out;
+  out.source = file;
+  for (const PointInfo& p : trial.points) out.names.push_back(p.label);
+  const double t0 = trial.source.first_time_s;
+  const double first = std::round(t0 * trial.point_rate_hz);
+  if (!(first >= 0 && first < 1000000))
+    throw InputError(file, "time", fmt::format("first time {} s is not a video time", t0));
+  out.frames.resize(static_cast<size_t>(first) + static_cast<size_t>(trial.num_frames));
+  const Eigen::Index K = trial.num_points();
+  for (int f = 0; f < trial.num_frames; ++f) {
+    DetectedPerson person = DetectedPerson::Zero(3, K);
+    for (int p = 0; p < trial.num_points(); ++p) {
+      if (!trial.valid(f, p)) continue;
+      const Eigen::Vector3d x = trial.position(f, p) * scale;
+      if (x.x() == 0.0 && x.y() == 0.0) continue;
+      person.col(p) = legacy ? Eigen::Vector3d(1000.0 * x.x(), -1000.0 * x.y(), 1.0)
+                             : Eigen::Vector3d(x.x(), x.y(), 1.0);
+    }
+    out.frames[static_cast<size_t>(first) + static_cast<size_t>(f)].push_back(std::move(person));
+  }
+  out.warnings = trial.warnings;
+  out.warnings.push_back(
+      legacy ? file + ": 2D TRC read as Sports2D before 0.5 wrote it: pixels ÷ 1000, y up"
+             : file + ": 2D TRC read as pixels, x right and y down");
+  return out;
+}
+
 KeypointDetections ReadDetections(const std::filesystem::path& path,
                                   const std::string& keypoint_set,
                                   const std::string& camera) {
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) return ReadOpenPoseJson(path, keypoint_set);
   if (LowerExtension(path) == "csv") return ReadDetectionsCsv(path, camera);
+  if (LowerExtension(path) == "trc") return ReadDetectionsTrc(path);
   throw InputError(
-      path.string(), "", "detections are a directory of OpenPose JSON files or a .csv");
+      path.string(), "", "detections are a directory of OpenPose JSON files, a .csv or a 2D .trc");
 }
 
 }  // namespace acro::capture

@@ -225,6 +225,7 @@ void ReadUnitsAndRate(const TrcHeader& header,
   }
   trial.source.point_units_to_m = to_m;
   const int num_rows = static_cast<int>(times.size());
+  if (num_rows > 0 && std::isfinite(times.front())) trial.source.first_time_s = times.front();
   double rate = HeaderNumber(header, "DataRate", name);
   if (std::isnan(rate) || rate <= 0) {
     if (num_rows >= 2 && times[1] > times[0]) {

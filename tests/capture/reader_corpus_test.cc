@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 
 #include "../fuzz/fuzz_readers.h"
+#include "mutants.h"
 #include "refdata.h"
 
 namespace acro::capture {
@@ -34,11 +35,6 @@ std::vector<std::filesystem::path> CorpusFiles() {
   return files;
 }
 
-std::vector<std::uint8_t> Slurp(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  return std::vector<std::uint8_t>(std::istreambuf_iterator<char>(in), {});
-}
-
 TEST(ReaderCorpus, EveryReferenceFileAndMutationIsAcceptedOrRejectedCleanly) {
   const auto root = acro::testing::RefdataFile("c3dio-c3d_org_samples");
   ACRO_REQUIRE_REFDATA_FILE(root);
@@ -48,37 +44,16 @@ TEST(ReaderCorpus, EveryReferenceFileAndMutationIsAcceptedOrRejectedCleanly) {
   int inputs = 0, accepted_originals = 0;
   for (const auto& path : files) {
     SCOPED_TRACE(path.string());
-    const std::vector<std::uint8_t> original = Slurp(path);
+    const std::vector<std::uint8_t> original = testing::Slurp(path);
     try {
       accepted_originals += fuzz::FeedReaders(original.data(), original.size()) > 0;
     } catch (const std::exception& e) {
       ADD_FAILURE() << "original: " << e.what();
     }
     ++inputs;
-    // Truncations at the header, inside the parameters and inside the data.
-    for (double fraction : {0.0, 0.001, 0.01, 0.05, 0.2, 0.5, 0.9, 0.999}) {
-      const std::size_t n = static_cast<std::size_t>(fraction * original.size());
-      try {
-        fuzz::FeedReaders(original.data(), n);
-      } catch (const std::exception& e) {
-        ADD_FAILURE() << "truncated to " << n << " bytes: " << e.what();
-      }
-      ++inputs;
-    }
-    // Byte mutations concentrated where the structure is (first 4 KiB: header and parameters).
-    for (int trial = 0; trial < 12; ++trial) {
-      std::vector<std::uint8_t> mutated = original;
-      if (mutated.empty()) break;
-      const std::size_t span =
-          std::min<std::size_t>(mutated.size(), trial % 2 ? 4096 : mutated.size());
-      for (int k = 0; k < 4; ++k) mutated[rng() % span] = static_cast<std::uint8_t>(rng());
-      try {
-        fuzz::FeedReaders(mutated.data(), mutated.size());
-      } catch (const std::exception& e) {
-        ADD_FAILURE() << "mutation " << trial << ": " << e.what();
-      }
-      ++inputs;
-    }
+    inputs += testing::ReplayMutants(testing::ByteMutants(original, rng), [](const auto& bytes) {
+      fuzz::FeedReaders(bytes.data(), bytes.size());
+    });
   }
   RecordProperty("inputs", inputs);
   // Nearly every reference file is readable by at least one reader (the broken ones are the

@@ -96,20 +96,24 @@ RoutineSkillPlan PlanOf(const SkillFromCodeResult& d) {
 }  // namespace
 
 RoutineSpec ReadRoutineSpec(const std::filesystem::path& path) {
-  const YamlNode root = ReadYamlFile(path);
+  return RoutineSpecFromYaml(ReadYamlFile(path), path.parent_path());
+}
+
+RoutineSpec RoutineSpecFromYaml(const YamlNode& root, const std::filesystem::path& base_dir) {
   if (!root.IsMap()) root.Fail("a routine file is a map with `athlete` and `skills`");
   root.RequireKnownKeys({"name", "athlete", "skills"});
   RoutineSpec spec;
   if (const YamlNode* name = root.Find("name")) spec.name = name->AsString();
   spec.athlete_path = root.At("athlete").AsString();
-  if (spec.athlete_path.is_relative()) spec.athlete_path = path.parent_path() / spec.athlete_path;
+  if (spec.athlete_path.is_relative()) spec.athlete_path = base_dir / spec.athlete_path;
+  const std::string file_name = std::filesystem::path(root.file()).filename().string();
   const YamlNode& skills = root.At("skills");
   if (!skills.IsSequence() || skills.items().empty())
     skills.Fail("expected a list of skills (FIG codes, or maps with `code`)");
   if (skills.items().size() > 100) skills.Fail("more than 100 skills");
   for (const YamlNode& item : skills.items()) {
     RoutineSkillSpec s;
-    s.where = path.filename().string() + ": " + item.Where();
+    s.where = file_name + ": " + item.Where();
     if (item.IsMap()) {
       item.RequireKnownKeys({"code", "flight_time_s"});
       s.code = item.At("code").AsString();

@@ -14,6 +14,7 @@
 #include "acro/capture/trial_io.h"
 #include "acro/library/content_hash.h"
 #include "acro/reconstruct/up_axis.h"
+#include "json_text.h"
 
 namespace acro::library {
 
@@ -47,12 +48,7 @@ ImportedAnalysis ReadAnalysisDirectory(const std::filesystem::path& dir) {
                      "",
                      "missing: not an analysis directory of acrolab analyze (0.1.0 or later)");
   ImportedAnalysis out;
-  Json doc;
-  try {
-    doc = Json::parse(ReadText(provenance, 1 << 20));
-  } catch (const Json::parse_error& e) {
-    throw InputError(provenance.string(), AtByte(static_cast<long long>(e.byte)), "not JSON");
-  }
+  Json doc = internal::ParseJsonText(ReadText(provenance, 1 << 20), provenance.string());
   for (const char* key : {"acrolab_version", "trial_sha256"})
     if (!doc.is_object() || !doc.contains(key) || !doc[key].is_string())
       throw InputError(provenance.string(), key, "missing or not text");

@@ -5,6 +5,7 @@
 #include "acro/assess/fig_skill.h"
 #include "acro/base/file_io.h"
 #include "acro/base/input_error.h"
+#include "json_text.h"
 
 namespace acro::library {
 
@@ -29,11 +30,7 @@ std::int64_t StoreSkillDesign(Library& library,
   content["skill_file"] = std::filesystem::absolute(skill_file).lexically_normal().string();
   content["skill_yaml"] = ReadSmallText(skill_file);
   content["output_dir"] = std::filesystem::absolute(output_dir).lexically_normal().string();
-  try {
-    content["result"] = nlohmann::json::parse(ReadSmallText(result));
-  } catch (const nlohmann::json::parse_error& e) {
-    throw InputError(result.string(), AtByte(static_cast<long long>(e.byte)), "not JSON");
-  }
+  content["result"] = internal::ParseJsonText(ReadSmallText(result), result.string());
   return library.StoreDesign(
       skill.athlete.name, "skill", skill.name, skill.fig_code, difficulty, content.dump(1));
 }

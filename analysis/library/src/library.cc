@@ -16,6 +16,7 @@
 
 #include "acro/base/input_error.h"
 #include "acro/library/content_hash.h"
+#include "json_text.h"
 
 namespace acro::library {
 
@@ -841,12 +842,7 @@ std::string Library::DesignContent(std::int64_t id) const {
 // jumps.json
 
 std::vector<JumpRecord> ParseJumpsJson(const std::string& json, const std::string& source) {
-  Json doc;
-  try {
-    doc = Json::parse(json);
-  } catch (const Json::parse_error& e) {
-    throw InputError(source, AtByte(static_cast<long long>(e.byte)), "not JSON");
-  }
+  Json doc = internal::ParseJsonText(json, source);
   if (!doc.is_array()) throw InputError(source, "", "not a JSON array of jumps");
   std::vector<JumpRecord> out;
   for (size_t k = 0; k < doc.size(); ++k) {

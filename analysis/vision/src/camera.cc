@@ -122,6 +122,15 @@ std::vector<double> Numbers(const toml::table& table,
   return out;
 }
 
+// An image width or height read as a number: 1 to 100 000 px (the cast of anything else to int
+// would be undefined).
+int ImageSide(double v, const std::string& file, const std::string& where, const char* what) {
+  if (!(v >= 1 && v <= 100000))
+    throw InputError(
+        file, where, fmt::format("{}: {} px is not an image size (1–100000)", what, v));
+  return static_cast<int>(std::lround(v));
+}
+
 }  // namespace
 
 std::vector<Camera> ReadPose2SimToml(const std::filesystem::path& path) {
@@ -143,8 +152,8 @@ std::vector<Camera> ReadPose2SimToml(const std::filesystem::path& path) {
     Camera c;
     c.name = (*t)["name"].value_or(std::string(key.str()));
     const std::vector<double> size = Numbers(*t, "size", 2, file, where);
-    c.width_px = static_cast<int>(std::lround(size[0]));
-    c.height_px = static_cast<int>(std::lround(size[1]));
+    c.width_px = ImageSide(size[0], file, where, "size");
+    c.height_px = ImageSide(size[1], file, where, "size");
     const std::vector<double> k = Numbers(*t, "matrix", 9, file, where);
     c.K = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(k.data());
     c.distortion = Numbers(*t, "distortions", 0, file, where);
@@ -207,8 +216,10 @@ std::vector<Camera> ReadQualisysQca(const std::filesystem::path& path) {
                                    number(transform, "y", where) / 1000.0,
                                    number(transform, "z", where) / 1000.0);
     c.t_KW = -c.R_KW * centre_m;
-    c.width_px = static_cast<int>(number(fov, "right", where) - number(fov, "left", where)) + 1;
-    c.height_px = static_cast<int>(number(fov, "bottom", where) - number(fov, "top", where)) + 1;
+    c.width_px = ImageSide(
+        number(fov, "right", where) - number(fov, "left", where) + 1, file, where, "fov_video");
+    c.height_px = ImageSide(
+        number(fov, "bottom", where) - number(fov, "top", where) + 1, file, where, "fov_video");
     c.K << number(intrinsic, "focalLengthU", where) / 64.0, 0.0,
         number(intrinsic, "centerPointU", where) / 64.0, 0.0,
         number(intrinsic, "focalLengthV", where) / 64.0,

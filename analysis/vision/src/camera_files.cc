@@ -1,6 +1,7 @@
 // OpenCV FileStorage calibrations, and reading any calibration format by its extension.
 
 #include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -47,14 +48,7 @@ class Storage {
                                 const std::string& camera) const {
     const cv::FileNode node = fs_[key];
     if (node.empty()) return std::nullopt;
-    cv::Mat m;
-    try {
-      node >> m;
-    } catch (const cv::Exception&) {
-      throw InputError(file_, camera, key + ": not a matrix");
-    }
-    if (m.empty() || m.channels() != 1) throw InputError(file_, camera, key + ": not a matrix");
-    m.convertTo(m, CV_64F);
+    cv::Mat m = ReadMat(node, key, camera);
     if (cols == 1 && m.rows == 1) m = m.t();
     if (m.rows != rows || m.cols != cols) {
       throw InputError(
@@ -65,15 +59,33 @@ class Storage {
     return m;
   }
 
-  std::vector<double> Distortion(const std::string& key, const std::string& camera) const {
-    const cv::FileNode node = fs_[key];
+  // An !!opencv-matrix, or a plain sequence of numbers (a row), as a one-channel CV_64F matrix.
+  cv::Mat ReadMat(const cv::FileNode& node,
+                  const std::string& key,
+                  const std::string& camera) const {
     cv::Mat m;
     try {
-      node >> m;
+      if (node.isSeq()) {
+        std::vector<double> values;
+        for (const cv::FileNode& item : node) {
+          if (!item.isReal() && !item.isInt())
+            throw InputError(file_, camera, key + ": not a matrix (a sequence of numbers)");
+          values.push_back(static_cast<double>(item));
+        }
+        m = cv::Mat(values, true).t();
+      } else {
+        node >> m;
+      }
     } catch (const cv::Exception&) {
       throw InputError(file_, camera, key + ": not a matrix");
     }
+    if (m.empty() || m.channels() != 1) throw InputError(file_, camera, key + ": not a matrix");
     m.convertTo(m, CV_64F);
+    return m;
+  }
+
+  std::vector<double> Distortion(const std::string& key, const std::string& camera) const {
+    const cv::Mat m = ReadMat(fs_[key], key, camera);
     if (m.total() != 4 && m.total() != 5 && m.total() != 8) {
       throw InputError(
           file_,
@@ -95,7 +107,10 @@ class Storage {
     const cv::FileNode node = fs_[key];
     if (node.empty() || (!node.isReal() && !node.isInt()))
       throw InputError(file_, camera, key + ": missing or not a number");
-    return static_cast<int>(static_cast<double>(node));
+    const double v = static_cast<double>(node);
+    if (!(v >= -1e9 && v <= 1e9) || v != std::floor(v))
+      throw InputError(file_, camera, fmt::format("{}: {} is not an integer", key, v));
+    return static_cast<int>(v);
   }
 
   std::vector<std::string> Names() const {

@@ -100,17 +100,27 @@ Balancing LoadBalancing() {
   return b;
 }
 
+// The balancing trial's axes (README: z x y) and offsets searched within ±0.5 s.
+AutoSyncOptions BalancingSyncOptions() {
+  AutoSyncOptions options;
+  options.axes = ParseAxisMapping("zxy");
+  options.min_offset_s = -0.5;
+  options.max_offset_s = 0.5;
+  return options;
+}
+
+fs::path BalancingTrc(const fs::path& root) {
+  return root / "balancing-trial/pose-3d/S00_P00_T01_BalancingTrial_0-100.trc";
+}
+
 TEST(AutoSync, DetectionsRecoverASevenFrameShiftWithinAThirdOfAFrame) {
   const fs::path root = acro::testing::RefdataFile("pose2sim-demo");
   ACRO_REQUIRE_REFDATA_FILE(root / "balancing-trial");
   const Balancing b = LoadBalancing();
   ASSERT_EQ(b.detections[0].num_frames(), 100);
   ASSERT_GE(b.detections[0].frames[0].size(), 1u);
-  AutoSyncOptions options;
-  options.axes = ParseAxisMapping("zxy");
-  options.min_offset_s = -0.5;
-  options.max_offset_s = 0.5;
-  const fs::path trc = root / "balancing-trial/pose-3d/S00_P00_T01_BalancingTrial_0-100.trc";
+  const AutoSyncOptions options = BalancingSyncOptions();
+  const fs::path trc = BalancingTrc(root);
   // As recorded, first sample ↔ first frame.
   const AutoSyncResult as_is = SyncFromDetections(capture::ReadTrial(trc), b.per_camera, options);
   RecordProperty("unshifted_offset_frames", std::to_string(as_is.sync.offset_s * 60));
@@ -157,11 +167,8 @@ TEST(AutoSync, DetectionsFromACsvFindTheSameShift) {
         capture::ReadDetections(dir / "detections.csv", "body25b", b.cameras[cam].name));
   EXPECT_EQ(from_csv[0].names.front(), "Nose");
   for (size_t cam = 0; cam < 4; ++cam) b.per_camera[cam].detections = &from_csv[cam];
-  AutoSyncOptions options;
-  options.axes = ParseAxisMapping("zxy");
-  options.min_offset_s = -0.5;
-  options.max_offset_s = 0.5;
-  const fs::path trc = root / "balancing-trial/pose-3d/S00_P00_T01_BalancingTrial_0-100.trc";
+  const AutoSyncOptions options = BalancingSyncOptions();
+  const fs::path trc = BalancingTrc(root);
   const AutoSyncResult r =
       SyncFromDetections(capture::ReadTrial(ShiftedTrc(trc, 7, dir)), b.per_camera, options);
   RecordProperty("csv_shifted_offset_frames", std::to_string(r.sync.offset_s * 60));
@@ -175,6 +182,99 @@ TEST(AutoSync, DetectionsFromACsvFindTheSameShift) {
     e = error.what();
   }
   EXPECT_NE(e.find("bad.csv: line 3: 'x' is not a number"), std::string::npos) << e;
+  fs::remove_all(dir);
+}
+
+// The same detections as Sports2D's 2D TRC files, one per camera, in both of its conventions
+// (pixels, y down; before 0.5: pixels ÷ 1000, y up), one of them trimmed to start at frame 10: they
+// read back to the JSON's pixels and give the same shift.
+TEST(AutoSync, DetectionsFromSports2DTrcFilesFindTheSameShift) {
+  const fs::path root = acro::testing::RefdataFile("pose2sim-demo");
+  ACRO_REQUIRE_REFDATA_FILE(root / "balancing-trial");
+  Balancing b = LoadBalancing();
+  const fs::path dir = acro::testing::ScratchDir("sync_trc2d");
+  std::vector<capture::KeypointDetections> from_trc;
+  for (size_t cam = 0; cam < 4; ++cam) {
+    const capture::KeypointDetections& d = b.detections[cam];
+    const bool legacy = cam >= 2;
+    const int first = cam == 3 ? 10 : 0;
+    const fs::path path = dir / (b.cameras[cam].name + "_px_person00.trc");
+    std::ofstream trc(path);
+    const size_t K = d.names.size();
+    trc << "PathFileType\t4\t(X/Y/Z)\t" << path.string() << "\n"
+        << "DataRate\tCameraRate\tNumFrames\tNumMarkers\tUnits\tOrigDataRate\t"
+           "OrigDataStartFrame\tOrigNumFrames\n"
+        << "60\t60\t" << d.num_frames() - first << "\t" << K << "\tm\t60\t0\t"
+        << d.num_frames() - first << "\nFrame#\tTime";
+    for (const std::string& n : d.names) trc << "\t" << n << "\t\t";
+    trc << "\n\t";
+    for (size_t j = 0; j < K; ++j) trc << "\tX" << j + 1 << "\tY" << j + 1 << "\tZ" << j + 1;
+    trc << "\n";
+    trc.precision(10);
+    for (int k = first; k < d.num_frames(); ++k) {
+      trc << k - first << "\t" << k / 60.0;
+      for (size_t j = 0; j < K; ++j) {
+        const bool seen =
+            !d.frames[size_t(k)].empty() && d.frames[size_t(k)].front()(2, Eigen::Index(j)) > 0.5;
+        if (!seen) {
+          trc << (legacy ? "\t\t\t" : "\t0\t0\t0");  // a gap, or Sports2D's zeros
+          continue;
+        }
+        const Eigen::Vector3d x = d.frames[size_t(k)].front().col(Eigen::Index(j));
+        if (legacy)
+          trc << "\t" << x(0) / 1000 << "\t" << -x(1) / 1000 << "\t0";
+        else
+          trc << "\t" << x(0) << "\t" << x(1) << "\t0";
+      }
+      trc << "\n";
+    }
+    trc.close();
+    from_trc.push_back(capture::ReadDetections(path, "body25b"));
+    const capture::KeypointDetections& r = from_trc.back();
+    ASSERT_EQ(r.num_frames(), d.num_frames());
+    EXPECT_NE(r.warnings.back().find(legacy ? "before 0.5" : "pixels, x right and y down"),
+              std::string::npos)
+        << r.warnings.back();
+    // Every detection read back where the JSON has it, to the digits written.
+    int compared = 0;
+    for (int k = 0; k < d.num_frames(); ++k) {
+      if (k < first) {
+        EXPECT_TRUE(r.frames[size_t(k)].empty()) << k;
+        continue;
+      }
+      ASSERT_EQ(r.frames[size_t(k)].size(), 1u) << k;
+      for (size_t j = 0; j < K; ++j) {
+        const bool seen =
+            !d.frames[size_t(k)].empty() && d.frames[size_t(k)].front()(2, Eigen::Index(j)) > 0.5;
+        const Eigen::Vector3d got = r.frames[size_t(k)].front().col(Eigen::Index(j));
+        if (!seen) {
+          EXPECT_EQ(got(2), 0.0);
+          continue;
+        }
+        const Eigen::Vector3d want = d.frames[size_t(k)].front().col(Eigen::Index(j));
+        EXPECT_NEAR(got(0), want(0), 1e-4);
+        EXPECT_NEAR(got(1), want(1), 1e-4);
+        EXPECT_EQ(got(2), 1.0);
+        ++compared;
+      }
+    }
+    EXPECT_GT(compared, 1000);
+  }
+  for (size_t cam = 0; cam < 4; ++cam) b.per_camera[cam].detections = &from_trc[cam];
+  const AutoSyncOptions options = BalancingSyncOptions();
+  const fs::path trc = BalancingTrc(root);
+  const AutoSyncResult r =
+      SyncFromDetections(capture::ReadTrial(ShiftedTrc(trc, 7, dir)), b.per_camera, options);
+  RecordProperty("trc2d_shifted_offset_frames", std::to_string(r.sync.offset_s * 60));
+  EXPECT_NEAR(r.sync.offset_s * 60.0, 7.0, 1.0 / 3.0);
+  // A 3D file given as detections is refused, naming the marker and the frame.
+  std::string e;
+  try {
+    capture::ReadDetections(trc, "body25b");
+  } catch (const InputError& error) {
+    e = error.what();
+  }
+  EXPECT_NE(e.find("is not 0: a 3D file, not 2D detections"), std::string::npos) << e;
   fs::remove_all(dir);
 }
 

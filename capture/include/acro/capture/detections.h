@@ -27,6 +27,8 @@ struct KeypointDetections {
   /// frames[k]: the people detected in video frame k (0-based, from the file names); a frame with
   /// no file or nobody in it is empty.
   std::vector<std::vector<DetectedPerson>> frames;
+  /// What the reader decided that the user should know (a 2D TRC's convention), one line each.
+  std::vector<std::string> warnings;
 
   int num_frames() const { return static_cast<int>(frames.size()); }
 };
@@ -48,7 +50,17 @@ KeypointDetections ReadOpenPoseJson(const std::filesystem::path& directory,
 KeypointDetections ReadDetectionsCsv(const std::filesystem::path& path,
                                      const std::string& camera = "");
 
-/// A directory: ReadOpenPoseJson; a .csv file: ReadDetectionsCsv.
+/// Reads 2D detections from a TRC whose Z column is 0 (or a gap) everywhere: what Sports2D writes
+/// (`*_px_person00.trc`) and what 2D trackers export for OpenSim-style tools. Two conventions are
+/// in use and told apart by the numbers: pixels as they are, x right and y down (Sports2D 0.5 and
+/// later, whose header says "m" although the values are pixels), or pixels ÷ 1000 with y negated
+/// (Sports2D before 0.5: every |value| ≤ 10 and every y ≤ 0); the warnings say which was read.
+/// Row k is video frame k + round(t₀ · DataRate), t₀ the time of the first row; a keypoint at
+/// exactly (0, 0) or a gap is absent (confidence 0), the others have confidence 1. Throws
+/// acro::InputError naming the file for a TRC with a non-zero Z (a 3D file) or no frame.
+KeypointDetections ReadDetectionsTrc(const std::filesystem::path& path);
+
+/// A directory: ReadOpenPoseJson; a .csv file: ReadDetectionsCsv; a .trc file: ReadDetectionsTrc.
 KeypointDetections ReadDetections(const std::filesystem::path& path,
                                   const std::string& keypoint_set,
                                   const std::string& camera = "");

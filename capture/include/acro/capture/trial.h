@@ -24,6 +24,8 @@ struct SourceInfo {
   std::string axis_convention;
   /// C3D header word 6: the largest gap (frames) the recording system interpolated over; 0 if none.
   int max_interpolation_gap = 0;
+  /// TRC: the time column's first value (s), as written; 0 for the other formats.
+  double first_time_s = 0.0;
 };
 
 /// What a point holds. C3D files from Vicon Nexus store model outputs (angles, forces, moments,

@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "acro/athlete/yaml.h"
 #include "acro/design/routine_simulation.h"
 #include "acro/design/skill_from_code.h"
 
@@ -34,6 +35,9 @@ struct RoutineSpec {
 /// `flight_time_s`, optional `name`); a relative athlete path is taken from the file's folder.
 /// Throws acro::InputError naming the file, line and key at fault.
 RoutineSpec ReadRoutineSpec(const std::filesystem::path& path);
+
+/// The same from a parsed YAML tree; a relative athlete path is taken from `base_dir`.
+RoutineSpec RoutineSpecFromYaml(const YamlNode& root, const std::filesystem::path& base_dir);
 
 /// The skills of "821o 42/ 812/" (spaces or commas between codes).
 RoutineSpec RoutineSpecFromCodes(const std::string& codes,
