@@ -18,7 +18,7 @@ command -v clang++ >/dev/null || { echo "fuzz.sh: needs clang (apt-get install c
 sanitize="-fsanitize=address,undefined,fuzzer-no-link"
 mkdir -p build-fuzz
 CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DACRO_BUILD_FUZZERS=ON \
-  -DACRO_BUILD_TESTS=OFF -DACRO_BUILD_UI=OFF -DACRO_BUILD_BENCHMARKS=OFF \
+  -DACRO_BUILD_TESTS=ON -DACRO_BUILD_UI=OFF -DACRO_BUILD_BENCHMARKS=OFF \
   -DCMAKE_CXX_FLAGS="$sanitize" -DCMAKE_C_FLAGS="$sanitize" > build-fuzz/configure.log
 build_targets=()
 for t in "${targets[@]}"; do build_targets+=(--target "${t}_fuzz"); done

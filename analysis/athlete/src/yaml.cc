@@ -3,9 +3,12 @@
 #include <charconv>
 #include <cmath>
 #include <limits>
+#include <sstream>
 #include <unordered_set>
 
 #include <yaml-cpp/depthguard.h>
+#include <yaml-cpp/eventhandler.h>
+#include <yaml-cpp/parser.h>
 #include <yaml-cpp/yaml.h>
 
 #include "acro/base/file_io.h"
@@ -223,12 +226,51 @@ class YamlParser {
   std::size_t count_ = 0;
 };
 
+// Where each document starts, nothing built. yaml-cpp 0.7 (Debian 12) makes no progress on a
+// stray ',' at the start of a document and hands out empty documents for ever: its LoadAll loops
+// until memory runs out (jbeder/yaml-cpp#1040, fixed upstream by #1319). Found by the YAML fuzzer.
+class DocumentStarts : public YAML::EventHandler {
+ public:
+  std::vector<YAML::Mark> marks;
+  void OnDocumentStart(const YAML::Mark& mark) override { marks.push_back(mark); }
+  void OnDocumentEnd() override {}
+  void OnNull(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnAlias(const YAML::Mark&, YAML::anchor_t) override {}
+  void OnScalar(const YAML::Mark&,
+                const std::string&,
+                YAML::anchor_t,
+                const std::string&) override {}
+  void OnSequenceStart(const YAML::Mark&,
+                       const std::string&,
+                       YAML::anchor_t,
+                       YAML::EmitterStyle::value) override {}
+  void OnSequenceEnd() override {}
+  void OnMapStart(const YAML::Mark&,
+                  const std::string&,
+                  YAML::anchor_t,
+                  YAML::EmitterStyle::value) override {}
+  void OnMapEnd() override {}
+};
+
 YamlNode ParseYaml(std::string_view text, const std::string& file_name) {
   // A UTF-8 byte-order mark (some Windows editors write one) is not content.
   if (text.substr(0, 3) == "\xEF\xBB\xBF") text.remove_prefix(3);
   std::vector<YAML::Node> documents;
   try {
-    documents = YAML::LoadAll(std::string(text));
+    // At most two documents are looked at: one is read, a second is refused.
+    std::istringstream in{std::string(text)};
+    YAML::Parser scan(in);
+    DocumentStarts starts;
+    while (starts.marks.size() < 2 && scan.HandleNextDocument(starts)) {
+    }
+    if (starts.marks.size() == 2) {
+      const bool stuck = starts.marks[1].pos == starts.marks[0].pos;
+      throw InputError(file_name,
+                       "line " + std::to_string(LineOf(starts.marks[1])),
+                       stuck ? "not YAML here (a stray ',' before any key?)"
+                             : "a second document: one document per file");
+    }
+    if (!starts.marks.empty()) documents.push_back(YAML::Load(std::string(text)));
   } catch (const YAML::DeepRecursion& e) {
     // yaml-cpp stops its recursive parser at its depth guard with the message "bad file".
     throw InputError(file_name,
@@ -241,9 +283,6 @@ YamlNode ParseYaml(std::string_view text, const std::string& file_name) {
     throw InputError(file_name, "line " + std::to_string(LineOf(e.mark)), e.msg);
   }
   YamlParser parser(file_name);
-  if (documents.size() > 1) {
-    parser.Fail(LineOf(documents[1].Mark()), "a second document: one document per file");
-  }
   if (documents.empty()) return parser.Convert(YAML::Node(), 1, "", 0);
   const YAML::Node& root = documents[0];
   return parser.Convert(root, root.Mark().is_null() ? 1 : LineOf(root.Mark()), "", 0);

@@ -33,7 +33,10 @@ YeadonMeasurements YeadonMeasurementsFromYaml(const YamlNode& map) {
   std::array<int, 95> line_of{};  // 0 = not seen
   std::optional<double> factor;
   // Every entry: a known key with a positive number.
-  for (const auto& [key, node] : map.entries()) {
+  for (const auto& entry : map.entries()) {
+    // (named, not a structured binding: lambdas capture those only from C++20 compilers on)
+    const std::string& key = entry.first;
+    const YamlNode& node = entry.second;
     auto number = [&](const char* what) {
       if (node.IsNull()) node.Fail(std::string("no value (expected ") + what + ")");
       double value = 0.0;
