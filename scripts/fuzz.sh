@@ -14,7 +14,7 @@ shift || true
 targets=("$@")
 [ ${#targets[@]} -gt 0 ] || targets=(readers yaml camera video)
 refdata=${ACRO_REFDATA:-../shared/refdata}
-command -v clang++ >/dev/null || { echo "fuzz.sh: needs clang (apt-get install clang libclang-rt-14-dev)" >&2; exit 1; }
+scripts/install-deps.sh --fuzz
 sanitize="-fsanitize=address,undefined,fuzzer-no-link"
 mkdir -p build-fuzz
 CC=clang CXX=clang++ cmake -S . -B build-fuzz -DCMAKE_BUILD_TYPE=RelWithDebInfo -DACRO_BUILD_FUZZERS=ON \

@@ -1,9 +1,10 @@
 #!/usr/bin/env bash
 # Installs Acrolab's dependencies from Debian 12's packages (nothing else is downloaded). Works as
 # root and through sudo; does nothing when everything is already installed.
-# Usage: scripts/install-deps.sh [--main]
+# Usage: scripts/install-deps.sh [--main | --fuzz]
 #   --main   only what `acrolab` itself needs (the README's first command, which also draws the
 #            athlete over the sample's video): no test, benchmark or Qt packages.
+#   --fuzz   everything, and clang with its sanitizer and libFuzzer runtime (scripts/fuzz.sh).
 set -euo pipefail
 
 # What the acrolab program needs to build: compiler, Eigen, Ceres, OpenMesh, FFmpeg's libraries
@@ -34,6 +35,7 @@ full_packages=(
 
 packages=("${main_packages[@]}")
 if [ "${1:-}" != "--main" ]; then packages+=("${full_packages[@]}"); fi
+if [ "${1:-}" = "--fuzz" ]; then packages+=(clang libclang-rt-14-dev); fi
 
 missing=()
 for p in "${packages[@]}"; do

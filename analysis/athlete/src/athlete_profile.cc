@@ -5,6 +5,7 @@
 #include <fmt/format.h>
 
 #include "acro/base/demand.h"
+#include "acro/base/file_io.h"
 #include "acro/base/input_error.h"
 
 namespace acro::analysis {
@@ -44,7 +45,7 @@ AthleteProfile AthleteProfileFromYaml(const YamlNode& root, const std::filesyste
     if (meas.IsScalar()) {
       std::filesystem::path path = meas.AsString();
       if (path.is_relative()) path = base_dir / path;
-      if (!std::filesystem::exists(path)) meas.Fail("no such file '" + path.string() + "'");
+      if (!PathExists(path)) meas.Fail("no such file '" + path.string() + "'");
       profile.yeadon_measurements = ReadYeadonMeasurements(path);
     } else if (meas.IsMap()) {
       profile.yeadon_measurements = YeadonMeasurementsFromYaml(meas);

@@ -43,7 +43,7 @@ struct ImportedAnalysis {
 
 ImportedAnalysis ReadAnalysisDirectory(const std::filesystem::path& dir) {
   const std::filesystem::path provenance = dir / "analysis.json";
-  if (!std::filesystem::exists(provenance))
+  if (!PathExists(provenance))
     throw InputError(provenance.string(),
                      "",
                      "missing: not an analysis directory of acrolab analyze (0.1.0 or later)");
@@ -76,8 +76,7 @@ std::string FileDate(const std::filesystem::path& path) {
 AddResult PlanAdd(const Library& library, const AddRequest& request) {
   AddResult result;
   const std::filesystem::path trial = Absolute(request.trial);
-  if (!std::filesystem::is_regular_file(trial))
-    throw InputError(request.trial.string(), "", "no such file");
+  if (!IsRegularFile(trial)) throw InputError(request.trial.string(), "", "no such file");
   result.path = trial.string();
   result.sha256 = Sha256OfFile(trial);
   const StoredState stored = library.FindTrial(result.path);
@@ -123,7 +122,7 @@ AddResult AddTrial(Library& library, const AddRequest& request, const AddOptions
   for (const auto& [from, to] :
        {std::pair{&request.video, &t.video_path}, {&request.calibration, &t.calibration_path}}) {
     if (from->empty()) continue;
-    if (!std::filesystem::is_regular_file(*from))
+    if (!IsRegularFile(*from))
       throw InputError(from->string(), "", "no such file (attached to " + result.path + ")");
     *to = Absolute(*from).string();
   }

@@ -46,7 +46,7 @@ DesignedSkill ReadDesignedSkill(const std::filesystem::path& path,
   if (!std::filesystem::exists(path, ec))
     throw InputError(
         path.string(), "", "no such folder or file (acrolab optimize's output folder)");
-  const std::filesystem::path dir = std::filesystem::is_directory(path) ? path : path.parent_path();
+  const std::filesystem::path dir = IsDirectory(path) ? path : path.parent_path();
   const std::filesystem::path result_path = dir / "result.json";
   const std::filesystem::path mot_path = dir / "motion.mot";
   const std::string result_file = result_path.string(), mot_file = mot_path.string();

@@ -137,8 +137,7 @@ std::vector<Image> LoadImages(const std::filesystem::path& path, double step_s) 
   const bool photo = std::find(std::begin(kPhotos), std::end(kPhotos), ext) != std::end(kPhotos);
   std::vector<Image> images;
   if (photo) {
-    if (!std::filesystem::is_regular_file(path))
-      throw InputError(path.string(), "", "no such file");
+    if (!IsRegularFile(path)) throw InputError(path.string(), "", "no such file");
     cv::Mat grey = cv::imread(path.string(), cv::IMREAD_GRAYSCALE);
     if (grey.empty()) throw InputError(path.string(), "", "not an image OpenCV can read");
     images.push_back({path.string(), grey});

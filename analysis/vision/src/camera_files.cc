@@ -22,9 +22,12 @@ namespace {
 class Storage {
  public:
   explicit Storage(const std::filesystem::path& path) : file_(path.string()) {
-    if (!std::filesystem::is_regular_file(path)) throw InputError(file_, "", "no such file");
+    if (!IsRegularFile(path)) throw InputError(file_, "", "no such file");
     // Refuse huge files before OpenCV reads them whole.
-    if (std::filesystem::file_size(path) > (std::uintmax_t(16) << 20))
+    std::error_code ec;
+    const std::uintmax_t size = std::filesystem::file_size(path, ec);
+    if (ec) throw InputError(file_, "", "cannot read: " + ec.message());
+    if (size > (std::uintmax_t(16) << 20))
       throw InputError(file_, "", "larger than 16 MiB: not a calibration");
     try {
       fs_.open(file_, cv::FileStorage::READ);
@@ -74,6 +77,17 @@ class Storage {
         }
         m = cv::Mat(values, true).t();
       } else {
+        // An !!opencv-matrix allocates rows × cols before it reads its data: a calibration's
+        // matrices are at most 3 × 3 or 1 × 14, so anything past 16 × 16 is refused first.
+        if (node.isMap()) {
+          const cv::FileNode rows = node["rows"], cols = node["cols"];
+          const double r = rows.isInt() || rows.isReal() ? static_cast<double>(rows) : -1.0;
+          const double c = cols.isInt() || cols.isReal() ? static_cast<double>(cols) : -1.0;
+          if (!(r >= 1 && r <= 16 && c >= 1 && c <= 16)) {
+            throw InputError(
+                file_, camera, fmt::format("{}: {} × {} is not a calibration matrix", key, r, c));
+          }
+        }
         node >> m;
       }
     } catch (const cv::Exception&) {
@@ -193,7 +207,7 @@ std::vector<Camera> ReadOpenCvStorage(const std::filesystem::path& path) {
   const std::string stem = path.stem().string();
   if (stem == "intri") {
     const std::filesystem::path other = path.parent_path() / ("extri" + path.extension().string());
-    if (std::filesystem::exists(other)) extri.emplace(other);
+    if (PathExists(other)) extri.emplace(other);
   }
   for (const std::string& name : s.Names()) {
     Camera c;

@@ -78,3 +78,24 @@ TEST(YamlCorpus, EverySampleExampleAndMutationIsAcceptedOrRejectedCleanly) {
 
 }  // namespace
 }  // namespace acro::analysis
+
+namespace acro::analysis {
+namespace {
+
+// Found by the fuzzer: a measurements file name longer than the system allows made
+// std::filesystem throw its own error out of the profile reader.
+TEST(YamlCorpus, AFileNameTooLongIsOneLine) {
+  const std::string text =
+      "name: x\nsex: m\nheight_m: 1.75\nmass_kg: 65\nyeadon:\n  measurements: " +
+      std::string(5000, 'a') + "\n";
+  std::vector<std::string> errors;
+  fuzz::FeedYamlReaders(reinterpret_cast<const std::uint8_t*>(text.data()),
+                        text.size(),
+                        acro::testing::SourceDir(),
+                        &errors);
+  ASSERT_FALSE(errors.empty());
+  EXPECT_NE(errors[0].find("line 6: measurements: no such file"), std::string::npos) << errors[0];
+}
+
+}  // namespace
+}  // namespace acro::analysis

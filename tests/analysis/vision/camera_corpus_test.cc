@@ -75,3 +75,27 @@ TEST(CameraCorpus, EveryCalibrationDetectionAndMutationIsAcceptedOrRejectedClean
 
 }  // namespace
 }  // namespace acro::vision
+
+namespace acro::vision {
+namespace {
+
+// Found by the fuzzer: an !!opencv-matrix of billions of rows made OpenCV allocate 48 GB before
+// reading its data (OpenCV reads 3 000 000 000 as the int −1 294 967 296).
+TEST(CameraCorpus, AHugeOpenCvMatrixIsRefusedBeforeItIsAllocated) {
+  const std::string text =
+      "%YAML:1.0\n---\nimage_width: 1920\nimage_height: 1080\n"
+      "camera_matrix: !!opencv-matrix\n   rows: 3000000000\n   cols: 3\n   dt: d\n"
+      "   data: [ 1500., 0., 960., 0., 1500., 540., 0., 0., 1. ]\n";
+  std::vector<std::string> errors;
+  fuzz::FeedCameraReaders(reinterpret_cast<const std::uint8_t*>(text.data()), text.size(), &errors);
+  bool said = false;
+  for (const std::string& e : errors)
+    said = said || e.find("camera_matrix: -1294967296 × 3 is not a calibration matrix") !=
+                       std::string::npos;
+  std::string all;
+  for (const std::string& e : errors) all += "\n  " + e;
+  EXPECT_TRUE(said) << all;
+}
+
+}  // namespace
+}  // namespace acro::vision

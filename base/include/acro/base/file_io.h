@@ -62,4 +62,11 @@ class OutputTransaction {
 /// Lower-case extension without the dot ("c3d", "trc"), or empty.
 std::string LowerExtension(const std::filesystem::path& path);
 
+/// std::filesystem's queries without their exceptions: a path that cannot be examined (a name too
+/// long, a component that is not a directory, no permission) is simply not there. For paths read
+/// from files and command lines, whose trouble is the reader's to say in one line.
+bool PathExists(const std::filesystem::path& path);
+bool IsRegularFile(const std::filesystem::path& path);
+bool IsDirectory(const std::filesystem::path& path);
+
 }  // namespace acro
