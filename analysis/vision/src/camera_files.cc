@@ -179,9 +179,8 @@ void ReadPose(const Storage& s,
   }
 }
 
-}  // namespace
-
-std::vector<Camera> ReadOpenCvStorage(const std::filesystem::path& path) {
+// ReadOpenCvStorage without the guard around OpenCV's parser.
+std::vector<Camera> ReadStorageCameras(const std::filesystem::path& path) {
   const Storage s(path);
   std::vector<Camera> cameras;
   if (!s.Has("names")) {
@@ -227,6 +226,20 @@ std::vector<Camera> ReadOpenCvStorage(const std::filesystem::path& path) {
   }
   if (cameras.empty()) throw InputError(s.file(), "names", "no camera named");
   return cameras;
+}
+
+}  // namespace
+
+std::vector<Camera> ReadOpenCvStorage(const std::filesystem::path& path) {
+  // OpenCV's parser throws more than cv::Exception on a damaged file (std::length_error from a
+  // string it sizes from the file: found by the camera fuzzer); each is the file's fault.
+  try {
+    return ReadStorageCameras(path);
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw InputError(path.string(), "", std::string("not an OpenCV FileStorage file: ") + e.what());
+  }
 }
 
 std::vector<Camera> ReadCameras(const std::filesystem::path& path) {
