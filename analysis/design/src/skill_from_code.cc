@@ -406,10 +406,24 @@ class Shooter {
 
   // Newton with a forward-difference Jacobian and halved steps; an arm action at its bound is
   // held there while the step would push it further.
-  VectorXd Shoot(VectorXd x, const SkillFromCodeOptions& options, double* residual) {
+  VectorXd Shoot(VectorXd x,
+                 const SkillFromCodeOptions& options,
+                 bool break_stalls,
+                 double* residual) {
     VectorXd r = Residual(Simulate(x));
     const int n = num_unknowns();
+    double best = r.cwiseAbs().maxCoeff();
+    int stalled = 0;
     for (int it = 0; it < 40 && r.cwiseAbs().maxCoeff() > 1e-7; ++it) {
+      // A pass that no longer gains 0.1 % in four iterations has stalled against the schedule
+      // (an arm action at its bound, a posture change at the wrong angle): the schedule's
+      // update, not more iterations, moves it on.
+      if (r.cwiseAbs().maxCoeff() < 0.999 * best) {
+        best = r.cwiseAbs().maxCoeff();
+        stalled = 0;
+      } else if (++stalled >= 4 && break_stalls) {
+        break;
+      }
       if (options.cancelled && options.cancelled()) throw InputError("", "design", "cancelled");
       // The forward-difference Jacobian, its columns on two threads (each a flight simulation).
       Eigen::MatrixXd J(r.size(), n);
@@ -627,17 +641,19 @@ SkillFromCodeResult DesignSkillFromCode(const std::string& code_text,
 
   Plan plan = MakePlan(code, T);
   plan.step = T / std::max(1.0, std::round(T / options.step_s));
+  // Shoot, move the postures to the angles where they belong, shoot again. A stalled pass ends
+  // early (it only waits for the schedule's update), except in twist-ins (a stop action: 821o,
+  // 831<), which find their flight only through the slow drift of a stalled pass.
+  const bool break_stalls = plan.unknowns.stop_somersaults.empty();
   Shooter shooter(athlete, plan);
   ACRO_DEMAND(std::abs(shooter.model().gravity_W().norm() - g) < 1e-12);
-
-  // Shoot, move the postures to the angles where they belong, shoot again.
   VectorXd x = shooter.Guess();
   double residual = 0;
   for (int pass = 0; pass < 4; ++pass) {
-    x = shooter.Shoot(x, options, &residual);
+    x = shooter.Shoot(x, options, break_stalls, &residual);
     shooter.UpdateSchedule(shooter.Simulate(x));
   }
-  x = shooter.Shoot(x, options, &residual);
+  x = shooter.Shoot(x, options, break_stalls, &residual);
   const Flight flight = shooter.Simulate(x);
   result.shooting_residual_rad = residual;
   result.shooting_simulations = shooter.simulations();
