@@ -38,11 +38,11 @@ inline int FeedCameraReaders(const std::uint8_t* data,
   } catch (const InputError& e) {
     if (errors) errors->push_back(e.what());
   }
+  // One OpenPose frame, alone in its directory, under OpenPose's own name. (Written, not copied:
+  // copy_file's sendfile is not retried when libFuzzer's timer interrupts it, writes are.)
   const std::filesystem::path json_dir = FuzzDirectory() / "openpose";
   std::filesystem::create_directories(json_dir);
-  std::filesystem::copy_file(WriteFuzzFile("frame.json", data, size),
-                             json_dir / "cam01_000000000003_keypoints.json",
-                             std::filesystem::copy_options::overwrite_existing);
+  WriteFuzzFile("openpose/cam01_000000000003_keypoints.json", data, size);
   try {
     capture::ReadOpenPoseJson(json_dir, "body25");
     ++accepted;
