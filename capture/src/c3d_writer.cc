@@ -720,7 +720,9 @@ void WriteFrames(const Trial& trial,
                                                    : conversion.offset[c]);
       }
     }
-    std::memcpy(dst, frame.data(), frame_floats * 4);
+    // (A trial with no point and no analog channel has empty frames: memcpy is not called with
+    // the null pointers they hold, undefined even for 0 bytes.)
+    if (frame_floats > 0) std::memcpy(dst, frame.data(), frame_floats * 4);
     dst += frame_floats * 4;
   }
 }

@@ -17,6 +17,7 @@ extern "C" {
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstring>
 #include <thread>
 
 #include <fmt/format.h>
@@ -26,6 +27,17 @@ extern "C" {
 
 namespace acro::capture {
 namespace {
+
+// A field FFmpeg copies from the bitstream unchecked (colour space, colour range), read as the int
+// it is stored as: a damaged file holds any number there, which is no value of the enum, and
+// loading it as one is undefined (UBSan's finding on the video corpus).
+template <class Enum>
+int StoredInt(const Enum& field) {
+  static_assert(sizeof(Enum) == sizeof(int));
+  int value = 0;
+  std::memcpy(&value, &field, sizeof(int));
+  return value;
+}
 
 using internal::AvError;
 
@@ -280,11 +292,12 @@ bool VideoReader::Impl::GreyFromLuma(VideoFrame* out) {
                                              AV_PIX_FMT_NV21};
   if (std::find(std::begin(kLumaFirst), std::end(kLumaFirst), pix) == std::end(kLumaFirst))
     return false;
-  const int range = frame->color_range == AVCOL_RANGE_JPEG || pix == AV_PIX_FMT_YUVJ420P ||
+  const int stored_range = StoredInt(frame->color_range);
+  const int range = stored_range == AVCOL_RANGE_JPEG || pix == AV_PIX_FMT_YUVJ420P ||
                             pix == AV_PIX_FMT_YUVJ422P || pix == AV_PIX_FMT_YUVJ444P
                         ? 1
                         : 0;
-  if (grey_table_format != pix || grey_table_range != frame->color_range) {
+  if (grey_table_format != pix || grey_table_range != stored_range) {
     // A 256 × 2 frame of this format holding every luma value once per row, through swscale.
     const int w = 256, h = 2;
     AVFrame* probe = av_frame_alloc();
@@ -322,7 +335,7 @@ bool VideoReader::Impl::GreyFromLuma(VideoFrame* out) {
     av_frame_free(&probe);
     std::copy_n(row.begin(), 256, grey_table.begin());
     grey_table_format = pix;
-    grey_table_range = frame->color_range;
+    grey_table_range = stored_range;
   }
   for (int y = 0; y < out->height; ++y) {
     const std::uint8_t* src = frame->data[0] + static_cast<std::ptrdiff_t>(y) * frame->linesize[0];
@@ -361,12 +374,14 @@ void VideoReader::Impl::Convert(int index, VideoFrame* frame_out) {
   // The frame's own matrix and range (the command line's scaler does the same, "auto").
   // Grey is luma alone: no matrix applies, only the range (with a matrix set, swscale leaves its
   // exact luma path for a dithered one).
-  const int colorspace = frame->colorspace == AVCOL_SPC_UNSPECIFIED || grey
-                             ? SWS_CS_DEFAULT
-                             : static_cast<int>(frame->colorspace);
+  const int stored_colorspace = StoredInt(frame->colorspace);
+  const int stored_range = StoredInt(frame->color_range);
+  const bool known = stored_colorspace > 0 && stored_colorspace < AVCOL_SPC_NB &&
+                     stored_colorspace != AVCOL_SPC_UNSPECIFIED;
+  const int colorspace = !known || grey ? SWS_CS_DEFAULT : stored_colorspace;
   sws_setColorspaceDetails(scaler,
                            sws_getCoefficients(colorspace),
-                           frame->color_range == AVCOL_RANGE_JPEG ? 1 : 0,
+                           stored_range == AVCOL_RANGE_JPEG ? 1 : 0,
                            sws_getCoefficients(SWS_CS_DEFAULT),
                            1,
                            0,
