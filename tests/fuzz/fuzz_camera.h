@@ -15,6 +15,7 @@
 #include "acro/base/input_error.h"
 #include "acro/capture/detections.h"
 #include "acro/vision/camera.h"
+#include "fuzz_accepts.h"
 #include "fuzz_files.h"
 
 namespace acro::fuzz {
@@ -24,31 +25,16 @@ inline int FeedCameraReaders(const std::uint8_t* data,
                              std::size_t size,
                              std::vector<std::string>* errors = nullptr) {
   int accepted = 0;
-  for (const char* name : {"calib.toml", "calib.qca", "calib.yml", "calib.xml", "calib.json"}) {
-    try {
-      vision::ReadCameras(WriteFuzzFile(name, data, size));
-      ++accepted;
-    } catch (const InputError& e) {
-      if (errors) errors->push_back(e.what());
-    }
-  }
-  try {
-    capture::ReadDetectionsCsv(WriteFuzzFile("detections.csv", data, size));
-    ++accepted;
-  } catch (const InputError& e) {
-    if (errors) errors->push_back(e.what());
-  }
+  for (const char* name : {"calib.toml", "calib.qca", "calib.yml", "calib.xml", "calib.json"})
+    accepted += Accepts(errors, [&] { vision::ReadCameras(WriteFuzzFile(name, data, size)); });
+  accepted += Accepts(
+      errors, [&] { capture::ReadDetectionsCsv(WriteFuzzFile("detections.csv", data, size)); });
   // One OpenPose frame, alone in its directory, under OpenPose's own name. (Written, not copied:
   // copy_file's sendfile is not retried when libFuzzer's timer interrupts it, writes are.)
   const std::filesystem::path json_dir = FuzzDirectory() / "openpose";
   std::filesystem::create_directories(json_dir);
   WriteFuzzFile("openpose/cam01_000000000003_keypoints.json", data, size);
-  try {
-    capture::ReadOpenPoseJson(json_dir, "body25");
-    ++accepted;
-  } catch (const InputError& e) {
-    if (errors) errors->push_back(e.what());
-  }
+  accepted += Accepts(errors, [&] { capture::ReadOpenPoseJson(json_dir, "body25"); });
   return accepted;
 }
 

@@ -16,6 +16,7 @@
 #include "acro/capture/csv.h"
 #include "acro/capture/storage.h"
 #include "acro/capture/trc.h"
+#include "fuzz_accepts.h"
 
 namespace acro::fuzz {
 
@@ -23,28 +24,10 @@ namespace acro::fuzz {
 inline int FeedReaders(const std::uint8_t* data, std::size_t size) {
   const std::span<const std::uint8_t> bytes(data, size);
   const std::string_view text(reinterpret_cast<const char*>(data), size);
-  int accepted = 0;
-  try {
-    capture::ReadC3dFromMemory(bytes, "fuzz.c3d");
-    ++accepted;
-  } catch (const InputError&) {
-  }
-  try {
-    capture::ReadTrcFromString(text, "fuzz.trc");
-    ++accepted;
-  } catch (const InputError&) {
-  }
-  try {
-    capture::ReadMarkerCsvFromString(text, "fuzz.csv");
-    ++accepted;
-  } catch (const InputError&) {
-  }
-  try {
-    capture::ReadStorageFromString(text, "fuzz.sto");
-    ++accepted;
-  } catch (const InputError&) {
-  }
-  return accepted;
+  return Accepts(nullptr, [&] { capture::ReadC3dFromMemory(bytes, "fuzz.c3d"); }) +
+         Accepts(nullptr, [&] { capture::ReadTrcFromString(text, "fuzz.trc"); }) +
+         Accepts(nullptr, [&] { capture::ReadMarkerCsvFromString(text, "fuzz.csv"); }) +
+         Accepts(nullptr, [&] { capture::ReadStorageFromString(text, "fuzz.sto"); });
 }
 
 }  // namespace acro::fuzz

@@ -20,6 +20,7 @@
 #include "acro/design/routine_design.h"
 #include "acro/design/skill_file.h"
 #include "acro/reconstruct/markerset.h"
+#include "fuzz_accepts.h"
 
 namespace acro::fuzz {
 
@@ -38,38 +39,11 @@ inline int FeedYamlReaders(const std::uint8_t* data,
     if (errors) errors->push_back(e.what());
     return 0;
   }
-  int accepted = 1;
-  try {
-    analysis::AthleteProfileFromYaml(root, base_dir);
-    ++accepted;
-  } catch (const InputError& e) {
-    if (errors) errors->push_back(e.what());
-  }
-  try {
-    analysis::YeadonMeasurementsFromYaml(root);
-    ++accepted;
-  } catch (const InputError& e) {
-    if (errors) errors->push_back(e.what());
-  }
-  try {
-    analysis::SkillFromYaml(root, base_dir);
-    ++accepted;
-  } catch (const InputError& e) {
-    if (errors) errors->push_back(e.what());
-  }
-  try {
-    analysis::RoutineSpecFromYaml(root, base_dir);
-    ++accepted;
-  } catch (const InputError& e) {
-    if (errors) errors->push_back(e.what());
-  }
-  try {
-    analysis::MarkerSetFromYaml(root);
-    ++accepted;
-  } catch (const InputError& e) {
-    if (errors) errors->push_back(e.what());
-  }
-  return accepted;
+  return 1 + Accepts(errors, [&] { analysis::AthleteProfileFromYaml(root, base_dir); }) +
+         Accepts(errors, [&] { analysis::YeadonMeasurementsFromYaml(root); }) +
+         Accepts(errors, [&] { analysis::SkillFromYaml(root, base_dir); }) +
+         Accepts(errors, [&] { analysis::RoutineSpecFromYaml(root, base_dir); }) +
+         Accepts(errors, [&] { analysis::MarkerSetFromYaml(root); });
 }
 
 }  // namespace acro::fuzz

@@ -115,6 +115,13 @@ int ReplayMutants(const std::vector<Mutant>& mutants, Feed feed) {
   return static_cast<int>(mutants.size());
 }
 
+/// Messages one per indented line, for a failure's explanation.
+inline std::string JoinLines(const std::vector<std::string>& lines) {
+  std::string out;
+  for (const std::string& l : lines) out += "\n  " + l;
+  return out;
+}
+
 /// The fenced code blocks of a Markdown file in language `lang` ("yaml"): the documentation's
 /// examples, as seeds.
 inline std::vector<std::string> FencedBlocks(const std::filesystem::path& markdown,

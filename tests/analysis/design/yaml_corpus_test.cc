@@ -60,9 +60,7 @@ TEST(YamlCorpus, EverySampleExampleAndMutationIsAcceptedOrRejectedCleanly) {
     std::vector<std::string> errors;
     const int accepted =
         fuzz::FeedYamlReaders(seed.bytes.data(), seed.bytes.size(), base_dir, &errors);
-    std::string said;
-    for (const std::string& e : errors) said += "\n  " + e;
-    EXPECT_GE(accepted, seed.example ? 1 : 2) << said;
+    EXPECT_GE(accepted, seed.example ? 1 : 2) << acro::testing::JoinLines(errors);
     ++inputs;
     std::vector<acro::testing::Mutant> mutants = acro::testing::ByteMutants(seed.bytes, rng);
     for (acro::testing::Mutant& m :
@@ -75,12 +73,6 @@ TEST(YamlCorpus, EverySampleExampleAndMutationIsAcceptedOrRejectedCleanly) {
   RecordProperty("inputs", inputs);
   std::printf("%d YAML inputs replayed\n", inputs);
 }
-
-}  // namespace
-}  // namespace acro::analysis
-
-namespace acro::analysis {
-namespace {
 
 // Found by the fuzzer: a measurements file name longer than the system allows made
 // std::filesystem throw its own error out of the profile reader.

@@ -58,9 +58,7 @@ TEST(CameraCorpus, EveryCalibrationDetectionAndMutationIsAcceptedOrRejectedClean
     SCOPED_TRACE(name);
     std::vector<std::string> errors;
     const int accepted = fuzz::FeedCameraReaders(bytes.data(), bytes.size(), &errors);
-    std::string said;
-    for (const std::string& e : errors) said += "\n  " + e;
-    EXPECT_GE(accepted, 1) << said;
+    EXPECT_GE(accepted, 1) << acro::testing::JoinLines(errors);
     ++inputs;
     std::vector<acro::testing::Mutant> mutants = acro::testing::ByteMutants(bytes, rng);
     for (acro::testing::Mutant& m :
@@ -73,12 +71,6 @@ TEST(CameraCorpus, EveryCalibrationDetectionAndMutationIsAcceptedOrRejectedClean
   std::printf("%d calibration and detection inputs replayed\n", inputs);
 }
 
-}  // namespace
-}  // namespace acro::vision
-
-namespace acro::vision {
-namespace {
-
 // Found by the fuzzer: an !!opencv-matrix of billions of rows made OpenCV allocate 48 GB before
 // reading its data (OpenCV reads 3 000 000 000 as the int −1 294 967 296).
 TEST(CameraCorpus, AHugeOpenCvMatrixIsRefusedBeforeItIsAllocated) {
@@ -88,20 +80,11 @@ TEST(CameraCorpus, AHugeOpenCvMatrixIsRefusedBeforeItIsAllocated) {
       "   data: [ 1500., 0., 960., 0., 1500., 540., 0., 0., 1. ]\n";
   std::vector<std::string> errors;
   fuzz::FeedCameraReaders(reinterpret_cast<const std::uint8_t*>(text.data()), text.size(), &errors);
-  bool said = false;
-  for (const std::string& e : errors)
-    said = said || e.find("camera_matrix: -1294967296 × 3 is not a calibration matrix") !=
-                       std::string::npos;
-  std::string all;
-  for (const std::string& e : errors) all += "\n  " + e;
-  EXPECT_TRUE(said) << all;
+  EXPECT_NE(acro::testing::JoinLines(errors).find(
+                "camera_matrix: -1294967296 × 3 is not a calibration matrix"),
+            std::string::npos)
+      << acro::testing::JoinLines(errors);
 }
-
-}  // namespace
-}  // namespace acro::vision
-
-namespace acro::vision {
-namespace {
 
 // Found by the camera fuzzer (10-minute run, after 28 669 inputs): a damaged OpenCV YAML made
 // OpenCV's parser throw std::length_error, not cv::Exception, out of FileStorage::open.
@@ -125,10 +108,9 @@ TEST(CameraCorpus, OpenCvsOwnStandardExceptionsAreTheFilesFault) {
   std::vector<std::string> errors;
   EXPECT_NO_THROW(fuzz::FeedCameraReaders(
       reinterpret_cast<const std::uint8_t*>(text.data()), text.size(), &errors));
-  bool said = false;
-  for (const std::string& e : errors)
-    said = said || e.find("calib.yml: not an OpenCV FileStorage file") != std::string::npos;
-  EXPECT_TRUE(said);
+  EXPECT_NE(acro::testing::JoinLines(errors).find("calib.yml: not an OpenCV FileStorage file"),
+            std::string::npos)
+      << acro::testing::JoinLines(errors);
 }
 
 }  // namespace
