@@ -806,9 +806,8 @@ TEST(Cli, DesignABaraniFromItsCode) {
 
 // `routine --codes`: the ten skills for the sample athlete, flown through the bed, then
 // the routine's C3D (1 mm of marker noise) analysed by `analyze`: every time of flight back within
-// 10 ms, every code and the DD back — but for the two twist-ins, which our analysis reads as
-// straight (821/, 831/): their designs hold the tuck or pike over 9–11 % of the flight, the
-// analysis asks 15 % (docs/skill-design.md, "Routines": not done). A repeated skill is refused.
+// 10 ms, every code (the twist-ins' shapes included: the analysis asks the tuck or pike held over
+// 15 % of the flight) and the DD back. A repeated skill is refused.
 TEST(Cli, RoutineOfTenSkillsRoundTripsThroughAnalyze) {
   const auto dir = acro::testing::ScratchDir("routine_codes");
   const std::string athlete = Quote(RepoFile("samples/athletes/sample_athlete.yaml"));
@@ -852,15 +851,13 @@ TEST(Cli, RoutineOfTenSkillsRoundTripsThroughAnalyze) {
                 designed["time_of_flight_s"].get<double>(),
                 0.010)
         << codes[i];
-    const bool twist_in = codes[i] == "821o" || codes[i] == "831<";
-    const std::string expected = twist_in ? codes[i].substr(0, 3) + "/" : codes[i];
-    EXPECT_EQ(jumps[i]["fig_code"].get<std::string>(), expected) << i;
-    if (!twist_in) {
-      dd_designed += designed["difficulty"].get<double>();
-      dd_analysed += jumps[i]["difficulty"].get<double>();
-    }
+    EXPECT_EQ(jumps[i]["fig_code"].get<std::string>(), codes[i])
+        << i << ": " << jumps[i]["shape_reason"].get<std::string>();
+    dd_designed += designed["difficulty"].get<double>();
+    dd_analysed += jumps[i]["difficulty"].get<double>();
   }
   EXPECT_NEAR(dd_analysed, dd_designed, 1e-9);
+  EXPECT_NEAR(dd_analysed, 10.6, 1e-9);
 
   // A skill twice: refused before any work, naming it.
   const ProcessResult again =

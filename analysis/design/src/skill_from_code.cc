@@ -7,6 +7,8 @@
 #include <numbers>
 #include <string>
 #include <thread>
+#include <tuple>
+#include <utility>
 #include <vector>
 
 #include <fmt/format.h>
@@ -115,7 +117,11 @@ Plan MakePlan(const FigSkill& code, double T) {
     } else if (shape == Posture::kStraight) {
       s.push_back({Posture::kTwist, hi, k});
     } else if (n == 1 || k == n) {
-      s.push_back({shape, lo + (n == 1 ? 180.0 : 90.0), k});
+      // The half twist out of a twist-in (821o, 831<) starts 150° into the last somersault, not
+      // 90°: with 90° the shape, entered at the end of the first somersault, was shown for 135°
+      // of somersault, 9–11 % of the flight, and our own analysis read the skills as straight.
+      const bool twist_in = n > 1 && code.half_twists[0] >= 2;
+      s.push_back({shape, lo + (n == 1 ? 180.0 : twist_in ? 150.0 : 90.0), k});
       s.push_back({Posture::kTwist, hi, k});
     } else if (k == 1) {
       // A half twist in: twisting through the first half somersault. A full or more: twisting
@@ -642,21 +648,41 @@ SkillFromCodeResult DesignSkillFromCode(const std::string& code_text,
   Plan plan = MakePlan(code, T);
   plan.step = T / std::max(1.0, std::round(T / options.step_s));
   // Shoot, move the postures to the angles where they belong, shoot again. A stalled pass ends
-  // early (it only waits for the schedule's update), except in twist-ins (a stop action: 821o,
-  // 831<), which find their flight only through the slow drift of a stalled pass.
-  const bool break_stalls = plan.unknowns.stop_somersaults.empty();
-  Shooter shooter(athlete, plan);
-  ACRO_DEMAND(std::abs(shooter.model().gravity_W().norm() - g) < 1e-12);
-  VectorXd x = shooter.Guess();
+  // early (it only waits for the schedule's update). Twist-ins (a stop action: 821o, 831<) may
+  // find their flight only through the slow drift of stalled passes: when the quick passes
+  // find none, they start again and let every pass run. (Quick passes that end two schedule
+  // updates in a row more than 45° off are given up at once: 831< ends its first two at 164°
+  // and 203°, where 821o, which the quick passes turn, ends them at 20° and 0°.)
+  const bool has_stop = !plan.unknowns.stop_somersaults.empty();
+  auto shoot = [&](bool break_stalls, double* residual) {
+    auto shooter = std::make_unique<Shooter>(athlete, plan);
+    VectorXd x = shooter->Guess();
+    double previous = 0;
+    for (int pass = 0; pass < 4; ++pass) {
+      x = shooter->Shoot(x, options, break_stalls, residual);
+      if (break_stalls && has_stop && pass > 0 && previous > 45 * kDeg && *residual > 45 * kDeg)
+        return std::make_pair(std::move(shooter), x);
+      previous = *residual;
+      shooter->UpdateSchedule(shooter->Simulate(x));
+    }
+    x = shooter->Shoot(x, options, break_stalls, residual);
+    return std::make_pair(std::move(shooter), x);
+  };
   double residual = 0;
-  for (int pass = 0; pass < 4; ++pass) {
-    x = shooter.Shoot(x, options, break_stalls, &residual);
-    shooter.UpdateSchedule(shooter.Simulate(x));
+  std::unique_ptr<Shooter> shooter_ptr;
+  VectorXd x;
+  std::tie(shooter_ptr, x) = shoot(true, &residual);
+  int simulations = shooter_ptr->simulations();
+  if (!(residual <= 1e-3) && has_stop) {
+    if (options.progress) options.progress("shooting again, every pass to its end (a twist-in)");
+    std::tie(shooter_ptr, x) = shoot(false, &residual);
+    simulations += shooter_ptr->simulations();
   }
-  x = shooter.Shoot(x, options, break_stalls, &residual);
+  Shooter& shooter = *shooter_ptr;
+  ACRO_DEMAND(std::abs(shooter.model().gravity_W().norm() - g) < 1e-12);
   const Flight flight = shooter.Simulate(x);
   result.shooting_residual_rad = residual;
-  result.shooting_simulations = shooter.simulations();
+  result.shooting_simulations = simulations;
   if (!(residual <= 1e-3))
     throw InputError("",
                      where,
