@@ -1,7 +1,13 @@
+#include <cmath>
 #include <cstdio>
 #include <memory>
+#include <optional>
 
+#include <fmt/format.h>
+
+#include "acro/base/file_io.h"
 #include "acro/base/input_error.h"
+#include "acro/vision/bed_detection.h"
 #include "acro/vision/calibration.h"
 #include "commands.h"
 
@@ -18,7 +24,65 @@ struct IntrinsicsArguments {
 
 struct ExtrinsicsArguments {
   std::string points3d, points2d, intrinsics, camera, out;
+  std::string detect_bed, bed_c1_near, corners_csv;
+  int frame = 0;
 };
+
+// "U,V" → pixel; a one-line error naming the option otherwise.
+Eigen::Vector2d ParsePixel(const std::string& text, const std::string& option) {
+  double u = 0, v = 0;
+  char comma = 0, rest = 0;
+  if (std::sscanf(text.c_str(), "%lf %c %lf %c", &u, &comma, &v, &rest) != 3 || comma != ',' ||
+      !std::isfinite(u) || !std::isfinite(v))
+    throw InputError("", option, "'" + text + "' is not a pixel U,V");
+  return {u, v};
+}
+
+int RunBedExtrinsics(const ExtrinsicsArguments& args, const vision::Camera& intrinsics) {
+  const vision::BedDetection bed = vision::DetectBed(args.detect_bed, args.frame);
+  std::printf("%s: bed found, %.0f px², grey %.0f inside against %.0f around\n",
+              bed.source.c_str(),
+              bed.area_px,
+              bed.inside_grey,
+              bed.outside_grey);
+  std::optional<Eigen::Vector2d> near;
+  if (!args.bed_c1_near.empty()) near = ParsePixel(args.bed_c1_near, "--bed-c1-near");
+  const vision::BedCalibration result =
+      vision::CalibrateFromBed(intrinsics, vision::ReadPoints3d(args.points3d), bed, near);
+  std::string csv = "name,u_px,v_px\n";
+  for (size_t i = 0; i < result.corners.size(); ++i) {
+    const vision::NamedPoint2& c = result.corners[i];
+    std::printf("  %s: (%.2f, %.2f) px, %.3f px\n",
+                c.name.c_str(),
+                c.uv_px.x(),
+                c.uv_px.y(),
+                result.calibration.residuals_px[i]);
+    csv += fmt::format("{},{:.3f},{:.3f}\n", c.name, c.uv_px.x(), c.uv_px.y());
+  }
+  std::printf("  names: %s\n", result.choice.c_str());
+  if (result.other_rms_px > 0) {
+    const Eigen::Vector3d& o = result.other_centre_W;
+    std::printf("  the other naming: centre (%.4f, %.4f, %.4f) m, RMS %.3f px\n",
+                o.x(),
+                o.y(),
+                o.z(),
+                result.other_rms_px);
+  }
+  if (!args.corners_csv.empty()) {
+    WriteFileAtomically(args.corners_csv, csv);
+    std::printf("wrote %s\n", args.corners_csv.c_str());
+  }
+  const Eigen::Vector3d centre = result.calibration.camera.CentreInWorld();
+  std::printf("%s: centre (%.4f, %.4f, %.4f) m, reprojection RMS %.3f px over 4 corners\n",
+              result.calibration.camera.name.c_str(),
+              centre.x(),
+              centre.y(),
+              centre.z(),
+              result.calibration.rms_px);
+  vision::WritePose2SimToml({result.calibration.camera}, args.out);
+  std::printf("wrote %s\n", args.out.c_str());
+  return 0;
+}
 
 int RunIntrinsics(IntrinsicsArguments args) {
   const vision::CalibrationBoard board = vision::ParseCalibrationBoard(args.board);
@@ -53,6 +117,9 @@ int RunIntrinsics(IntrinsicsArguments args) {
 int RunExtrinsics(const ExtrinsicsArguments& args) {
   const std::vector<vision::Camera> cameras = vision::ReadCameras(args.intrinsics);
   const vision::Camera& intrinsics = vision::FindCamera(cameras, args.camera, args.intrinsics);
+  if (args.points2d.empty() == args.detect_bed.empty())
+    throw InputError("", "calibrate extrinsics", "give either --points2d or --detect-bed");
+  if (!args.detect_bed.empty()) return RunBedExtrinsics(args, intrinsics);
   const vision::ExtrinsicCalibration result = vision::CalibrateExtrinsics(
       intrinsics, vision::ReadPoints3d(args.points3d), vision::ReadPoints2dCsv(args.points2d));
   for (size_t i = 0; i < result.names.size(); ++i)
@@ -115,7 +182,18 @@ void AddCalibrateCommand(CLI::App& app, CommandRunner* run) {
           "position, e.g. BED_C1…C4); or fig-trampoline (the FIG trampoline's corners in "
           "its own frame)")
       ->required();
-  extrinsics->add_option("--points2d", ex->points2d, "CSV name,u_px,v_px in the image")->required();
+  extrinsics->add_option("--points2d", ex->points2d, "CSV name,u_px,v_px in the image");
+  extrinsics->add_option("--detect-bed",
+                         ex->detect_bed,
+                         "a photo or video in which to find the trampoline's bed (its corners "
+                         "become BED_C1…C4 of --points3d), instead of --points2d");
+  extrinsics->add_option("--frame", ex->frame, "with --detect-bed on a video: the frame (0)");
+  extrinsics->add_option("--bed-c1-near",
+                         ex->bed_c1_near,
+                         "U,V: a pixel near BED_C1, which chooses between the bed's two "
+                         "half-turn namings (default: the camera on the bed's -y side)");
+  extrinsics->add_option(
+      "--corners-csv", ex->corners_csv, "write the detected corners (name,u_px,v_px)");
   extrinsics->add_option("--intrinsics", ex->intrinsics, "the camera's calibration (any format)")
       ->required();
   extrinsics->add_option("--camera", ex->camera, "which camera of the file (when it has several)");

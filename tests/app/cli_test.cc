@@ -483,6 +483,47 @@ TEST(Cli, CalibrateIntrinsicsReportsEachPhotoAndWritesTheCamera) {
       << ex.out;
 }
 
+// Extrinsics from the bed found in a frame: the sample's side camera from its video and the trial's
+// BED_C1…C4, the corners written for checking, the camera within 10 cm of the truth (0.4, −9.7,
+// 3.4) m; a picture with no bed, or both kinds of 2D input, is one line and status 1.
+TEST(Cli, CalibrateExtrinsicsFromTheDetectedBed) {
+  const std::string sample = "samples/trials/trampoline_routine/";
+  const auto dir = acro::testing::ScratchDir("calibrate_bed");
+  const std::string common = std::string(ACROLAB_EXE) + " calibrate extrinsics --points3d " +
+                             Quote(RepoFile(sample + "trampoline_routine.c3d")) + " --intrinsics " +
+                             Quote(RepoFile(sample + "side_camera.toml"));
+  const ProcessResult run =
+      Execute(common + " --detect-bed " + Quote(RepoFile(sample + "side_camera.mp4")) +
+              " --frame 100 --corners-csv " + Quote(dir / "corners.csv") + " -o " +
+              Quote(dir / "side.toml"));
+  ASSERT_EQ(run.status, 0) << run.err;
+  const std::string corners = Slurp(dir / "corners.csv");
+  for (const char* name : {"BED_C1", "BED_C2", "BED_C3", "BED_C4"})
+    EXPECT_NE(corners.find(name), std::string::npos) << corners;
+  EXPECT_NE(Slurp(dir / "side.toml").find("[side]"), std::string::npos);
+  const size_t at = run.out.find("side: centre (");
+  ASSERT_NE(at, std::string::npos) << run.out;
+  double x = 0, y = 0, z = 0;
+  ASSERT_EQ(std::sscanf(run.out.c_str() + at, "side: centre (%lf, %lf, %lf)", &x, &y, &z), 3);
+  EXPECT_LT(std::hypot(x - 0.4, y + 9.7, z - 3.4), 0.10) << run.out;
+  EXPECT_NE(run.out.find("the other naming: centre"), std::string::npos) << run.out;
+
+  std::ofstream(dir / "plain.pgm", std::ios::binary) << "P5\n64 48\n255\n"
+                                                     << std::string(64 * 48, char(200));
+  const ProcessResult none = Execute(common + " --detect-bed " + Quote(dir / "plain.pgm") + " -o " +
+                                     Quote(dir / "x.toml"));
+  EXPECT_EQ(none.status, 1);
+  EXPECT_NE(none.err.find("plain.pgm: bed: no trampoline bed found"), std::string::npos)
+      << none.err;
+  EXPECT_EQ(std::count(none.err.begin(), none.err.end(), '\n'), 1) << none.err;
+  const ProcessResult both =
+      Execute(common + " --detect-bed " + Quote(dir / "plain.pgm") + " --points2d " +
+              Quote(dir / "corners.csv") + " -o " + Quote(dir / "x.toml"));
+  EXPECT_EQ(both.status, 1);
+  EXPECT_NE(both.err.find("either --points2d or --detect-bed"), std::string::npos) << both.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "x.toml"));
+}
+
 // The acceptance's bad inputs: one line on stderr naming the file and what is wrong, status 1.
 TEST(Cli, BadVideosAndCalibrationsAreOneLineAndStatus1) {
   const auto dir = acro::testing::TempDir() / "bad_inputs";

@@ -17,6 +17,7 @@
 #include "acro/base/text.h"
 #include "acro/capture/trial_io.h"
 #include "acro/capture/video.h"
+#include "photo_files.h"
 
 #if ACRO_HAVE_ARUCO
 #include <opencv2/aruco/charuco.hpp>
@@ -131,12 +132,8 @@ struct Image {
 
 // The images of one input: a photo, or frames of a video every step_s seconds.
 std::vector<Image> LoadImages(const std::filesystem::path& path, double step_s) {
-  const std::string ext = LowerExtension(path);
-  static const char* const kPhotos[] = {
-      "jpg", "jpeg", "png", "bmp", "tif", "tiff", "webp", "pgm", "ppm"};
-  const bool photo = std::find(std::begin(kPhotos), std::end(kPhotos), ext) != std::end(kPhotos);
   std::vector<Image> images;
-  if (photo) {
+  if (IsPhotoFile(path)) {
     if (!IsRegularFile(path)) throw InputError(path.string(), "", "no such file");
     cv::Mat grey = cv::imread(path.string(), cv::IMREAD_GRAYSCALE);
     if (grey.empty()) throw InputError(path.string(), "", "not an image OpenCV can read");

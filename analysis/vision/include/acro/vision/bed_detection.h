@@ -1,0 +1,63 @@
+#pragma once
+
+/// \file
+/// The trampoline's bed found in one picture, and a camera's pose from it: the extrinsic
+/// calibration of a training hall's camera without a board or a click (docs/calibration.md,
+/// "The bed detected in a frame").
+
+#include <array>
+#include <filesystem>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "acro/vision/calibration.h"
+#include "acro/vision/camera.h"
+
+namespace acro::vision {
+
+/// The woven bed as the picture shows it: a dark, solid four-sided region.
+struct BedDetection {
+  std::string source;  ///< the file, and "@frame N" for a video
+  int width_px = 0, height_px = 0;
+  /// The corners, refined to sub-pixel by fitting a line to each side; in the picture's order
+  /// going round clockwise as displayed (image y down), starting from the one nearest the top left.
+  std::array<Eigen::Vector2d, 4> corners_px{};
+  double area_px = 0.0;     ///< the region's area
+  double inside_grey = 0;   ///< mean grey level inside the region (0–255)
+  double outside_grey = 0;  ///< mean grey level in a band around it
+};
+
+/// Finds the bed in a photo (JPEG, PNG, …) or in frame `frame` of a video. The bed is the darkest
+/// class of the picture (Otsu's threshold, then Otsu's again among the pixels below it: black
+/// webbing against pads, mats and the hall), closed over springs and lines, the largest solid
+/// convex quadrilateral among its regions by area times contrast with its surroundings. Throws
+/// acro::InputError naming the file when it cannot be read or holds no such region.
+BedDetection DetectBed(const std::filesystem::path& image_or_video, int frame = 0);
+
+/// A camera's pose from the detected bed: the corners named BED_C1…BED_C4 of `points_W` (at
+/// least these four; "fig-trampoline" or the bed's markers of a trial), in each of the four
+/// orders round the quadrilateral that keep its sense (BED_C1…C4 go counter-clockwise seen from
+/// above, so the camera is above the bed), each solved as CalibrateExtrinsics does.
+struct BedCalibration {
+  ExtrinsicCalibration calibration;  ///< the pose chosen
+  std::vector<NamedPoint2> corners;  ///< the detected corners with the names given them
+  /// A rectangle looks the same turned half a turn: the pose with the names the other way round
+  /// fits as well. Its camera centre (lab, m), and how the choice was made.
+  Eigen::Vector3d other_centre_W = Eigen::Vector3d::Zero();
+  double other_rms_px = 0.0;
+  std::string choice;
+};
+
+/// `c1_near_px`: a pixel near where BED_C1 is in the picture (a rough click) chooses between the
+/// two poses; without it, the pose whose camera is on the −y side of the bed's centre (in the
+/// frame of `points_W`) is taken and `choice` says so. Throws acro::InputError (where "points")
+/// when BED_C1…C4 are missing or no order gives a pose with the camera above the bed.
+BedCalibration CalibrateFromBed(const Camera& intrinsics,
+                                const std::vector<NamedPoint3>& points_W,
+                                const BedDetection& bed,
+                                const std::optional<Eigen::Vector2d>& c1_near_px = std::nullopt);
+
+}  // namespace acro::vision

@@ -1,0 +1,270 @@
+#include "acro/vision/bed_detection.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+#include <Eigen/Geometry>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include "acro/base/file_io.h"
+#include "acro/base/input_error.h"
+#include "acro/base/text.h"
+#include "acro/capture/video.h"
+#include "photo_files.h"
+
+namespace acro::vision {
+
+namespace {
+
+cv::Mat LoadGrey(const std::filesystem::path& path, int frame, std::string* source) {
+  if (!IsRegularFile(path)) throw InputError(path.string(), "", "no such file");
+  if (IsPhotoFile(path)) {
+    *source = path.string();
+    cv::Mat grey = cv::imread(path.string(), cv::IMREAD_GRAYSCALE);
+    if (grey.empty()) throw InputError(path.string(), "", "not an image OpenCV can read");
+    return grey;
+  }
+  capture::VideoReader reader(path, {.pixels = capture::VideoPixels::kGrey});
+  const int n = reader.info().num_frames;
+  if (frame < 0 || frame >= n)
+    throw InputError(path.string(), "frame", fmt::format("{} is not in 0…{}", frame, n - 1));
+  capture::VideoFrame f = reader.Frame(frame);
+  *source = fmt::format("{}@frame {}", path.string(), frame);
+  return cv::Mat(f.height, f.width, CV_8UC1, f.pixels.data()).clone();
+}
+
+// Otsu's threshold of the pixels of `grey` at or below `below` (all of them for 255).
+double OtsuBelow(const cv::Mat& grey, int below) {
+  std::array<double, 256> hist{};
+  for (int r = 0; r < grey.rows; ++r) {
+    const uint8_t* p = grey.ptr<uint8_t>(r);
+    for (int c = 0; c < grey.cols; ++c)
+      if (p[c] <= below) hist[p[c]] += 1;
+  }
+  double total = 0, sum = 0;
+  for (int i = 0; i < 256; ++i) total += hist[size_t(i)], sum += i * hist[size_t(i)];
+  double w0 = 0, sum0 = 0, best = -1, threshold = below;
+  for (int t = 0; t < 255; ++t) {
+    w0 += hist[size_t(t)];
+    sum0 += t * hist[size_t(t)];
+    const double w1 = total - w0;
+    if (w0 <= 0 || w1 <= 0) continue;
+    const double m0 = sum0 / w0, m1 = (sum - sum0) / w1;
+    const double between = w0 * w1 * (m0 - m1) * (m0 - m1);
+    if (between > best) best = between, threshold = t;
+  }
+  return threshold;
+}
+
+struct Candidate {
+  std::vector<cv::Point> quad;     // approximate corners
+  std::vector<cv::Point> contour;  // the region's outline
+  double area = 0, inside = 0, outside = 0, score = 0;
+};
+
+// The solid convex quadrilaterals among the regions of `mask`.
+void FindQuads(const cv::Mat& grey, const cv::Mat& mask, std::vector<Candidate>* out) {
+  std::vector<std::vector<cv::Point>> contours;
+  cv::findContours(mask, contours, cv::RETR_EXTERNAL, cv::CHAIN_APPROX_NONE);
+  const double min_area = 0.002 * double(grey.total());
+  for (const std::vector<cv::Point>& contour : contours) {
+    const double area = cv::contourArea(contour);
+    if (area < min_area) continue;
+    std::vector<cv::Point> hull, quad;
+    cv::convexHull(contour, hull);
+    cv::approxPolyDP(hull, quad, 0.02 * cv::arcLength(hull, true), true);
+    if (quad.size() != 4 || !cv::isContourConvex(quad)) continue;
+    const double quad_area = cv::contourArea(quad);
+    if (area < 0.85 * quad_area) continue;  // not solid: a frame, an L, a crowd
+    Candidate c;
+    c.quad = quad;
+    c.contour = contour;
+    c.area = quad_area;
+    cv::Mat inside = cv::Mat::zeros(grey.size(), CV_8UC1);
+    cv::fillConvexPoly(inside, quad, cv::Scalar(255));
+    const int band = std::max(5, int(std::lround(0.01 * std::max(grey.cols, grey.rows))));
+    cv::Mat ring;
+    cv::dilate(
+        inside, ring, cv::getStructuringElement(cv::MORPH_RECT, {2 * band + 1, 2 * band + 1}));
+    ring -= inside;
+    c.inside = cv::mean(grey, inside)[0];
+    c.outside = cv::mean(grey, ring)[0];
+    c.score = c.area * std::max(0.0, c.outside - c.inside);
+    out->push_back(std::move(c));
+  }
+}
+
+// The line (a, b, c), a·x + b·y + c = 0 with a² + b² = 1, through the outline's points near the
+// side p→q.
+Eigen::Vector3d FitSide(const std::vector<cv::Point>& contour, cv::Point p, cv::Point q) {
+  const Eigen::Vector2d a(p.x, p.y), b(q.x, q.y);
+  const Eigen::Vector2d d = (b - a).normalized();
+  const double length = (b - a).norm();
+  const double near = std::max(3.0, 0.02 * length);
+  std::vector<cv::Point2f> pts;
+  for (const cv::Point& c : contour) {
+    const Eigen::Vector2d x(c.x, c.y);
+    const double s = (x - a).dot(d);
+    const double off = std::abs((x - a).x() * d.y() - (x - a).y() * d.x());
+    if (s > 0.15 * length && s < 0.85 * length && off < near) pts.emplace_back(c.x, c.y);
+  }
+  if (pts.size() < 5) pts = {cv::Point2f(p.x, p.y), cv::Point2f(q.x, q.y)};
+  cv::Vec4f line;
+  cv::fitLine(pts, line, cv::DIST_HUBER, 0, 0.01, 0.01);
+  const Eigen::Vector2d n(-line[1], line[0]);
+  return Eigen::Vector3d(n.x(), n.y(), -n.dot(Eigen::Vector2d(line[2], line[3])));
+}
+
+}  // namespace
+
+BedDetection DetectBed(const std::filesystem::path& image_or_video, int frame) {
+  BedDetection bed;
+  cv::Mat grey = LoadGrey(image_or_video, frame, &bed.source);
+  bed.width_px = grey.cols;
+  bed.height_px = grey.rows;
+  cv::GaussianBlur(grey, grey, {5, 5}, 0);
+  // The darkest class (black webbing); failing that, the dark one (a bed lit brighter than the
+  // rest of the hall is dark).
+  const double t1 = OtsuBelow(grey, 255);
+  const double t2 = OtsuBelow(grey, int(t1));
+  std::vector<Candidate> candidates;
+  const int k = std::max(3, int(std::lround(0.004 * std::max(grey.cols, grey.rows)))) | 1;
+  for (double t : {t2, t1}) {
+    cv::Mat mask;
+    cv::threshold(grey, mask, t, 255, cv::THRESH_BINARY_INV);
+    // Opened first, so that the springs' and the frame's thin dark strokes along the bed's sides
+    // come off it; then closed over thin bright lines across it.
+    const cv::Mat kernel = cv::getStructuringElement(cv::MORPH_RECT, {k, k});
+    cv::morphologyEx(mask, mask, cv::MORPH_OPEN, kernel);
+    cv::morphologyEx(mask, mask, cv::MORPH_CLOSE, kernel);
+    FindQuads(grey, mask, &candidates);
+    // The darkest class first: the mats and pads around a bed are dark too, and larger.
+    if (std::any_of(
+            candidates.begin(), candidates.end(), [](const Candidate& c) { return c.score > 0; }))
+      break;
+  }
+  if (candidates.empty())
+    throw InputError(bed.source,
+                     "bed",
+                     "no trampoline bed found: no dark, solid four-sided region of at least 0.2 % "
+                     "of the picture");
+  const Candidate& best = *std::max_element(
+      candidates.begin(), candidates.end(), [](const Candidate& a, const Candidate& b) {
+        return a.score < b.score;
+      });
+  if (best.score <= 0)
+    throw InputError(bed.source,
+                     "bed",
+                     "no trampoline bed found: no four-sided region darker than its surroundings");
+  // Clockwise as displayed (image y down: positive signed area), from the top left.
+  std::vector<cv::Point> q = best.quad;
+  double signed_area = 0;
+  for (size_t i = 0; i < 4; ++i)
+    signed_area += double(q[i].x) * q[(i + 1) % 4].y - double(q[(i + 1) % 4].x) * q[i].y;
+  if (signed_area < 0) std::reverse(q.begin(), q.end());
+  const auto first = std::min_element(
+      q.begin(), q.end(), [](cv::Point a, cv::Point b) { return a.x + a.y < b.x + b.y; });
+  std::rotate(q.begin(), first, q.end());
+  std::array<Eigen::Vector3d, 4> sides;
+  for (size_t i = 0; i < 4; ++i) sides[i] = FitSide(best.contour, q[i], q[(i + 1) % 4]);
+  for (size_t i = 0; i < 4; ++i) {
+    // Corner i joins side i−1 and side i.
+    const Eigen::Vector3d x = sides[(i + 3) % 4].cross(sides[i]);
+    Eigen::Vector2d corner(q[i].x, q[i].y);
+    if (std::abs(x.z()) > 1e-9) {
+      const Eigen::Vector2d fitted(x.x() / x.z(), x.y() / x.z());
+      if ((fitted - corner).norm() < 0.05 * std::max(grey.cols, grey.rows)) corner = fitted;
+    }
+    bed.corners_px[i] = corner;
+  }
+  bed.area_px = best.area;
+  bed.inside_grey = best.inside;
+  bed.outside_grey = best.outside;
+  return bed;
+}
+
+BedCalibration CalibrateFromBed(const Camera& intrinsics,
+                                const std::vector<NamedPoint3>& points_W,
+                                const BedDetection& bed,
+                                const std::optional<Eigen::Vector2d>& c1_near_px) {
+  std::array<Eigen::Vector3d, 4> corner_W;
+  for (int k = 0; k < 4; ++k) {
+    const std::string name = fmt::format("BED_C{}", k + 1);
+    const auto it = std::find_if(
+        points_W.begin(), points_W.end(), [&](const NamedPoint3& p) { return p.name == name; });
+    if (it == points_W.end())
+      throw InputError("", "points", "no " + name + " among the 3D points (BED_C1…C4 are needed)");
+    corner_W[size_t(k)] = it->p_W;
+  }
+  const Eigen::Vector3d centre_W = 0.25 * (corner_W[0] + corner_W[1] + corner_W[2] + corner_W[3]);
+  // Up: BED_C1…C4 go counter-clockwise seen from above.
+  const Eigen::Vector3d up =
+      (corner_W[1] - corner_W[0]).cross(corner_W[3] - corner_W[0]).normalized();
+  struct Solution {
+    BedCalibration result;
+    Eigen::Vector3d centre_W;
+  };
+  std::vector<Solution> solutions;
+  // Seen from above, counter-clockwise; in a picture from above the bed (y down), clockwise: the
+  // names follow the detected order, from each of its four corners.
+  for (int shift = 0; shift < 4; ++shift) {
+    std::vector<NamedPoint2> named;
+    for (int k = 0; k < 4; ++k)
+      named.push_back({fmt::format("BED_C{}", k + 1), bed.corners_px[size_t((shift + 4 - k) % 4)]});
+    try {
+      Solution s;
+      s.result.calibration = CalibrateExtrinsics(intrinsics, points_W, named);
+      s.result.corners = named;
+      s.centre_W = s.result.calibration.camera.CentreInWorld();
+      if ((s.centre_W - centre_W).dot(up) <= 0) continue;  // below the bed: the mirror image
+      solutions.push_back(std::move(s));
+    } catch (const InputError&) {
+      // this order puts a corner behind the camera
+    }
+  }
+  if (solutions.empty())
+    throw InputError("", "points", "no naming of the bed's corners puts the camera above the bed");
+  std::sort(solutions.begin(), solutions.end(), [](const Solution& a, const Solution& b) {
+    return a.result.calibration.rms_px < b.result.calibration.rms_px;
+  });
+  // The best and its half-turn twin (the corners named two places on), if it is there.
+  const Solution& best = solutions[0];
+  const Solution* twin = nullptr;
+  for (size_t i = 1; i < solutions.size(); ++i)
+    if ((solutions[i].result.corners[0].uv_px - best.result.corners[2].uv_px).norm() < 1e-9)
+      twin = &solutions[i];
+  const Solution* chosen = &best;
+  std::string choice;
+  if (twin) {
+    if (c1_near_px) {
+      const double d_best = (best.result.corners[0].uv_px - *c1_near_px).norm();
+      const double d_twin = (twin->result.corners[0].uv_px - *c1_near_px).norm();
+      if (d_twin < d_best) chosen = twin;
+      choice = fmt::format(
+          "BED_C1 is the corner nearest ({:.0f}, {:.0f}) px", c1_near_px->x(), c1_near_px->y());
+    } else {
+      // The side of the bed the camera is on, along the bed's own width (y) axis.
+      const Eigen::Vector3d y_axis = (corner_W[0] - corner_W[3]).normalized();
+      if ((twin->centre_W - centre_W).dot(y_axis) < (best.centre_W - centre_W).dot(y_axis))
+        chosen = twin;
+      choice =
+          "the camera on the bed's −y side (BED_C3–C4); the bed looks the same turned half a "
+          "turn: give the pixel near BED_C1 to choose";
+    }
+  } else {
+    choice = "one naming fits";
+  }
+  const Solution* other = chosen == &best ? twin : &best;
+  BedCalibration result = chosen->result;
+  result.choice = choice;
+  if (other && other != chosen) {
+    result.other_centre_W = other->centre_W;
+    result.other_rms_px = other->result.calibration.rms_px;
+  }
+  return result;
+}
+
+}  // namespace acro::vision

@@ -1,0 +1,121 @@
+// The trampoline's bed found in a frame of the sample routine's side video, and the camera's pose
+// from it, against the truth the video was drawn with (samples/trials/trampoline_routine/
+// side_camera.toml; the bed's corners are the trial's BED_C1…C4 markers).
+
+#include "acro/vision/bed_detection.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "acro/base/input_error.h"
+#include "acro/vision/calibration.h"
+#include "acro/vision/camera.h"
+#include "input_errors.h"
+#include "refdata.h"
+
+namespace acro::vision {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path Sample(const std::string& name) {
+  return acro::testing::SourceDir() / "samples/trials/trampoline_routine" / name;
+}
+
+struct Truth {
+  Camera camera;
+  std::vector<NamedPoint3> points;
+};
+
+Truth SampleTruth() {
+  Truth t;
+  t.camera = ReadCameras(Sample("side_camera.toml")).at(0);
+  t.points = ReadPoints3d(Sample("trampoline_routine.c3d").string());
+  return t;
+}
+
+// Frames with the athlete in the air and on the bed's far half: every corner within 2 px of the
+// true projection of its marker (the sides are fitted to the mask's boundary pixels, measured
+// 1.0–1.8 px off: no sub-pixel edge yet), the names right, the camera centre within 10 cm of the
+// true one (10.3 m away), and the half-turn twin on the other side of the bed.
+TEST(BedDetection, SampleVideoGivesBackTheCamerasPose) {
+  const Truth truth = SampleTruth();
+  const Eigen::Vector3d true_centre = truth.camera.CentreInWorld();
+  for (int frame : {0, 100, 200}) {
+    SCOPED_TRACE(frame);
+    const BedDetection bed = DetectBed(Sample("side_camera.mp4"), frame);
+    EXPECT_EQ(bed.width_px, 1920);
+    EXPECT_LT(bed.inside_grey + 40, bed.outside_grey);
+    const BedCalibration cal = CalibrateFromBed(truth.camera, truth.points, bed);
+    ASSERT_EQ(cal.corners.size(), 4u);
+    for (const NamedPoint2& c : cal.corners) {
+      const auto p = std::find_if(truth.points.begin(),
+                                  truth.points.end(),
+                                  [&](const NamedPoint3& q) { return q.name == c.name; });
+      ASSERT_NE(p, truth.points.end()) << c.name;
+      const std::optional<Eigen::Vector2d> uv = truth.camera.Project(p->p_W);
+      ASSERT_TRUE(uv.has_value());
+      EXPECT_LT((*uv - c.uv_px).norm(), 2.0) << c.name << " at " << c.uv_px.transpose();
+    }
+    EXPECT_LT(cal.calibration.rms_px, 1.0);
+    EXPECT_LT((cal.calibration.camera.CentreInWorld() - true_centre).norm(), 0.10)
+        << cal.calibration.camera.CentreInWorld().transpose();
+    // The twin: the same distance from the bed, on its other side.
+    EXPECT_GT(cal.other_centre_W.y(), 9.0);
+    EXPECT_NEAR(cal.other_rms_px, cal.calibration.rms_px, 0.05);
+
+    // A pixel near the twin's BED_C1 (the detected BED_C3) chooses the twin.
+    const BedCalibration other =
+        CalibrateFromBed(truth.camera, truth.points, bed, cal.corners[2].uv_px);
+    EXPECT_LT((other.calibration.camera.CentreInWorld() - cal.other_centre_W).norm(), 1e-6);
+    EXPECT_EQ(other.corners[0].uv_px, cal.corners[2].uv_px);
+  }
+}
+
+// The FIG trampoline's corners in its own frame give the same camera, placed relative to the bed:
+// its distance from the bed's centre and its height above the bed as the truth's.
+TEST(BedDetection, FigCornersPlaceTheCameraRelativeToTheBed) {
+  const Truth truth = SampleTruth();
+  Eigen::Vector3d bed_centre = Eigen::Vector3d::Zero();
+  for (const NamedPoint3& p : truth.points)
+    if (p.name.rfind("BED_C", 0) == 0) bed_centre += 0.25 * p.p_W;
+  const Eigen::Vector3d true_offset = truth.camera.CentreInWorld() - bed_centre;
+  const BedCalibration cal =
+      CalibrateFromBed(truth.camera, FigTrampolinePoints(), DetectBed(Sample("side_camera.mp4")));
+  const Eigen::Vector3d c = cal.calibration.camera.CentreInWorld();  // bed at the origin
+  EXPECT_NEAR(c.norm(), true_offset.norm(), 0.10);
+  EXPECT_NEAR(c.z(), true_offset.z(), 0.10);
+  EXPECT_LT(c.y(), 0.0);  // the default naming: the camera on the bed's −y side
+}
+
+// No bed: a plain picture, a missing file, a frame past the end, 3D points without the corners.
+TEST(BedDetection, WithoutABedSaysWhy) {
+  const fs::path dir = acro::testing::ScratchDir("bed_detection");
+  const fs::path plain = dir / "plain.pgm";
+  {
+    std::ofstream out(plain, std::ios::binary);
+    out << "P5\n320 240\n255\n" << std::string(320 * 240, char(150));
+  }
+  const std::string none = acro::testing::InputErrorOf([&] { DetectBed(plain); });
+  EXPECT_NE(none.find(plain.string()), std::string::npos) << none;
+  EXPECT_NE(none.find("no trampoline bed found"), std::string::npos) << none;
+  const std::string missing = acro::testing::InputErrorOf([&] { DetectBed(dir / "nothing.png"); });
+  EXPECT_NE(missing.find("no such file"), std::string::npos) << missing;
+  const std::string past =
+      acro::testing::InputErrorOf([&] { DetectBed(Sample("side_camera.mp4"), 100000); });
+  EXPECT_NE(past.find("100000"), std::string::npos) << past;
+  const Truth truth = SampleTruth();
+  const BedDetection bed = DetectBed(Sample("side_camera.mp4"));
+  std::vector<NamedPoint3> three(truth.points);
+  std::erase_if(three, [](const NamedPoint3& p) { return p.name == "BED_C2"; });
+  const std::string corners =
+      acro::testing::InputErrorOf([&] { CalibrateFromBed(truth.camera, three, bed); });
+  EXPECT_NE(corners.find("BED_C2"), std::string::npos) << corners;
+}
+
+}  // namespace
+}  // namespace acro::vision
