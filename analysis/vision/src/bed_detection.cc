@@ -118,6 +118,79 @@ Eigen::Vector3d FitSide(const std::vector<cv::Point>& contour, cv::Point p, cv::
   return Eigen::Vector3d(n.x(), n.y(), -n.dot(Eigen::Vector2d(line[2], line[3])));
 }
 
+// Bilinear grey level at (x, y); the nearest border pixel outside the picture.
+double GreyAt(const cv::Mat& grey, double x, double y) {
+  x = std::clamp(x, 0.0, grey.cols - 1.001);
+  y = std::clamp(y, 0.0, grey.rows - 1.001);
+  const int i = int(x), j = int(y);
+  const double fx = x - i, fy = y - j;
+  const auto g = [&](int c, int r) { return double(grey.at<uint8_t>(r, c)); };
+  return (1 - fy) * ((1 - fx) * g(i, j) + fx * g(i + 1, j)) +
+         fy * ((1 - fx) * g(i, j + 1) + fx * g(i + 1, j + 1));
+}
+
+// The side a→b moved to the grey level's edge: across the side every 2 px of its middle 70 %, the
+// place where the grey crosses half-way between the bed's (the inside end of a 12 px profile) and
+// its surroundings' (the outside end), nearest the side; a line through those (Huber). The mask's
+// outline lies on whole pixels and wherever the threshold cuts the blurred edge; this is the
+// edge itself, to a fraction of a pixel. The side as it was when too few profiles cross.
+Eigen::Vector3d RefineSide(const cv::Mat& grey,
+                           const Eigen::Vector3d& side,
+                           const Eigen::Vector2d& a,
+                           const Eigen::Vector2d& b,
+                           const Eigen::Vector2d& centroid) {
+  Eigen::Vector2d n(side.x(), side.y());
+  if ((centroid - a).dot(n) > 0) n = -n;  // outward
+  const double length = (b - a).norm();
+  const Eigen::Vector2d d = (b - a) / length;
+  constexpr double kReach = 6.0, kStep = 0.25;
+  std::vector<cv::Point2f> pts;
+  std::vector<double> profile;
+  for (double s = 0.15 * length; s <= 0.85 * length; s += 2.0) {
+    const Eigen::Vector2d p = a + s * d;
+    profile.clear();
+    for (double t = -kReach; t <= kReach + 1e-9; t += kStep)
+      profile.push_back(GreyAt(grey, p.x() + t * n.x(), p.y() + t * n.y()));
+    const size_t m = profile.size(), end = size_t(2.0 / kStep);
+    double inside = 0, outside = 0;
+    for (size_t k = 0; k < end; ++k) inside += profile[k], outside += profile[m - 1 - k];
+    inside /= double(end);
+    outside /= double(end);
+    if (outside - inside < 10.0) continue;
+    const double level = 0.5 * (inside + outside);
+    double best_t = 1e9;
+    for (size_t k = 0; k + 1 < m; ++k) {
+      if ((profile[k] - level) * (profile[k + 1] - level) > 0 || profile[k] == profile[k + 1])
+        continue;
+      const double t =
+          -kReach + kStep * (double(k) + (level - profile[k]) / (profile[k + 1] - profile[k]));
+      if (std::abs(t) < std::abs(best_t)) best_t = t;
+    }
+    if (std::abs(best_t) <= kReach)
+      pts.emplace_back(float(p.x() + best_t * n.x()), float(p.y() + best_t * n.y()));
+  }
+  if (pts.size() < 10) return side;
+  cv::Vec4f line;
+  cv::fitLine(pts, line, cv::DIST_HUBER, 0, 0.01, 0.01);
+  const Eigen::Vector2d normal(-line[1], line[0]);
+  return Eigen::Vector3d(normal.x(), normal.y(), -normal.dot(Eigen::Vector2d(line[2], line[3])));
+}
+
+// The corners where neighbouring sides meet (corner i joins side i−1 and side i); `fallback`
+// where two sides are near parallel or meet far from it.
+std::array<Eigen::Vector2d, 4> Intersect(const std::array<Eigen::Vector3d, 4>& sides,
+                                         const std::array<Eigen::Vector2d, 4>& fallback,
+                                         double limit_px) {
+  std::array<Eigen::Vector2d, 4> corners = fallback;
+  for (size_t i = 0; i < 4; ++i) {
+    const Eigen::Vector3d x = sides[(i + 3) % 4].cross(sides[i]);
+    if (std::abs(x.z()) <= 1e-9) continue;
+    const Eigen::Vector2d c(x.x() / x.z(), x.y() / x.z());
+    if ((c - fallback[i]).norm() < limit_px) corners[i] = c;
+  }
+  return corners;
+}
+
 }  // namespace
 
 BedDetection DetectBed(const std::filesystem::path& image_or_video, int frame) {
@@ -170,16 +243,14 @@ BedDetection DetectBed(const std::filesystem::path& image_or_video, int frame) {
   std::rotate(q.begin(), first, q.end());
   std::array<Eigen::Vector3d, 4> sides;
   for (size_t i = 0; i < 4; ++i) sides[i] = FitSide(best.contour, q[i], q[(i + 1) % 4]);
-  for (size_t i = 0; i < 4; ++i) {
-    // Corner i joins side i−1 and side i.
-    const Eigen::Vector3d x = sides[(i + 3) % 4].cross(sides[i]);
-    Eigen::Vector2d corner(q[i].x, q[i].y);
-    if (std::abs(x.z()) > 1e-9) {
-      const Eigen::Vector2d fitted(x.x() / x.z(), x.y() / x.z());
-      if ((fitted - corner).norm() < 0.05 * std::max(grey.cols, grey.rows)) corner = fitted;
-    }
-    bed.corners_px[i] = corner;
-  }
+  std::array<Eigen::Vector2d, 4> approximate;
+  for (size_t i = 0; i < 4; ++i) approximate[i] = Eigen::Vector2d(q[i].x, q[i].y);
+  const double limit = 0.05 * std::max(grey.cols, grey.rows);
+  const std::array<Eigen::Vector2d, 4> traced = Intersect(sides, approximate, limit);
+  const Eigen::Vector2d centroid = 0.25 * (traced[0] + traced[1] + traced[2] + traced[3]);
+  for (size_t i = 0; i < 4; ++i)
+    sides[i] = RefineSide(grey, sides[i], traced[i], traced[(i + 1) % 4], centroid);
+  bed.corners_px = Intersect(sides, traced, 3.0);
   bed.area_px = best.area;
   bed.inside_grey = best.inside;
   bed.outside_grey = best.outside;

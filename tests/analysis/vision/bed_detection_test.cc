@@ -39,9 +39,10 @@ Truth SampleTruth() {
 }
 
 // Frames with the athlete in the air and on the bed's far half: every corner within 2 px of the
-// true projection of its marker (the sides are fitted to the mask's boundary pixels, measured
-// 1.0–1.8 px off: no sub-pixel edge yet), the names right, the camera centre within 10 cm of the
-// true one (10.3 m away), and the half-turn twin on the other side of the bed.
+// true projection of its marker (measured 1.2–1.9 px: the drawn bed's edge, found to a tenth of a
+// pixel, lies about 1 px below the markers' projections and its ends about 1 px beyond them), the names right, the camera centre
+// within 5 cm of the true one (10.3 m away; measured 3.1–3.2 cm), and the half-turn twin on the
+// other side of the bed.
 TEST(BedDetection, SampleVideoGivesBackTheCamerasPose) {
   const Truth truth = SampleTruth();
   const Eigen::Vector3d true_centre = truth.camera.CentreInWorld();
@@ -61,8 +62,8 @@ TEST(BedDetection, SampleVideoGivesBackTheCamerasPose) {
       ASSERT_TRUE(uv.has_value());
       EXPECT_LT((*uv - c.uv_px).norm(), 2.0) << c.name << " at " << c.uv_px.transpose();
     }
-    EXPECT_LT(cal.calibration.rms_px, 1.0);
-    EXPECT_LT((cal.calibration.camera.CentreInWorld() - true_centre).norm(), 0.10)
+    EXPECT_LT(cal.calibration.rms_px, 0.5);
+    EXPECT_LT((cal.calibration.camera.CentreInWorld() - true_centre).norm(), 0.05)
         << cal.calibration.camera.CentreInWorld().transpose();
     // The twin: the same distance from the bed, on its other side.
     EXPECT_GT(cal.other_centre_W.y(), 9.0);
