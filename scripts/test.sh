@@ -10,9 +10,10 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 scripts/install-deps.sh
 if [ "${1:-}" = --sanitize ]; then
-  # The readers (capture/), the YAML parser, the corpus replays of the fuzz entry points and the
+  # The readers (capture/), the YAML parser, the corpus replays of the fuzz entry points, the bed
+  # detector (a photo or a video frame through OpenCV and our decoder) and the
   # robustness suite against the sanitized acrolab.
-  tests='^(capture/|robustness/|analysis/athlete/(yaml|athlete_profile|yeadon_measurements)$|analysis/design/(yaml_corpus|skill_file)$|analysis/vision/(camera|camera_corpus)$)'
+  tests='^(capture/|robustness/|analysis/athlete/(yaml|athlete_profile|yeadon_measurements)$|analysis/design/(yaml_corpus|skill_file)$|analysis/vision/(camera|camera_corpus|bed_detection)$)'
   # (capture/c3d_allocation counts allocations by interposing malloc itself, as ASan does.)
   exclude='^capture/c3d_allocation$'
   flags="-fsanitize=address,undefined,float-cast-overflow -fno-sanitize-recover=all -fno-omit-frame-pointer"
