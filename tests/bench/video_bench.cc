@@ -2,7 +2,8 @@
 // a sequential pass over the Pose2Sim H.264 and VP9 files and over a 10 s 1080p 30 fps H.264 file
 // this benchmark writes once (4 s groups of pictures), by our reader (RGB frames) and by
 // `ffmpeg -threads N -i X -f null -` (decode only) and `… -pix_fmt rgb24 -f null -` (decode and
-// the same colour conversion); and random access to a frame 2 s after a keyframe at 1080p.
+// the same colour conversion); and random access to a frame 2 s after a keyframe at 1080p, by our
+// reader and by `ffmpeg -ss`.
 // Run: build/bench/video_bench --benchmark_repetitions=5 (the ffmpeg command must be installed).
 
 #include <benchmark/benchmark.h>
@@ -97,6 +98,31 @@ void BM_RandomAccess2sAfterKeyframe1080p(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_RandomAccess2sAfterKeyframe1080p)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The command line's random access to the same frame: `ffmpeg -ss T -i X -frames:v 1` with T the
+// frame's time (range 60: 2 s) or 0 (range 0: the keyframe itself). The difference of the two is
+// what the command line spends getting from the keyframe to the frame (its accurate seek decodes
+// every frame on the way); its start-up and the first frame are in both.
+void BM_FfmpegRandomAccess1080p(benchmark::State& state) {
+  const fs::path& path = acro::testing::Generated1080pVideo();
+  if (path.empty()) {
+    state.SkipWithError("could not write the 1080p file");
+    return;
+  }
+  const int frame = static_cast<int>(state.range(0));
+  const std::string command = "ffmpeg -v error -threads " + std::to_string(kThreads) + " -ss " +
+                              std::to_string(frame / 30.0) + " -i '" + path.string() +
+                              "' -frames:v 1 -f null - 2>/dev/null";
+  for (auto _ : state) {
+    if (std::system(command.c_str()) != 0) state.SkipWithError("ffmpeg failed");
+  }
+  state.SetLabel("frame " + std::to_string(frame));
+}
+BENCHMARK(BM_FfmpegRandomAccess1080p)
+    ->Arg(0)
+    ->Arg(60)
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 }  // namespace
 
