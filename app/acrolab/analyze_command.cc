@@ -37,22 +37,6 @@ namespace acro::app {
 
 namespace {
 
-// "x,y,z" as three numbers.
-Eigen::Vector3d ParseVector(const std::string& option, const std::string& text) {
-  Eigen::Vector3d v;
-  size_t start = 0;
-  for (int k = 0; k < 3; ++k) {
-    const size_t comma = text.find(',', start);
-    if ((k < 2) != (comma != std::string::npos))
-      throw CLI::ValidationError(option, "needs X,Y,Z, got '" + text + "'");
-    const std::string part = text.substr(start, comma - start);
-    if (!CLI::detail::lexical_cast(part, v[k]) || !std::isfinite(v[k]))
-      throw CLI::ValidationError(option, "'" + part + "' is not a number");
-    start = comma + 1;
-  }
-  return v;
-}
-
 struct AnalyzeArguments {
   TrialArguments common;
   bool images = true;
@@ -259,7 +243,7 @@ void AddAnalyzeCommand(CLI::App& app, CommandRunner* run) {
       "--bed",
       [args](const std::string& text) {
         analysis::BedGeometry bed;
-        bed.centre_W = ParseVector("--bed", text);
+        bed.centre_W = ParseCommaNumbers("--bed", text, 3, "X,Y,Z");
         bed.source = "option --bed";
         args->options.bed = bed;
       },

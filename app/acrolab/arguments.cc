@@ -89,6 +89,24 @@ analysis::AthleteBody TrialArguments::MakeBody(const std::string& command,
       height_m, mass_kg, sex == "f" ? analysis::Sex::kFemale : analysis::Sex::kMale);
 }
 
+Eigen::VectorXd ParseCommaNumbers(const std::string& option,
+                                  const std::string& text,
+                                  int count,
+                                  const std::string& form) {
+  Eigen::VectorXd v(count);
+  size_t start = 0;
+  for (int k = 0; k < count; ++k) {
+    const size_t comma = text.find(',', start);
+    if ((k < count - 1) != (comma != std::string::npos))
+      throw CLI::ValidationError(option, "needs " + form + ", got '" + text + "'");
+    const std::string part = text.substr(start, comma - start);
+    if (!CLI::detail::lexical_cast(part, v[k]) || !std::isfinite(v[k]))
+      throw CLI::ValidationError(option, "'" + part + "' is not a number");
+    start = comma + 1;
+  }
+  return v;
+}
+
 vision::VideoSync ParseVideoSync(double offset_s, const std::string& event, double rate) {
   if (!(rate > 0) || !std::isfinite(rate)) throw UsageError{"--rate must be a positive number"};
   if (event.empty()) return {offset_s, rate};

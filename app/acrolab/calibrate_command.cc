@@ -24,19 +24,10 @@ struct IntrinsicsArguments {
 
 struct ExtrinsicsArguments {
   std::string points3d, points2d, intrinsics, camera, out;
-  std::string detect_bed, bed_c1_near, corners_csv;
+  std::string detect_bed, corners_csv;
+  std::optional<Eigen::Vector2d> bed_c1_near;
   int frame = 0;
 };
-
-// "U,V" → pixel; a one-line error naming the option otherwise.
-Eigen::Vector2d ParsePixel(const std::string& text, const std::string& option) {
-  double u = 0, v = 0;
-  char comma = 0, rest = 0;
-  if (std::sscanf(text.c_str(), "%lf %c %lf %c", &u, &comma, &v, &rest) != 3 || comma != ',' ||
-      !std::isfinite(u) || !std::isfinite(v))
-    throw InputError("", option, "'" + text + "' is not a pixel U,V");
-  return {u, v};
-}
 
 int RunBedExtrinsics(const ExtrinsicsArguments& args, const vision::Camera& intrinsics) {
   const vision::BedDetection bed = vision::DetectBed(args.detect_bed, args.frame);
@@ -45,10 +36,8 @@ int RunBedExtrinsics(const ExtrinsicsArguments& args, const vision::Camera& intr
               bed.area_px,
               bed.inside_grey,
               bed.outside_grey);
-  std::optional<Eigen::Vector2d> near;
-  if (!args.bed_c1_near.empty()) near = ParsePixel(args.bed_c1_near, "--bed-c1-near");
-  const vision::BedCalibration result =
-      vision::CalibrateFromBed(intrinsics, vision::ReadPoints3d(args.points3d), bed, near);
+  const vision::BedCalibration result = vision::CalibrateFromBed(
+      intrinsics, vision::ReadPoints3d(args.points3d), bed, args.bed_c1_near);
   std::string csv = "name,u_px,v_px\n";
   for (size_t i = 0; i < result.corners.size(); ++i) {
     const vision::NamedPoint2& c = result.corners[i];
@@ -188,10 +177,13 @@ void AddCalibrateCommand(CLI::App& app, CommandRunner* run) {
                          "a photo or video in which to find the trampoline's bed (its corners "
                          "become BED_C1…C4 of --points3d), instead of --points2d");
   extrinsics->add_option("--frame", ex->frame, "with --detect-bed on a video: the frame (0)");
-  extrinsics->add_option("--bed-c1-near",
-                         ex->bed_c1_near,
-                         "U,V: a pixel near BED_C1, which chooses between the bed's two "
-                         "half-turn namings (default: the camera on the bed's -y side)");
+  extrinsics->add_option_function<std::string>(
+      "--bed-c1-near",
+      [ex](const std::string& text) {
+        ex->bed_c1_near = ParseCommaNumbers("--bed-c1-near", text, 2, "U,V");
+      },
+      "U,V: a pixel near BED_C1, which chooses between the bed's two half-turn namings "
+      "(default: the camera on the bed's -y side)");
   extrinsics->add_option(
       "--corners-csv", ex->corners_csv, "write the detected corners (name,u_px,v_px)");
   extrinsics->add_option("--intrinsics", ex->intrinsics, "the camera's calibration (any format)")

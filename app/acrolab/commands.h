@@ -92,6 +92,13 @@ void CheckCutoffBelowNyquist(const analysis::ReconstructionOptions& options,
 /// (acro/base/temporaries.h), says so in one line and exits with 128 + the signal (130, 143).
 void InstallInterruptCleanup();
 
+/// `count` finite numbers separated by commas ("x,y,z", "u,v"), for `option`; `form` names them in
+/// the error ("X,Y,Z"). Throws CLI::ValidationError.
+Eigen::VectorXd ParseCommaNumbers(const std::string& option,
+                                  const std::string& text,
+                                  int count,
+                                  const std::string& form);
+
 /// The sync of the command line: --event TRIAL_S:VIDEO_S when given, else --offset-s; --rate for
 /// both. Throws UsageError for a malformed --event or a rate that is not positive.
 vision::VideoSync ParseVideoSync(double offset_s, const std::string& event, double rate);

@@ -668,12 +668,13 @@ SkillFromCodeResult DesignSkillFromCode(const std::string& code_text,
     x = shooter->Shoot(x, options, break_stalls, residual);
     return std::make_pair(std::move(shooter), x);
   };
+  constexpr double kTurned = 1e-3;  // rad: the largest residual of a flight found
   double residual = 0;
   std::unique_ptr<Shooter> shooter_ptr;
   VectorXd x;
   std::tie(shooter_ptr, x) = shoot(true, &residual);
   int simulations = shooter_ptr->simulations();
-  if (!(residual <= 1e-3) && has_stop) {
+  if (!(residual <= kTurned) && has_stop) {
     if (options.progress) options.progress("shooting again, every pass to its end (a twist-in)");
     std::tie(shooter_ptr, x) = shoot(false, &residual);
     simulations += shooter_ptr->simulations();
@@ -683,7 +684,7 @@ SkillFromCodeResult DesignSkillFromCode(const std::string& code_text,
   const Flight flight = shooter.Simulate(x);
   result.shooting_residual_rad = residual;
   result.shooting_simulations = simulations;
-  if (!(residual <= 1e-3))
+  if (!(residual <= kTurned))
     throw InputError("",
                      where,
                      fmt::format("no flight of {:.2f} s turns its rotation for this athlete "

@@ -97,7 +97,15 @@ void FindQuads(const cv::Mat& grey, const cv::Mat& mask, std::vector<Candidate>*
   }
 }
 
-// The line (a, b, c), a·x + b·y + c = 0 with a² + b² = 1, through the outline's points near the
+// The line (a, b, c), a·x + b·y + c = 0 with a² + b² = 1, through `pts` (OpenCV's fitLine, Huber).
+Eigen::Vector3d HuberLine(const std::vector<cv::Point2f>& pts) {
+  cv::Vec4f line;  // direction, then a point
+  cv::fitLine(pts, line, cv::DIST_HUBER, 0, 0.01, 0.01);
+  const Eigen::Vector2d n(-line[1], line[0]);
+  return Eigen::Vector3d(n.x(), n.y(), -n.dot(Eigen::Vector2d(line[2], line[3])));
+}
+
+// The line through the outline's points near the
 // side p→q.
 Eigen::Vector3d FitSide(const std::vector<cv::Point>& contour, cv::Point p, cv::Point q) {
   const Eigen::Vector2d a(p.x, p.y), b(q.x, q.y);
@@ -112,10 +120,7 @@ Eigen::Vector3d FitSide(const std::vector<cv::Point>& contour, cv::Point p, cv::
     if (s > 0.15 * length && s < 0.85 * length && off < near) pts.emplace_back(c.x, c.y);
   }
   if (pts.size() < 5) pts = {cv::Point2f(p.x, p.y), cv::Point2f(q.x, q.y)};
-  cv::Vec4f line;
-  cv::fitLine(pts, line, cv::DIST_HUBER, 0, 0.01, 0.01);
-  const Eigen::Vector2d n(-line[1], line[0]);
-  return Eigen::Vector3d(n.x(), n.y(), -n.dot(Eigen::Vector2d(line[2], line[3])));
+  return HuberLine(pts);
 }
 
 // Bilinear grey level at (x, y); the nearest border pixel outside the picture.
@@ -170,10 +175,7 @@ Eigen::Vector3d RefineSide(const cv::Mat& grey,
       pts.emplace_back(float(p.x() + best_t * n.x()), float(p.y() + best_t * n.y()));
   }
   if (pts.size() < 10) return side;
-  cv::Vec4f line;
-  cv::fitLine(pts, line, cv::DIST_HUBER, 0, 0.01, 0.01);
-  const Eigen::Vector2d normal(-line[1], line[0]);
-  return Eigen::Vector3d(normal.x(), normal.y(), -normal.dot(Eigen::Vector2d(line[2], line[3])));
+  return HuberLine(pts);
 }
 
 // The corners where neighbouring sides meet (corner i joins side i−1 and side i); `fallback`

@@ -40,9 +40,9 @@ Truth SampleTruth() {
 
 // Frames with the athlete in the air and on the bed's far half: every corner within 2 px of the
 // true projection of its marker (measured 1.2–1.9 px: the drawn bed's edge, found to a tenth of a
-// pixel, lies about 1 px below the markers' projections and its ends about 1 px beyond them), the names right, the camera centre
-// within 5 cm of the true one (10.3 m away; measured 3.1–3.2 cm), and the half-turn twin on the
-// other side of the bed.
+// pixel, lies about 1 px below the markers' projections and its ends about 1 px beyond them), the
+// names right, the camera centre within 5 cm of the true one (10.3 m away; measured 3.1–3.2 cm),
+// and the half-turn twin on the other side of the bed.
 TEST(BedDetection, SampleVideoGivesBackTheCamerasPose) {
   const Truth truth = SampleTruth();
   const Eigen::Vector3d true_centre = truth.camera.CentreInWorld();
