@@ -22,9 +22,7 @@
 #include "acro/base/demand.h"
 #include "acro/base/input_error.h"
 #include "acro/design/posture_track.h"
-#include "acro/dynamics/configuration.h"
-#include "acro/dynamics/flight_simulation.h"
-#include "acro/dynamics/workspace.h"
+#include "acro/dynamics/flight_rotation.h"
 
 namespace acro::analysis {
 namespace {
@@ -191,15 +189,18 @@ struct Flight {
   std::vector<double> t;
   std::vector<Eigen::Quaterniond> q_WB;
   VectorXd somersault, tilt, twist;  // unwrapped, relative to heading 0
+  VectorXd progress;                 // the whole body's somersault: ∫ (R I⁻¹ Rᵀ H)_y dt
   PostureTrack track;
   double prepare_start_s = 0;  // the landing posture's transition begins
+  /// The joint motion's inertia and momentum over the flight (shared by the flights that differ
+  /// in their take-off momentum only).
+  std::shared_ptr<const dynamics::JointMotionSamples> joint_motion;
 };
 
 class Shooter {
  public:
   Shooter(const AthleteProfile& athlete, Plan plan)
       : model_(MakeStandardHumanModel(MakeAthleteBody(athlete))), plan_(std::move(plan)) {
-    g_ = model_.gravity_W().norm();
     mass_ = model_.total_mass();
     // The schedule's first times: the nominal angle spread evenly over the flight.
     const double nu0 = 45.0, nu1 = 45.0 + plan_.air_target_rad / kDeg;
@@ -286,47 +287,51 @@ class Shooter {
     return track;
   }
 
-  Flight Simulate(const VectorXd& x) {
+  // The flight of the unknowns x; `same_joints`, when given, is a flight whose joint motion x
+  // leaves unchanged (x differs from its unknowns in the take-off momentum only).
+  Flight Simulate(const VectorXd& x, const Flight* same_joints = nullptr) {
     ++simulations_;
     Flight f;
-    f.track = MakeTrack(x, &f.prepare_start_s);
-    const int nj = model_.num_joint_dofs();
-    VectorXd qj(nj), qdj(nj), qddj(nj);
-    f.track.Eval(0.0, qj, qdj, qddj);
-    const Matrix3d R0 =
-        Eigen::AngleAxisd(plan_.direction * plan_.lean_rad, Vector3d::UnitY()).toRotationMatrix();
-    const Vector3d H = Momentum(x);
-    VectorXd q = dynamics::MakeNeutralConfiguration(model_);
-    dynamics::SetRootQuaternion<double>(Eigen::Quaterniond(R0), q);
-    q.tail(nj) = qj;
-    VectorXd v = VectorXd::Zero(model_.nv());
-    v.tail(nj) = qdj;
-    const Vector3d v_com(0, 0, g_ * plan_.T / 2);
-    dynamics::Workspace<double> ws(model_);  // one per call: the Jacobian's columns run at once
-    v.head<6>() = dynamics::CalcRootVelocityFromMomentum<double>(model_, ws, q, v, v_com, H);
-    dynamics::FlightSimulationOptions o;
-    o.duration_s = plan_.T;
-    o.step_s = plan_.step;
-    const PostureTrack& track = f.track;
-    const auto r = dynamics::SimulateFlight<double>(
-        model_,
-        o,
-        q.head<7>(),
-        v.head<6>(),
-        [&track](const double& t,
-                 dynamics::VectorXRef<double> qq,
-                 dynamics::VectorXRef<double> qd,
-                 dynamics::VectorXRef<double> qdd) { track.Eval(t, qq, qd, qdd); });
-    ACRO_DEMAND(r.summary.status == dynamics::FlightSimulationStatus::kSuccess);
-    const size_t m = r.q.size();
-    f.t = r.t;
+    if (same_joints != nullptr) {
+      f.track = same_joints->track;
+      f.prepare_start_s = same_joints->prepare_start_s;
+      f.joint_motion = same_joints->joint_motion;
+    } else {
+      f.track = MakeTrack(x, &f.prepare_start_s);
+      const PostureTrack& track = f.track;
+      f.joint_motion =
+          std::make_shared<const dynamics::JointMotionSamples>(dynamics::SampleJointMotion(
+              model_,
+              plan_.T,
+              static_cast<int>(std::lround(plan_.T / plan_.step)),
+              [&track](const double& t,
+                       dynamics::VectorXRef<double> qq,
+                       dynamics::VectorXRef<double> qd,
+                       dynamics::VectorXRef<double> qdd) { track.Eval(t, qq, qd, qdd); }));
+    }
+    const Eigen::Quaterniond q0(
+        Eigen::AngleAxisd(plan_.direction * plan_.lean_rad, Vector3d::UnitY()));
+    f.q_WB = dynamics::SimulateFlightRotation(*f.joint_motion, q0, Momentum(x));
+    const size_t m = f.q_WB.size();
+    {
+      const Vector3d H = Momentum(x);
+      f.progress.resize(Eigen::Index(m));
+      double previous = 0;
+      for (size_t i = 0; i < m; ++i) {
+        const Matrix3d R = f.q_WB[i].toRotationMatrix();
+        const double w = (R * (f.joint_motion->I_Scm_B_inverse[2 * i] * (R.transpose() * H)))[1];
+        f.progress[Eigen::Index(i)] =
+            i == 0 ? 0.0 : f.progress[Eigen::Index(i - 1)] + 0.5 * plan_.step * (previous + w);
+        previous = w;
+      }
+    }
+    f.t.resize(m);
     f.somersault.resize(Eigen::Index(m));
     f.tilt.resize(Eigen::Index(m));
     f.twist.resize(Eigen::Index(m));
     for (size_t i = 0; i < m; ++i) {
-      const Eigen::Quaterniond qi = dynamics::GetRootQuaternion(r.q[i]).normalized();
-      f.q_WB.push_back(qi);
-      const SomersaultTiltTwist a = CalcSomersaultTiltTwist(qi.toRotationMatrix());
+      f.t[i] = f.joint_motion->step_s * static_cast<double>(i);
+      const SomersaultTiltTwist a = CalcSomersaultTiltTwist(f.q_WB[i].toRotationMatrix());
       const auto k = Eigen::Index(i);
       f.somersault[k] =
           i == 0 ? a.somersault_rad : UnwrapAngle(f.somersault[k - 1], a.somersault_rad);
@@ -399,12 +404,49 @@ class Shooter {
     return r;
   }
 
-  // The segment ends from a flight: the times its nominal angle reaches them.
-  void UpdateSchedule(const Flight& f) {
+  // The segment ends from a flight: the times its nominal angle reaches them. With `whole_body`
+  // the angle is the whole body's somersault scaled to the pelvis' total, which grows smoothly
+  // where the pelvis' angle runs back for a moment as a tuck or pike opens (the legs swing down,
+  // the pelvis turns back: 507° → 501° → 513° in 821o), so that the times do not jump.
+  void UpdateSchedule(const Flight& f, bool whole_body = false) {
     if (plan_.somersaults == 0) return;
-    const VectorXd nu = Nominal(f);
+    VectorXd nu = Nominal(f);
+    if (whole_body) {
+      const double total = f.progress[f.progress.size() - 1];
+      nu = (45.0 + (f.progress.array() / total) * (nu[nu.size() - 1] - 45.0)).matrix();
+    }
     for (size_t i = 0; i + 1 < plan_.segments.size(); ++i)
       segment_end_s_[i] = TimeAt(f, nu, plan_.segments[i].nu_end_deg);
+  }
+
+  // The schedule from the flight without its twist: the somersault momentum alone, the postures
+  // without their arm actions, the segment ends moved to where that flight's whole-body angle
+  // reaches theirs until they stay (to 1 µs; 7–15 passes). Returns the somersault momentum.
+  double FitScheduleWithoutTwist(double x0) {
+    VectorXd x = VectorXd::Zero(num_unknowns());
+    x[0] = x0;
+    for (int pass = 0; pass < 30; ++pass) {
+      const Flight base = Simulate(x);
+      Flight f = base;
+      // The somersault momentum by Newton on row 0 (the joints unchanged: cheap flights).
+      for (int it = 0; it < 20; ++it) {
+        const double r0 = Residual(f)[0];
+        if (std::abs(r0) < 1e-10) break;
+        const double h = 1e-4 * std::max(1.0, std::abs(x[0]));
+        VectorXd xp = x;
+        xp[0] += h;
+        const double d = (Residual(Simulate(xp, &base))[0] - r0) / h;
+        x[0] -= r0 / d;
+        f = Simulate(x, &base);
+      }
+      const std::vector<double> before = segment_end_s_;
+      UpdateSchedule(f, true);
+      double change = 0;
+      for (size_t i = 0; i + 1 < before.size(); ++i)
+        change = std::max(change, std::abs(segment_end_s_[i] - before[i]));
+      if (change < 1e-6) break;
+    }
+    return x[0];
   }
 
   static constexpr double kMaxAction = 1.6;  // an arm cannot go past overhead
@@ -415,8 +457,10 @@ class Shooter {
   VectorXd Shoot(VectorXd x,
                  const SkillFromCodeOptions& options,
                  bool break_stalls,
+                 bool careful,
                  double* residual) {
-    VectorXd r = Residual(Simulate(x));
+    Flight flight = Simulate(x);
+    VectorXd r = Residual(flight);
     const int n = num_unknowns();
     double best = r.cwiseAbs().maxCoeff();
     int stalled = 0;
@@ -437,7 +481,7 @@ class Shooter {
         const double h = (j == 0 ? 1e-4 : 1e-5) * std::max(1.0, std::abs(x[j]));
         VectorXd xp = x;
         xp[j] += h * (Bounded(j) && x[j] + h > kMaxAction ? -1 : 1);
-        J.col(j) = (Residual(Simulate(xp)) - r) / (xp[j] - x[j]);
+        J.col(j) = (Residual(Simulate(xp, Bounded(j) ? nullptr : &flight)) - r) / (xp[j] - x[j]);
       };
       {
         std::thread odd([&] {
@@ -455,20 +499,37 @@ class Shooter {
           dx = -Jf.completeOrthogonalDecomposition().solve(r);
           dx[j] = 0;
         }
+      // Careful steps stay in a trust region (the momentum moves by at most a fifth, an arm action
+      // by 0.5 rad) and a pass ends where no halved step lowers the residual; otherwise the tenth
+      // halving is taken whatever it gives (the drift that the passes of the twist-free and
+      // half-out skills rely on).
       double step = 1.0;
+      if (careful) {
+        double scale = 1.0;
+        for (int j = 0; j < n; ++j) {
+          const double limit = Bounded(j) ? 0.5 : 0.2 * std::max(std::abs(x[j]), 5.0);
+          if (std::abs(dx[j]) > limit) scale = std::min(scale, limit / std::abs(dx[j]));
+        }
+        step = scale;
+      }
+      bool moved = false;
       for (int back = 0; back < 10; ++back) {
         VectorXd xt = x + step * dx;
         for (int j = 0; j < n; ++j)
           if (Bounded(j)) xt[j] = std::clamp(xt[j], -kMaxAction, kMaxAction);
-        const VectorXd rt = Residual(Simulate(xt));
+        Flight ft = Simulate(xt);
+        const VectorXd rt = Residual(ft);
         // (a step into a flight that does not integrate, NaN, is never taken)
-        if (rt.allFinite() && (rt.norm() < r.norm() || back == 9)) {
+        if (rt.allFinite() && (rt.norm() < r.norm() || (back == 9 && !careful))) {
           x = xt;
           r = rt;
+          flight = std::move(ft);
+          moved = true;
           break;
         }
         step *= 0.5;
       }
+      if (careful && !moved) break;
       if (options.progress) {
         std::string xs;
         for (int j = 0; j < n; ++j) xs += fmt::format(" {:.4g}", x[j]);
@@ -484,16 +545,38 @@ class Shooter {
 
   // A first guess: the somersault momentum from a mean inertia, the contact twist from the
   // twist's rate in the twisting posture, each aerial action's sign from a probe either way.
-  VectorXd Guess() {
+  // (With `somersault_momentum`, that instead, and the contact twist scanned for the first
+  // somersault's twist.)
+  double MomentumGuess() const {
+    const double inertia = plan_.code.shape == SkillShape::kStraight ? 11.0 : 7.0;
+    return plan_.direction * inertia * (plan_.air_target_rad + plan_.lean_rad) / plan_.T;
+  }
+  VectorXd Guess(double somersault_momentum = 0) {
     const int n = num_unknowns();
     VectorXd x = VectorXd::Zero(n);
     const double T = plan_.T;
-    const double inertia = plan_.code.shape == SkillShape::kStraight ? 11.0 : 7.0;
-    x[0] = plan_.direction * inertia * (plan_.air_target_rad + plan_.lean_rad) / T;
+    x[0] = somersault_momentum != 0 ? somersault_momentum : MomentumGuess();
     int row = 1;
     if (plan_.unknowns.contact_twist) {
       const double halves = plan_.code.half_twists[0];
       x[row++] = plan_.twist_sign * 1.3 * halves * kPi / (0.5 * T);
+      if (somersault_momentum != 0) {
+        // The contact twist that turns the first somersault's twist without the arms: a scan of
+        // 0.1–2.5 times the estimate (the joints unchanged: cheap flights).
+        const Flight base = Simulate(x);
+        const double estimate = x[1];
+        double best = estimate, best_r = 1e300;
+        for (int i = 1; i <= 48; ++i) {
+          VectorXd xt = x;
+          xt[1] = estimate * 0.05 * (i + 1);
+          const double r1 = std::abs(Residual(Simulate(xt, &base))[1]);
+          if (r1 < best_r) {
+            best_r = r1;
+            best = xt[1];
+          }
+        }
+        x[1] = best;
+      }
     }
     for (; row < n; ++row) {
       double best = 0, best_norm = 1e300;
@@ -514,7 +597,7 @@ class Shooter {
  private:
   dynamics::Model<double> model_;
   Plan plan_;
-  double g_ = 9.81, mass_ = 0;
+  double mass_ = 0;
   std::vector<double> segment_end_s_;
   std::atomic<int> simulations_{0};
 };
@@ -648,37 +731,32 @@ SkillFromCodeResult DesignSkillFromCode(const std::string& code_text,
   Plan plan = MakePlan(code, T);
   plan.step = T / std::max(1.0, std::round(T / options.step_s));
   // Shoot, move the postures to the angles where they belong, shoot again. A stalled pass ends
-  // early (it only waits for the schedule's update). Twist-ins (a stop action: 821o, 831<) may
-  // find their flight only through the slow drift of stalled passes: when the quick passes
-  // find none, they start again and let every pass run. (Quick passes that end two schedule
-  // updates in a row more than 45° off are given up at once: 831< ends its first two at 164°
-  // and 203°, where 821o, which the quick passes turn, ends them at 20° and 0°.)
+  // early (it only waits for the schedule's update).
+  //
+  // Twist-ins (a stop action: 821o, 831<) are shot differently. Their stop row repeats the first
+  // somersault's twist row, so the solutions form a one-parameter family along which those passes
+  // wandered: where they ended hung on the path (10⁻⁷ rad in the flights picked another design or
+  // none, docs/skill-design.md). Their schedule is fixed first, from the flight without the twist
+  // (smooth, it settles); the contact twist is then scanned for the one that turns the first
+  // somersault's twist, and one careful Newton pass shoots the rest. 821o: 140 simulations
+  // (597 before), 831<: 131 (2 639).
   const bool has_stop = !plan.unknowns.stop_somersaults.empty();
-  auto shoot = [&](bool break_stalls, double* residual) {
-    auto shooter = std::make_unique<Shooter>(athlete, plan);
-    VectorXd x = shooter->Guess();
-    double previous = 0;
-    for (int pass = 0; pass < 4; ++pass) {
-      x = shooter->Shoot(x, options, break_stalls, residual);
-      if (break_stalls && has_stop && pass > 0 && previous > 45 * kDeg && *residual > 45 * kDeg)
-        return std::make_pair(std::move(shooter), x);
-      previous = *residual;
-      shooter->UpdateSchedule(shooter->Simulate(x));
-    }
-    x = shooter->Shoot(x, options, break_stalls, residual);
-    return std::make_pair(std::move(shooter), x);
-  };
   constexpr double kTurned = 1e-3;  // rad: the largest residual of a flight found
   double residual = 0;
-  std::unique_ptr<Shooter> shooter_ptr;
+  auto shooter_ptr = std::make_unique<Shooter>(athlete, plan);
   VectorXd x;
-  std::tie(shooter_ptr, x) = shoot(true, &residual);
-  int simulations = shooter_ptr->simulations();
-  if (!(residual <= kTurned) && has_stop) {
-    if (options.progress) options.progress("shooting again, every pass to its end (a twist-in)");
-    std::tie(shooter_ptr, x) = shoot(false, &residual);
-    simulations += shooter_ptr->simulations();
+  if (has_stop) {
+    const double momentum = shooter_ptr->FitScheduleWithoutTwist(shooter_ptr->MomentumGuess());
+    x = shooter_ptr->Shoot(shooter_ptr->Guess(momentum), options, false, true, &residual);
+  } else {
+    x = shooter_ptr->Guess();
+    for (int pass = 0; pass < 4; ++pass) {
+      x = shooter_ptr->Shoot(x, options, true, false, &residual);
+      shooter_ptr->UpdateSchedule(shooter_ptr->Simulate(x));
+    }
+    x = shooter_ptr->Shoot(x, options, true, false, &residual);
   }
+  const int simulations = shooter_ptr->simulations();
   Shooter& shooter = *shooter_ptr;
   ACRO_DEMAND(std::abs(shooter.model().gravity_W().norm() - g) < 1e-12);
   const Flight flight = shooter.Simulate(x);

@@ -4,8 +4,8 @@
 // keyframes of the skill for one athlete — take-off posture, entry into the shape, the held
 // shape, where each somersault's half twists happen, the arm and hip actions that start them, the
 // opening and the landing posture — found by simulating the flight. The joints follow a schedule
-// of postures placed by somersault angle; the root flies free under gravity
-// (dynamics::SimulateFlight), and shooting finds the take-off angular momentum (its somersault
+// of postures placed by somersault angle; the root turns free with its angular momentum conserved
+// (dynamics::SimulateFlightRotation), and shooting finds the take-off angular momentum (its somersault
 // component, and for a skill that twists in its first somersault its twist component, the
 // "contact twist") and the size of the asymmetric arm and hip action that starts each later
 // twist (the "aerial twist"; Yeadon 1993, J. Sports Sci. 11, Parts II and III) so that the
