@@ -7,7 +7,6 @@
 #include <numbers>
 #include <string>
 #include <thread>
-#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -190,8 +189,8 @@ Plan MakePlan(const FigSkill& code, double T) {
 struct Flight {
   std::vector<double> t;
   std::vector<Eigen::Quaterniond> q_WB;
-  VectorXd somersault, tilt, twist;  // unwrapped, relative to heading 0
-  VectorXd progress;                 // the whole body's somersault: ∫ (R I⁻¹ Rᵀ H)_y dt
+  VectorXd somersault, tilt, twist;     // unwrapped, relative to heading 0
+  Vector3d H_Scm_W = Vector3d::Zero();  // the take-off angular momentum about the COM
   PostureTrack track;
   double prepare_start_s = 0;  // the landing posture's transition begins
   /// The joint motion's inertia and momentum over the flight (shared by the flights that differ
@@ -313,20 +312,9 @@ class Shooter {
     }
     const Eigen::Quaterniond q0(
         Eigen::AngleAxisd(plan_.direction * plan_.lean_rad, Vector3d::UnitY()));
-    f.q_WB = dynamics::SimulateFlightRotation(*f.joint_motion, q0, Momentum(x));
+    f.H_Scm_W = Momentum(x);
+    f.q_WB = dynamics::SimulateFlightRotation(*f.joint_motion, q0, f.H_Scm_W);
     const size_t m = f.q_WB.size();
-    {
-      const Vector3d H = Momentum(x);
-      f.progress.resize(Eigen::Index(m));
-      double previous = 0;
-      for (size_t i = 0; i < m; ++i) {
-        const Matrix3d R = f.q_WB[i].toRotationMatrix();
-        const double w = (R * (f.joint_motion->I_Scm_B_inverse[2 * i] * (R.transpose() * H)))[1];
-        f.progress[Eigen::Index(i)] =
-            i == 0 ? 0.0 : f.progress[Eigen::Index(i - 1)] + 0.5 * plan_.step * (previous + w);
-        previous = w;
-      }
-    }
     f.t.resize(m);
     f.somersault.resize(Eigen::Index(m));
     f.tilt.resize(Eigen::Index(m));
@@ -414,8 +402,18 @@ class Shooter {
     if (plan_.somersaults == 0) return;
     VectorXd nu = Nominal(f);
     if (whole_body) {
-      const double total = f.progress[f.progress.size() - 1];
-      nu = (45.0 + (f.progress.array() / total) * (nu[nu.size() - 1] - 45.0)).matrix();
+      // ∫ ω_y dt by the trapezoidal rule, ω = R I_Scm⁻¹ Rᵀ H the whole body's angular velocity.
+      VectorXd progress(nu.size());
+      double previous = 0;
+      for (Eigen::Index i = 0; i < progress.size(); ++i) {
+        const Matrix3d R = f.q_WB[size_t(i)].toRotationMatrix();
+        const double w =
+            (R * (f.joint_motion->I_Scm_B_inverse[2 * size_t(i)] * (R.transpose() * f.H_Scm_W)))[1];
+        progress[i] = i == 0 ? 0.0 : progress[i - 1] + 0.5 * plan_.step * (previous + w);
+        previous = w;
+      }
+      const double total = progress[progress.size() - 1];
+      nu = (45.0 + (progress.array() / total) * (nu[nu.size() - 1] - 45.0)).matrix();
     }
     for (size_t i = 0; i + 1 < plan_.segments.size(); ++i)
       segment_end_s_[i] = TimeAt(f, nu, plan_.segments[i].nu_end_deg);
@@ -740,26 +738,25 @@ SkillFromCodeResult DesignSkillFromCode(const std::string& code_text,
   // wandered: where they ended hung on the path (10⁻⁷ rad in the flights picked another design or
   // none, docs/skill-design.md). Their schedule is fixed first, from the flight without the twist
   // (smooth, it settles); the contact twist is then scanned for the one that turns the first
-  // somersault's twist, and one careful Newton pass shoots the rest. 821o: 140 simulations
-  // (597 before), 831<: 131 (2 639).
+  // somersault's twist, and one careful Newton pass shoots the rest. 821o: 135 simulations
+  // (597 before), 831<: 124 (2 639).
   const bool has_stop = !plan.unknowns.stop_somersaults.empty();
   constexpr double kTurned = 1e-3;  // rad: the largest residual of a flight found
   double residual = 0;
-  auto shooter_ptr = std::make_unique<Shooter>(athlete, plan);
+  Shooter shooter(athlete, plan);
   VectorXd x;
   if (has_stop) {
-    const double momentum = shooter_ptr->FitScheduleWithoutTwist(shooter_ptr->MomentumGuess());
-    x = shooter_ptr->Shoot(shooter_ptr->Guess(momentum), options, false, true, &residual);
+    const double momentum = shooter.FitScheduleWithoutTwist(shooter.MomentumGuess());
+    x = shooter.Shoot(shooter.Guess(momentum), options, false, true, &residual);
   } else {
-    x = shooter_ptr->Guess();
+    x = shooter.Guess();
     for (int pass = 0; pass < 4; ++pass) {
-      x = shooter_ptr->Shoot(x, options, true, false, &residual);
-      shooter_ptr->UpdateSchedule(shooter_ptr->Simulate(x));
+      x = shooter.Shoot(x, options, true, false, &residual);
+      shooter.UpdateSchedule(shooter.Simulate(x));
     }
-    x = shooter_ptr->Shoot(x, options, true, false, &residual);
+    x = shooter.Shoot(x, options, true, false, &residual);
   }
-  const int simulations = shooter_ptr->simulations();
-  Shooter& shooter = *shooter_ptr;
+  const int simulations = shooter.simulations();
   ACRO_DEMAND(std::abs(shooter.model().gravity_W().norm() - g) < 1e-12);
   const Flight flight = shooter.Simulate(x);
   result.shooting_residual_rad = residual;

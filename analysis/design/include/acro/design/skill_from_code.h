@@ -5,9 +5,9 @@
 // shape, where each somersault's half twists happen, the arm and hip actions that start them, the
 // opening and the landing posture — found by simulating the flight. The joints follow a schedule
 // of postures placed by somersault angle; the root turns free with its angular momentum conserved
-// (dynamics::SimulateFlightRotation), and shooting finds the take-off angular momentum (its somersault
-// component, and for a skill that twists in its first somersault its twist component, the
-// "contact twist") and the size of the asymmetric arm and hip action that starts each later
+// (dynamics::SimulateFlightRotation), and shooting finds the take-off angular momentum (its
+// somersault component, and for a skill that twists in its first somersault its twist component,
+// the "contact twist") and the size of the asymmetric arm and hip action that starts each later
 // twist (the "aerial twist"; Yeadon 1993, J. Sports Sci. 11, Parts II and III) so that the
 // flight turns the code's somersaults and puts the code's half twists in each somersault. The
 // keyframes are samples of that flight, so they start physically consistent; Models 2 and 1 then
