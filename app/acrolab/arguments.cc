@@ -199,8 +199,10 @@ void InstallInterruptCleanup() {
   std::thread([signals] {
     int received = 0;
     if (sigwait(&signals, &received) != 0) return;
-    const int removed = RemoveRegisteredTemporaries();
+    // The children first: a batch's jobs end (each removing its own temporaries, or finishing
+    // the step it cannot interrupt) before this program's own outputs go.
     StopRegisteredChildren();
+    const int removed = RemoveRegisteredTemporaries();
     std::fprintf(stderr,
                  "\nacrolab: interrupted (%s); %d unfinished output%s removed\n",
                  received == SIGINT ? "SIGINT" : "SIGTERM",

@@ -66,6 +66,7 @@ void RunProcesses(const std::vector<std::vector<std::string>>& commands,
   if (parallel < 1) parallel = 1;
   std::map<pid_t, Running> running;
   size_t next = 0;
+  bool stopping = false;
   const std::filesystem::path tmp = std::filesystem::temp_directory_path();
   auto start = [&](size_t index) {
     const std::vector<std::string>& argv_text = commands[index];
@@ -110,23 +111,30 @@ void RunProcesses(const std::vector<std::vector<std::string>>& commands,
     std::vector<char*> argv;
     for (const std::string& a : argv_text) argv.push_back(const_cast<char*>(a.c_str()));
     argv.push_back(nullptr);
-    pid_t pid = 0;
-    const int rc = posix_spawnp(&pid, argv[0], &actions, &attributes, argv.data(), environ);
+    int rc = 0;
+    r.registered = ScopedChildProcess::Start([&] {
+      pid_t pid = 0;
+      rc = posix_spawnp(&pid, argv[0], &actions, &attributes, argv.data(), environ);
+      return rc == 0 ? pid : pid_t(-1);
+    });
     posix_spawn_file_actions_destroy(&actions);
     posix_spawnattr_destroy(&attributes);
     close(fd);
-    if (rc != 0) {
-      failed.last_error_line = "cannot start " + argv_text[0] + ": " + std::strerror(rc);
+    if (!r.registered) {
       std::filesystem::remove(r.stderr_file);
+      if (rc == 0) {  // not started: the program is being interrupted
+        stopping = true;
+        return;
+      }
+      failed.last_error_line = "cannot start " + argv_text[0] + ": " + std::strerror(rc);
       finished(index, failed);
       return;
     }
-    r.registered = std::make_unique<ScopedChildProcess>(pid);
     r.started = std::chrono::steady_clock::now();
-    running.emplace(pid, std::move(r));
+    running.emplace(r.registered->pid(), std::move(r));
   };
   while (true) {
-    while (running.size() < size_t(parallel) && next < commands.size() &&
+    while (!stopping && running.size() < size_t(parallel) && next < commands.size() &&
            (!keep_going || keep_going()))
       start(next++);
     if (running.empty()) break;

@@ -1,9 +1,14 @@
 #include "acro/base/temporaries.h"
 
+#include <sys/wait.h>
+
+#include <cerrno>
+#include <chrono>
 #include <csignal>
 #include <mutex>
 #include <set>
 #include <system_error>
+#include <thread>
 
 namespace acro {
 
@@ -22,6 +27,12 @@ std::multiset<std::filesystem::path>& Registry() {
 std::multiset<pid_t>& Children() {
   static std::multiset<pid_t> pids;
   return pids;
+}
+
+// Set by StopRegisteredChildren: no child is started after it.
+bool& ChildrenStopping() {
+  static bool stopping = false;
+  return stopping;
 }
 
 }  // namespace
@@ -57,9 +68,13 @@ void RunUninterrupted(const std::function<void()>& work) {
   work();
 }
 
-ScopedChildProcess::ScopedChildProcess(pid_t pid) : pid_(pid) {
+std::unique_ptr<ScopedChildProcess> ScopedChildProcess::Start(const std::function<pid_t()>& spawn) {
   const std::lock_guard<std::mutex> lock(RegistryMutex());
-  Children().insert(pid_);
+  if (ChildrenStopping()) return nullptr;
+  const pid_t pid = spawn();
+  if (pid <= 0) return nullptr;
+  Children().insert(pid);
+  return std::unique_ptr<ScopedChildProcess>(new ScopedChildProcess(pid));
 }
 
 ScopedChildProcess::~ScopedChildProcess() {
@@ -68,14 +83,39 @@ ScopedChildProcess::~ScopedChildProcess() {
   if (it != Children().end()) Children().erase(it);
 }
 
-int StopRegisteredChildren() noexcept {
+int StopRegisteredChildren(int timeout_ms) noexcept {
   int stopped = 0;
   try {
-    const std::lock_guard<std::mutex> lock(RegistryMutex());
-    for (const pid_t pid : Children()) {
-      if (pid > 0 && kill(pid, SIGTERM) == 0) ++stopped;
+    std::set<pid_t> waiting;
+    {
+      const std::lock_guard<std::mutex> lock(RegistryMutex());
+      ChildrenStopping() = true;
+      for (const pid_t pid : Children()) {
+        if (pid > 0 && kill(pid, SIGTERM) == 0) {
+          ++stopped;
+          waiting.insert(pid);
+        }
+      }
     }
-    Children().clear();
+    // A child has ended once it is a zombie, left for the thread that started it to reap
+    // (WNOWAIT), or has been reaped by that thread already (ECHILD, or gone from the registry).
+    const auto gone = [](pid_t pid) {
+      {
+        const std::lock_guard<std::mutex> lock(RegistryMutex());
+        if (Children().count(pid) == 0) return true;
+      }
+      siginfo_t info{};
+      const int r = waitid(P_PID, id_t(pid), &info, WEXITED | WNOHANG | WNOWAIT);
+      return (r == 0 && info.si_pid == pid) || (r < 0 && errno == ECHILD);
+    };
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::milliseconds(timeout_ms);
+    while (!waiting.empty()) {
+      for (auto it = waiting.begin(); it != waiting.end();)
+        it = gone(*it) ? waiting.erase(it) : ++it;
+      if (waiting.empty() || std::chrono::steady_clock::now() >= deadline) break;
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    for (const pid_t pid : waiting) kill(pid, SIGKILL);
   } catch (...) {
     // Nothing to report to: the program is stopping.
   }

@@ -44,6 +44,41 @@ bool WaitForExit(pid_t pid, int timeout_ms) {
   return false;
 }
 
+// The forked child: becomes the Xvfb server, writing its display number to `pipe_write`.
+[[noreturn]] void ExecXvfb(const std::string& xvfb, int pipe_write, pid_t parent) {
+  // The server: no blocked signals (the command line blocks SIGINT and SIGTERM for its signal
+  // thread), stopped when this process dies, quiet, and only the pipe inherited (as fd 3).
+  sigset_t none;
+  sigemptyset(&none);
+  sigprocmask(SIG_SETMASK, &none, nullptr);
+  prctl(PR_SET_PDEATHSIG, SIGTERM);
+  if (getppid() != parent) _exit(1);
+  // The pipe's end out of the way of fds 0–3 first (it may be one of them when this process
+  // was started with stdin or stdout closed).
+  const int pipe_end = fcntl(pipe_write, F_DUPFD, 10);
+  if (pipe_end < 0) _exit(1);
+  const int null = open("/dev/null", O_RDWR);
+  if (null >= 0) {
+    dup2(null, 0);
+    dup2(null, 1);
+    dup2(null, 2);
+  }
+  dup2(pipe_end, 3);  // dup2 clears close-on-exec on the copy
+  close_range(4, ~0U, 0);
+  const char* argv[] = {"Xvfb",
+                        "-displayfd",
+                        "3",
+                        "-screen",
+                        "0",
+                        "1920x1080x24",  // a full-HD screen: the studio's window fits
+                        "-nolisten",
+                        "tcp",
+                        "-noreset",
+                        nullptr};
+  execv(xvfb.c_str(), const_cast<char* const*>(argv));
+  _exit(127);
+}
+
 }  // namespace
 
 bool XServerAnswers(const std::string& display_name) {
@@ -86,47 +121,17 @@ struct XDisplay::Impl {
     int fds[2];
     if (pipe2(fds, O_CLOEXEC) != 0) throw InputError("", "3D views", "cannot make a pipe for Xvfb");
     const pid_t parent = getpid();
-    const pid_t child = fork();
-    if (child < 0) {
+    registered = ScopedChildProcess::Start([&] {
+      const pid_t child = fork();
+      if (child == 0) ExecXvfb(*xvfb, fds[1], parent);
+      return child;
+    });
+    if (!registered) {
       close(fds[0]);
       close(fds[1]);
-      throw InputError("", "3D views", "cannot start Xvfb (fork failed)");
+      throw InputError("", "3D views", "cannot start Xvfb (fork failed, or acrolab is stopping)");
     }
-    if (child == 0) {
-      // The server: no blocked signals (the command line blocks SIGINT and SIGTERM for its signal
-      // thread), stopped when this process dies, quiet, and only the pipe inherited (as fd 3).
-      sigset_t none;
-      sigemptyset(&none);
-      sigprocmask(SIG_SETMASK, &none, nullptr);
-      prctl(PR_SET_PDEATHSIG, SIGTERM);
-      if (getppid() != parent) _exit(1);
-      // The pipe's end out of the way of fds 0–3 first (it may be one of them when this process
-      // was started with stdin or stdout closed).
-      const int pipe_end = fcntl(fds[1], F_DUPFD, 10);
-      if (pipe_end < 0) _exit(1);
-      const int null = open("/dev/null", O_RDWR);
-      if (null >= 0) {
-        dup2(null, 0);
-        dup2(null, 1);
-        dup2(null, 2);
-      }
-      dup2(pipe_end, 3);  // dup2 clears close-on-exec on the copy
-      close_range(4, ~0U, 0);
-      const char* argv[] = {"Xvfb",
-                            "-displayfd",
-                            "3",
-                            "-screen",
-                            "0",
-                            "1920x1080x24",  // a full-HD screen: the studio's window fits
-                            "-nolisten",
-                            "tcp",
-                            "-noreset",
-                            nullptr};
-      execv(xvfb->c_str(), const_cast<char* const*>(argv));
-      _exit(127);
-    }
-    pid = child;
-    registered = std::make_unique<ScopedChildProcess>(child);
+    pid = registered->pid();
     close(fds[1]);
     // The server writes its display number and a newline when it is ready.
     std::string number;

@@ -8,6 +8,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <memory>
 
 #include <sys/types.h>
 
@@ -35,22 +36,31 @@ int RemoveRegisteredTemporaries() noexcept;
 /// register or unregister temporaries.
 void RunUninterrupted(const std::function<void()>& work);
 
-/// A helper process this program started and must not leave behind (the Xvfb server the 3D views
-/// start when there is no display): registered for the lifetime of this object, so that the
-/// interrupt handler stops it too.
+/// A child process this program started and must not leave behind (an Xvfb server for the 3D
+/// views, a batch's jobs): registered for the lifetime of this object, so that the interrupt
+/// handler stops it too.
 class ScopedChildProcess {
  public:
-  explicit ScopedChildProcess(pid_t pid);
+  /// Starts a child with `spawn` (which returns its pid, or a value <= 0 when it started nothing)
+  /// and registers it in one step the interrupt handler cannot come between: once the handler has
+  /// begun, `spawn` is not called and nullptr is returned, as it is when `spawn` fails.
+  static std::unique_ptr<ScopedChildProcess> Start(const std::function<pid_t()>& spawn);
   ~ScopedChildProcess();
   ScopedChildProcess(const ScopedChildProcess&) = delete;
   ScopedChildProcess& operator=(const ScopedChildProcess&) = delete;
 
+  pid_t pid() const { return pid_; }
+
  private:
+  explicit ScopedChildProcess(pid_t pid) : pid_(pid) {}
   pid_t pid_;
 };
 
-/// Sends SIGTERM to every registered child process and returns how many it signalled. For the
-/// interrupt handler; safe to call from any thread.
-int StopRegisteredChildren() noexcept;
+/// Sends SIGTERM to every registered child process, waits until they have ended (their own
+/// clean-up done: a batch's jobs finish the step they cannot interrupt and remove their
+/// temporaries) or `timeout_ms` has passed, then sends SIGKILL to those still running. Returns how
+/// many it signalled. From then on no child is started (ScopedChildProcess::Start returns nullptr).
+/// For the interrupt handler; safe to call from any thread.
+int StopRegisteredChildren(int timeout_ms = 10000) noexcept;
 
 }  // namespace acro
