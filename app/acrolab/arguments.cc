@@ -199,10 +199,12 @@ void InstallInterruptCleanup() {
   std::thread([signals] {
     int received = 0;
     if (sigwait(&signals, &received) != 0) return;
-    // The children first: a batch's jobs end (each removing its own temporaries, or finishing
-    // the step it cannot interrupt) before this program's own outputs go.
-    StopRegisteredChildren();
+    // A batch's jobs first, waited for (each finishes the commit it may be in and removes its
+    // own temporaries); then this program's outputs; the helpers (Xvfb) last, since losing the
+    // X server would end this program with status 1 before it has cleaned up.
+    StopRegisteredChildren(ChildRole::kJob);
     const int removed = RemoveRegisteredTemporaries();
+    StopRegisteredChildren(ChildRole::kHelper);
     std::fprintf(stderr,
                  "\nacrolab: interrupted (%s); %d unfinished output%s removed\n",
                  received == SIGINT ? "SIGINT" : "SIGTERM",

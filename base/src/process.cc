@@ -112,11 +112,13 @@ void RunProcesses(const std::vector<std::vector<std::string>>& commands,
     for (const std::string& a : argv_text) argv.push_back(const_cast<char*>(a.c_str()));
     argv.push_back(nullptr);
     int rc = 0;
-    r.registered = ScopedChildProcess::Start([&] {
-      pid_t pid = 0;
-      rc = posix_spawnp(&pid, argv[0], &actions, &attributes, argv.data(), environ);
-      return rc == 0 ? pid : pid_t(-1);
-    });
+    r.registered = ScopedChildProcess::Start(
+        [&] {
+          pid_t pid = 0;
+          rc = posix_spawnp(&pid, argv[0], &actions, &attributes, argv.data(), environ);
+          return rc == 0 ? pid : pid_t(-1);
+        },
+        ChildRole::kJob);
     posix_spawn_file_actions_destroy(&actions);
     posix_spawnattr_destroy(&attributes);
     close(fd);

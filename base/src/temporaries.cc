@@ -5,6 +5,7 @@
 #include <cerrno>
 #include <chrono>
 #include <csignal>
+#include <map>
 #include <mutex>
 #include <set>
 #include <system_error>
@@ -24,9 +25,9 @@ std::multiset<std::filesystem::path>& Registry() {
   return paths;
 }
 
-std::multiset<pid_t>& Children() {
-  static std::multiset<pid_t> pids;
-  return pids;
+std::multimap<pid_t, ChildRole>& Children() {
+  static std::multimap<pid_t, ChildRole> children;
+  return children;
 }
 
 // Set by StopRegisteredChildren: no child is started after it.
@@ -68,12 +69,13 @@ void RunUninterrupted(const std::function<void()>& work) {
   work();
 }
 
-std::unique_ptr<ScopedChildProcess> ScopedChildProcess::Start(const std::function<pid_t()>& spawn) {
+std::unique_ptr<ScopedChildProcess> ScopedChildProcess::Start(const std::function<pid_t()>& spawn,
+                                                              ChildRole role) {
   const std::lock_guard<std::mutex> lock(RegistryMutex());
   if (ChildrenStopping()) return nullptr;
   const pid_t pid = spawn();
   if (pid <= 0) return nullptr;
-  Children().insert(pid);
+  Children().emplace(pid, role);
   return std::unique_ptr<ScopedChildProcess>(new ScopedChildProcess(pid));
 }
 
@@ -83,22 +85,23 @@ ScopedChildProcess::~ScopedChildProcess() {
   if (it != Children().end()) Children().erase(it);
 }
 
-int StopRegisteredChildren(int timeout_ms) noexcept {
+int StopRegisteredChildren(ChildRole role, int timeout_ms) noexcept {
   int stopped = 0;
   try {
     std::set<pid_t> waiting;
     {
       const std::lock_guard<std::mutex> lock(RegistryMutex());
       ChildrenStopping() = true;
-      for (const pid_t pid : Children()) {
-        if (pid > 0 && kill(pid, SIGTERM) == 0) {
+      for (const auto& [pid, r] : Children()) {
+        if (r == role && pid > 0 && kill(pid, SIGTERM) == 0) {
           ++stopped;
           waiting.insert(pid);
         }
       }
     }
-    // A child has ended once it is a zombie, left for the thread that started it to reap
-    // (WNOWAIT), or has been reaped by that thread already (ECHILD, or gone from the registry).
+    if (role == ChildRole::kHelper) return stopped;
+    // A job has ended once it is a zombie, left for the thread that started it to reap (WNOWAIT),
+    // or has been reaped by that thread already (ECHILD, or gone from the registry).
     const auto gone = [](pid_t pid) {
       {
         const std::lock_guard<std::mutex> lock(RegistryMutex());

@@ -1,6 +1,7 @@
-// The interrupt handler's children: stopping them waits until each has done its own clean-up
+// The interrupt handler's children: stopping the jobs waits until each has done its own clean-up
 // (a batch's job removing its temporaries, or finishing the commit it cannot interrupt), kills one
-// that does not end in time, and starts nothing afterwards. The race this guards against was
+// that does not end in time, leaves the helpers (an Xvfb server) for last, and starts nothing
+// afterwards. The race this guards against was
 // seen: a batch stopped by SIGTERM exited while a job was still committing, and the library grew
 // by one trial after its parent had gone (tests/app/library_season).
 
@@ -27,16 +28,19 @@ namespace {
 namespace fs = std::filesystem;
 
 // Starts `sh -c script` as a registered child.
-std::unique_ptr<ScopedChildProcess> StartShell(const std::string& script) {
-  return ScopedChildProcess::Start([&] {
-    std::vector<std::string> words = {"/bin/sh", "-c", script};
-    std::vector<char*> argv;
-    for (std::string& w : words) argv.push_back(w.data());
-    argv.push_back(nullptr);
-    pid_t pid = 0;
-    return posix_spawn(&pid, argv[0], nullptr, nullptr, argv.data(), environ) == 0 ? pid
-                                                                                   : pid_t(-1);
-  });
+std::unique_ptr<ScopedChildProcess> StartShell(const std::string& script,
+                                               ChildRole role = ChildRole::kJob) {
+  return ScopedChildProcess::Start(
+      [&] {
+        std::vector<std::string> words = {"/bin/sh", "-c", script};
+        std::vector<char*> argv;
+        for (std::string& w : words) argv.push_back(w.data());
+        argv.push_back(nullptr);
+        pid_t pid = 0;
+        return posix_spawn(&pid, argv[0], nullptr, nullptr, argv.data(), environ) == 0 ? pid
+                                                                                       : pid_t(-1);
+      },
+      role);
 }
 
 // Waits until `path` exists (the shell has installed its trap once it writes it).
@@ -49,27 +53,33 @@ bool AppearsWithin(const fs::path& path, std::chrono::milliseconds timeout) {
   return true;
 }
 
-TEST(Temporaries, StoppingChildrenWaitsForTheirCleanUpAndKillsTheStuck) {
+TEST(Temporaries, StoppingWaitsForTheJobsCleanUpKillsTheStuckAndLeavesTheHelpersForLast) {
   const fs::path dir = acro::testing::ScratchDir("temporaries");
-  // A child that takes 0.4 s to clean up after SIGTERM, then writes `done`.
+  // A job that takes 0.4 s to clean up after SIGTERM, then writes `done`.
   const fs::path ready = dir / "ready", done = dir / "done";
   const auto slow =
       StartShell("trap 'sleep 0.4; touch " + done.string() + "; exit 0' TERM; touch " +
                  ready.string() + "; while :; do sleep 0.05; done");
   ASSERT_TRUE(slow);
-  // A child that ignores SIGTERM.
+  // A job that ignores SIGTERM.
   const fs::path stubborn_ready = dir / "stubborn_ready";
   const auto stubborn = StartShell("trap '' TERM; touch " + stubborn_ready.string() +
                                    "; while :; do sleep 0.05; done");
   ASSERT_TRUE(stubborn);
+  // A helper (an X server, say), which the jobs' stop leaves running.
+  const fs::path helper_ready = dir / "helper_ready";
+  const auto helper = StartShell(
+      "touch " + helper_ready.string() + "; while :; do sleep 0.05; done", ChildRole::kHelper);
+  ASSERT_TRUE(helper);
   ASSERT_TRUE(AppearsWithin(ready, std::chrono::seconds(10)));
   ASSERT_TRUE(AppearsWithin(stubborn_ready, std::chrono::seconds(10)));
+  ASSERT_TRUE(AppearsWithin(helper_ready, std::chrono::seconds(10)));
 
   const auto start = std::chrono::steady_clock::now();
-  EXPECT_EQ(StopRegisteredChildren(1500), 2);
+  EXPECT_EQ(StopRegisteredChildren(ChildRole::kJob, 1500), 2);
   const double waited_s =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-  // The slow child finished its clean-up before the call returned; the stubborn one held it up to
+  // The slow job finished its clean-up before the call returned; the stubborn one held it up to
   // the timeout and was killed.
   EXPECT_TRUE(fs::exists(done));
   EXPECT_GE(waited_s, 1.4);
@@ -79,14 +89,22 @@ TEST(Temporaries, StoppingChildrenWaitsForTheirCleanUpAndKillsTheStuck) {
   EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 0);
   ASSERT_EQ(waitpid(stubborn->pid(), &status, 0), stubborn->pid());
   EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL);
+  EXPECT_EQ(waitpid(helper->pid(), &status, WNOHANG), 0);  // still running
 
   // Nothing starts any more.
   bool called = false;
-  EXPECT_FALSE(ScopedChildProcess::Start([&] {
-    called = true;
-    return pid_t(-1);
-  }));
+  EXPECT_FALSE(ScopedChildProcess::Start(
+      [&] {
+        called = true;
+        return pid_t(-1);
+      },
+      ChildRole::kJob));
   EXPECT_FALSE(called);
+
+  // The helper is signalled, not waited for.
+  EXPECT_EQ(StopRegisteredChildren(ChildRole::kHelper, 1500), 1);
+  ASSERT_EQ(waitpid(helper->pid(), &status, 0), helper->pid());
+  EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM);
   fs::remove_all(dir);
 }
 

@@ -121,11 +121,13 @@ struct XDisplay::Impl {
     int fds[2];
     if (pipe2(fds, O_CLOEXEC) != 0) throw InputError("", "3D views", "cannot make a pipe for Xvfb");
     const pid_t parent = getpid();
-    registered = ScopedChildProcess::Start([&] {
-      const pid_t child = fork();
-      if (child == 0) ExecXvfb(*xvfb, fds[1], parent);
-      return child;
-    });
+    registered = ScopedChildProcess::Start(
+        [&] {
+          const pid_t child = fork();
+          if (child == 0) ExecXvfb(*xvfb, fds[1], parent);
+          return child;
+        },
+        ChildRole::kHelper);
     if (!registered) {
       close(fds[0]);
       close(fds[1]);

@@ -36,15 +36,23 @@ int RemoveRegisteredTemporaries() noexcept;
 /// register or unregister temporaries.
 void RunUninterrupted(const std::function<void()>& work);
 
-/// A child process this program started and must not leave behind (an Xvfb server for the 3D
-/// views, a batch's jobs): registered for the lifetime of this object, so that the interrupt
+/// What a child process is to the interrupt handler.
+enum class ChildRole {
+  kJob,     ///< work of its own (a batch's `library add`): stopped and waited for, first
+  kHelper,  ///< serves this program (the Xvfb server): stopped last, not waited for
+};
+
+/// A child process this program started and must not leave behind (a batch's jobs, an Xvfb
+/// server for the 3D views): registered for the lifetime of this object, so that the interrupt
 /// handler stops it too.
 class ScopedChildProcess {
  public:
   /// Starts a child with `spawn` (which returns its pid, or a value <= 0 when it started nothing)
   /// and registers it in one step the interrupt handler cannot come between: once the handler has
-  /// begun, `spawn` is not called and nullptr is returned, as it is when `spawn` fails.
-  static std::unique_ptr<ScopedChildProcess> Start(const std::function<pid_t()>& spawn);
+  /// begun stopping children, `spawn` is not called and nullptr is returned, as it is when `spawn`
+  /// fails.
+  static std::unique_ptr<ScopedChildProcess> Start(const std::function<pid_t()>& spawn,
+                                                   ChildRole role);
   ~ScopedChildProcess();
   ScopedChildProcess(const ScopedChildProcess&) = delete;
   ScopedChildProcess& operator=(const ScopedChildProcess&) = delete;
@@ -56,11 +64,14 @@ class ScopedChildProcess {
   pid_t pid_;
 };
 
-/// Sends SIGTERM to every registered child process, waits until they have ended (their own
-/// clean-up done: a batch's jobs finish the step they cannot interrupt and remove their
-/// temporaries) or `timeout_ms` has passed, then sends SIGKILL to those still running. Returns how
-/// many it signalled. From then on no child is started (ScopedChildProcess::Start returns nullptr).
-/// For the interrupt handler; safe to call from any thread.
-int StopRegisteredChildren(int timeout_ms = 10000) noexcept;
+/// Sends SIGTERM to every registered child of `role` and returns how many it signalled. Jobs are
+/// waited for until they have ended (their own clean-up done: a batch's job finishes the commit it
+/// cannot interrupt and removes its temporaries) or `timeout_ms` has passed, then those still
+/// running get SIGKILL. Helpers are not waited for: this program may still need them until it
+/// exits (Xlib ends a program whose X server has gone with exit status 1). From the first call on,
+/// no child is started (ScopedChildProcess::Start returns nullptr). For the interrupt handler,
+/// which stops the jobs, removes its temporaries, then stops the helpers and exits; safe to call
+/// from any thread.
+int StopRegisteredChildren(ChildRole role, int timeout_ms = 10000) noexcept;
 
 }  // namespace acro
