@@ -3,6 +3,8 @@
 #include <unistd.h>
 
 #include <cmath>
+#include <atomic>
+#include <chrono>
 #include <csignal>
 #include <cstdio>
 #include <thread>
@@ -190,6 +192,16 @@ int NeedTheViews() {
       "scripts/build.sh (ACRO_BUILD_UI=ON)"};
 }
 
+namespace {
+
+// Set by the interrupt thread as soon as a signal arrives, before it stops anything.
+std::atomic<bool>& Interrupted() {
+  static std::atomic<bool> interrupted{false};
+  return interrupted;
+}
+
+}  // namespace
+
 void InstallInterruptCleanup() {
   sigset_t signals;
   sigemptyset(&signals);
@@ -199,6 +211,7 @@ void InstallInterruptCleanup() {
   std::thread([signals] {
     int received = 0;
     if (sigwait(&signals, &received) != 0) return;
+    Interrupted() = true;
     // A batch's jobs first, waited for (each finishes the commit it may be in and removes its
     // own temporaries); then this program's outputs; the helpers (Xvfb) last, since losing the
     // X server would end this program with status 1 before it has cleaned up.
@@ -213,6 +226,15 @@ void InstallInterruptCleanup() {
     std::fflush(stderr);
     _exit(128 + received);
   }).detach();
+}
+
+int ExitStatusUnlessInterrupted(int status) {
+  if (!Interrupted()) return status;
+  // The command returned because its work was stopped under it (a batch whose jobs the interrupt
+  // thread killed): that thread is still removing the outputs and exits with 128 + the signal.
+  // Returning would exit first, with the command's status (CI saw a SIGTERMed batch exit 1), and
+  // run the static destructors under the thread's feet.
+  for (;;) std::this_thread::sleep_for(std::chrono::seconds(1));
 }
 
 std::function<void(int, int)> MakeProgressBar(const std::string& label, const std::string& unit) {

@@ -92,6 +92,10 @@ void CheckCutoffBelowNyquist(const analysis::ReconstructionOptions& options,
 /// (acro/base/temporaries.h), says so in one line and exits with 128 + the signal (130, 143).
 void InstallInterruptCleanup();
 
+/// `status` once the command has returned, unless the interrupt thread has begun: then this never
+/// returns and that thread ends the program with 130 or 143 when its clean-up is done.
+int ExitStatusUnlessInterrupted(int status);
+
 /// `count` finite numbers separated by commas ("x,y,z", "u,v"), for `option`; `form` names them in
 /// the error ("X,Y,Z"). Throws CLI::ValidationError.
 Eigen::VectorXd ParseCommaNumbers(const std::string& option,

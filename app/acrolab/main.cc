@@ -23,10 +23,7 @@ std::string CommandName(const CLI::App& app) {
   }
 }
 
-}  // namespace
-
-int main(int argc, char** argv) {
-  acro::app::InstallInterruptCleanup();
+int Main(int argc, char** argv) {
   CLI::App app(
       "Acrolab: training analysis for trampoline and other aerial sports. docs/cli.md has every "
       "command and output.",
@@ -89,4 +86,11 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "acrolab: internal error: %s\n", e.what());
     return 3;
   }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  acro::app::InstallInterruptCleanup();
+  return acro::app::ExitStatusUnlessInterrupted(Main(argc, argv));
 }

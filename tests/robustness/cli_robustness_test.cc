@@ -3,6 +3,7 @@
 // 2 for a bad command line, 130/143 for a signal), the message's first words, that the command
 // ends within 10 s under a 2 GB address-space limit, and that nothing is left behind: no output
 // directory, no staging directory, no temporary file.
+#include <fcntl.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -487,6 +488,65 @@ TEST_F(Robustness, SigtermKeepsThePreviousOutputs) {
     EXPECT_EQ(ReadText(dir_ / "out/jumps.json"), jumps);  // the same analysis, or untouched
   }
   EXPECT_GE(interrupted, 1);  // the test interrupted at least one run
+}
+
+// SIGTERM to a batch while its jobs run: exit 143 with the one line saying so, every time, its
+// jobs stopped with it (nothing of theirs left in TMPDIR), and the batch run again stores the
+// rest. CI once saw such a batch exit 1: its main thread, finding its jobs killed under it,
+// returned with their failures before the interrupt thread had finished and exited 143.
+TEST_F(Robustness, SigtermStopsABatchWithItsJobs) {
+  fs::create_directories(dir_ / "season");
+  fs::create_directories(dir_ / "tmp");
+  for (int k = 1; k <= 8; ++k)
+    fs::copy_file(Samples() / "trials/straight_jump/straight_jump.c3d",
+                  dir_ / "season" / ("jump_" + std::to_string(k) + ".c3d"));
+  const std::string athlete = (Samples() / "athletes/sample_athlete.yaml").string();
+  // The whole batch takes about 4.4 s here (8 jobs of 1.1 s, 2 at a time): every one of these
+  // is stopped half-way.
+  for (const double after_s : {0.6, 1.2, 1.8, 2.4}) {
+    fs::remove(dir_ / "lib.sqlite");
+    const pid_t pid = fork();
+    ASSERT_GE(pid, 0);
+    if (pid == 0) {
+      fs::current_path(dir_);
+      setenv("TMPDIR", (dir_ / "tmp").c_str(), 1);
+      const int err = open("stderr.txt", O_WRONLY | O_CREAT | O_TRUNC, 0644);
+      const int out = open("/dev/null", O_WRONLY);
+      if (err < 0 || out < 0 || dup2(err, 2) < 0 || dup2(out, 1) < 0) _exit(126);
+      execl(ACROLAB_EXE,
+            ACROLAB_EXE,
+            "batch",
+            "season",
+            "-j",
+            "2",
+            "--athlete",
+            athlete.c_str(),
+            "--session",
+            "2026-09-01",
+            "--library",
+            "lib.sqlite",
+            static_cast<char*>(nullptr));
+      _exit(127);
+    }
+    std::this_thread::sleep_for(std::chrono::duration<double>(after_s));
+    kill(pid, SIGTERM);
+    int raw = 0;
+    waitpid(pid, &raw, 0);
+    const int status = WIFEXITED(raw) ? WEXITSTATUS(raw) : 128 + WTERMSIG(raw);
+    const std::string err = ReadText(dir_ / "stderr.txt");
+    std::printf("SIGTERM to the batch after %.1f s: exit %d\n", after_s, status);
+    EXPECT_EQ(status, 143) << err;
+    EXPECT_NE(LastLine(err).find("acrolab: interrupted (SIGTERM)"), std::string::npos) << err;
+    EXPECT_TRUE(fs::is_empty(dir_ / "tmp")) << "after " << after_s << " s";
+  }
+  std::string out;
+  const Outcome rest = Acrolab("batch season -j 2 --athlete " + Quote(athlete) +
+                                   " --session 2026-09-01 --library lib.sqlite",
+                               dir_,
+                               &out);
+  EXPECT_EQ(rest.status, 0) << rest.err;
+  EXPECT_NE(out.find("batch: 8 trials: "), std::string::npos) << out;
+  EXPECT_NE(out.find(" unchanged, 0 failed"), std::string::npos) << out;
 }
 
 // Two converts to the same file at once: each completes or fails cleanly, and the file is one of
