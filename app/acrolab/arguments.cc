@@ -228,6 +228,10 @@ void InstallInterruptCleanup() {
   }).detach();
 }
 
+bool InterruptReceived() {
+  return Interrupted();
+}
+
 int ExitStatusUnlessInterrupted(int status) {
   if (!Interrupted()) return status;
   // The command returned because its work was stopped under it (a batch whose jobs the interrupt

@@ -287,6 +287,9 @@ int RunBatch(const BatchArguments& args) {
     }
     bar(done, int(commands.size()));
   });
+  // Stopped by Ctrl-C or SIGTERM: the jobs it killed are not failures, and the interrupt thread's
+  // line is the batch's last word (run it again to go on).
+  if (InterruptReceived()) return ExitStatusUnlessInterrupted(1);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::printf("batch: %zu trials: %d %s, %d unchanged, %zu failed (%.1f s)\n",

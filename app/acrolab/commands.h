@@ -92,6 +92,9 @@ void CheckCutoffBelowNyquist(const analysis::ReconstructionOptions& options,
 /// (acro/base/temporaries.h), says so in one line and exits with 128 + the signal (130, 143).
 void InstallInterruptCleanup();
 
+/// True once Ctrl-C or SIGTERM has arrived (the interrupt thread is cleaning up and will exit).
+bool InterruptReceived();
+
 /// `status` once the command has returned, unless the interrupt thread has begun: then this never
 /// returns and that thread ends the program with 130 or 143 when its clean-up is done.
 int ExitStatusUnlessInterrupted(int status);

@@ -2,6 +2,7 @@
 
 #include <sys/wait.h>
 
+#include <atomic>
 #include <cerrno>
 #include <chrono>
 #include <csignal>
@@ -30,9 +31,10 @@ std::multimap<pid_t, ChildRole>& Children() {
   return children;
 }
 
-// Set by StopRegisteredChildren: no child is started after it.
-bool& ChildrenStopping() {
-  static bool stopping = false;
+// Set by StopRegisteredChildren: no child is started after it. Atomic: read without the lock by
+// ChildrenBeingStopped (from an X error handler that must not wait for it).
+std::atomic<bool>& ChildrenStopping() {
+  static std::atomic<bool> stopping{false};
   return stopping;
 }
 
@@ -83,6 +85,10 @@ ScopedChildProcess::~ScopedChildProcess() {
   const std::lock_guard<std::mutex> lock(RegistryMutex());
   const auto it = Children().find(pid_);
   if (it != Children().end()) Children().erase(it);
+}
+
+bool ChildrenBeingStopped() noexcept {
+  return ChildrenStopping();
 }
 
 int StopRegisteredChildren(ChildRole role, int timeout_ms) noexcept {

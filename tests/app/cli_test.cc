@@ -729,10 +729,13 @@ TEST(Cli, OverlayWithoutADisplayOrXvfbSaysWhatToInstall) {
   EXPECT_FALSE(std::filesystem::exists(out));
 }
 
-// SIGTERM to an overlay that started its own Xvfb: exit 143, no output left, and the Xvfb server
-// stopped with it (no re-exec under xvfb-run, which orphans the work).
-TEST(Cli, TerminatedOverlayStopsItsXvfb) {
-  const auto dir = acro::testing::TempDir() / "terminated_views";
+// Runs the sample routine's overlay with no display (so it starts its own Xvfb) in `dir`, stderr
+// to dir/err.txt; once its third frame is staged, prints "xvfb=PID" of its server, runs `then`
+// (shell; $pid is acrolab's, $xvfb the server's), waits for acrolab, prints "status=N" and runs
+// `after`.
+ProcessResult OverlayOnItsOwnXvfbThen(const std::filesystem::path& dir,
+                                      const std::string& then,
+                                      const std::string& after = "") {
   std::filesystem::remove_all(dir);
   std::filesystem::create_directories(dir);
   const std::string sample = "samples/trials/trampoline_routine/";
@@ -746,20 +749,48 @@ TEST(Cli, TerminatedOverlayStopsItsXvfb) {
                                 << Quote(dir) << "/frames.tmp-*/frame_000003.png >/dev/null 2>&1"
                                 << " && break\n  sleep 0.05\ndone\n"
                                 << "xvfb=$(pgrep -P $pid Xvfb)\necho xvfb=$xvfb\n"
-                                << "kill -TERM $pid\nwait $pid\necho status=$?\n"
-                                // Up to 5 s for the server to end (a zombie has ended).
-                                << "alive() { kill -0 $1 2>/dev/null && ! ps -o stat= -p $1 | "
-                                << "grep -q Z; }\nfor i in $(seq 50); do alive $xvfb || break; "
-                                << "sleep 0.1; done\nif [ -n \"$xvfb\" ] && alive $xvfb; then "
-                                << "echo xvfb-alive; fi\n";
-  const ProcessResult run = Execute("bash " + Quote(dir / "run.sh"));
-  EXPECT_NE(run.out.find("status=143"), std::string::npos) << run.out << run.err;
-  EXPECT_EQ(run.out.find("xvfb=\n"), std::string::npos) << "no Xvfb was started: " << run.out;
-  EXPECT_EQ(run.out.find("xvfb-alive"), std::string::npos) << run.out;
+                                << then << "\nwait $pid\necho status=$?\n"
+                                << after;
+  return Execute("bash " + Quote(dir / "run.sh"));
+}
+
+// Neither the overlay's frames nor their staging directory are in `dir`.
+void ExpectNoOverlayLeft(const std::filesystem::path& dir) {
   EXPECT_FALSE(std::filesystem::exists(dir / "frames"));
   for (const auto& e : std::filesystem::directory_iterator(dir))
     EXPECT_EQ(e.path().filename().string().find("frames.tmp-"), std::string::npos) << e.path();
 }
+
+// SIGTERM to an overlay that started its own Xvfb: exit 143, no output left, and the Xvfb server
+// stopped with it (no re-exec under xvfb-run, which orphans the work).
+TEST(Cli, TerminatedOverlayStopsItsXvfb) {
+  const auto dir = acro::testing::TempDir() / "terminated_views";
+  // Up to 5 s for the server to end (a zombie has ended).
+  const ProcessResult run = OverlayOnItsOwnXvfbThen(
+      dir,
+      "kill -TERM $pid",
+      "alive() { kill -0 $1 2>/dev/null && ! ps -o stat= -p $1 | grep -q Z; }\n"
+      "for i in $(seq 50); do alive $xvfb || break; sleep 0.1; done\n"
+      "if [ -n \"$xvfb\" ] && alive $xvfb; then echo xvfb-alive; fi\n");
+  EXPECT_NE(run.out.find("status=143"), std::string::npos) << run.out << run.err;
+  EXPECT_EQ(run.out.find("xvfb=\n"), std::string::npos) << "no Xvfb was started: " << run.out;
+  EXPECT_EQ(run.out.find("xvfb-alive"), std::string::npos) << run.out;
+  ExpectNoOverlayLeft(dir);
+}
+
+// The X server of an overlay's views gone under it (its Xvfb killed): one line naming the display,
+// exit 1, and neither the output nor its staging directory left — not Xlib's bare exit, which
+// left the staging directory behind.
+TEST(Cli, OverlayWhoseXvfbDiesSaysSo) {
+  const auto dir = acro::testing::TempDir() / "xvfb_gone";
+  const ProcessResult run = OverlayOnItsOwnXvfbThen(dir, "kill -KILL $xvfb");
+  EXPECT_EQ(run.out.find("xvfb=\n"), std::string::npos) << "no Xvfb was started: " << run.out;
+  EXPECT_NE(run.out.find("status=1\n"), std::string::npos) << run.out << run.err;
+  const std::string err = Slurp(dir / "err.txt");
+  EXPECT_NE(err.find("acrolab: lost the connection to the X display :"), std::string::npos) << err;
+  ExpectNoOverlayLeft(dir);
+}
+
 // `overlay --ghost DIR`: the back tuck designed by `acrolab optimize` drawn in the routine's
 // flights; the heads-up names it. A folder that is not optimize's: one line naming its result.json.
 TEST(Cli, OverlayDrawsADesignedSkillAsTheGhost) {

@@ -9,6 +9,7 @@
 
 #include <cerrno>
 #include <csignal>
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <optional>
@@ -77,6 +78,23 @@ bool WaitForExit(pid_t pid, int timeout_ms) {
                         nullptr};
   execv(xvfb.c_str(), const_cast<char* const*>(argv));
   _exit(127);
+}
+
+// Xlib calls this when the connection to the X server breaks, and ends the program if it returns.
+// When the interrupt handler has stopped our Xvfb server, the break is expected: this thread waits
+// for the handler, which exits with 128 + the signal once the outputs are removed — Xlib's own
+// exit(1) raced it (seen in CI, Cli.TerminatedOverlayStopsItsXvfb). Any other break is one line
+// and exit 1, the unfinished outputs removed first.
+int OnXConnectionLost(Display* display) {
+  if (ChildrenBeingStopped()) {
+    for (;;) pause();
+  }
+  std::fprintf(stderr,
+               "acrolab: lost the connection to the X display %s (its server has gone)\n",
+               display != nullptr ? DisplayString(display) : "");
+  std::fflush(stderr);
+  RemoveRegisteredTemporaries();
+  _exit(1);
 }
 
 }  // namespace
@@ -162,6 +180,7 @@ struct XDisplay::Impl {
     if (display != nullptr) previous_display = display;
     name = ":" + number;
     setenv("DISPLAY", name.c_str(), 1);
+    XSetIOErrorHandler(&OnXConnectionLost);
   }
 };
 

@@ -74,4 +74,9 @@ class ScopedChildProcess {
 /// from any thread.
 int StopRegisteredChildren(ChildRole role, int timeout_ms = 10000) noexcept;
 
+/// True once StopRegisteredChildren has been called: the interrupt handler is stopping this
+/// program, and a helper that goes away now (the Xvfb server) went because it was told to. Takes no
+/// lock.
+bool ChildrenBeingStopped() noexcept;
+
 }  // namespace acro
