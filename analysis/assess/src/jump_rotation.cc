@@ -251,4 +251,21 @@ JumpRotation CountJumpRotation(const std::vector<Eigen::Quaterniond>& q_WB,
   return out;
 }
 
+TwistDirection TwistDirectionOf(const JumpRotation& rotation) {
+  if (rotation.skill.total_half_twists() == 0) return TwistDirection::kNone;
+  return rotation.measured_twist_rad > 0 ? TwistDirection::kLeft : TwistDirection::kRight;
+}
+
+const char* TwistDirectionName(TwistDirection direction) {
+  switch (direction) {
+    case TwistDirection::kLeft:
+      return "left";
+    case TwistDirection::kRight:
+      return "right";
+    case TwistDirection::kNone:
+      return "none";
+  }
+  return "none";
+}
+
 }  // namespace acro::analysis

@@ -486,6 +486,7 @@ std::string FormatJumpsJson(const TrialAnalysis& a) {
     o["somersault_quarters"] = skill.quarter_somersaults;
     o["direction"] = DirectionName(skill.direction);
     o["twist_halves"] = skill.half_twists;
+    o["twist_direction"] = TwistDirectionName(TwistDirectionOf(j.rotation));
     o["shape"] = ShapeName(skill.shape);
     o["fig_code"] = j.fig_code;
     o["skill_name"] = j.skill_name;

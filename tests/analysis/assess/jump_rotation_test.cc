@@ -188,6 +188,37 @@ TEST(JumpRotation, PublicCountingRulesOfTheTrampolineSuite) {
   EXPECT_EQ(rb.skill.direction, SomersaultDirection::kForward);
 }
 
+// Left and right as the athlete says them, checked on the geometry rather than on the angles: in a
+// twist to the left her front (body x) turns, at first, toward where her left hand (body y)
+// pointed. Backward and forward somersaults, twisting either way, and a somersault alone.
+TEST(JumpRotation, TwistDirectionIsTheAthletesLeftOrRight) {
+  struct Case {
+    std::vector<double> somersault, twist;
+    TwistDirection want;
+  };
+  const std::vector<Case> cases = {
+      {{0.0, -0.5, -1.0}, {0.0, 0.5, 1.0}, TwistDirection::kLeft},     // back full, left
+      {{0.0, -0.5, -1.0}, {0.0, -0.5, -1.0}, TwistDirection::kRight},  // back full, right
+      {{0.0, 0.5, 1.0}, {0.0, 0.25, 0.5}, TwistDirection::kLeft},      // barani-like, left
+      {{0.0, 0.5, 1.0}, {0.0, -0.25, -0.5}, TwistDirection::kRight},
+      {{0.0, -0.5, -1.0}, {0.0, 0.0, 0.0}, TwistDirection::kNone},  // back somersault
+  };
+  for (const Case& c : cases) {
+    const auto q = FromCurves(c.somersault, c.twist);
+    const JumpRotation r =
+        CountJumpRotation(q, 0, static_cast<int>(q.size()) - 1, Eigen::VectorXd(), Eigen::VectorXd());
+    EXPECT_EQ(TwistDirectionOf(r), c.want) << TwistDirectionName(TwistDirectionOf(r));
+    if (c.want == TwistDirection::kNone) continue;
+    // The front a frame later, seen in the body's own first frame: its y component is positive
+    // when it turned toward the left hand (the somersault, about y, moves no front toward y).
+    const Eigen::Vector3d front_1 = q[0].conjugate() * (q[1] * Eigen::Vector3d::UnitX());
+    EXPECT_EQ(front_1.y() > 0, c.want == TwistDirection::kLeft) << front_1.transpose();
+  }
+  EXPECT_STREQ(TwistDirectionName(TwistDirection::kLeft), "left");
+  EXPECT_STREQ(TwistDirectionName(TwistDirection::kRight), "right");
+  EXPECT_STREQ(TwistDirectionName(TwistDirection::kNone), "none");
+}
+
 TEST(JumpRotation, ShapeRulesOfTheTrampolineSuite) {
   // Hip 80° with knee 85° is tucked; hip 85–90° with knee 5–15° is piked; open hips are straight.
   std::vector<Eigen::Quaterniond> q;

@@ -330,6 +330,7 @@ TEST(TrialAnalysis, JumpsJsonHoldsEveryJumpsValues) {
                                          "somersault_quarters",
                                          "direction",
                                          "twist_halves",
+                                         "twist_direction",
                                          "shape",
                                          "fig_code",
                                          "skill_name",
@@ -368,6 +369,7 @@ TEST(TrialAnalysis, JumpsJsonHoldsEveryJumpsValues) {
         (nlohmann::ordered_json{j.landing_feet_W.x(), j.landing_feet_W.y(), j.landing_feet_W.z()}));
     EXPECT_EQ(o["somersault_quarters"], j.rotation.skill.quarter_somersaults);
     EXPECT_EQ(o["twist_halves"], nlohmann::ordered_json(j.rotation.skill.half_twists));
+    EXPECT_EQ(o["twist_direction"], TwistDirectionName(TwistDirectionOf(j.rotation)));
     EXPECT_EQ(o["fig_code"], j.fig_code);
     EXPECT_EQ(o["skill_name"], j.skill_name);
     EXPECT_EQ(o["difficulty"].get<double>(), j.difficulty.total());

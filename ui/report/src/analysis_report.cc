@@ -6,6 +6,7 @@
 #include <numbers>
 #include <sstream>
 
+#include "acro/assess/jump_rotation.h"
 #include "acro/base/file_io.h"
 #include "acro/base/input_error.h"
 #include "acro/base/text_format.h"
@@ -101,6 +102,15 @@ std::string Fixed(double v, int digits) {
   std::string text = FormatFixed(v, digits);
   if (text[0] == '-' && text.find_first_not_of("-0.") == std::string::npos) text.erase(0, 1);
   return text;
+}
+
+// The flight's twist as a coach reads it: "362 left" (degrees, the way she turned), or the signed
+// degrees alone when no half twist was counted.
+std::string TwistCell(const analysis::JumpRotation& rotation) {
+  const analysis::TwistDirection d = analysis::TwistDirectionOf(rotation);
+  if (d == analysis::TwistDirection::kNone) return Fixed(rotation.measured_twist_rad * kRadToDeg, 0);
+  return Fixed(std::abs(rotation.measured_twist_rad) * kRadToDeg, 0) + " " +
+         analysis::TwistDirectionName(d);
 }
 
 // "com_height.svg" for "com_height.png".
@@ -335,7 +345,7 @@ std::string FormatAnalysisReportHtml(const analysis::TrialAnalysis& a,
       << "</td><td>" << Fixed(j.displacement_from_takeoff_m, 2) << "</td><td>"
       << Fixed(j.displacement_from_centre_m, 2) << "</td><td>"
       << Fixed(j.rotation.measured_somersault_rad * kRadToDeg, 0) << "</td><td>"
-      << Fixed(j.rotation.measured_twist_rad * kRadToDeg, 0) << "</td><td class=\"l\"><b>"
+      << TwistCell(j.rotation) << "</td><td class=\"l\"><b>"
       << Html(j.fig_code) << "</b></td><td class=\"l\" title=\"" << Html(j.rotation.shape_reason)
       << "\">" << Html(j.skill_name) << "</td><td>"
       << (j.partial() ? "–" : Fixed(j.difficulty.total(), 1)) << "</td><td>"

@@ -94,4 +94,14 @@ JumpRotation CountJumpRotation(const std::vector<Eigen::Quaterniond>& q_WB,
                                const Eigen::VectorXd& knee_flexion_rad,
                                const JumpRotationOptions& options = {});
 
+/// The way a flight twists, as the athlete says it: left when her front turns toward her left
+/// hand, as a person turning left on the spot (positive about the body's long axis z, with x
+/// forward and y left), whatever the somersault; none without a counted half twist.
+enum class TwistDirection { kNone, kLeft, kRight };
+
+TwistDirection TwistDirectionOf(const JumpRotation& rotation);
+
+/// "left", "right" or "none".
+const char* TwistDirectionName(TwistDirection direction);
+
 }  // namespace acro::analysis
