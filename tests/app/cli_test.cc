@@ -929,6 +929,15 @@ TEST(Cli, RoutineOfTenSkillsRoundTripsThroughAnalyze) {
     // twist-ins failed it when they entered their shape in 45° of somersault).
     EXPECT_EQ(jumps[i]["verdict"].get<std::string>().rfind("pass", 0), 0u)
         << codes[i] << ": " << jumps[i]["verdict"].get<std::string>();
+    // The designer twists left in forward skills and right in backward ones (docs/skill-design.md),
+    // and the analysis names each so: the two agree on which way is left.
+    int halves = 0;
+    for (const nlohmann::json& h : jumps[i]["twist_halves"]) halves += h.get<int>();
+    const std::string way = halves == 0                            ? "none"
+                            : jumps[i]["direction"] == "forward" ? "left"
+                                                                 : "right";
+    EXPECT_EQ(jumps[i]["twist_direction"].get<std::string>(), way) << codes[i];
+    EXPECT_EQ(designed["twist_direction"].get<std::string>(), way) << codes[i];
     dd_designed += designed["difficulty"].get<double>();
     dd_analysed += jumps[i]["difficulty"].get<double>();
   }

@@ -84,8 +84,8 @@ RoutineSkillPlan PlanOf(const SkillFromCodeResult& d) {
                 : c.direction == SomersaultDirection::kBackward ? -1
                                                                 : 0;
   p.nominal_rad = 2 * kPi * (c.quarter_somersaults / 4);
-  // The design twists the way it somersaults' sign says (backward skills twist negative).
-  p.twist_halves = (p.direction < 0 ? -1 : 1) * c.total_half_twists();
+  // The way the design twists (its option: the athlete's left or right, positive to the left).
+  p.twist_halves = (d.air_twist_rad < 0 ? -1 : 1) * c.total_half_twists();
   p.takeoff_lean_rad = d.takeoff_lean_rad;
   p.landing_short_rad = d.landing_short_rad;
   p.track = d.track;

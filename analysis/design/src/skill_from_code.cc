@@ -89,6 +89,10 @@ Plan MakePlan(const FigSkill& code, double T) {
   plan.direction = code.direction == SomersaultDirection::kForward    ? 1
                    : code.direction == SomersaultDirection::kBackward ? -1
                                                                       : 0;
+  // The twist angle is about the body's long axis (CalcSomersaultTiltTwist, as the analysis counts
+  // it): positive is the athlete's left. Forward skills twist left, backward ones right — not one
+  // way in every skill as an athlete does: a designer option for that was tried and left out
+  // (822/ twisting left found no flight, docs/skill-design.md "Limits").
   plan.twist_sign = plan.direction < 0 ? -1.0 : 1.0;
   if (n == 0) {
     plan.lean_rad = 0;
@@ -791,6 +795,9 @@ SkillFromCodeResult DesignSkillFromCode(const std::string& code_text,
   const Eigen::Index last = flight.somersault.size() - 1;
   result.air_somersault_rad = flight.somersault[last] - flight.somersault[0];
   result.air_twist_rad = flight.twist[last] - flight.twist[0];
+  result.twist_direction = code.total_half_twists() == 0 ? TwistDirection::kNone
+                           : result.air_twist_rad > 0    ? TwistDirection::kLeft
+                                                         : TwistDirection::kRight;
   {
     const VectorXd nu = shooter.Nominal(flight);
     double before = 0;
@@ -888,10 +895,13 @@ std::string FormatSkillFromCode(const SkillFromCodeResult& r) {
   for (double h : r.half_twists_per_somersault)
     halves += (halves.empty() ? "" : ", ") + fmt::format("{:.2f}", h);
   out += fmt::format(
-      "  flight: {:.3f} somersaults and {:.3f} twists in the air, half twists per somersault {}, "
+      "  flight: {:.3f} somersaults and {:.3f} twists{} in the air, half twists per somersault {}, "
       "tilt up to {:.1f}° ({:.1f}° at landing), {:.2f} s left to prepare the landing\n",
       r.air_somersault_rad / (2 * kPi),
-      r.air_twist_rad / (2 * kPi),
+      std::abs(r.air_twist_rad) / (2 * kPi),
+      r.twist_direction == TwistDirection::kNone
+          ? std::string()
+          : std::string(" to the ") + TwistDirectionName(r.twist_direction),
       halves.empty() ? "-" : halves,
       r.max_tilt_rad / kDeg,
       r.landing_tilt_rad / kDeg,

@@ -196,6 +196,7 @@ std::string MakeRoutineJson(const RoutineDesignResult& result) {
     k["normalized_somersault_momentum_per_s"] = s.normalized_somersault_momentum;
     k["air_somersault_deg"] = f.air_somersault_rad * kRadToDeg;
     k["air_twist_deg"] = f.air_twist_rad * kRadToDeg;
+    k["twist_direction"] = TwistDirectionName(s.twist_direction);
     k["landing_feet_from_bed_centre_m"] =
         Json::array({f.landing_feet_m.x() - r.options.bed_centre_m.x(),
                      f.landing_feet_m.y() - r.options.bed_centre_m.y()});

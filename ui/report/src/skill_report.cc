@@ -67,6 +67,7 @@ std::string MakeSkillFromCodeJson(const SkillFromCodeResult& r) {
     j["aerial_twist_actions_deg"].push_back(a * kRadToDeg);
   j["air_somersaults"] = r.air_somersault_rad / (2 * std::numbers::pi);
   j["air_twists"] = r.air_twist_rad / (2 * std::numbers::pi);
+  j["twist_direction"] = analysis::TwistDirectionName(r.twist_direction);
   j["half_twists_per_somersault"] = r.half_twists_per_somersault;
   j["max_tilt_deg"] = r.max_tilt_rad * kRadToDeg;
   j["landing_tilt_deg"] = r.landing_tilt_rad * kRadToDeg;

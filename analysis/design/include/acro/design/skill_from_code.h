@@ -21,6 +21,7 @@
 #include <Eigen/Core>
 
 #include "acro/assess/fig_skill.h"
+#include "acro/assess/jump_rotation.h"
 #include "acro/athlete/athlete_profile.h"
 #include "acro/design/posture_track.h"
 #include "acro/design/skill_file.h"
@@ -72,7 +73,8 @@ struct SkillFromCodeResult {
   /// from the end of the last twist or opening to the landing (s), and the shooting's largest
   /// residual (rad).
   double air_somersault_rad = 0.0;
-  double air_twist_rad = 0.0;
+  double air_twist_rad = 0.0;  ///< positive to the athlete's left
+  TwistDirection twist_direction = TwistDirection::kNone;  ///< of air_twist_rad; none without twist
   std::vector<double> half_twists_per_somersault;
   double max_tilt_rad = 0.0;
   double landing_tilt_rad = 0.0;
