@@ -109,7 +109,7 @@ std::string Fixed(double v, int digits) {
 std::string TwistCell(const analysis::JumpRotation& rotation) {
   const analysis::TwistDirection d = analysis::TwistDirectionOf(rotation);
   if (d == analysis::TwistDirection::kNone) return Fixed(rotation.measured_twist_rad * kRadToDeg, 0);
-  return Fixed(std::abs(rotation.measured_twist_rad) * kRadToDeg, 0) + " " +
+  return Fixed(std::abs(rotation.measured_twist_rad) * kRadToDeg, 0) + "\u00a0" +  // no break
          analysis::TwistDirectionName(d);
 }
 
