@@ -92,7 +92,7 @@ Plan MakePlan(const FigSkill& code, double T) {
   // The twist angle is about the body's long axis (CalcSomersaultTiltTwist, as the analysis counts
   // it): positive is the athlete's left. Forward skills twist left, backward ones right — not one
   // way in every skill as an athlete does: a designer option for that was tried and left out
-  // (822/ twisting left found no flight, docs/skill-design.md "Limits").
+  // (822/ twisting left found no flight, docs/skill-design.md, "Skills from their code").
   plan.twist_sign = plan.direction < 0 ? -1.0 : 1.0;
   if (n == 0) {
     plan.lean_rad = 0;
