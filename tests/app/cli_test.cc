@@ -268,8 +268,8 @@ TEST(Cli, AnalyzeWithoutAnyDisplayWritesTheMilestoneOneNumbersAndTheCharts) {
   nlohmann::json actual = nlohmann::json::parse(Slurp(out / "jumps.json"));
   ASSERT_EQ(expected.size(), 6u);
   // Milestone 2 added keys: the silhouette IoU, null without a video, why the shape (the FIG
-  // body positions held: the same shapes as milestone 1's on this sample, checked below) and
-  // where the surface's height comes from (here the bed's corner markers).
+  // body positions held: the same shapes as milestone 1's on this sample, checked below), where
+  // the surface's height comes from (here the bed's corner markers) and the twist's direction.
   for (nlohmann::json& jump : actual) {
     EXPECT_TRUE(jump["silhouette_iou"].is_null());
     jump.erase("silhouette_iou");
@@ -288,6 +288,10 @@ TEST(Cli, AnalyzeWithoutAnyDisplayWritesTheMilestoneOneNumbersAndTheCharts) {
     EXPECT_EQ(jump["shape_hold_fraction"].get<double>() >= 0.15, shape != "straight");
     jump.erase("shape_reason");
     jump.erase("shape_hold_fraction");
+    // Which way it twists: the barani and the full to the left, as the simulator made them.
+    const std::string code = jump["fig_code"].get<std::string>();
+    EXPECT_EQ(jump["twist_direction"], code == "41/" || code == "42/" ? "left" : "none") << code;
+    jump.erase("twist_direction");
   }
   ExpectSameJson(expected, actual, "jumps");
 }
