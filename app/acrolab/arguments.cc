@@ -2,9 +2,9 @@
 #include <pthread.h>
 #include <unistd.h>
 
-#include <cmath>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <thread>

@@ -937,7 +937,7 @@ TEST(Cli, RoutineOfTenSkillsRoundTripsThroughAnalyze) {
     // and the analysis names each so: the two agree on which way is left.
     int halves = 0;
     for (const nlohmann::json& h : jumps[i]["twist_halves"]) halves += h.get<int>();
-    const std::string way = halves == 0                            ? "none"
+    const std::string way = halves == 0                          ? "none"
                             : jumps[i]["direction"] == "forward" ? "left"
                                                                  : "right";
     EXPECT_EQ(jumps[i]["twist_direction"].get<std::string>(), way) << codes[i];

@@ -15,6 +15,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <map>
 #include <sstream>
 #include <string>
@@ -66,8 +67,8 @@ Outcome Acrolab(const std::string& args,
   const fs::path err_path = dir / "stderr.txt";
   const fs::path out_path = dir / "stdout.txt";
   const std::string line =
-      "cd " + Quote(dir) + " && " + kMemoryLimit + timeout + std::string(ACROLAB_EXE) + " " +
-      args + " >" + (out ? Quote(out_path) : std::string("/dev/null")) + " 2>" + Quote(err_path);
+      "cd " + Quote(dir) + " && " + kMemoryLimit + timeout + std::string(ACROLAB_EXE) + " " + args +
+      " >" + (out ? Quote(out_path) : std::string("/dev/null")) + " 2>" + Quote(err_path);
   const auto start = std::chrono::steady_clock::now();
   const int raw = std::system(("sh -c " + Quote(line)).c_str());
   Outcome run;
@@ -114,6 +115,31 @@ void WriteText(const fs::path& p, const std::string& text) {
 
 fs::path Samples() {
   return acro::testing::SourceDir() / "samples";
+}
+
+// Starts acrolab with `args` in `dir` (after `in_child`, run in the child before the exec: its
+// environment, its output), sends it SIGTERM after `after_s` and returns its exit status, or 128 +
+// the signal that ended it.
+int TerminatedAfter(double after_s,
+                    const fs::path& dir,
+                    const std::vector<std::string>& args,
+                    const std::function<void()>& in_child = {}) {
+  const pid_t pid = fork();
+  if (pid < 0) return -1;
+  if (pid == 0) {
+    fs::current_path(dir);
+    if (in_child) in_child();
+    std::vector<char*> argv = {const_cast<char*>(ACROLAB_EXE)};
+    for (const std::string& a : args) argv.push_back(const_cast<char*>(a.c_str()));
+    argv.push_back(nullptr);
+    execv(ACROLAB_EXE, argv.data());
+    _exit(127);
+  }
+  std::this_thread::sleep_for(std::chrono::duration<double>(after_s));
+  kill(pid, SIGTERM);
+  int raw = 0;
+  waitpid(pid, &raw, 0);
+  return WIFEXITED(raw) ? WEXITSTATUS(raw) : 128 + WTERMSIG(raw);
 }
 
 // A skill file of the samples, its athlete path made absolute, with `from` replaced by `to`.
@@ -458,26 +484,15 @@ TEST_F(Robustness, SigtermKeepsThePreviousOutputs) {
     files.push_back(e.path().filename().string());
   int interrupted = 0;  // measured: 3 of the 4 (the analysis takes about 1.1 s here)
   for (const double after_s : {0.3, 0.6, 0.9, 1.2}) {
-    const pid_t pid = fork();
-    ASSERT_GE(pid, 0);
-    if (pid == 0) {
-      fs::current_path(dir_);
-      execl(ACROLAB_EXE,
-            ACROLAB_EXE,
-            "analyze",
-            (Samples() / "trials/trampoline_routine/trampoline_routine.c3d").c_str(),
-            "--no-images",
-            "--quiet",
-            "-o",
-            "out",
-            static_cast<char*>(nullptr));
-      _exit(127);
-    }
-    std::this_thread::sleep_for(std::chrono::duration<double>(after_s));
-    kill(pid, SIGTERM);
-    int raw = 0;
-    waitpid(pid, &raw, 0);
-    const int status = WIFEXITED(raw) ? WEXITSTATUS(raw) : 128 + WTERMSIG(raw);
+    const int status =
+        TerminatedAfter(after_s,
+                        dir_,
+                        {"analyze",
+                         (Samples() / "trials/trampoline_routine/trampoline_routine.c3d").string(),
+                         "--no-images",
+                         "--quiet",
+                         "-o",
+                         "out"});
     std::printf("SIGTERM after %.1f s: exit %d\n", after_s, status);
     EXPECT_TRUE(status == 143 || status == 0) << status;  // 0: it had finished
     interrupted += status == 143;
@@ -508,34 +523,26 @@ TEST_F(Robustness, SigtermStopsABatchWithItsJobs) {
   // is stopped half-way.
   for (const double after_s : {0.6, 1.2, 1.8, 2.4}) {
     fs::remove(dir_ / "lib.sqlite");
-    const pid_t pid = fork();
-    ASSERT_GE(pid, 0);
-    if (pid == 0) {
-      fs::current_path(dir_);
-      setenv("TMPDIR", (dir_ / "tmp").c_str(), 1);
-      const int err = open("stderr.txt", O_WRONLY | O_CREAT | O_TRUNC, 0644);
-      const int out = open("stdout.txt", O_WRONLY | O_CREAT | O_TRUNC, 0644);
-      if (err < 0 || out < 0 || dup2(err, 2) < 0 || dup2(out, 1) < 0) _exit(126);
-      execl(ACROLAB_EXE,
-            ACROLAB_EXE,
-            "batch",
-            "season",
-            "-j",
-            "2",
-            "--athlete",
-            athlete.c_str(),
-            "--session",
-            "2026-09-01",
-            "--library",
-            "lib.sqlite",
-            static_cast<char*>(nullptr));
-      _exit(127);
-    }
-    std::this_thread::sleep_for(std::chrono::duration<double>(after_s));
-    kill(pid, SIGTERM);
-    int raw = 0;
-    waitpid(pid, &raw, 0);
-    const int status = WIFEXITED(raw) ? WEXITSTATUS(raw) : 128 + WTERMSIG(raw);
+    const int status =
+        TerminatedAfter(after_s,
+                        dir_,
+                        {"batch",
+                         "season",
+                         "-j",
+                         "2",
+                         "--athlete",
+                         athlete,
+                         "--session",
+                         "2026-09-01",
+                         "--library",
+                         "lib.sqlite"},
+                        [this] {
+                          setenv("TMPDIR", (dir_ / "tmp").c_str(), 1);
+                          const int err = open("stderr.txt", O_WRONLY | O_CREAT | O_TRUNC, 0644);
+                          const int out = open("stdout.txt", O_WRONLY | O_CREAT | O_TRUNC, 0644);
+                          if (err < 0 || out < 0 || dup2(err, 2) < 0 || dup2(out, 1) < 0)
+                            _exit(126);
+                        });
     const std::string err = ReadText(dir_ / "stderr.txt");
     std::printf("SIGTERM to the batch after %.1f s: exit %d\n", after_s, status);
     EXPECT_EQ(status, 143) << err;

@@ -252,8 +252,12 @@ JumpRotation CountJumpRotation(const std::vector<Eigen::Quaterniond>& q_WB,
 }
 
 TwistDirection TwistDirectionOf(const JumpRotation& rotation) {
-  if (rotation.skill.total_half_twists() == 0) return TwistDirection::kNone;
-  return rotation.measured_twist_rad > 0 ? TwistDirection::kLeft : TwistDirection::kRight;
+  return TwistDirectionOf(rotation.skill.total_half_twists(), rotation.measured_twist_rad);
+}
+
+TwistDirection TwistDirectionOf(int half_twists, double twist_rad) {
+  if (half_twists == 0) return TwistDirection::kNone;
+  return twist_rad > 0 ? TwistDirection::kLeft : TwistDirection::kRight;
 }
 
 const char* TwistDirectionName(TwistDirection direction) {

@@ -795,9 +795,7 @@ SkillFromCodeResult DesignSkillFromCode(const std::string& code_text,
   const Eigen::Index last = flight.somersault.size() - 1;
   result.air_somersault_rad = flight.somersault[last] - flight.somersault[0];
   result.air_twist_rad = flight.twist[last] - flight.twist[0];
-  result.twist_direction = code.total_half_twists() == 0 ? TwistDirection::kNone
-                           : result.air_twist_rad > 0    ? TwistDirection::kLeft
-                                                         : TwistDirection::kRight;
+  result.twist_direction = TwistDirectionOf(code.total_half_twists(), result.air_twist_rad);
   {
     const VectorXd nu = shooter.Nominal(flight);
     double before = 0;

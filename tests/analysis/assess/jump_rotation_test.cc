@@ -192,21 +192,21 @@ TEST(JumpRotation, PublicCountingRulesOfTheTrampolineSuite) {
 // twist to the left her front (body x) turns, at first, toward where her left hand (body y)
 // pointed. Backward and forward somersaults, twisting either way, and a somersault alone.
 TEST(JumpRotation, TwistDirectionIsTheAthletesLeftOrRight) {
-  struct Case {
+  struct TwistCase {
     std::vector<double> somersault, twist;
     TwistDirection want;
   };
-  const std::vector<Case> cases = {
+  const std::vector<TwistCase> cases = {
       {{0.0, -0.5, -1.0}, {0.0, 0.5, 1.0}, TwistDirection::kLeft},     // back full, left
       {{0.0, -0.5, -1.0}, {0.0, -0.5, -1.0}, TwistDirection::kRight},  // back full, right
       {{0.0, 0.5, 1.0}, {0.0, 0.25, 0.5}, TwistDirection::kLeft},      // barani-like, left
       {{0.0, 0.5, 1.0}, {0.0, -0.25, -0.5}, TwistDirection::kRight},
       {{0.0, -0.5, -1.0}, {0.0, 0.0, 0.0}, TwistDirection::kNone},  // back somersault
   };
-  for (const Case& c : cases) {
+  for (const TwistCase& c : cases) {
     const auto q = FromCurves(c.somersault, c.twist);
-    const JumpRotation r =
-        CountJumpRotation(q, 0, static_cast<int>(q.size()) - 1, Eigen::VectorXd(), Eigen::VectorXd());
+    const JumpRotation r = CountJumpRotation(
+        q, 0, static_cast<int>(q.size()) - 1, Eigen::VectorXd(), Eigen::VectorXd());
     EXPECT_EQ(TwistDirectionOf(r), c.want) << TwistDirectionName(TwistDirectionOf(r));
     if (c.want == TwistDirection::kNone) continue;
     // The front a frame later, seen in the body's own first frame: its y component is positive

@@ -108,7 +108,8 @@ std::string Fixed(double v, int digits) {
 // degrees alone when no half twist was counted.
 std::string TwistCell(const analysis::JumpRotation& rotation) {
   const analysis::TwistDirection d = analysis::TwistDirectionOf(rotation);
-  if (d == analysis::TwistDirection::kNone) return Fixed(rotation.measured_twist_rad * kRadToDeg, 0);
+  if (d == analysis::TwistDirection::kNone)
+    return Fixed(rotation.measured_twist_rad * kRadToDeg, 0);
   return Fixed(std::abs(rotation.measured_twist_rad) * kRadToDeg, 0) + "\u00a0" +  // no break
          analysis::TwistDirectionName(d);
 }
@@ -345,11 +346,10 @@ std::string FormatAnalysisReportHtml(const analysis::TrialAnalysis& a,
       << "</td><td>" << Fixed(j.displacement_from_takeoff_m, 2) << "</td><td>"
       << Fixed(j.displacement_from_centre_m, 2) << "</td><td>"
       << Fixed(j.rotation.measured_somersault_rad * kRadToDeg, 0) << "</td><td>"
-      << TwistCell(j.rotation) << "</td><td class=\"l\"><b>"
-      << Html(j.fig_code) << "</b></td><td class=\"l\" title=\"" << Html(j.rotation.shape_reason)
-      << "\">" << Html(j.skill_name) << "</td><td>"
-      << (j.partial() ? "–" : Fixed(j.difficulty.total(), 1)) << "</td><td>"
-      << (j.check ? Fixed(j.check->window_force_bw, 3) : "–") << "</td>"
+      << TwistCell(j.rotation) << "</td><td class=\"l\"><b>" << Html(j.fig_code)
+      << "</b></td><td class=\"l\" title=\"" << Html(j.rotation.shape_reason) << "\">"
+      << Html(j.skill_name) << "</td><td>" << (j.partial() ? "–" : Fixed(j.difficulty.total(), 1))
+      << "</td><td>" << (j.check ? Fixed(j.check->window_force_bw, 3) : "–") << "</td>"
       << (options.silhouette_iou.empty()
               ? std::string()
               : "<td>" + (j.silhouette_iou ? Fixed(*j.silhouette_iou, 2) : "–") + "</td>")

@@ -100,6 +100,9 @@ JumpRotation CountJumpRotation(const std::vector<Eigen::Quaterniond>& q_WB,
 enum class TwistDirection { kNone, kLeft, kRight };
 
 TwistDirection TwistDirectionOf(const JumpRotation& rotation);
+/// The same for a flight of `half_twists` counted half twists that twisted `twist_rad` (signed,
+/// about the body's long axis): a designed one.
+TwistDirection TwistDirectionOf(int half_twists, double twist_rad);
 
 /// "left", "right" or "none".
 const char* TwistDirectionName(TwistDirection direction);

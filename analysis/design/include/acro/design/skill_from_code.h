@@ -73,7 +73,7 @@ struct SkillFromCodeResult {
   /// from the end of the last twist or opening to the landing (s), and the shooting's largest
   /// residual (rad).
   double air_somersault_rad = 0.0;
-  double air_twist_rad = 0.0;  ///< positive to the athlete's left
+  double air_twist_rad = 0.0;                              ///< positive to the athlete's left
   TwistDirection twist_direction = TwistDirection::kNone;  ///< of air_twist_rad; none without twist
   std::vector<double> half_twists_per_somersault;
   double max_tilt_rad = 0.0;
