@@ -40,6 +40,19 @@ if(ACRO_OPENCV_aruco_LIBRARY AND ACRO_OPENCV_ARUCO_INCLUDE_DIR)
   target_compile_definitions(acro::opencv INTERFACE ACRO_HAVE_ARUCO=1)
 endif()
 message(STATUS "OpenCV modules in ${ACRO_OPENCV_INCLUDE_DIR}; ChArUco (aruco): ${ACRO_HAVE_ARUCO}")
+# OpenCV's DNN module runs the pose networks (analysis/pose only; libopencv-dnn-dev).
+find_library(ACRO_OPENCV_dnn_LIBRARY opencv_dnn REQUIRED)
+add_library(acro::opencv_dnn INTERFACE IMPORTED)
+target_link_libraries(acro::opencv_dnn INTERFACE ${ACRO_OPENCV_dnn_LIBRARY} acro::opencv)
+
+# The pose models' conversion (tools/, run once by scripts/install-models.sh): the TFLite files are
+# flatbuffers, read with flatbuffers' verifier (libflatbuffers-dev, header-only use), and written as
+# ONNX with ONNX's own protobuf classes (libonnx-dev, libprotobuf-dev).
+find_path(ACRO_FLATBUFFERS_INCLUDE_DIR flatbuffers/flatbuffers.h REQUIRED)
+add_library(acro::flatbuffers INTERFACE IMPORTED)
+target_include_directories(acro::flatbuffers INTERFACE ${ACRO_FLATBUFFERS_INCLUDE_DIR})
+find_package(Protobuf REQUIRED)
+find_package(ONNX REQUIRED)
 
 # Cairo: every chart of every report, PNG and SVG, with no display (ui/report only).
 pkg_check_modules(CAIRO REQUIRED IMPORTED_TARGET cairo cairo-svg cairo-png)

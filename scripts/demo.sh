@@ -9,8 +9,10 @@ cd "$(dirname "$0")/.."
 # Only what the main job needs: the acrolab program with its 3D views (VTK, for the overlay on
 # the video), without tests, benchmarks or the Qt window.
 scripts/install-deps.sh --main
-ACRO_TARGETS=acrolab scripts/build.sh -DACRO_BUILD_TESTS=OFF -DACRO_BUILD_BENCHMARKS=OFF \
+ACRO_TARGETS="acrolab acrolab-convert-model" scripts/build.sh -DACRO_BUILD_TESTS=OFF -DACRO_BUILD_BENCHMARKS=OFF \
   -DACRO_BUILD_UI=ON -DACRO_BUILD_STUDIO=OFF
+# The pose networks `acrolab detect` runs: fetched with npm pack, checked, converted (docs/pose.md).
+scripts/install-models.sh
 trial=samples/trials/trampoline_routine/trampoline_routine.c3d
 out=out/trampoline_routine
 echo

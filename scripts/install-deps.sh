@@ -22,7 +22,11 @@ main_packages=(
   libpugixml-dev libsqlite3-dev nettle-dev
   libopencv-calib3d-dev libopencv-imgproc-dev libopencv-imgcodecs-dev
   libvtk9-dev libjsoncpp-dev xvfb xauth
+  libopencv-dnn-dev libflatbuffers-dev libonnx-dev libprotobuf-dev
 )
+# The pose networks (scripts/install-models.sh) come from the npm registry through `npm pack`;
+# Debian's npm is installed only where no npm is on the PATH already.
+if ! command -v npm >/dev/null 2>&1; then main_packages+=(npm); fi
 # Everything else: ChArUco boards (OpenCV's contrib modules), the window (Qt and VTK's Qt module),
 # the tests and their oracles (GoogleTest, Simbody, the ffmpeg command), the benchmarks.
 full_packages=(

@@ -41,6 +41,8 @@ if [ "${1:-}" = --sanitize ]; then
 fi
 scripts/build.sh -DACRO_BUILD_TESTS=ON -DACRO_BUILD_BENCHMARKS=ON -DACRO_BUILD_UI=ON \
   -DACRO_BUILD_STUDIO=ON
+# The pose networks (fetched with npm pack, checked, converted by the converter just built).
+scripts/install-models.sh
 cd build
 # Rendering tests need a display: run under a virtual X server when one is not already there.
 runner=()
