@@ -11,6 +11,7 @@
 // (from the repository root: build/bin/make_sample_video samples/athletes/sample_athlete.yaml
 //  samples/trials/trampoline_routine)
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -82,6 +83,67 @@ acro::vision::Camera SideCamera(const Eigen::Vector3d& bed_centre) {
 
 }  // namespace
 
+// The athlete dressed so that a person detector sees a person (docs/pose.md, "The sample
+// routine"): a plain skin-coloured figure has no front or back, and BlazePose fitted it upside
+// down or swapped its sides. A leotard (pelvis and thorax), white socks (feet), and a head with
+// hair over the top and back, two eyes and a mouth on the front. The mesh's triangles are split
+// into one mesh per colour; every mesh keeps all the vertices, so each is posed by the same
+// vertex update. Directions in H: x anterior, y left, z up (docs/notation.md).
+std::vector<SceneMesh> DressedAthlete(const acro::analysis::BodyMesh& mesh, const SceneMesh& posed) {
+  struct Group {
+    const char* name;
+    Rgba colour;
+  };
+  const std::vector<Group> groups = {{"skin", {0.86f, 0.62f, 0.5f, 1}},    {"leotard", {0.55f, 0.08f, 0.32f, 1}},
+                                     {"socks", {0.93f, 0.93f, 0.9f, 1}},    {"hair", {0.22f, 0.13f, 0.07f, 1}},
+                                     {"eyes", {0.06f, 0.05f, 0.05f, 1}},    {"mouth", {0.55f, 0.18f, 0.18f, 1}}};
+  constexpr int kPelvis = 0, kThorax = 1, kHead = 2, kRightFoot = 11, kLeftFoot = 14;
+  // The head's centre and size in H, from its vertices.
+  Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e9), hi = -lo;
+  for (int t = 0; t < mesh.num_triangles(); ++t)
+    if (mesh.part_segment[mesh.triangle_part[t]] == kHead)
+      for (int k = 0; k < 3; ++k) {
+        lo = lo.cwiseMin(mesh.vertices_H.col(mesh.triangles(k, t)));
+        hi = hi.cwiseMax(mesh.vertices_H.col(mesh.triangles(k, t)));
+      }
+  // The face's centre: the upper part of the head's ellipsoid (its lower part is the neck).
+  const Eigen::Vector3d centre(0.5 * (lo.x() + hi.x()), 0.5 * (lo.y() + hi.y()), lo.z() + 0.62 * (hi.z() - lo.z()));
+  const auto angle = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+    return std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0));
+  };
+  std::vector<std::vector<int>> members(groups.size());
+  for (int t = 0; t < mesh.num_triangles(); ++t) {
+    const int segment = mesh.part_segment[mesh.triangle_part[t]];
+    int group = 0;
+    if (segment == kPelvis || segment == kThorax) group = 1;
+    if (segment == kRightFoot || segment == kLeftFoot) group = 2;
+    if (segment == kHead) {
+      const Eigen::Vector3d p = (mesh.vertices_H.col(mesh.triangles(0, t)) + mesh.vertices_H.col(mesh.triangles(1, t)) +
+                                 mesh.vertices_H.col(mesh.triangles(2, t))) / 3.0;
+      const Eigen::Vector3d d = p - centre;
+      if (angle(d, {1, 0.36, 0.22}) < 0.16 || angle(d, {1, -0.36, 0.22}) < 0.16)
+        group = 4;
+      else if (angle(d, {1, 0, -0.38}) < 0.2 && std::abs(d.normalized().y()) < 0.2)
+        group = 5;
+      else if (d.normalized().z() > 0.45 || (d.normalized().x() < 0.05 && d.normalized().z() > -0.35))
+        group = 3;
+    }
+    members[group].push_back(t);
+  }
+  std::vector<SceneMesh> out;
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    if (members[g].empty()) continue;
+    SceneMesh m;
+    m.name = std::string("athlete ") + groups[g].name;
+    m.colour = groups[g].colour;
+    m.vertices_W = posed.vertices_W;
+    m.triangles.resize(3, static_cast<Eigen::Index>(members[g].size()));
+    for (std::size_t k = 0; k < members[g].size(); ++k) m.triangles.col(static_cast<Eigen::Index>(k)) = mesh.triangles.col(members[g][k]);
+    out.push_back(std::move(m));
+  }
+  return out;
+}
+
 int main(int argc, char** argv) {
   const bool preview = argc == 6 && std::string(argv[3]) == "--frame";
   if (argc != 3 && !preview) {
@@ -97,8 +159,8 @@ int main(int argc, char** argv) {
         acro::analysis::MakeAthleteBody(acro::analysis::ReadAthleteProfile(athlete));
     acro::analysis::Motion motion;
     motion.q = routine.q;
-    acro::analysis::AthleteScene athlete_scene(
-        body, acro::analysis::MakeEllipsoidBodyMesh(body), motion, routine.model);
+    const acro::analysis::BodyMesh body_mesh_H = acro::analysis::MakeEllipsoidBodyMesh(body);
+    acro::analysis::AthleteScene athlete_scene(body, body_mesh_H, motion, routine.model);
 
     const Eigen::Vector3d bed = routine.options.bed_centre_m;
     const acro::vision::Camera camera = SideCamera(bed);
@@ -145,9 +207,8 @@ int main(int argc, char** argv) {
 
     acro::analysis::AthletePose pose;
     athlete_scene.Pose(0, &pose);
-    SceneMesh body_mesh = pose.mesh;
-    body_mesh.colour = {0.86f, 0.62f, 0.5f, 1};  // skin and a leotard would be two colours; one
-    const int body_id = renderer.AddMesh(body_mesh);
+    std::vector<int> body_ids;
+    for (const SceneMesh& part : DressedAthlete(body_mesh_H, pose.mesh)) body_ids.push_back(renderer.AddMesh(part));
 
     acro::capture::VideoWriterOptions w;
     w.fps = kFps;
@@ -177,7 +238,7 @@ int main(int argc, char** argv) {
       std::fill(sum.begin(), sum.end(), 0.0);
       for (const auto& [ds, weight] : {std::pair{-1, 0.25}, {0, 0.5}, {1, 0.25}}) {
         athlete_scene.Pose(std::max(0, s + ds), &pose);
-        renderer.UpdateMesh(body_id, pose.mesh.vertices_W);
+        for (int id : body_ids) renderer.UpdateMesh(id, pose.mesh.vertices_W);
         renderer.Render(&render);
         std::fill(rgb.begin(), rgb.end(), 0);
         composite.Composite(render, &rgb);

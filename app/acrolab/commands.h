@@ -46,6 +46,8 @@ void AddCompareCommand(CLI::App& app, CommandRunner* run);
 /// `acrolab library …` (the season library) and `acrolab batch`.
 void AddLibraryCommand(CLI::App& app, CommandRunner* run);
 void AddBatchCommand(CLI::App& app, CommandRunner* run);
+/// `acrolab detect`: 2D keypoints from video (docs/pose.md).
+void AddDetectCommand(CLI::App& app, CommandRunner* run);
 /// What `overlay` and `compare` run in a build without the 3D views: throws the UsageError that
 /// says how to get them.
 int NeedTheViews();
