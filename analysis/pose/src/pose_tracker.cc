@@ -27,19 +27,6 @@ constexpr double kDeg = kPi / 180.0;
 // an upright body scored 0.34–0.37 on the sample video, right fits 0.79–0.99.
 constexpr double kMinAcquiredQuality = 0.5;
 
-// Indices of BlazePose's shoulders and hips (the torso, the body's scale in the image).
-constexpr int kLeftShoulder = 11, kRightShoulder = 12, kLeftHip = 23, kRightHip = 24;
-
-double TorsoLength(const capture::DetectedPerson& k) {
-  const Eigen::Vector2d shoulders = 0.5 * (k.block<2, 1>(0, kLeftShoulder) + k.block<2, 1>(0, kRightShoulder));
-  const Eigen::Vector2d hips = 0.5 * (k.block<2, 1>(0, kLeftHip) + k.block<2, 1>(0, kRightHip));
-  return (shoulders - hips).norm();
-}
-
-// Left/right groups that a detector swaps together: the whole body, the legs alone, the arms and
-// the face alone (BlazePose indices of the left member of each pair).
-bool InLegs(int left) { return left >= 23; }
-
 }  // namespace
 
 bool PoseTrackerOptions::IsValid(std::string* why) const {
@@ -73,8 +60,6 @@ struct PoseTracker::Impl {
   double omega = 0.0;
   double size_ema = 0.0;
   int poses_in_track = 0;
-  capture::DetectedPerson previous, before_previous;
-  bool have_previous = false, have_before_previous = false;
   // Where the athlete was last seen, for a lost track's search.
   std::optional<Roi> last_seen;
   int frames_since_seen = 0;
@@ -263,42 +248,6 @@ struct PoseTracker::Impl {
     return std::nullopt;
   }
 
-  // Left and right exchanged when that makes the pose follow on from the last two much better: the
-  // whole body, the legs alone or the arms and face alone.
-  bool RepairSwaps(capture::DetectedPerson* k) const {
-    if (!options.repair_swaps || !have_previous) return false;
-    capture::DetectedPerson expected = previous;
-    if (have_before_previous) expected.topRows(2) += 0.5 * (previous.topRows(2) - before_previous.topRows(2));
-    const double scale = std::max(TorsoLength(previous), 1.0);
-    const auto& pairs = BlazePoseLeftRightPairs();
-    auto cost = [&](int which) {  // 0: as is, 1: all swapped, 2: legs swapped, 3: arms and face swapped
-      double sum = 0.0;
-      for (const auto& [l, r] : pairs) {
-        const bool swap = which == 1 || (which == 2 && InLegs(l)) || (which == 3 && !InLegs(l));
-        const int kl = swap ? r : l, kr = swap ? l : r;
-        sum += (k->block<2, 1>(0, kl) - expected.block<2, 1>(0, l)).norm() +
-               (k->block<2, 1>(0, kr) - expected.block<2, 1>(0, r)).norm();
-      }
-      return sum / (2.0 * pairs.size() * scale);
-    };
-    const double as_is = cost(0);
-    int best = 0;
-    double best_cost = as_is;
-    for (int which = 1; which <= 3; ++which)
-      if (const double c = cost(which); c < best_cost) {
-        best = which;
-        best_cost = c;
-      }
-    // Only a clear improvement over a clear jump: 0.2 torso lengths per keypoint is more than a
-    // limb moves between two frames of a somersault at 30 fps except at its tips.
-    if (best == 0 || as_is < 0.2 || best_cost > 0.6 * as_is) return false;
-    for (const auto& [l, r] : pairs) {
-      const bool swap = best == 1 || (best == 2 && InLegs(l)) || (best == 3 && !InLegs(l));
-      if (swap) k->col(l).swap(k->col(r));
-    }
-    return true;
-  }
-
   FramePose Take(const LandmarkResult& r, const std::string& how, bool continuing) {
     FramePose pose;
     pose.found = true;
@@ -314,7 +263,6 @@ struct PoseTracker::Impl {
       if (how == "rotation search" || how == "region") c *= 0.8;
       pose.keypoints(2, i) = std::clamp(c, 0.0, 1.0);
     }
-    pose.sides_swapped = RepairSwaps(&pose.keypoints);
 
     // The next region: from the auxiliary landmarks, its size kept near its recent value (a tuck
     // shrinks the network's estimate of the body's extent faster than the body shrinks).
@@ -338,17 +286,12 @@ struct PoseTracker::Impl {
     ++poses_in_track;
     last_seen = roi;
     frames_since_seen = 0;
-    before_previous = previous;
-    have_before_previous = have_previous && continuing;
-    previous = pose.keypoints;
-    have_previous = true;
     return pose;
   }
 
   void Lose() {
     active = false;
     poses_in_track = 0;
-    have_previous = have_before_previous = false;
     velocity.setZero();
     omega = 0.0;
   }
@@ -418,8 +361,6 @@ void PoseTracker::Resume(const FramePose& last) {
   s.omega = last.angular_velocity_rad;
   s.size_ema = last.roi_size_px;
   s.poses_in_track = 1;
-  s.previous = last.keypoints;
-  s.have_previous = true;
 }
 
 const PoseTiming& PoseTracker::timing() const { return impl_->timing; }

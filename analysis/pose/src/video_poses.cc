@@ -17,6 +17,7 @@
 #include "acro/base/input_error.h"
 #include "acro/capture/trc.h"
 #include "acro/pose/keypoints.h"
+#include "acro/pose/left_right.h"
 
 namespace acro::pose {
 namespace {
@@ -139,7 +140,7 @@ std::string FrameJson(const FramePose& pose) {
   a["how"] = pose.how;
   a["pose_score"] = pose.pose_score;
   a["quality"] = pose.quality;
-  a["sides_swapped"] = pose.sides_swapped;
+  a["swapped_groups"] = pose.swapped_groups;
   a["roi"] = {pose.roi_centre_px.x(), pose.roi_centre_px.y(), pose.roi_size_px, pose.roi_rotation_rad};
   a["velocity_px"] = {pose.velocity_px.x(), pose.velocity_px.y()};
   a["angular_velocity_rad"] = pose.angular_velocity_rad;
@@ -160,7 +161,7 @@ std::optional<FramePose> ReadFrameJson(const std::filesystem::path& path) {
     pose.how = a.at("how").get<std::string>();
     pose.pose_score = a.at("pose_score").get<double>();
     pose.quality = a.value("quality", 0.0);
-    pose.sides_swapped = a.at("sides_swapped").get<bool>();
+    pose.swapped_groups = a.at("swapped_groups").get<int>();
     const auto roi = a.at("roi").get<std::vector<double>>();
     const auto v = a.at("velocity_px").get<std::vector<double>>();
     if (roi.size() != 4 || v.size() != 2) return std::nullopt;
@@ -196,7 +197,6 @@ std::string RunSignature(const capture::VideoInfo& info, const DetectVideoOption
   }
   if (options.tracker.bed_corners_px)
     for (const auto& c : *options.tracker.bed_corners_px) j["bed_px"].push_back({c.x(), c.y()});
-  j["repair_swaps"] = options.tracker.repair_swaps;
   return j.dump() + "\n";
 }
 
@@ -335,6 +335,12 @@ VideoPoses DetectVideoPoses(const std::filesystem::path& video, const std::files
     result.decode_s = frames.decode_s();
   }
   progress.Report("detect", total, total);
+  // Left and right made continuous over the whole video; the frames it changes are written again.
+  std::vector<FramePose> before = result.frames;
+  result.frames_repaired = RepairLeftRight(&result.frames);
+  for (std::size_t k = 0; k < result.frames.size(); ++k)
+    if (result.frames[k].swapped_groups != before[k].swapped_groups)
+      WriteFileAtomically(json_dir / FrameFileName(video, result.frames[k].frame), FrameJson(result.frames[k]));
   result.timing = tracker.timing();
   if (result.frames_with_pose() == 0)
     result.warnings.push_back(fmt::format("{}: nobody found in frames {}–{}", video.string(), result.first_frame,
@@ -364,8 +370,7 @@ std::string FormatVideoPosesJson(const VideoPoses& poses, const DetectVideoOptio
   j["network_ms_per_frame"] = poses.timing.network_s * per;
   j["detector_runs"] = poses.timing.detector_runs;
   j["landmark_runs"] = poses.timing.landmark_runs;
-  j["sides_swapped_frames"] = std::count_if(poses.frames.begin(), poses.frames.end(),
-                                            [](const FramePose& f) { return f.sides_swapped; });
+  j["frames_left_right_repaired"] = poses.frames_repaired;
   j["warnings"] = poses.warnings;
   return j.dump(2) + "\n";
 }

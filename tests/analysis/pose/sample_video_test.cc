@@ -13,6 +13,7 @@
 
 #include "acro/capture/video.h"
 #include "acro/dynamics/kinematics.h"
+#include "acro/pose/left_right.h"
 #include "acro/pose/pose_tracker.h"
 #include "acro/vision/camera.h"
 #include "pose_model_cache.h"
@@ -56,8 +57,11 @@ std::map<std::string, Errors> Measure(LandmarkModel model, int end) {
   for (const auto& [index, name] : kJoints) points.push_back(routine.model.FindPoint(name));
   std::map<std::string, Errors> by_skill;
   capture::VideoFrame frame;
-  for (int k = 0; k < std::min(end, video.num_frames()) && video.ReadNext(&frame); ++k) {
-    const FramePose pose = tracker.Track(frame);
+  std::vector<FramePose> poses;
+  for (int k = 0; k < std::min(end, video.num_frames()) && video.ReadNext(&frame); ++k) poses.push_back(tracker.Track(frame));
+  RepairLeftRight(&poses);
+  for (int k = 0; k < static_cast<int>(poses.size()); ++k) {
+    const FramePose& pose = poses[k];
     const int sample = 69 + 4 * k;
     const double t = sample / routine.options.point_rate_hz;
     const samples::SampleFlightTruth* flight = nullptr;

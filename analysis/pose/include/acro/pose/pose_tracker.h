@@ -6,8 +6,8 @@
 /// turns upside down or tucks; this one carries the region's rotation and angular velocity from
 /// frame to frame (a somersault turns at a steady rate in flight), searches rotations when the pose
 /// is lost, looks for the athlete in a region the user or the bed gives before the whole frame,
-/// prefers the person it was following (or the one above the bed) over people around, and repairs
-/// left/right swaps by continuity.
+/// and prefers the person it was following (or the one above the bed) over people around. Left and
+/// right are the network's; acro/pose/left_right.h repairs their swaps over a whole sequence.
 
 #include <array>
 #include <filesystem>
@@ -35,7 +35,6 @@ struct PoseTrackerOptions {
   std::optional<std::array<Eigen::Vector2d, 4>> bed_corners_px;
   double min_pose_score = 0.5;       ///< the landmark network's pose flag to accept a pose
   double min_detection_score = 0.5;  ///< the person detector's score
-  bool repair_swaps = true;          ///< left/right swaps repaired by continuity
   /// While nobody is followed, the costly search (tiles of the frame, rotations of the region) runs
   /// on one frame in this many; the person detector on the whole frame runs on every frame.
   int search_every_frames = 4;
@@ -57,7 +56,9 @@ struct FramePose {
   /// How the pose was found: "tracked" (the region predicted from the last frames), "rotation
   /// search", "detector", "region" (the user's box or the bed's, searched over rotations).
   std::string how;
-  bool sides_swapped = false;  ///< left and right exchanged by the swap repair
+  /// Left and right exchanged from the network's labels by the swap repair (RepairLeftRight):
+  /// bit 0 the legs, bit 1 the arms and face.
+  int swapped_groups = 0;
   // The region followed into the next frame and its motion per frame.
   Eigen::Vector2d roi_centre_px = Eigen::Vector2d::Zero();
   double roi_size_px = 0.0;

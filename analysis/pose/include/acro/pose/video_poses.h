@@ -31,6 +31,7 @@ struct VideoPoses {
   int first_frame = 0, end_frame = 0;
   std::vector<FramePose> frames;  ///< one per frame detected, in order
   int frames_resumed = 0;         ///< taken from an earlier run's files
+  int frames_repaired = 0;        ///< left and right exchanged by RepairLeftRight
   PoseTiming timing;              ///< this run's
   double decode_s = 0.0;          ///< time the decoder thread spent (this run)
   double elapsed_s = 0.0;         ///< wall time of this run
