@@ -29,7 +29,24 @@ int NchwAxis(int nhwc_axis) {
 
 class Exporter {
  public:
-  explicit Exporter(const TfliteGraph& graph) : g_(graph), layout_(graph.tensors.size(), Layout::kPlain) {}
+  Exporter(const TfliteGraph& graph, const std::vector<std::string>& keep)
+      : g_(graph), layout_(graph.tensors.size(), Layout::kPlain) {
+    // The outputs kept (all when none is named), and the operators they need.
+    for (int index : g_.outputs)
+      if (keep.empty() || std::count(keep.begin(), keep.end(), g_.tensors[index].name)) outputs_.push_back(index);
+    for (const std::string& name : keep)
+      if (std::none_of(outputs_.begin(), outputs_.end(), [&](int i) { return g_.tensors[i].name == name; }))
+        throw InputError(g_.source, "outputs", fmt::format("no graph output named '{}'", name));
+    std::vector<bool> needed(g_.tensors.size(), false);
+    for (int index : outputs_) needed[index] = true;
+    used_.assign(g_.operators.size(), false);
+    for (std::size_t k = g_.operators.size(); k-- > 0;) {
+      if (!needed[g_.operators[k].outputs[0]]) continue;
+      used_[k] = true;
+      for (int in : g_.operators[k].inputs)
+        if (in >= 0) needed[in] = true;
+    }
+  }
 
   std::string Run(const std::string& model_name) {
     onnx::ModelProto model;
@@ -44,8 +61,9 @@ class Exporter {
     graph_->set_name(model_name);
 
     for (int index : g_.inputs) AddInput(index);
-    for (std::size_t k = 0; k < g_.operators.size(); ++k) Translate(static_cast<int>(k), g_.operators[k]);
-    for (int index : g_.outputs) AddOutput(index);
+    for (std::size_t k = 0; k < g_.operators.size(); ++k)
+      if (used_[k]) Translate(static_cast<int>(k), g_.operators[k]);
+    for (int index : outputs_) AddOutput(index);
 
     std::string bytes;
     if (!model.SerializeToString(&bytes))
@@ -62,7 +80,7 @@ class Exporter {
   // them); every other tensor is "t<index>".
   std::string Name(int index) const {
     const bool boundary = std::count(g_.inputs.begin(), g_.inputs.end(), index) ||
-                          std::count(g_.outputs.begin(), g_.outputs.end(), index);
+                          std::count(outputs_.begin(), outputs_.end(), index);
     return boundary ? g_.tensors[index].name : fmt::format("t{}", index);
   }
 
@@ -371,6 +389,8 @@ class Exporter {
   }
 
   const TfliteGraph& g_;
+  std::vector<int> outputs_;
+  std::vector<bool> used_;
   std::vector<Layout> layout_;
   onnx::GraphProto* graph_ = nullptr;
   int counter_ = 0;
@@ -378,8 +398,9 @@ class Exporter {
 
 }  // namespace
 
-std::string ConvertTfliteToOnnx(const pose::TfliteGraph& graph, const std::string& model_name) {
-  return Exporter(graph).Run(model_name);
+std::string ConvertTfliteToOnnx(const pose::TfliteGraph& graph, const std::string& model_name,
+                                const std::vector<std::string>& outputs) {
+  return Exporter(graph, outputs).Run(model_name);
 }
 
 }  // namespace acro::tools

@@ -10,13 +10,16 @@
 // reads both). The output is the same bytes for the same input.
 
 #include <string>
+#include <vector>
 
 #include "acro/pose/tflite_graph.h"
 
 namespace acro::tools {
 
-/// The ONNX model (serialised ModelProto) computing `graph`. Throws acro::InputError naming the
-/// graph's source and operator for what has no translation (a layout it cannot follow).
-std::string ConvertTfliteToOnnx(const pose::TfliteGraph& graph, const std::string& model_name);
+/// The ONNX model (serialised ModelProto) computing `graph`'s `outputs` (their TFLite names; all
+/// when empty) and only the operators they need. Throws acro::InputError naming the graph's source
+/// and operator for what has no translation (a layout it cannot follow), or an output it lacks.
+std::string ConvertTfliteToOnnx(const pose::TfliteGraph& graph, const std::string& model_name,
+                                const std::vector<std::string>& outputs = {});
 
 }  // namespace acro::tools
