@@ -97,16 +97,18 @@ int RunDetect(const DetectArguments& args) {
   const int at_once = std::min<int>(workers, static_cast<int>(args.videos.size()));
   pose::SetNetworkThreads(std::max(1, workers / at_once));
 
+  // Every video read and every region checked before anything is written.
   std::vector<pose::DetectVideoOptions> options(args.videos.size(), base);
   for (std::size_t v = 0; v < args.videos.size(); ++v) {
+    const capture::VideoInfo info = capture::VideoReader(args.videos[v]).info();
+    if (base.first_frame >= info.num_frames || base.end_frame > info.num_frames)
+      throw InputError(args.videos[v], "--frames",
+                       fmt::format("{} outside the video's {} frames (0:{})", args.frames, info.num_frames, info.num_frames));
     ChooseRegion(args, args.videos[v], &options[v]);
-    if (options[v].tracker.box_px) {
-      const capture::VideoReader reader(args.videos[v]);
-      const Eigen::AlignedBox2d frame(Eigen::Vector2d::Zero(), Eigen::Vector2d(reader.info().width, reader.info().height));
-      if (!frame.contains(*options[v].tracker.box_px))
-        throw InputError(args.videos[v], "--roi",
-                         fmt::format("{} is not inside the {}×{} frame", args.roi, reader.info().width, reader.info().height));
-    }
+    const Eigen::AlignedBox2d frame(Eigen::Vector2d::Zero(), Eigen::Vector2d(info.width, info.height));
+    if (options[v].tracker.box_px && !frame.contains(*options[v].tracker.box_px))
+      throw InputError(args.videos[v], "--roi",
+                       fmt::format("{} is not inside the {}×{} frame", args.roi, info.width, info.height));
   }
   CreateOutputDirectory(args.out_dir);
 
@@ -163,7 +165,8 @@ void AddDetectCommand(CLI::App& app, CommandRunner* run) {
       "detector and tracking (docs/pose.md): OpenPose JSON per frame, a 2D TRC and a CSV per "
       "video. Resumes an interrupted run.");
   command->add_option("VIDEO", args->videos, "the videos")->required();
-  command->add_option("--model", args->model, "lite, full or heavy (default: heavy, the most accurate)");
+  command->add_option("--model", args->model, "lite, full or heavy (default: heavy, the most accurate)")
+      ->check(CLI::IsMember({"lite", "full", "heavy"}));
   command->add_option("--roi", args->roi,
                       "where the athlete is: auto (the trampoline's bed when found, else the whole "
                       "frame), bed (the bed must be found), or a box X,Y,W,H in pixels");

@@ -15,35 +15,13 @@
 #include "acro/capture/trial_io.h"
 #include "body25b.h"
 #include "refdata.h"
+#include "run_command.h"
 
 namespace {
 
-struct ProcessResult {
-  int status = -1;
-  std::string out;  // stdout
-  std::string err;  // stderr
-};
-
-// Runs a shell command line, capturing stdout and stderr separately.
-ProcessResult Execute(const std::string& command_line) {
-  const auto err_path = acro::testing::TempDir() / "stderr.txt";
-  const std::string full = command_line + " 2>" + err_path.string();
-  ProcessResult run;
-  FILE* pipe = popen(full.c_str(), "r");
-  if (!pipe) return run;
-  std::array<char, 4096> buffer;
-  std::size_t n;
-  while ((n = fread(buffer.data(), 1, buffer.size(), pipe)) > 0) run.out.append(buffer.data(), n);
-  const int raw = pclose(pipe);
-  run.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
-  std::ifstream err(err_path);
-  run.err.assign(std::istreambuf_iterator<char>(err), {});
-  return run;
-}
-
-std::string Quote(const std::filesystem::path& p) {
-  return "'" + p.string() + "'";
-}
+using acro::testing::Execute;
+using acro::testing::ProcessResult;
+using acro::testing::Quote;
 
 const std::filesystem::path& SampleC3d() {
   static const std::filesystem::path path = [] {

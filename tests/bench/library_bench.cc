@@ -11,7 +11,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "acro/library/content_hash.h"
+#include "acro/base/content_hash.h"
 #include "acro/library/library.h"
 
 namespace {
@@ -52,7 +52,7 @@ const fs::path& SeasonLibrary() {
           trial.athlete_profile = trial.athlete;
           trial.session_date = date;
           trial.path = fmt::format("/season/{}/{}/{}.c3d", a, date, t);
-          trial.sha256 = acro::library::Sha256Hex(trial.path);
+          trial.sha256 = acro::Sha256Hex(trial.path);
           trial.analysis_version = "0.1.0";
           trial.analysis_source = "analysed";
           trial.jumps_json = jumps.dump();

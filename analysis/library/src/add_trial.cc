@@ -12,7 +12,7 @@
 #include "acro/base/input_error.h"
 #include "acro/base/version.h"
 #include "acro/capture/trial_io.h"
-#include "acro/library/content_hash.h"
+#include "acro/base/content_hash.h"
 #include "acro/reconstruct/up_axis.h"
 #include "json_text.h"
 

@@ -15,7 +15,7 @@
 #include <nlohmann/json.hpp>
 
 #include "acro/base/input_error.h"
-#include "acro/library/content_hash.h"
+#include "acro/base/content_hash.h"
 #include "json_text.h"
 
 namespace acro::library {

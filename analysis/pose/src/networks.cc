@@ -1,6 +1,7 @@
 #include "networks.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <numbers>
 
@@ -20,6 +21,10 @@ constexpr int kNumLandmarks = 39;
 constexpr int kHeatmapSize = 64;
 
 double Sigmoid(double x) { return 1.0 / (1.0 + std::exp(-x)); }
+
+double Since(std::chrono::steady_clock::time_point t0) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
 
 // Loads an ONNX network and checks that it answers with the outputs MediaPipe's graph reads
 // (another version of the package, or a damaged file, is refused here in one line).
@@ -148,6 +153,7 @@ PersonDetectorNet::PersonDetectorNet(const std::filesystem::path& onnx)
 std::vector<PersonCandidate> PersonDetectorNet::Detect(const cv::Mat& rgb, const cv::Rect2d& region_px,
                                                        double min_score) {
   // The region letterboxed into a square of its longer side, outside the image black (→ −1).
+  auto t0 = std::chrono::steady_clock::now();
   Roi square;
   square.centre_px = {region_px.x + 0.5 * region_px.width, region_px.y + 0.5 * region_px.height};
   square.size_px = std::max(region_px.width, region_px.height);
@@ -155,8 +161,13 @@ std::vector<PersonCandidate> PersonDetectorNet::Detect(const cv::Mat& rgb, const
   cv::warpAffine(rgb, crop, TensorToImage(square, kDetectorSize), cv::Size(kDetectorSize, kDetectorSize),
                  cv::INTER_LINEAR | cv::WARP_INVERSE_MAP, cv::BORDER_CONSTANT, cv::Scalar(0, 0, 0));
   net_.setInput(cv::dnn::blobFromImage(crop, 1.0 / 127.5, cv::Size(), cv::Scalar(127.5, 127.5, 127.5), false, false));
+  times_.crop_s += Since(t0);
+  t0 = std::chrono::steady_clock::now();
   std::vector<cv::Mat> out;
   net_.forward(out, std::vector<cv::String>{"Identity", "Identity_1"});
+  times_.network_s += Since(t0);
+  t0 = std::chrono::steady_clock::now();
+  ++times_.runs;
   const float* boxes = out[0].ptr<float>();
   const float* logits = out[1].ptr<float>();
 
@@ -182,7 +193,9 @@ std::vector<PersonCandidate> PersonDetectorNet::Detect(const cv::Mat& rgb, const
       c.keypoints_px[k] = to_image(r[4 + 2 * k] / kDetectorSize + a.x(), r[5 + 2 * k] / kDetectorSize + a.y());
     found.push_back(c);
   }
-  return WeightedNms(std::move(found));
+  std::vector<PersonCandidate> kept = WeightedNms(std::move(found));
+  times_.post_s += Since(t0);
+  return kept;
 }
 
 LandmarkNet::LandmarkNet(const std::filesystem::path& onnx)
@@ -192,12 +205,18 @@ LandmarkNet::LandmarkNet(const std::filesystem::path& onnx)
                         {"Identity_3", kNumLandmarks * kHeatmapSize * kHeatmapSize}})) {}
 
 LandmarkResult LandmarkNet::Run(const cv::Mat& rgb, const Roi& roi) {
+  auto t0 = std::chrono::steady_clock::now();
   cv::Mat crop;
   cv::warpAffine(rgb, crop, TensorToImage(roi, kLandmarkSize), cv::Size(kLandmarkSize, kLandmarkSize),
                  cv::INTER_LINEAR | cv::WARP_INVERSE_MAP, cv::BORDER_REPLICATE);
   net_.setInput(cv::dnn::blobFromImage(crop, 1.0 / 255.0, cv::Size(), cv::Scalar(), false, false));
+  times_.crop_s += Since(t0);
+  t0 = std::chrono::steady_clock::now();
   std::vector<cv::Mat> out;
   net_.forward(out, std::vector<cv::String>{"Identity", "Identity_1", "Identity_3"});
+  times_.network_s += Since(t0);
+  t0 = std::chrono::steady_clock::now();
+  ++times_.runs;
   const float* raw = out[0].ptr<float>();
   const float* heat = out[2].ptr<float>();  // NCHW: [39][64][64]
 
@@ -236,6 +255,7 @@ LandmarkResult LandmarkNet::Run(const cv::Mat& rgb, const Roi& roi) {
     result.landmarks(4, i) = Sigmoid(raw[5 * i + 4]);
     result.landmarks(5, i) = peak;
   }
+  times_.post_s += Since(t0);
   return result;
 }
 

@@ -32,6 +32,12 @@ Roi RoiFromAlignment(const Eigen::Vector2d& p0, const Eigen::Vector2d& p1);
 /// An angle wrapped to [−π, π).
 double WrapAngle(double a);
 
+/// Seconds spent per stage, summed over the calls (the benchmark's shares).
+struct StageTimes {
+  double crop_s = 0.0, network_s = 0.0, post_s = 0.0;
+  int runs = 0;
+};
+
 struct PersonCandidate {
   double score = 0.0;
   Eigen::Vector2d box_min_px, box_max_px;       ///< the face box (what the detector's SSD boxes are)
@@ -45,8 +51,10 @@ class PersonDetectorNet {
   /// The people in `region_px` (x, y, width, height; it may reach outside the image, which reads as
   /// black), letterboxed into the detector's square input; in image pixels, best first.
   std::vector<PersonCandidate> Detect(const cv::Mat& rgb, const cv::Rect2d& region_px, double min_score);
+  const StageTimes& times() const { return times_; }
 
  private:
+  StageTimes times_;
   cv::dnn::Net net_;
   std::vector<Eigen::Vector2d> anchors_;  // centres in [0, 1]
 };
@@ -71,8 +79,10 @@ class LandmarkNet {
  public:
   explicit LandmarkNet(const std::filesystem::path& onnx);
   LandmarkResult Run(const cv::Mat& rgb, const Roi& roi);
+  const StageTimes& times() const { return times_; }
 
  private:
+  StageTimes times_;
   cv::dnn::Net net_;
 };
 

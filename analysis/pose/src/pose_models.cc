@@ -3,10 +3,13 @@
 #include <cstdlib>
 #include <fstream>
 #include <map>
+#include <mutex>
+#include <set>
 #include <sstream>
 
 #include <fmt/format.h>
 
+#include "acro/base/content_hash.h"
 #include "acro/base/file_io.h"
 #include "acro/base/input_error.h"
 
@@ -47,12 +50,17 @@ constexpr const char* kInstall =
     "run scripts/install-models.sh (it fetches @mediapipe/pose 0.5.1675469404 with npm and converts it)";
 
 // MANIFEST: one line per file, "<sha256>  <bytes>  <name>", written by install-models.sh.
-std::map<std::string, std::uintmax_t> ReadManifest(const std::filesystem::path& directory) {
+struct ManifestEntry {
+  std::string sha256;
+  std::uintmax_t bytes = 0;
+};
+
+std::map<std::string, ManifestEntry> ReadManifest(const std::filesystem::path& directory) {
   const std::filesystem::path path = directory / "MANIFEST";
   if (!IsRegularFile(path))
     throw InputError(path.string(), "", fmt::format("pose models not installed: {}", kInstall));
   std::ifstream in(path);
-  std::map<std::string, std::uintmax_t> sizes;
+  std::map<std::string, ManifestEntry> entries;
   std::string line;
   for (int number = 1; std::getline(in, line) && number <= 64; ++number) {
     std::istringstream fields(line);
@@ -61,13 +69,13 @@ std::map<std::string, std::uintmax_t> ReadManifest(const std::filesystem::path& 
     if (!(fields >> sha >> bytes >> name) || sha.size() != 64)
       throw InputError(path.string(), fmt::format("line {}", number),
                        fmt::format("not '<sha256> <bytes> <name>': {}", kInstall));
-    sizes[name] = bytes;
+    entries[name] = {sha, bytes};
   }
-  return sizes;
+  return entries;
 }
 
 std::filesystem::path CheckedFile(const std::filesystem::path& directory,
-                                  const std::map<std::string, std::uintmax_t>& manifest,
+                                  const std::map<std::string, ManifestEntry>& manifest,
                                   const std::string& name) {
   const std::filesystem::path path = directory / name;
   const auto it = manifest.find(name);
@@ -77,10 +85,25 @@ std::filesystem::path CheckedFile(const std::filesystem::path& directory,
     throw InputError(path.string(), "", fmt::format("missing: {}", kInstall));
   std::error_code error;
   const std::uintmax_t size = std::filesystem::file_size(path, error);
-  if (error || size != it->second)
+  if (error || size != it->second.bytes)
     throw InputError(path.string(), "",
                      fmt::format("{} bytes, the installed model has {} (another version, or damaged): {}",
-                                 error ? 0 : size, it->second, kInstall));
+                                 error ? 0 : size, it->second.bytes, kInstall));
+  // The whole content against the hash the installation pinned (0.1–0.2 s for the heavy network),
+  // once per file, size and modification time in a process (several videos load it each).
+  static std::mutex mutex;
+  static std::set<std::string> checked;
+  const auto mtime = std::filesystem::last_write_time(path, error).time_since_epoch().count();
+  const std::string key = fmt::format("{}|{}|{}|{}", path.string(), size, mtime, it->second.sha256);
+  {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (checked.count(key)) return path;
+  }
+  if (Sha256OfFile(path) != it->second.sha256)
+    throw InputError(path.string(), "",
+                     fmt::format("its SHA-256 is not the installed model's (damaged, or another version): {}", kInstall));
+  std::lock_guard<std::mutex> lock(mutex);
+  checked.insert(key);
   return path;
 }
 

@@ -69,20 +69,22 @@ struct PoseTracker::Impl {
   Impl(const PoseTrackerOptions& o, const PoseModelFiles& files)
       : options(o), detector(files.detector), landmarks(files.landmarks) {}
 
-  LandmarkResult RunLandmarks(const cv::Mat& rgb, const Roi& r) {
-    const auto t0 = std::chrono::steady_clock::now();
-    LandmarkResult result = landmarks.Run(rgb, r);
-    timing.network_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    ++timing.landmark_runs;
-    return result;
-  }
+  LandmarkResult RunLandmarks(const cv::Mat& rgb, const Roi& r) { return landmarks.Run(rgb, r); }
 
   std::vector<PersonCandidate> RunDetector(const cv::Mat& rgb, const cv::Rect2d& region) {
-    const auto t0 = std::chrono::steady_clock::now();
-    auto found = detector.Detect(rgb, region, options.min_detection_score);
-    timing.network_s += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    ++timing.detector_runs;
-    return found;
+    return detector.Detect(rgb, region, options.min_detection_score);
+  }
+
+  // The networks' stage times, summed.
+  const PoseTiming& Timing() {
+    const internal::StageTimes& d = detector.times();
+    const internal::StageTimes& l = landmarks.times();
+    timing.crop_s = d.crop_s + l.crop_s;
+    timing.network_s = d.network_s + l.network_s;
+    timing.post_s = d.post_s + l.post_s;
+    timing.detector_runs = d.runs;
+    timing.landmark_runs = l.runs;
+    return timing;
   }
 
   // A pose is taken when the network sees a person and the region it implies follows on from the
@@ -363,6 +365,6 @@ void PoseTracker::Resume(const FramePose& last) {
   s.poses_in_track = 1;
 }
 
-const PoseTiming& PoseTracker::timing() const { return impl_->timing; }
+const PoseTiming& PoseTracker::timing() const { return impl_->Timing(); }
 
 }  // namespace acro::pose

@@ -246,6 +246,25 @@ std::string KeypointsCsv(const VideoPoses& poses) {
   return out;
 }
 
+// Runs of frames with a pose shorter than kMinTrackFrames, marked as without one; how many frames.
+constexpr int kMinTrackFrames = 3;
+int DropShortTracks(std::vector<FramePose>* frames) {
+  int dropped = 0;
+  for (std::size_t begin = 0; begin < frames->size();) {
+    std::size_t end = begin;
+    while (end < frames->size() && (*frames)[end].found) ++end;
+    if (end > begin && end - begin < kMinTrackFrames)
+      for (std::size_t k = begin; k < end; ++k) {
+        FramePose& f = (*frames)[k];
+        f.found = false;
+        f.keypoints.row(2).setZero();
+        ++dropped;
+      }
+    begin = end == begin ? begin + 1 : end;
+  }
+  return dropped;
+}
+
 }  // namespace
 
 bool DetectVideoOptions::IsValid(std::string* why) const {
@@ -300,11 +319,11 @@ VideoPoses DetectVideoPoses(const std::filesystem::path& video, const std::files
   const std::filesystem::path json_dir = directory / "json";
   CreateOutputDirectory(json_dir);
   const std::string signature = RunSignature(result.info, options);
-  const bool same_run = options.resume && IsRegularFile(json_dir / "run.json") && ReadText(json_dir / "run.json") == signature;
+  const bool same_run = options.resume && IsRegularFile(directory / "detect_run.json") && ReadText(directory / "detect_run.json") == signature;
   if (!same_run) {
     for (const auto& entry : std::filesystem::directory_iterator(json_dir))
       if (entry.path().extension() == ".json") std::filesystem::remove(entry.path());
-    WriteFileAtomically(json_dir / "run.json", signature);
+    WriteFileAtomically(directory / "detect_run.json", signature);
   }
   int next = result.first_frame;
   if (same_run) {
@@ -335,11 +354,14 @@ VideoPoses DetectVideoPoses(const std::filesystem::path& video, const std::files
     result.decode_s = frames.decode_s();
   }
   progress.Report("detect", total, total);
-  // Left and right made continuous over the whole video; the frames it changes are written again.
-  std::vector<FramePose> before = result.frames;
+  // A pose seen in fewer than kMinTrackFrames frames in a row is not a person (a pattern that
+  // looked like one for a moment: a person stays); then left and right made continuous over the
+  // whole video. The frames changed are written again.
+  const std::vector<FramePose> before = result.frames;
+  result.frames_dropped = DropShortTracks(&result.frames);
   result.frames_repaired = RepairLeftRight(&result.frames);
   for (std::size_t k = 0; k < result.frames.size(); ++k)
-    if (result.frames[k].swapped_groups != before[k].swapped_groups)
+    if (result.frames[k].swapped_groups != before[k].swapped_groups || result.frames[k].found != before[k].found)
       WriteFileAtomically(json_dir / FrameFileName(video, result.frames[k].frame), FrameJson(result.frames[k]));
   result.timing = tracker.timing();
   if (result.frames_with_pose() == 0)
@@ -367,10 +389,13 @@ std::string FormatVideoPosesJson(const VideoPoses& poses, const DetectVideoOptio
   const double per = run > 0 ? 1000.0 / run : 0.0;
   j["ms_per_frame"] = poses.elapsed_s * per;
   j["decode_ms_per_frame"] = poses.decode_s * per;
+  j["crop_ms_per_frame"] = poses.timing.crop_s * per;
   j["network_ms_per_frame"] = poses.timing.network_s * per;
+  j["post_ms_per_frame"] = poses.timing.post_s * per;
   j["detector_runs"] = poses.timing.detector_runs;
   j["landmark_runs"] = poses.timing.landmark_runs;
   j["frames_left_right_repaired"] = poses.frames_repaired;
+  j["frames_dropped_short_tracks"] = poses.frames_dropped;
   j["warnings"] = poses.warnings;
   return j.dump(2) + "\n";
 }

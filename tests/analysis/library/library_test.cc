@@ -17,7 +17,7 @@
 #include <nlohmann/json.hpp>
 
 #include "acro/base/input_error.h"
-#include "acro/library/content_hash.h"
+#include "acro/base/content_hash.h"
 #include "acro/library/library.h"
 #include "acro/library/progress.h"
 
@@ -85,7 +85,7 @@ acro::library::TrialToStore MakeTrial(const std::string& athlete,
   t.mass_kg = 60;
   t.session_date = date;
   t.path = path;
-  t.sha256 = acro::library::Sha256Hex(path);
+  t.sha256 = acro::Sha256Hex(path);
   t.size_bytes = 1000;
   t.analysis_version = "0.1.0";
   t.analysis_source = "analysed";
@@ -438,16 +438,16 @@ TEST(Progress, SessionMediansTrendAndLandings) {
 
 TEST(ContentHash, MatchesTheStandardsTestVectors) {
   // FIPS 180-4's examples (NIST CSRC "SHA256.pdf"): "abc" and the empty message.
-  EXPECT_EQ(acro::library::Sha256Hex("abc"),
+  EXPECT_EQ(acro::Sha256Hex("abc"),
             "ba7816bf8f01cfea414140de5dae2223b00361a396177a9cb410ff61f20015ad");
-  EXPECT_EQ(acro::library::Sha256Hex(""),
+  EXPECT_EQ(acro::Sha256Hex(""),
             "e3b0c44298fc1c149afbf4c8996fb92427ae41e4649b934ca495991b7852b855");
   TempDir dir;
   const fs::path f = dir.path() / "f.bin";
   std::string big(3 << 20, 'a');  // more than one read block
   std::ofstream(f, std::ios::binary) << big;
-  EXPECT_EQ(acro::library::Sha256OfFile(f), acro::library::Sha256Hex(big));
-  EXPECT_THROW(acro::library::Sha256OfFile(dir.path() / "missing"), acro::InputError);
+  EXPECT_EQ(acro::Sha256OfFile(f), acro::Sha256Hex(big));
+  EXPECT_THROW(acro::Sha256OfFile(dir.path() / "missing"), acro::InputError);
 }
 
 }  // namespace

@@ -35,10 +35,10 @@ struct PoseModelFiles {
   std::filesystem::path landmarks;  ///< pose_landmark_<model>.onnx
 };
 
-/// The two networks a detection needs, checked against the cache's MANIFEST (present, the size
-/// the conversion gave). Throws acro::InputError with one line naming the file at fault and the
+/// The two networks a detection needs, checked against the cache's MANIFEST (present, the size and
+/// SHA-256 the conversion gave). Throws acro::InputError with one line naming the file at fault and the
 /// command that installs the models ("scripts/install-models.sh") when one is missing, of another
-/// size (another version, or damaged), or when the cache has no MANIFEST.
+/// size or content (another version, or damaged), or when the cache has no MANIFEST.
 PoseModelFiles FindPoseModels(LandmarkModel model,
                               const std::filesystem::path& directory = DefaultModelDirectory());
 

@@ -32,6 +32,7 @@ struct VideoPoses {
   std::vector<FramePose> frames;  ///< one per frame detected, in order
   int frames_resumed = 0;         ///< taken from an earlier run's files
   int frames_repaired = 0;        ///< left and right exchanged by RepairLeftRight
+  int frames_dropped = 0;         ///< poses seen in fewer than 3 frames in a row, taken out
   PoseTiming timing;              ///< this run's
   double decode_s = 0.0;          ///< time the decoder thread spent (this run)
   double elapsed_s = 0.0;         ///< wall time of this run

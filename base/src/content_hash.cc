@@ -1,4 +1,4 @@
-#include "acro/library/content_hash.h"
+#include "acro/base/content_hash.h"
 
 #include <cerrno>
 #include <cstring>
@@ -9,7 +9,7 @@
 
 #include "acro/base/input_error.h"
 
-namespace acro::library {
+namespace acro {
 
 namespace {
 
@@ -51,4 +51,4 @@ std::string Sha256OfFile(const std::filesystem::path& path) {
   return Hex(digest, SHA256_DIGEST_SIZE);
 }
 
-}  // namespace acro::library
+}  // namespace acro
