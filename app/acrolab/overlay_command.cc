@@ -6,6 +6,10 @@
 #include <memory>
 #include <optional>
 
+#include "acro/base/file_io.h"
+#include "acro/capture/detections.h"
+#include "acro/pose/keypoints.h"
+#include "acro/report/pose_sheet.h"
 #include "commands.h"
 
 #ifdef ACRO_HAVE_VIEWS
@@ -27,13 +31,39 @@ namespace acro::app {
 
 namespace {
 
+
 struct OverlayArguments {
   TrialArguments common;  // TRIAL, --athlete; -o is the output file here
   VideoArguments video;
-  std::string axes = "xyz", show, frames, ghost;
+  std::string axes = "xyz", show, frames, ghost, detections, keypoints = "body25b";
   int slow = 1, ghost_jump = 0;
   bool heads_up = true;
 };
+
+// --detections: 2D keypoints (acrolab detect's folder, OpenPose JSON, a 2D TRC or CSV) drawn over
+// the video itself — no trial, no calibration, no 3D views.
+int RunDetectionOverlay(const OverlayArguments& args) {
+  if (!args.common.trial_path.empty() || !args.video.calibration.empty())
+    throw UsageError{"--detections draws 2D keypoints over --video alone: no TRIAL and no --calib"};
+  if (args.video.video.empty()) throw UsageError{"--detections needs --video"};
+  const std::filesystem::path out(args.common.out_dir);
+  if (out.extension() != ".mp4") throw UsageError{"-o: with --detections, an .mp4 file"};
+  CheckOutputDirectory(out.has_parent_path() ? out.parent_path() : std::filesystem::path("."));
+  // acrolab detect's folder for one video: its json/ inside.
+  std::filesystem::path source = args.detections;
+  if (IsDirectory(source / "json")) source /= "json";
+  const capture::KeypointDetections detections = capture::ReadDetections(source, args.keypoints);
+  capture::VideoReader video(args.video.video);
+  const pose::Skeleton skeleton = pose::SkeletonOfNames(detections.names);
+  Progress progress;
+  progress.report = [bar = MakeProgressBar("overlay", "frames")](const std::string&, int done, int total) {
+    bar(done, total);
+    return true;
+  };
+  const int frames = ui::WriteDetectionOverlay(video, detections.frames, skeleton.edges, skeleton.sides, out, progress);
+  std::printf("%d frames with the detections of %s -> %s\n", frames, args.detections.c_str(), out.string().c_str());
+  return 0;
+}
 
 #ifdef ACRO_HAVE_VIEWS
 // "A:B" → [A, B]; "A:" → [A, end].
@@ -147,9 +177,12 @@ void AddOverlayCommand(CLI::App& app, CommandRunner* run) {
       "Draws the trial over a calibrated camera's video with the 3D views: the measured markers "
       "or keypoints as a skeleton, or with --athlete the reconstructed athlete (mesh, skeleton, "
       "centre of mass, residual force) and a heads-up line per frame. docs/overlay.md.");
-  command->add_option("TRIAL", args->common.trial_path, "markers or keypoints: C3D, TRC or CSV")
-      ->required();
-  args->video.Declare(command, true);
+  command->add_option("TRIAL", args->common.trial_path, "markers or keypoints: C3D, TRC or CSV");
+  args->video.Declare(command, false);
+  command->add_option("--detections", args->detections,
+                      "instead of TRIAL: 2D keypoints drawn over --video (acrolab detect's folder, "
+                      "OpenPose JSON per frame, a 2D TRC or CSV; docs/pose.md)");
+  command->add_option("--keypoints", args->keypoints, "with --detections: the JSON files' keypoint set (body25b)");
   command->add_option("--athlete",
                       args->common.athlete_path,
                       "athlete profile: reconstruct and analyse the trial, draw the athlete");
@@ -175,6 +208,12 @@ void AddOverlayCommand(CLI::App& app, CommandRunner* run) {
   command->add_option("-o,--output", args->common.out_dir, "OUT.mp4 or a directory of PNG frames")
       ->required();
   command->callback([args, run] {
+    if (!args->detections.empty()) {
+      *run = [args] { return RunDetectionOverlay(*args); };
+      return;
+    }
+    if (args->common.trial_path.empty() || args->video.video.empty() || args->video.calibration.empty())
+      throw CLI::ValidationError("TRIAL, --video and --calib", "required (or --detections with --video)");
 #ifdef ACRO_HAVE_VIEWS
     *run = [args] { return RunOverlay(*args); };
 #else

@@ -14,6 +14,7 @@
 #include <nlohmann/json.hpp>
 
 #include "acro/capture/detections.h"
+#include "acro/capture/video.h"
 #include "acro/pose/pose_models.h"
 #include "pose_model_cache.h"
 #include "refdata.h"
@@ -61,6 +62,16 @@ TEST(DetectCli, WritesOpenPoseJsonThatReadsBackAndResumes) {
                           "decode_ms_per_frame", "crop_ms_per_frame", "network_ms_per_frame", "post_ms_per_frame"})
     EXPECT_TRUE(summary[0].contains(key)) << key;
   EXPECT_EQ(JsonFiles(dir / "json"), 20);
+  // The detections drawn over the video: every frame written, the first 20 with a skeleton.
+  const fs::path drawn = out / "drawn.mp4";
+  const auto overlay = Execute(Acrolab() + " overlay --video " + Quote(kSample) + " --detections " + Quote(dir) + " -o " + Quote(drawn));
+  ASSERT_EQ(overlay.status, 0) << overlay.err;
+  acro::capture::VideoReader written(drawn);
+  EXPECT_EQ(written.num_frames(), 299);
+  acro::capture::VideoReader original(kSample);
+  EXPECT_NE(acro::capture::HashFrame(written.Frame(5)), acro::capture::HashFrame(original.Frame(5)));
+  // With no trial, --calib is not taken.
+  EXPECT_EQ(Execute(Acrolab() + " overlay --video " + Quote(kSample) + " --calib x.toml --detections " + Quote(dir) + " -o " + Quote(drawn)).status, 2);
 }
 
 TEST(DetectCli, AnInterruptedRunIsResumedWhereItStopped) {

@@ -1,6 +1,7 @@
 #include "acro/pose/keypoints.h"
 
 #include <algorithm>
+#include <cctype>
 
 namespace acro::pose {
 
@@ -42,6 +43,37 @@ const std::vector<int>& BlazePoseSides() {
     return s;
   }();
   return sides;
+}
+
+Skeleton SkeletonOfNames(const std::vector<std::string>& names) {
+  // The bones by name, each side's spelled with its L/R prefix.
+  static const std::vector<std::pair<std::string, std::string>> kBones = {
+      {"Nose", "Neck"},      {"Neck", "MidHip"},     {"Nose", "LEye"},        {"Nose", "REye"},
+      {"LEye", "LEar"},      {"REye", "REar"},       {"Neck", "LShoulder"},   {"Neck", "RShoulder"},
+      {"Head", "Nose"},      {"LShoulder", "RShoulder"}, {"LHip", "RHip"},    {"MidHip", "LHip"},
+      {"MidHip", "RHip"},    {"LShoulder", "LHip"},  {"RShoulder", "RHip"}};
+  static const std::vector<std::pair<std::string, std::string>> kSideBones = {
+      {"Shoulder", "Elbow"}, {"Elbow", "Wrist"}, {"Hip", "Knee"},      {"Knee", "Ankle"},
+      {"Ankle", "Heel"},     {"Ankle", "BigToe"}, {"BigToe", "SmallToe"}, {"Heel", "BigToe"}};
+  Skeleton skeleton;
+  auto index = [&](const std::string& name) {
+    for (std::size_t k = 0; k < names.size(); ++k)
+      if (names[k] == name) return static_cast<int>(k);
+    return -1;
+  };
+  auto add = [&](const std::string& a, const std::string& b) {
+    const int i = index(a), j = index(b);
+    if (i >= 0 && j >= 0) skeleton.edges.emplace_back(i, j);
+  };
+  for (const auto& [a, b] : kBones) add(a, b);
+  for (const char* side : {"L", "R"})
+    for (const auto& [a, b] : kSideBones) add(side + a, side + b);
+  for (const std::string& name : names)
+    skeleton.sides.push_back(name.size() > 1 && name[0] == 'L' && std::isupper(static_cast<unsigned char>(name[1])) ? 1
+                             : name.size() > 1 && name[0] == 'R' && std::isupper(static_cast<unsigned char>(name[1])) ? -1
+                                                                                                                     : 0);
+  // The shoulders' and hips' cross bars belong to neither side.
+  return skeleton;
 }
 
 capture::DetectedPerson Body25bFromBlazePose(const capture::DetectedPerson& bp) {

@@ -143,4 +143,26 @@ void WritePoseContactSheet(capture::VideoReader& video, const std::vector<int>& 
   WriteRgbPng(sw, sh, rgb, path);
 }
 
+int WriteDetectionOverlay(capture::VideoReader& video, const std::vector<std::vector<capture::DetectedPerson>>& people,
+                          const std::vector<std::pair<int, int>>& edges, const std::vector<int>& side,
+                          const std::filesystem::path& output, const Progress& progress, double min_confidence) {
+  const capture::VideoInfo& info = video.info();
+  capture::VideoWriterOptions options;
+  options.fps = info.average_fps > 0 ? info.average_fps : 30.0;
+  capture::VideoWriter writer(output, info.width, info.height, options);
+  capture::VideoFrame frame;
+  int written = 0;
+  while (video.ReadNext(&frame)) {
+    progress.ReportOrThrow("overlay", written, info.num_frames);
+    if (frame.index < static_cast<int>(people.size()))
+      for (const capture::DetectedPerson& person : people[frame.index])
+        DrawSkeleton(frame.width, frame.height, person, edges, side, min_confidence, &frame.pixels);
+    writer.Write(frame.pixels);
+    ++written;
+  }
+  writer.Finish();
+  progress.Report("overlay", written, info.num_frames);
+  return written;
+}
+
 }  // namespace acro::ui

@@ -36,4 +36,13 @@ const std::vector<std::pair<int, int>>& BlazePoseLeftRightPairs();
 const std::vector<std::pair<int, int>>& BlazePoseEdges();
 const std::vector<int>& BlazePoseSides();
 
+/// A skeleton for keypoints named as OpenPose, COCO and HALPE name them (LShoulder, RElbow, Neck,
+/// MidHip, LBigToe, …): the edges between the names present, and each keypoint's side (+1 for a
+/// name starting with L, −1 with R, 0 otherwise). Names it does not know get no edge.
+struct Skeleton {
+  std::vector<std::pair<int, int>> edges;
+  std::vector<int> sides;
+};
+Skeleton SkeletonOfNames(const std::vector<std::string>& names);
+
 }  // namespace acro::pose

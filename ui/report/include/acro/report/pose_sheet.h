@@ -9,6 +9,7 @@
 #include <utility>
 #include <vector>
 
+#include "acro/base/progress.h"
 #include "acro/capture/detections.h"
 #include "acro/capture/video.h"
 
@@ -39,5 +40,14 @@ void WritePoseContactSheet(capture::VideoReader& video, const std::vector<int>& 
                            const std::vector<capture::DetectedPerson>& people,
                            const std::vector<std::pair<int, int>>& edges, const std::vector<int>& side,
                            const std::filesystem::path& path, const ContactSheetOptions& options = {});
+
+/// The video with each frame's people drawn (`people[k]`: those of frame k; a frame beyond the
+/// list, or without people, is written as it is) into `output`, an .mp4 (H.264 at the video's
+/// average rate), written whole. `progress` as acro::Progress (false cancels: acro::Cancelled,
+/// nothing left behind). Returns the frames written.
+int WriteDetectionOverlay(capture::VideoReader& video, const std::vector<std::vector<capture::DetectedPerson>>& people,
+                          const std::vector<std::pair<int, int>>& edges, const std::vector<int>& side,
+                          const std::filesystem::path& output, const Progress& progress = {},
+                          double min_confidence = 0.2);
 
 }  // namespace acro::ui
