@@ -17,7 +17,7 @@
 #include "acro/capture/trial_io.h"
 #include "acro/capture/video.h"
 #include "acro/dynamics/configuration.h"
-#include "acro/library/add_trial.h"
+#include "acro/pipeline/steps.h"
 #include "acro/report/analysis_report.h"
 #include "acro/scene/silhouette_check.h"
 #include "acro/scene/trial_scene.h"
@@ -46,183 +46,118 @@ struct AnalyzeArguments {
   ui::AnalysisReportOptions report;
 };
 
-int RunAnalyze(AnalyzeArguments& args) {
-  const TrialArguments& common = args.common;
-  analysis::TrialAnalysisOptions& options = args.options;
-  ui::AnalysisReportOptions& report = args.report;
-  const bool images = args.images;
-  const bool quiet = common.quiet;
-  DemandValidCommandLine(options);
-  CheckOutputDirectory(common.out_dir);  // before any work: a bad -o costs nothing
+// The plotted joint must exist before any work is done (and before any file is written).
+void CheckJoint(const analysis::AthleteBody& body, const std::string& joint) {
+  const std::vector<std::string> names = analysis::MakeCoordinateNames(analysis::MakeStandardHumanModel(body));
+  if (std::find(names.begin() + dynamics::kRootNq, names.end(), joint) == names.end())
+    throw UsageError{"--joint: '" + joint +
+                     "' is not a joint angle (e.g. r_hip_flexion, l_knee_flexion, lumbar_flexion; "
+                     "docs/reconstruction.md)"};
+}
 
-  // Inputs: trial, static trial, athlete.
+// The video's share: the sync and the silhouettes (the pipeline), then the overlay (the views).
+void AnalyzeVideo(pipeline::VideoInput& video, const pipeline::TrialInput& input,
+                  analysis::TrialAnalysis* result, const std::filesystem::path& dir,
+                  ui::AnalysisReportOptions* report, bool quiet) {
   auto say = [quiet](const std::string& line) {
     if (!quiet) std::fprintf(stderr, "%s\n", line.c_str());
   };
-  const auto [trial, static_trial] = common.ReadTrials("analyze");
-  CheckCutoffBelowNyquist(options.reconstruction, trial);
-  const analysis::AthleteBody body = common.MakeBody("analyze", &report.athlete);
-
-  // The plotted joint must exist before any work is done (and before any file is written).
-  {
-    const std::vector<std::string> names =
-        analysis::MakeCoordinateNames(analysis::MakeStandardHumanModel(body));
-    if (std::find(names.begin() + dynamics::kRootNq, names.end(), report.joint) == names.end())
-      throw UsageError{"--joint: '" + report.joint +
-                       "' is not a joint angle (e.g. r_hip_flexion, l_knee_flexion, "
-                       "lumbar_flexion; docs/reconstruction.md)"};
+  const pipeline::VideoCheck check = pipeline::AttachVideo(video, input, result, MakeStepProgress(quiet));
+  for (const std::string& line : check.sync.lines) say(line);
+  for (size_t k = 0; k < check.silhouettes.iou.size(); ++k) {
+    report->silhouette_time_s.push_back(check.silhouettes.samples[k] / input.trial.point_rate_hz);
+    report->silhouette_iou.push_back(check.silhouettes.iou[k]);
   }
+  say(fmt::format("silhouettes: median IoU {:.3f} over {} flight frames", check.silhouettes.median_iou,
+                  check.silhouettes.iou.size()));
+#ifdef ACRO_HAVE_VIEWS
+  std::optional<ui::XDisplay> display;
+  try {
+    display.emplace();
+  } catch (const InputError& e) {
+    say(std::string("overlay: not written: ") + e.what());
+    return;
+  }
+  // The overlay with the lighter mesh (drawn at video rate), the mismatch from the shared
+  // background, on the one reader.
+  analysis::TrialScene light(input.trial, *result, input.athlete.body,
+                             analysis::MakeEllipsoidBodyMesh(input.athlete.body, analysis::OverlayBodyMeshOptions()));
+  ui::SceneOverlayOptions overlay;
+  overlay.show = analysis::ParseSceneShow("mesh,skeleton,com,mismatch");
+  overlay.background = &video.Background();
+  overlay.sync = check.sync.sync;
+  overlay.progress = MakeCancellableProgress("overlay", "frames");
+  ui::WriteSceneOverlay(video.reader(), light, video.camera(), dir / "overlay.mp4", overlay);
+  report->overlay_video = "overlay.mp4";
+#else
+  say("overlay: not written (this acrolab was built without the 3D views, VTK)");
+#endif
+}
+
+// A filmstrip per complete jump, when the 3D views can render here (they are extras: without a
+// display or Xvfb the report says why and goes on).
+void AnalyzeFilmstrips(const pipeline::TrialInput& input, const analysis::TrialAnalysis& result,
+                       const std::filesystem::path& dir, bool videos, ui::AnalysisReportOptions* report) {
+#ifdef ACRO_HAVE_VIEWS
+  try {
+    const ui::XDisplay display;
+    analysis::AthleteScene athlete(input.athlete.body,
+                                   analysis::MakeEllipsoidBodyMesh(input.athlete.body, analysis::OverlayBodyMeshOptions()),
+                                   result.reconstruction.motion, result.reconstruction.model);
+    const ui::JumpFilmstrips strips =
+        ui::WriteJumpFilmstrips(athlete, result, dir, videos, MakeCancellableProgress("filmstrip", "frames"));
+    report->filmstrips = strips.pictures;
+    report->filmstrip_videos = strips.videos;
+  } catch (const InputError& e) {
+    report->filmstrips.clear();
+    report->filmstrip_videos.clear();
+    report->filmstrip_note = std::string("no filmstrips: ") + e.what();
+    std::fprintf(stderr, "%s\n", report->filmstrip_note.c_str());
+  }
+#else
+  (void)input, (void)result, (void)dir, (void)videos, (void)report;
+#endif
+}
+
+int RunAnalyze(AnalyzeArguments& args) {
+  const TrialArguments& common = args.common;
+  DemandValidCommandLine(args.options);
+  CheckOutputDirectory(common.out_dir);  // before any work: a bad -o costs nothing
+  const pipeline::TrialInput input = OpenTrialFor("analyze", common.Request());
+  CheckCutoffBelowNyquist(args.options.reconstruction, input.trial);
+  CheckJoint(input.athlete.body, args.report.joint);
+  // The video and its camera before the work: a mistyped name costs nothing.
+  std::optional<pipeline::VideoInput> video;
+  if (!args.video.video.empty() || !args.video.calibration.empty()) video.emplace(OpenVideoFor(args.video));
 
   // The analysis, with one progress line per step and the IK's frames.
-  options.progress = say;
-  if (!quiet) options.reconstruction.progress = MakeFrameProgress();
-  // The video and its camera before the work: a mistyped name costs nothing.
-  std::optional<vision::Camera> camera_found;
-  if (!args.video.video.empty() || !args.video.calibration.empty())
-    camera_found = args.video.FindCamera();
-  analysis::TrialAnalysis result =
-      analysis::AnalyzeTrial(trial, static_trial ? &*static_trial : nullptr, body, options);
-  for (const std::string& w : result.warnings)
-    std::fprintf(stderr, "acrolab analyze: warning: %s\n", w.c_str());
+  if (!common.quiet) {
+    args.options.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
+    args.options.reconstruction.progress = MakeFrameProgress();
+  }
+  analysis::TrialAnalysis result = pipeline::Analyze(input, args.options);
+  for (const std::string& w : result.warnings) std::fprintf(stderr, "acrolab analyze: warning: %s\n", w.c_str());
 
-  // Outputs: the video's (silhouettes, overlay), the tables, then the report (with plots when
-  // rendering works here).
-  // Written into a staging directory and moved into place when all are complete.
+  // Outputs, written into a staging directory and moved into place when all are complete.
   OutputTransaction outputs(common.out_dir);
   const std::filesystem::path& dir = outputs.staging();
-  if (camera_found) {
-    const vision::Camera& camera = *camera_found;
-    analysis::TrialScene scene(trial, result, body, analysis::MakeEllipsoidBodyMesh(body));
-    vision::VideoSync sync;
-    if (args.video.sync == "auto") {
-      // From the image motion, then refined by the silhouettes to the trial's sample.
-      vision::AutoSyncOptions motion;
-      motion.rate = args.video.rate;
-      motion.progress = MakeCancellableProgress("sync (image motion)", "frames");
-      analysis::SilhouetteCheckOptions refine;
-      refine.progress = MakeCancellableProgress("sync (silhouettes)", "frames");
-      const analysis::AutoVideoSync found =
-          analysis::SyncVideoAutomatically(scene, camera, args.video.video, motion, refine);
-      say(fmt::format(
-          "sync: video time = {:.4f} s + trial time (from the image motion: 1 − correlation "
-          "{:.3f}, runner-up {:.3f})",
-          found.motion.sync.offset_s,
-          found.motion.cost,
-          found.motion.runner_up_cost));
-      sync = found.refined.sync;
-      say(
-          fmt::format("sync: video time = {:.4f} s + trial time (refined by the silhouettes, "
-                      "median IoU {:.3f})",
-                      sync.offset_s,
-                      found.refined.median_iou));
-    } else {
-      sync = args.video.Sync(trial, camera, say);
-    }
-    // The silhouettes with the body's full mesh (what the video shows), the overlay with the
-    // lighter one (drawn at video rate).
-    {
-      capture::VideoReader colour(args.video.video);
-      analysis::SilhouetteCheckOptions check;
-      check.sync = sync;
-      check.progress = MakeCancellableProgress("silhouettes", "frames");
-      const analysis::SilhouetteCheck silhouettes =
-          analysis::CheckSilhouettes(colour, scene, camera, check);
-      analysis::AttachSilhouetteCheck(silhouettes, &result);
-      for (size_t k = 0; k < silhouettes.iou.size(); ++k) {
-        report.silhouette_time_s.push_back(silhouettes.samples[k] / trial.point_rate_hz);
-        report.silhouette_iou.push_back(silhouettes.iou[k]);
-      }
-      say(fmt::format("silhouettes: median IoU {:.3f} over {} flight frames",
-                      silhouettes.median_iou,
-                      silhouettes.iou.size()));
-    }
-#ifdef ACRO_HAVE_VIEWS
-    std::optional<ui::XDisplay> display;
-    try {
-      display.emplace();
-    } catch (const InputError& e) {
-      say(std::string("overlay: not written: ") + e.what());
-    }
-    if (display) {
-      analysis::TrialScene light(
-          trial,
-          result,
-          body,
-          analysis::MakeEllipsoidBodyMesh(body, analysis::OverlayBodyMeshOptions()));
-      capture::VideoReader video(args.video.video);
-      capture::VideoReader frames(args.video.video);
-      const vision::BackgroundModel background(frames);
-      ui::SceneOverlayOptions overlay;
-      overlay.show = analysis::ParseSceneShow("mesh,skeleton,com,mismatch");
-      overlay.background = &background;
-      overlay.sync = sync;
-      overlay.progress = MakeCancellableProgress("overlay", "frames");
-      ui::WriteSceneOverlay(video, light, camera, dir / "overlay.mp4", overlay);
-      report.overlay_video = "overlay.mp4";
-    }
-#else
-    say("overlay: not written (this acrolab was built without the 3D views, VTK)");
-#endif
-  }
-#ifdef ACRO_HAVE_VIEWS
-  // A filmstrip per complete jump, when the 3D views can render here (they are extras: without a
-  // display or Xvfb the report says why and goes on).
-  if (images) {
-    try {
-      const ui::XDisplay display;
-      analysis::AthleteScene athlete(
-          body,
-          analysis::MakeEllipsoidBodyMesh(body, analysis::OverlayBodyMeshOptions()),
-          result.reconstruction.motion,
-          result.reconstruction.model);
-      for (const analysis::JumpMetrics& j : result.jumps) {
-        if (j.partial()) continue;
-        const std::vector<int> frames =
-            ui::EvenlySpacedFrames(j.flight.takeoff_frame, j.flight.landing_frame - 1, 8);
-        const std::vector<std::uint8_t> rgb =
-            ui::RenderFilmstrip(athlete, frames, analysis::FindTakeoff(result, j.index).heading_W);
-        const ui::FilmstripOptions size;
-        const std::vector<std::uint8_t> png = capture::EncodeRgbPng(size.width, size.height, rgb);
-        const std::string file = fmt::format("filmstrip_jump_{}.png", j.index);
-        WriteFileAtomically(dir / file, std::string(png.begin(), png.end()));
-        report.filmstrips.emplace_back(j.index, file);
-        if (!args.video.video.empty()) {
-          // With a video, the strip as a video too (it fills in as the flight goes).
-          const std::string mp4 = fmt::format("filmstrip_jump_{}.mp4", j.index);
-          ui::FilmstripRow row;
-          row.scene = &athlete;
-          row.frames = frames;
-          row.rate_hz = result.reconstruction.motion.rate_hz;
-          ui::FilmstripVideoOptions video;
-          video.progress = MakeCancellableProgress(mp4, "frames");
-          ui::WriteFilmstripVideo(
-              {row}, analysis::FindTakeoff(result, j.index).heading_W, dir / mp4, size, video);
-          report.filmstrip_videos.emplace_back(j.index, mp4);
-        }
-      }
-    } catch (const InputError& e) {
-      report.filmstrips.clear();
-      report.filmstrip_videos.clear();
-      report.filmstrip_note = std::string("no filmstrips: ") + e.what();
-      say(report.filmstrip_note);
-    }
-  }
-#endif
+  ui::AnalysisReportOptions& report = args.report;
+  report.athlete = input.athlete.name;
+  if (video) AnalyzeVideo(*video, input, &result, dir, &report, common.quiet);
+  if (args.images) AnalyzeFilmstrips(input, result, dir, video.has_value(), &report);
   analysis::WriteAnalysisTables(result, dir);
   // Which Acrolab analysed which content (for acrolab library add --analysis).
-  WriteFileAtomically(dir / "analysis.json",
-                      library::FormatAnalysisProvenance(common.trial_path, report.athlete));
+  WriteFileAtomically(dir / "analysis.json", pipeline::FormatAnalysisProvenance(input));
   report.trial_path = common.trial_path;
-  report.render_images = images;
-  say("report: rendering plots");
+  report.render_images = args.images;
+  if (!common.quiet) std::fprintf(stderr, "report: rendering plots\n");
   const ui::AnalysisReportOutcome outcome = ui::WriteAnalysisReport(result, dir, report);
-  if (!outcome.images_rendered) say("report: no plots: " + outcome.reason);
+  if (!outcome.images_rendered && !common.quiet) std::fprintf(stderr, "report: no plots: %s\n", outcome.reason.c_str());
   outputs.Commit();
   std::fputs(result.BriefReport().c_str(), stdout);
   std::printf("report: %s\n", (outputs.dir() / "report.html").string().c_str());
-  std::printf(
-      "wrote %s/{report.html,jumps.json,angles.mot,torques.sto,residuals.csv,analysis.json}\n",
-      common.out_dir.c_str());
+  std::printf("wrote %s/{report.html,jumps.json,angles.mot,torques.sto,residuals.csv,analysis.json}\n",
+              common.out_dir.c_str());
   return 0;
 }
 

@@ -1,13 +1,10 @@
 // Argument helpers shared by the commands.
-#include <pthread.h>
 #include <unistd.h>
 
-#include <atomic>
 #include <chrono>
 #include <cmath>
-#include <csignal>
 #include <cstdio>
-#include <thread>
+#include <memory>
 
 #include <fmt/format.h>
 
@@ -71,26 +68,6 @@ void TrialArguments::Declare(CLI::App* command, analysis::ReconstructionOptions*
   command->add_flag("--quiet", quiet, "no progress on stderr");
 }
 
-analysis::AthleteBody TrialArguments::MakeBody(const std::string& command,
-                                               std::string* athlete_name) const {
-  if (!athlete_path.empty()) {
-    const analysis::AthleteProfile profile = analysis::ReadAthleteProfile(athlete_path);
-    analysis::AthleteBody body = analysis::MakeAthleteBody(profile);
-    if (athlete_name) *athlete_name = profile.name + ", " + body.model;
-    return body;
-  }
-  if (athlete_name) *athlete_name = "default de Leva athlete (no --athlete file)";
-  std::fprintf(stderr,
-               "acrolab %s: warning: no --athlete file; using a de Leva athlete of %.2f m, %.1f "
-               "kg, sex %s (segment masses and inertias will be generic)\n",
-               command.c_str(),
-               height_m,
-               mass_kg,
-               sex.c_str());
-  return analysis::MakeDeLevaBody(
-      height_m, mass_kg, sex == "f" ? analysis::Sex::kFemale : analysis::Sex::kMale);
-}
-
 Eigen::VectorXd ParseCommaNumbers(const std::string& option,
                                   const std::string& text,
                                   int count,
@@ -139,106 +116,79 @@ void VideoArguments::Declare(CLI::App* command, bool required) {
   command->add_option("--rate", rate, "video seconds per trial second (default 1)");
 }
 
-vision::Camera VideoArguments::FindCamera() const {
+void WarnIfAnotherSize(const std::string& video,
+                       const capture::VideoInfo& info,
+                       const vision::Camera& camera) {
+  if (info.width == camera.width_px && info.height == camera.height_px) return;
+  std::fprintf(stderr, "warning: %s is %d x %d px, camera %s was calibrated at %d x %d\n", video.c_str(),
+               info.width, info.height, camera.name.c_str(), camera.width_px, camera.height_px);
+}
+
+pipeline::TrialRequest TrialArguments::Request() const {
+  pipeline::TrialRequest r;
+  r.trial = trial_path;
+  r.static_trial = static_path;
+  r.up = up;
+  r.athlete.profile = athlete_path;
+  r.athlete.height_m = height_m;
+  r.athlete.mass_kg = mass_kg;
+  r.athlete.sex = sex == "f" ? analysis::Sex::kFemale : analysis::Sex::kMale;
+  return r;
+}
+
+pipeline::TrialInput OpenTrialFor(const std::string& command, const pipeline::TrialRequest& request,
+                                  bool uses_athlete) {
+  pipeline::TrialInput input = pipeline::OpenTrial(request);
+  std::vector<std::string> lines = input.warnings;
+  if (uses_athlete && !input.athlete.warning.empty()) lines.push_back(input.athlete.warning);
+  for (const std::string& w : lines) std::fprintf(stderr, "acrolab %s: warning: %s\n", command.c_str(), w.c_str());
+  return input;
+}
+
+pipeline::VideoRequest VideoArguments::Request() const {
   if (video.empty() != calibration.empty())
     throw UsageError{"--video and --calib go together (the camera's video and its calibration)"};
   if (!sync.empty() && sync != "auto")
     throw UsageError{"--sync takes 'auto' (or give --offset-s or --event)"};
   if (!sync.empty() && !event.empty())
     throw UsageError{"--sync auto and --event both set the sync: give one"};
-  ParseVideoSync(offset_s, event, rate);  // a malformed --event or --rate, now
-  const std::vector<vision::Camera> cameras = vision::ReadCameras(calibration);
-  vision::Camera found = vision::FindCamera(cameras, camera, calibration);
-  WarnIfAnotherSize(video, capture::VideoReader(video).info(), found);
-  return found;
+  const vision::VideoSync given = ParseVideoSync(offset_s, event, rate);  // a malformed --event or --rate, now
+  pipeline::VideoRequest r;
+  r.video = video;
+  r.calibration = calibration;
+  r.camera = camera;
+  r.sync.rate = rate;
+  r.sync.offset_s = given.offset_s;
+  r.sync.kind = sync == "auto" ? pipeline::SyncRequest::Kind::kAuto : pipeline::SyncRequest::Kind::kOffset;
+  return r;
 }
 
-vision::VideoSync VideoArguments::Sync(const capture::Trial& trial,
-                                       const vision::Camera& calibrated,
-                                       const std::function<void(const std::string&)>& say) const {
-  if (sync != "auto") return ParseVideoSync(offset_s, event, rate);
-  capture::VideoReader grey(video, {.pixels = capture::VideoPixels::kGrey});
-  vision::AutoSyncOptions options;
-  options.rate = rate;
-  options.progress = MakeCancellableProgress("sync (image motion)", "frames");
-  const vision::AutoSyncResult found =
-      vision::SyncFromImageMotion(trial, calibrated, grey, options);
-  say(fmt::format(
-      "sync: video time = {:.4f} s + trial time (from the image motion: 1 − correlation "
-      "{:.3f}, runner-up {:.3f})",
-      found.sync.offset_s,
-      found.cost,
-      found.runner_up_cost));
-  return found.sync;
+pipeline::VideoInput OpenVideoFor(const VideoArguments& args) {
+  pipeline::VideoInput video(args.Request());
+  for (const std::string& w : video.warnings()) std::fprintf(stderr, "warning: %s\n", w.c_str());
+  return video;
 }
 
-void WarnIfAnotherSize(const std::string& video,
-                       const capture::VideoInfo& info,
-                       const vision::Camera& camera) {
-  if (info.width == camera.width_px && info.height == camera.height_px) return;
-  std::fprintf(stderr,
-               "warning: %s is %d x %d px, camera %s was calibrated at %d x %d\n",
-               video.c_str(),
-               info.width,
-               info.height,
-               camera.name.c_str(),
-               camera.width_px,
-               camera.height_px);
+Progress MakeStepProgress(bool quiet) {
+  Progress progress;
+  if (quiet) return progress;
+  auto step = std::make_shared<std::string>();
+  auto bar = std::make_shared<std::function<void(int, int)>>();
+  progress.report = [step, bar](const std::string& name, int done, int total) {
+    if (name != *step) {
+      *step = name;
+      *bar = MakeProgressBar(name, "frames");
+    }
+    (*bar)(done, total);
+    return true;
+  };
+  return progress;
 }
 
 int NeedTheViews() {
   throw UsageError{
       "this acrolab was built without the 3D views (VTK): run scripts/install-deps.sh, then "
       "scripts/build.sh (ACRO_BUILD_UI=ON)"};
-}
-
-namespace {
-
-// Set by the interrupt thread as soon as a signal arrives, before it stops anything.
-std::atomic<bool>& Interrupted() {
-  static std::atomic<bool> interrupted{false};
-  return interrupted;
-}
-
-}  // namespace
-
-void InstallInterruptCleanup() {
-  sigset_t signals;
-  sigemptyset(&signals);
-  sigaddset(&signals, SIGINT);
-  sigaddset(&signals, SIGTERM);
-  pthread_sigmask(SIG_BLOCK, &signals, nullptr);
-  std::thread([signals] {
-    int received = 0;
-    if (sigwait(&signals, &received) != 0) return;
-    Interrupted() = true;
-    // A batch's jobs first, waited for (each finishes the commit it may be in and removes its
-    // own temporaries); then this program's outputs; the helpers (Xvfb) last, since losing the
-    // X server would end this program with status 1 before it has cleaned up.
-    StopRegisteredChildren(ChildRole::kJob);
-    const int removed = RemoveRegisteredTemporaries();
-    StopRegisteredChildren(ChildRole::kHelper);
-    std::fprintf(stderr,
-                 "\nacrolab: interrupted (%s); %d unfinished output%s removed\n",
-                 received == SIGINT ? "SIGINT" : "SIGTERM",
-                 removed,
-                 removed == 1 ? "" : "s");
-    std::fflush(stderr);
-    _exit(128 + received);
-  }).detach();
-}
-
-bool InterruptReceived() {
-  return Interrupted();
-}
-
-int ExitStatusUnlessInterrupted(int status) {
-  if (!Interrupted()) return status;
-  // The command returned because its work was stopped under it (a batch whose jobs the interrupt
-  // thread killed): that thread is still removing the outputs and exits with 128 + the signal.
-  // Returning would exit first, with the command's status (CI saw a SIGTERMed batch exit 1), and
-  // run the static destructors under the thread's feet.
-  for (;;) std::this_thread::sleep_for(std::chrono::seconds(1));
 }
 
 std::function<void(int, int)> MakeProgressBar(const std::string& label, const std::string& unit) {
@@ -271,26 +221,6 @@ std::function<bool(int, int)> MakeCancellableProgress(const std::string& label,
     bar(done, total);
     return true;
   };
-}
-
-std::pair<capture::Trial, std::optional<capture::Trial>> TrialArguments::ReadTrials(
-    const std::string& command) const {
-  capture::Trial trial = capture::ReadTrial(trial_path);
-  for (const std::string& warning : trial.warnings)  // what the import recovered from, said
-    std::fprintf(stderr, "acrolab %s: warning: %s\n", command.c_str(), warning.c_str());
-  analysis::UpAxis found;
-  const std::string turned = analysis::OrientTrialUp(&trial, up, &found);
-  if (!turned.empty())
-    std::fprintf(stderr, "acrolab %s: warning: %s\n", command.c_str(), turned.c_str());
-  std::optional<capture::Trial> static_trial;
-  if (!static_path.empty()) {
-    static_trial = capture::ReadTrial(static_path);
-    // The static trial was recorded in the same lab: the trial's up, forced.
-    if (found.found)
-      analysis::OrientTrialUp(&*static_trial,
-                              (found.sign > 0 ? "" : "-") + std::string(1, char('x' + found.axis)));
-  }
-  return {std::move(trial), std::move(static_trial)};
 }
 
 void CheckCutoffBelowNyquist(const analysis::ReconstructionOptions& options,

@@ -14,6 +14,7 @@
 
 #include "acro/base/file_io.h"
 #include "acro/base/input_error.h"
+#include "acro/base/interrupts.h"
 #include "acro/base/process.h"
 #include "acro/library/add_trial.h"
 #include "acro/library/library.h"
@@ -289,7 +290,7 @@ int RunBatch(const BatchArguments& args) {
   });
   // Stopped by Ctrl-C or SIGTERM: the jobs it killed are not failures, and the interrupt thread's
   // line is the batch's last word (run it again to go on).
-  if (InterruptReceived()) return ExitStatusUnlessInterrupted(1);
+  if (acro::InterruptReceived()) return acro::ExitStatusUnlessInterrupted(1);
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::printf("batch: %zu trials: %d %s, %d unchanged, %zu failed (%.1f s)\n",

@@ -16,7 +16,10 @@
 #include "acro/athlete/athlete_body.h"
 #include "acro/capture/trial.h"
 #include "acro/capture/video.h"
+#include "acro/base/progress.h"
 #include "acro/design/skill_optimization.h"
+#include "acro/pipeline/trial_input.h"
+#include "acro/pipeline/video_input.h"
 #include "acro/reconstruct/reconstruction.h"
 #include "acro/report/skill_report.h"
 #include "acro/vision/camera.h"
@@ -68,15 +71,14 @@ struct TrialArguments {
   /// Declares these options on `command`; those of the reconstruction write into `options`
   /// (which must outlive the parse).
   void Declare(CLI::App* command, analysis::ReconstructionOptions* options);
-  /// The athlete profile's body, or a de Leva body of the given numbers with a warning on stderr
-  /// naming `command`; `athlete_name` (when given) gets the profile's name or a description.
-  analysis::AthleteBody MakeBody(const std::string& command,
-                                 std::string* athlete_name = nullptr) const;
-  /// The trial and the static trial (empty when none), read and turned Z up as --up says (the
-  /// static trial as the trial); the turn is a warning on stderr naming `command`.
-  std::pair<capture::Trial, std::optional<capture::Trial>> ReadTrials(
-      const std::string& command) const;
+  /// What the pipeline opens (TRIAL, --static, --up, the athlete or the default body's numbers).
+  pipeline::TrialRequest Request() const;
 };
+
+/// pipeline::OpenTrial, its warnings on stderr as "acrolab COMMAND: warning: …" (the default
+/// athlete's too when `uses_athlete`).
+pipeline::TrialInput OpenTrialFor(const std::string& command, const pipeline::TrialRequest& request,
+                                  bool uses_athlete = true);
 
 /// Throws UsageError with `why` when `options.IsValid` fails (the reason reaches the user).
 template <typename Options>
@@ -88,18 +90,6 @@ void DemandValidCommandLine(const Options& options) {
 /// A --cutoff at or above the trial's Nyquist frequency is a command-line mistake (UsageError).
 void CheckCutoffBelowNyquist(const analysis::ReconstructionOptions& options,
                              const capture::Trial& trial);
-
-/// Ctrl-C and SIGTERM: from here on both are received by one thread of their own (every thread the
-/// program starts later inherits the blocked mask), which removes every unfinished output
-/// (acro/base/temporaries.h), says so in one line and exits with 128 + the signal (130, 143).
-void InstallInterruptCleanup();
-
-/// True once Ctrl-C or SIGTERM has arrived (the interrupt thread is cleaning up and will exit).
-bool InterruptReceived();
-
-/// `status` once the command has returned, unless the interrupt thread has begun: then this never
-/// returns and that thread ends the program with 130 or 143 when its clean-up is done.
-int ExitStatusUnlessInterrupted(int status);
 
 /// `count` finite numbers separated by commas ("x,y,z", "u,v"), for `option`; `form` names them in
 /// the error ("X,Y,Z"). Throws CLI::ValidationError.
@@ -119,15 +109,16 @@ struct VideoArguments {
   double offset_s = 0.0, rate = 1.0;
   /// Declares the options on `command`; --video and --calib required when `required`.
   void Declare(CLI::App* command, bool required);
-  /// The camera of the video in the calibration, after checking the options together (UsageError)
-  /// and warning when the video is not the camera's size; before any long work.
-  vision::Camera FindCamera() const;
-  /// The sync the command line gives; with --sync auto, found from the video's image motion
-  /// (progress on stderr, the result through `say`).
-  vision::VideoSync Sync(const capture::Trial& trial,
-                         const vision::Camera& camera,
-                         const std::function<void(const std::string&)>& say) const;
+  /// The video as the pipeline opens it (UsageError for options that do not go together).
+  pipeline::VideoRequest Request() const;
 };
+
+/// The pipeline's video input, its warnings on stderr.
+pipeline::VideoInput OpenVideoFor(const VideoArguments& video);
+
+/// A progress bar per step on stderr (a new bar when the step changes), never cancelling (Ctrl-C
+/// stops the program); nothing with `quiet`.
+Progress MakeStepProgress(bool quiet);
 
 /// Warns on stderr when `video` (its info) is not the size `camera` was calibrated at: the camera's
 /// pixels are then taken as the video's from the top-left corner (right for a calibration at the

@@ -5,6 +5,7 @@
 #include <memory>
 #include <optional>
 
+#include "acro/pipeline/steps.h"
 #include "commands.h"
 
 #ifdef ACRO_HAVE_VIEWS
@@ -72,11 +73,14 @@ Side Choose(const std::string& spec,
     auto analysed = std::make_shared<Analysed>();
     analysed->path = path;
     analysed->athlete = athlete;
-    analysed->trial = capture::ReadTrial(path);
-    TrialArguments args;
-    args.athlete_path = athlete;
-    analysed->body = args.MakeBody("compare");
-    analysed->analysis = analysis::AnalyzeTrial(analysed->trial, nullptr, analysed->body);
+    // Opened as every door opens a trial: upright, its athlete or the one default body.
+    pipeline::TrialRequest request;
+    request.trial = path;
+    request.athlete.profile = athlete;
+    pipeline::TrialInput input = OpenTrialFor("compare", request);
+    analysed->analysis = pipeline::Analyze(input);
+    analysed->trial = std::move(input.trial);
+    analysed->body = std::move(input.athlete.body);
     side.trial = analysed;
   }
   const analysis::TrialAnalysis& a = side.trial->analysis;

@@ -7,6 +7,7 @@
 #include <CLI/CLI.hpp>
 
 #include "acro/base/input_error.h"
+#include "acro/base/interrupts.h"
 #include "acro/base/version.h"
 #include "commands.h"
 
@@ -92,6 +93,6 @@ int Main(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  acro::app::InstallInterruptCleanup();
-  return acro::app::ExitStatusUnlessInterrupted(Main(argc, argv));
+  acro::InstallInterruptCleanup();
+  return acro::ExitStatusUnlessInterrupted(Main(argc, argv));
 }

@@ -14,6 +14,7 @@
 
 #ifdef ACRO_HAVE_VIEWS
 #include "acro/assess/trial_analysis.h"
+#include "acro/pipeline/steps.h"
 #include "acro/athlete/body_mesh.h"
 #include "acro/athlete/standard_human.h"
 #include "acro/base/file_io.h"
@@ -104,46 +105,48 @@ int RunOverlay(const OverlayArguments& args) {
                                                    : std::filesystem::path("."));
   }
 
-  const capture::Trial trial = capture::ReadTrial(args.common.trial_path);
-  const vision::Camera camera = args.video.FindCamera();
-  capture::VideoReader video(args.video.video);
-  const vision::VideoSync sync = args.video.Sync(
-      trial, camera, [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); });
+  // The trial upright with its athlete, the video opened once (the pipeline, as every door).
+  const bool auto_sync = args.video.sync == "auto";
+  const pipeline::TrialInput input = OpenTrialFor("overlay", args.common.Request(), athlete || auto_sync);
+  pipeline::VideoInput video = OpenVideoFor(args.video);
+  const analysis::AthleteBody& body = input.athlete.body;
 
   std::optional<analysis::TrialAnalysis> result;
   std::optional<analysis::TrialScene> scene;
-  if (athlete) {
-    std::string athlete_name;
-    const analysis::AthleteBody body = args.common.MakeBody("overlay", &athlete_name);
+  if (athlete || auto_sync) {
+    // The analysis: drawn with --athlete; --sync auto refines the sync by the athlete's
+    // silhouettes (the default body's when no profile is given).
     analysis::TrialAnalysisOptions options;
     options.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
-    result = analysis::AnalyzeTrial(trial, nullptr, body, options);
-    scene.emplace(trial,
-                  *result,
-                  body,
-                  analysis::MakeEllipsoidBodyMesh(body, analysis::OverlayBodyMeshOptions()));
+    result = pipeline::Analyze(input, options);
+  }
+  if (athlete) {
+    scene.emplace(input.trial, *result, body, analysis::MakeEllipsoidBodyMesh(body, analysis::OverlayBodyMeshOptions()));
     if (args.ghost_jump > 0) scene->SetGhostJump(args.ghost_jump);
     if (!args.ghost.empty()) {
-      const analysis::DesignedSkill design =
-          analysis::ReadDesignedSkill(args.ghost, analysis::MakeStandardHumanModel(body));
-      if (athlete_name.rfind(design.athlete + ",", 0) != 0)
-        std::fprintf(stderr,
-                     "overlay: warning: the design was made for %s, drawn here on %s\n",
-                     design.athlete.c_str(),
-                     athlete_name.c_str());
+      const analysis::DesignedSkill design = analysis::ReadDesignedSkill(args.ghost, analysis::MakeStandardHumanModel(body));
+      if (input.athlete.name.rfind(design.athlete + ",", 0) != 0)
+        std::fprintf(stderr, "overlay: warning: the design was made for %s, drawn here on %s\n",
+                     design.athlete.c_str(), input.athlete.name.c_str());
       scene->SetGhostDesign(design, body);
     }
   } else {
-    scene.emplace(trial, vision::ParseAxisMapping(args.axes));
+    scene.emplace(input.trial, vision::ParseAxisMapping(args.axes));
+  }
+  vision::VideoSync sync;
+  if (auto_sync) {
+    analysis::TrialScene full(input.trial, *result, body, analysis::MakeEllipsoidBodyMesh(body));
+    const pipeline::SyncOutcome& found = video.Sync(full, MakeStepProgress(false));
+    for (const std::string& line : found.lines) std::fprintf(stderr, "%s\n", line.c_str());
+    sync = found.sync;
+  } else {
+    sync = video.Sync(*scene).sync;
   }
 
   ui::SceneOverlayOptions options;
-  std::optional<vision::BackgroundModel> background;
   if (show.mismatch) {
     std::fprintf(stderr, "overlay: the video's background (for the silhouettes)\n");
-    capture::VideoReader frames(args.video.video);
-    background.emplace(frames);
-    options.background = &*background;
+    options.background = &video.Background();
   }
   options.show = show;
   options.sync = sync;
@@ -153,7 +156,7 @@ int RunOverlay(const OverlayArguments& args) {
   options.heads_up = args.heads_up;
   options.progress = MakeCancellableProgress("overlay", "frames");
   const ui::OverlayTiming t =
-      ui::WriteSceneOverlay(video, *scene, camera, args.common.out_dir, options);
+      ui::WriteSceneOverlay(video.reader(), *scene, video.camera(), args.common.out_dir, options);
   std::printf(
       "wrote %s (%d frames; decode %.1f s, scene %.1f s, render %.1f s, composite %.1f s, "
       "encode %.1f s)\n",

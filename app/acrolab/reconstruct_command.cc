@@ -38,10 +38,12 @@ int RunReconstruct(ReconstructArguments& args) {
   DemandValidCommandLine(options);
   CheckOutputDirectory(common.out_dir);  // before any work: a bad -o costs nothing
 
-  // Inputs: trial, static trial, athlete.
-  const auto [trial, static_trial] = common.ReadTrials("reconstruct");
+  // Inputs: trial, static trial, athlete — opened as every door opens them (the pipeline).
+  const pipeline::TrialInput input = OpenTrialFor("reconstruct", common.Request());
+  const capture::Trial& trial = input.trial;
+  const std::optional<capture::Trial>& static_trial = input.static_trial;
   CheckCutoffBelowNyquist(options, trial);
-  const analysis::AthleteBody body = common.MakeBody("reconstruct");
+  const analysis::AthleteBody& body = input.athlete.body;
   const std::string& trial_path = common.trial_path;
   const std::string& out_dir = common.out_dir;
 

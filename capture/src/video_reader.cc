@@ -15,6 +15,7 @@ extern "C" {
 }
 
 #include <algorithm>
+#include <atomic>
 #include <array>
 #include <cmath>
 #include <cstring>
@@ -402,8 +403,19 @@ void VideoReader::Impl::Convert(int index, VideoFrame* frame_out) {
   RotatePixels(info.rotation_deg, &out);
 }
 
+namespace {
+std::atomic<long long> opened_count{0};
+}  // namespace
+
+long long VideoReader::OpenedCount() { return opened_count.load(); }
+
+void VideoReader::SetPixels(VideoPixels pixels) { impl_->pixels = pixels; }
+
+VideoPixels VideoReader::pixels() const { return impl_->pixels; }
+
 VideoReader::VideoReader(const std::filesystem::path& path, const VideoReaderOptions& options)
     : impl_(std::make_unique<Impl>()) {
+  ++opened_count;
   internal::SilenceFfmpegLog();
   impl_->path = path.string();
   std::error_code ec;

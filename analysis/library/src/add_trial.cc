@@ -8,12 +8,12 @@
 #include <nlohmann/json.hpp>
 
 #include "acro/athlete/athlete_profile.h"
+#include "acro/base/content_hash.h"
 #include "acro/base/file_io.h"
 #include "acro/base/input_error.h"
 #include "acro/base/version.h"
-#include "acro/capture/trial_io.h"
-#include "acro/base/content_hash.h"
-#include "acro/reconstruct/up_axis.h"
+#include "acro/pipeline/steps.h"
+#include "acro/pipeline/trial_input.h"
 #include "json_text.h"
 
 namespace acro::library {
@@ -140,14 +140,16 @@ AddResult AddTrial(Library& library, const AddRequest& request, const AddOptions
     t.analysis_source = Absolute(request.analysis_dir).string();
     t.jumps_json = imported.jumps_json;
   } else {
-    capture::Trial trial = capture::ReadTrial(result.path);
+    // The pipeline's input, as `analyze` opens it: read once, hashed, upright, the athlete's body.
+    pipeline::TrialRequest open;
+    open.trial = result.path;
+    open.athlete.profile = request.athlete_profile;
+    const pipeline::TrialInput input = pipeline::OpenTrial(open);
+    if (input.sha256 != result.sha256)
+      throw InputError(result.path, "", "the file changed while it was being added: add it again");
     if (options.warn)
-      for (const std::string& w : trial.warnings) options.warn(w);
-    const std::string turned = analysis::OrientTrialUp(&trial, "auto");
-    if (!turned.empty() && options.warn) options.warn(turned);
-    const analysis::AthleteBody body = analysis::MakeAthleteBody(profile);
-    const analysis::TrialAnalysis analysed =
-        analysis::AnalyzeTrial(trial, nullptr, body, options.analysis);
+      for (const std::string& w : input.warnings) options.warn(w);
+    const analysis::TrialAnalysis analysed = pipeline::Analyze(input, options.analysis);
     if (options.warn)
       for (const std::string& w : analysed.warnings) options.warn(w);
     t.analysis_version = AcrolabVersion();
@@ -159,22 +161,6 @@ AddResult AddTrial(Library& library, const AddRequest& request, const AddOptions
   result.verdict = TrialVerdict(jumps);
   result.num_jumps = static_cast<int>(jumps.size());
   return result;
-}
-
-std::string FormatAnalysisProvenance(const std::filesystem::path& trial,
-                                     const std::string& athlete) {
-  Json o;
-  o["acrolab_version"] = AcrolabVersion();
-  o["trial"] = Absolute(trial).string();
-  o["trial_sha256"] = Sha256OfFile(trial);
-  o["athlete"] = athlete;
-  const std::time_t now = std::time(nullptr);
-  std::tm tm{};
-  gmtime_r(&now, &tm);
-  char text[32];
-  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &tm);
-  o["analysed_at"] = text;
-  return o.dump(1) + "\n";
 }
 
 }  // namespace acro::library

@@ -3,9 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 
 #include "acro/base/input_error.h"
+#include "acro/base/progress.h"
 
 namespace acro::analysis {
 
@@ -87,7 +89,9 @@ SilhouetteCheck CheckSilhouettes(capture::VideoReader& video,
   vision::Camera camera = calibrated;  // its pixels are the video's (a padded calibration fits)
   camera.width_px = info.width;
   camera.height_px = info.height;
-  const vision::BackgroundModel background(video, options.background_frames);
+  std::optional<vision::BackgroundModel> built;
+  if (options.background_model == nullptr) built.emplace(video, options.background_frames);
+  const vision::BackgroundModel& background = built ? *built : *options.background_model;
 
   SilhouetteCheck out;
   const std::vector<double>& times = video.frame_times_s();
@@ -120,8 +124,7 @@ SilhouetteCheck CheckSilhouettes(capture::VideoReader& video,
       out.flights.push_back(scene.FlightAt(sample));
       out.iou.push_back(iou);
       ++done;
-      if (options.progress && !options.progress(done, total))
-        throw InputError(info.path, "", "cancelled");
+      if (options.progress && !options.progress(done, total)) throw Cancelled();
     } while (done < total && video.ReadNext(&frame));
   }
   int num_flights = 0;
@@ -153,7 +156,9 @@ SilhouetteSync RefineSyncBySilhouettes(capture::VideoReader& video,
   vision::Camera camera = calibrated;
   camera.width_px = info.width;
   camera.height_px = info.height;
-  const vision::BackgroundModel background(video, options.background_frames);
+  std::optional<vision::BackgroundModel> built;
+  if (options.background_model == nullptr) built.emplace(video, options.background_frames);
+  const vision::BackgroundModel& background = built ? *built : *options.background_model;
   // The frames: every frame_stride-th one in a flight at the starting sync.
   const std::vector<double>& times = video.frame_times_s();
   std::vector<int> frames;
@@ -173,8 +178,7 @@ SilhouetteSync RefineSyncBySilhouettes(capture::VideoReader& video,
       break;
     }
     real.push_back(background.Foreground(frame, options.background));
-    if (options.progress && !options.progress(int(k + 1), int(chosen.size())))
-      throw InputError(info.path, "", "cancelled");
+    if (options.progress && !options.progress(int(k + 1), int(chosen.size()))) throw Cancelled();
   }
   SilhouetteSync out;
   out.sync = options.sync;
@@ -205,18 +209,23 @@ SilhouetteSync RefineSyncBySilhouettes(capture::VideoReader& video,
 
 AutoVideoSync SyncVideoAutomatically(TrialScene& scene,
                                      const vision::Camera& camera,
-                                     const std::filesystem::path& video,
+                                     capture::VideoReader& video,
                                      const vision::AutoSyncOptions& motion,
                                      SilhouetteCheckOptions silhouettes) {
   AutoVideoSync out;
-  {
-    capture::VideoReader grey(video, {.pixels = capture::VideoPixels::kGrey});
-    out.motion = vision::SyncFromImageMotion(scene.trial(), camera, grey, motion);
+  // The motion pass in grey (luma alone, no colour conversion), then the reader as it came.
+  const capture::VideoPixels handed = video.pixels();
+  video.SetPixels(capture::VideoPixels::kGrey);
+  try {
+    out.motion = vision::SyncFromImageMotion(scene.trial(), camera, video, motion);
+  } catch (...) {
+    video.SetPixels(handed);
+    throw;
   }
-  capture::VideoReader colour(video);
+  video.SetPixels(handed);
   silhouettes.sync = out.motion.sync;
-  const double frame_s = 1.0 / std::max(1.0, colour.info().average_fps);
-  out.refined = RefineSyncBySilhouettes(colour, scene, camera, silhouettes, frame_s);
+  const double frame_s = 1.0 / std::max(1.0, video.info().average_fps);
+  out.refined = RefineSyncBySilhouettes(video, scene, camera, silhouettes, frame_s);
   return out;
 }
 

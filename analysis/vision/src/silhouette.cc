@@ -1,6 +1,7 @@
 #include "acro/vision/silhouette.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <stdexcept>
 
@@ -98,7 +99,14 @@ double IntersectionOverUnion(const Mask& a, const Mask& b) {
   return either == 0 ? 1.0 : double(both) / double(either);
 }
 
+namespace {
+std::atomic<long long> built_count{0};
+}  // namespace
+
+long long BackgroundModel::BuiltCount() { return built_count.load(); }
+
 BackgroundModel::BackgroundModel(capture::VideoReader& video, int num_samples) {
+  ++built_count;
   const int n = video.num_frames();
   if (n < 3)
     throw InputError(

@@ -10,6 +10,7 @@
 #include <Eigen/Geometry>
 
 #include "acro/base/input_error.h"
+#include "acro/base/progress.h"
 
 namespace acro::vision {
 
@@ -260,7 +261,11 @@ AutoSyncResult SyncFromImageMotion(const capture::Trial& trial,
   std::vector<float> diff(grey.size());
   capture::VideoFrame frame;
   for (int k = 0; k < n; ++k) {
-    if (!video.ReadNext(&frame)) {
+    // Frame 0 by index: the pass starts there whatever the reader read before (a background
+    // model built on the same reader, say); then sequentially.
+    if (k == 0) {
+      frame = video.Frame(0);
+    } else if (!video.ReadNext(&frame)) {
       throw InputError(info.path, fmt::format("frame {}", k), "the video ends early");
     }
     for (int y = 0; y < h; ++y) {
@@ -296,7 +301,7 @@ AutoSyncResult SyncFromImageMotion(const capture::Trial& trial,
     previous.swap(grey);
     grey.resize(previous.size());
     if (options.progress && !options.progress(k + 1, n))
-      throw InputError(info.path, "sync", "cancelled");
+      throw Cancelled();
   }
 
   // The trial's side: per sample, the athlete's box in the analysed image and the mean speed of

@@ -8,14 +8,11 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "acro/athlete/athlete_profile.h"
 #include "acro/athlete/body_mesh.h"
-#include "acro/athlete/de_leva.h"
 #include "acro/base/file_io.h"
 #include "acro/base/input_error.h"
-#include "acro/capture/trial_io.h"
-#include "acro/reconstruct/up_axis.h"
-#include "acro/scene/silhouette_check.h"
+#include "acro/base/progress.h"
+#include "acro/pipeline/steps.h"
 
 namespace acro::studio {
 
@@ -24,10 +21,6 @@ namespace {
 using Json = nlohmann::json;
 namespace fs = std::filesystem;
 
-std::function<bool(int, int)> Step(const Session::Progress& progress, const std::string& step) {
-  if (!progress) return {};
-  return [progress, step](int done, int total) { return progress(step, done, total); };
-}
 
 }  // namespace
 
@@ -45,27 +38,31 @@ std::unique_ptr<Session> Session::Open(const SessionFiles& files, const Progress
       throw InputError(v.video.empty() ? v.calibration : v.video,
                        "video",
                        "a video and its camera calibration go together");
-  if (progress && !progress("reading " + files.trial, 0, 1))
-    throw InputError(files.trial, "", "cancelled");
-  s->trial_ = std::make_unique<capture::Trial>(capture::ReadTrial(files.trial));
-  // A Y-up file (OpenSim, Pose2Sim) turned Z up, as `acrolab analyze` does by default.
-  if (const std::string turned = analysis::OrientTrialUp(s->trial_.get(), "auto"); !turned.empty())
-    s->warnings_.push_back(turned);
-  if (!files.athlete.empty()) {
-    s->body_ = analysis::MakeAthleteBody(analysis::ReadAthleteProfile(files.athlete));
-  } else {
-    s->body_ = analysis::MakeDeLevaBody(1.70, 65.0, analysis::Sex::kMale);
-    s->warnings_.push_back("no athlete profile: a de Leva athlete of 1.70 m and 65 kg");
-  }
-  // The cameras before the work: a wrong calibration costs nothing.
+  acro::Progress steps;
+  steps.report = progress;
+  steps.ReportOrThrow("reading " + files.trial, 0, 1);
+  // The trial as every door opens it (the pipeline): read once, upright, its athlete or the one
+  // default body.
+  pipeline::TrialRequest request;
+  request.trial = files.trial;
+  request.athlete.profile = files.athlete;
+  pipeline::TrialInput input = pipeline::OpenTrial(request);
+  s->warnings_ = input.warnings;
+  if (!input.athlete.warning.empty()) s->warnings_.push_back(input.athlete.warning);
+  // The videos and their cameras before the work: a wrong calibration costs nothing.
   for (const VideoFiles& v : files.videos) {
-    Video video;
-    video.camera = vision::FindCamera(vision::ReadCameras(v.calibration), v.camera, v.calibration);
-    video.reader = std::make_unique<capture::VideoReader>(v.video);
-    s->videos_.push_back(std::move(video));
+    pipeline::VideoRequest video;
+    video.video = v.video;
+    video.calibration = v.calibration;
+    video.camera = v.camera;
+    if (v.offset_s) video.sync.offset_s = *v.offset_s;
+    else video.sync.kind = pipeline::SyncRequest::Kind::kAuto;
+    Video opened;
+    opened.input = std::make_unique<pipeline::VideoInput>(video);
+    for (const std::string& w : opened.input->warnings()) s->warnings_.push_back(w);
+    s->videos_.push_back(std::move(opened));
   }
-  if (progress && !progress("analysing " + files.trial, 0, 1))
-    throw InputError(files.trial, "", "cancelled");
+  steps.ReportOrThrow("analysing " + files.trial, 0, 1);
   analysis::TrialAnalysisOptions options;
   // The inverse kinematics' progress, frame by frame; Cancel stops it within ten frames.
   std::atomic<bool> stop{false};
@@ -75,47 +72,33 @@ std::unique_ptr<Session> Session::Open(const SessionFiles& files, const Progress
     };
     options.cancelled = [&] { return stop.load(); };
   }
-  s->analysis_ = std::make_unique<analysis::TrialAnalysis>(
-      analysis::AnalyzeTrial(*s->trial_, nullptr, s->body_, options));
+  s->analysis_ = std::make_unique<analysis::TrialAnalysis>(pipeline::Analyze(input, options));
   for (const std::string& w : s->analysis_->warnings) s->warnings_.push_back(w);
+  s->trial_ = std::make_unique<capture::Trial>(std::move(input.trial));
+  s->body_ = input.athlete.body;
   s->scene_ = std::make_unique<analysis::TrialScene>(
-      *s->trial_,
-      *s->analysis_,
-      s->body_,
+      *s->trial_, *s->analysis_, s->body_,
       analysis::MakeEllipsoidBodyMesh(s->body_, analysis::OverlayBodyMeshOptions()));
-  if (s->videos_.empty()) return s;
-  // The silhouettes with the body's full mesh (what the video shows), as analyze compares them.
-  analysis::TrialScene full(
-      *s->trial_, *s->analysis_, s->body_, analysis::MakeEllipsoidBodyMesh(s->body_));
+  // Each video synced and its silhouettes checked as analyze does (the pipeline's AttachVideo);
+  // the jumps' median IoU is the first video's.
   for (size_t k = 0; k < s->videos_.size(); ++k) {
     Video& video = s->videos_[k];
-    VideoFiles& given = s->files_.videos[k];
-    const std::string which =
-        s->videos_.size() > 1 ? fmt::format(" (video {} of {})", k + 1, s->videos_.size()) : "";
-    if (given.offset_s) {
-      video.sync.offset_s = *given.offset_s;
-    } else {
-      vision::AutoSyncOptions motion;
-      motion.progress = Step(progress, "sync (image motion)" + which);
-      analysis::SilhouetteCheckOptions refine;
-      refine.progress = Step(progress, "sync (silhouettes)" + which);
-      video.sync = analysis::SyncVideoAutomatically(full, video.camera, given.video, motion, refine)
-                       .refined.sync;
-      given.offset_s = video.sync.offset_s;
-    }
-    analysis::SilhouetteCheckOptions check;
-    check.sync = video.sync;
-    check.progress = Step(progress, "silhouettes" + which);
-    video.silhouettes = analysis::CheckSilhouettes(*video.reader, full, video.camera, check);
+    const std::string which = s->videos_.size() > 1 ? fmt::format(" (video {} of {})", k + 1, s->videos_.size()) : "";
+    acro::Progress step;
+    if (progress) step.report = [&](const std::string& name, int done, int total) { return progress(name + which, done, total); };
+    const pipeline::VideoCheck check = pipeline::CheckVideo(*video.input, *s->trial_, s->body_, *s->analysis_, step);
+    if (k == 0) analysis::AttachSilhouetteCheck(check.silhouettes, s->analysis_.get());
+    video.sync = check.sync.sync;
+    video.silhouettes = check.silhouettes;
+    s->files_.videos[k].offset_s = video.sync.offset_s;
   }
-  analysis::AttachSilhouetteCheck(s->videos_.front().silhouettes, s->analysis_.get());
   return s;
 }
 
 int Session::VideoFrameOf(int sample, int k) const {
   if (k < 0 || size_t(k) >= videos_.size() || trial_->point_rate_hz <= 0) return -1;
   const Video& video = videos_[size_t(k)];
-  const std::vector<double>& times = video.reader->frame_times_s();
+  const std::vector<double>& times = video.input->reader().frame_times_s();
   if (times.empty()) return -1;
   const double t = video.sync.VideoTime(sample / trial_->point_rate_hz);
   const auto it = std::lower_bound(times.begin(), times.end(), t);
@@ -129,8 +112,8 @@ int Session::VideoFrameOf(int sample, int k) const {
 int Session::SampleOf(int video_frame, int k) const {
   if (k < 0 || size_t(k) >= videos_.size()) return -1;
   const Video& video = videos_[size_t(k)];
-  if (video_frame < 0 || size_t(video_frame) >= video.reader->frame_times_s().size()) return -1;
-  return video.sync.NearestSample(*trial_, video.reader->frame_times_s()[size_t(video_frame)]);
+  if (video_frame < 0 || size_t(video_frame) >= video.input->reader().frame_times_s().size()) return -1;
+  return video.sync.NearestSample(*trial_, video.input->reader().frame_times_s()[size_t(video_frame)]);
 }
 
 ShownParts ParseShownParts(const std::string& list) {

@@ -5,8 +5,10 @@
 #include <memory>
 #include <stdexcept>
 
+#include "acro/base/file_io.h"
 #include "acro/base/input_error.h"
 #include "acro/capture/frame_output.h"
+#include "acro/scene/compare_scene.h"
 #include "acro/views/camera_composite.h"
 #include "acro/views/display.h"
 #include "acro/views/scene_renderer.h"
@@ -271,6 +273,35 @@ int WriteFilmstripVideo(const std::vector<FilmstripRow>& rows,
   }
   out.Finish();
   return out.frames_written();
+}
+
+JumpFilmstrips WriteJumpFilmstrips(analysis::AthleteScene& athlete, const analysis::TrialAnalysis& analysis,
+                                   const std::filesystem::path& dir, bool videos,
+                                   const std::function<bool(int, int)>& progress) {
+  JumpFilmstrips out;
+  const FilmstripOptions size;
+  for (const analysis::JumpMetrics& j : analysis.jumps) {
+    if (j.partial()) continue;
+    const std::vector<int> frames = EvenlySpacedFrames(j.flight.takeoff_frame, j.flight.landing_frame - 1, 8);
+    const Eigen::Vector3d heading = analysis::FindTakeoff(analysis, j.index).heading_W;
+    const std::vector<std::uint8_t> rgb = RenderFilmstrip(athlete, frames, heading);
+    const std::vector<std::uint8_t> png = capture::EncodeRgbPng(size.width, size.height, rgb);
+    const std::string file = "filmstrip_jump_" + std::to_string(j.index) + ".png";
+    WriteFileAtomically(dir / file, std::string(png.begin(), png.end()));
+    out.pictures.emplace_back(j.index, file);
+    if (!videos) continue;
+    // The strip as a video too: it fills in as the flight goes.
+    const std::string mp4 = "filmstrip_jump_" + std::to_string(j.index) + ".mp4";
+    FilmstripRow row;
+    row.scene = &athlete;
+    row.frames = frames;
+    row.rate_hz = analysis.reconstruction.motion.rate_hz;
+    FilmstripVideoOptions video;
+    video.progress = progress;
+    WriteFilmstripVideo({row}, heading, dir / mp4, size, video);
+    out.videos.emplace_back(j.index, mp4);
+  }
+  return out;
 }
 
 }  // namespace acro::ui

@@ -238,11 +238,9 @@ OverlayTiming WriteSceneOverlay(capture::VideoReader& video,
   OverlayTiming timing;
   const int total = last - first + 1;
   auto start = Clock::now();
-  if (first > 0) {
-    frame = video.Frame(first);
-  } else if (!video.ReadNext(&frame)) {
-    throw InputError(info.path, "", "no frame to read");
-  }
+  // By index: the pass starts at `first` whatever this reader read before (the shared reader of
+  // a door has built its background and synced on it).
+  frame = video.Frame(first);
   timing.decode_s += Since(start);
   while (true) {
     ++timing.frames_read;

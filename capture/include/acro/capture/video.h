@@ -80,6 +80,15 @@ class VideoReader {
   /// the frame after the one returned). False after the last frame.
   bool ReadNext(VideoFrame* frame);
 
+  /// What the next frames are handed out as: a grey pass (image motion) and a colour one
+  /// (silhouettes, overlays) on one reader, so that a door indexes its video once.
+  void SetPixels(VideoPixels pixels);
+  VideoPixels pixels() const;
+
+  /// How many readers this process has opened (each indexes its file): for the tests that hold
+  /// a door to one opening per video.
+  static long long OpenedCount();
+
  private:
   struct Impl;
   std::unique_ptr<Impl> impl_;

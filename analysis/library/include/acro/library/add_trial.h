@@ -63,11 +63,6 @@ AddResult PlanAdd(const Library& library, const AddRequest& request);
 /// directory at fault; the library is then unchanged.
 AddResult AddTrial(Library& library, const AddRequest& request, const AddOptions& options = {});
 
-/// The provenance `acrolab analyze` writes beside jumps.json (analysis.json): the Acrolab version,
-/// the trial's path and SHA-256, the athlete, when. `library add --analysis DIR` reads it.
-std::string FormatAnalysisProvenance(const std::filesystem::path& trial,
-                                     const std::string& athlete);
-
 /// A file's modification date as YYYY-MM-DD in local time.
 std::string FileDate(const std::filesystem::path& path);
 

@@ -25,10 +25,13 @@ struct SilhouetteCheckOptions {
   vision::BackgroundOptions background;
   /// Frames the background median is taken over, spread over the video.
   int background_frames = 25;
+  /// A background model of this video built already (the pipeline's video input keeps one); null:
+  /// one is built from `background_frames` frames.
+  const vision::BackgroundModel* background_model = nullptr;
   /// The IoU is taken in the projected athlete's box grown by this fraction of its size on every
   /// side (what the video shows elsewhere — a coach walking by — does not count).
   double box_margin = 0.5;
-  /// Called with (frames done, frames in all); returns false to cancel.
+  /// Called with (frames done, frames in all); returns false to cancel (acro::Cancelled).
   std::function<bool(int, int)> progress;
 };
 
@@ -67,7 +70,8 @@ void CompareSilhouettes(const vision::Mask& real,
 
 /// Compares the video (an RGB reader: the background model and the foreground in colour; a grey
 /// one works, less well) with the scene's athlete through `camera`. Throws std::invalid_argument
-/// when the scene has no athlete, and acro::InputError for video trouble or a cancelled run.
+/// when the scene has no athlete, acro::InputError for video trouble, acro::Cancelled when the
+/// progress says stop.
 SilhouetteCheck CheckSilhouettes(capture::VideoReader& video,
                                  TrialScene& scene,
                                  const vision::Camera& camera,
@@ -100,12 +104,13 @@ struct AutoVideoSync {
   SilhouetteSync refined;         ///< the second; refined.sync is the answer
 };
 
-/// `motion.progress` and `silhouettes.progress` report each step (and cancel it); the video is
-/// opened twice (grey for the motion, colour for the silhouettes). Throws acro::InputError for an
-/// unreadable video or a cancelled run, std::invalid_argument for a scene without an athlete.
+/// `motion.progress` and `silhouettes.progress` report each step (and cancel it: acro::Cancelled);
+/// the one reader `video` serves both passes (grey for the motion, then as it was handed in —
+/// colour — for the silhouettes). Throws acro::InputError for video trouble,
+/// std::invalid_argument for a scene without an athlete.
 AutoVideoSync SyncVideoAutomatically(TrialScene& scene,
                                      const vision::Camera& camera,
-                                     const std::filesystem::path& video,
+                                     capture::VideoReader& video,
                                      const vision::AutoSyncOptions& motion,
                                      SilhouetteCheckOptions silhouettes);
 

@@ -63,6 +63,8 @@ class BackgroundModel {
   int width() const { return width_; }
   int height() const { return height_; }
   int channels() const { return channels_; }
+  /// How many models this process has built from a video: for the tests that hold a door to one.
+  static long long BuiltCount();
   const std::vector<std::uint8_t>& grey() const { return grey_; }
 
   /// The foreground of one frame (the background's size): by colour when both are RGB, else by

@@ -16,6 +16,7 @@
 #include "acro/athlete/athlete_body.h"
 #include "acro/capture/trial.h"
 #include "acro/capture/video.h"
+#include "acro/pipeline/video_input.h"
 #include "acro/scene/silhouette_check.h"
 #include "acro/scene/trial_scene.h"
 #include "acro/vision/camera.h"
@@ -38,7 +39,7 @@ constexpr int kMaxVideos = 4;
 /// session file when read from one).
 struct SessionFiles {
   std::string trial;
-  std::string athlete;  ///< empty: a default de Leva athlete (1.70 m, 65 kg), with a warning
+  std::string athlete;  ///< empty: the default body of every door (pipeline::kDefaultHeightM…), with a warning
   std::vector<VideoFiles> videos;  ///< none to kMaxVideos
 };
 
@@ -62,9 +63,10 @@ class Session {
   using Progress = std::function<bool(const std::string&, int, int)>;
 
   /// Reads the trial and the athlete, analyses the trial, opens each video and its camera, syncs
-  /// them (automatically when a video's offset_s is empty) and checks the silhouettes. Slow
-  /// (seconds per video): off the window's thread. Throws acro::InputError naming the file and
-  /// what is wrong (or "cancelled").
+  /// them (automatically when a video's offset_s is empty) and checks the silhouettes — the
+  /// pipeline's steps, as `analyze` runs them. Slow (seconds per video): off the window's thread.
+  /// Throws acro::InputError naming the file and what is wrong, acro::Cancelled when the progress
+  /// says stop.
   static std::unique_ptr<Session> Open(const SessionFiles& files, const Progress& progress = {});
 
   /// The files, with the offset found when it was found here.
@@ -83,8 +85,8 @@ class Session {
   /// Video `k` (0-based, in the order of files().videos): its reader, camera, sync, and its
   /// athlete against the reconstructed one in every filmed flight frame, as `analyze --video`
   /// checks it. The jumps' median IoU in the analysis is the first video's.
-  capture::VideoReader& video(int k = 0) { return *videos_.at(size_t(k)).reader; }
-  const vision::Camera& camera(int k = 0) const { return videos_.at(size_t(k)).camera; }
+  capture::VideoReader& video(int k = 0) { return videos_.at(size_t(k)).input->reader(); }
+  const vision::Camera& camera(int k = 0) const { return videos_.at(size_t(k)).input->camera(); }
   const vision::VideoSync& sync(int k = 0) const { return videos_.at(size_t(k)).sync; }
   const analysis::SilhouetteCheck& silhouettes(int k = 0) const {
     return videos_.at(size_t(k)).silhouettes;
@@ -97,8 +99,7 @@ class Session {
 
  private:
   struct Video {
-    std::unique_ptr<capture::VideoReader> reader;
-    vision::Camera camera;
+    std::unique_ptr<pipeline::VideoInput> input;  // the video opened once: reader, camera, background
     vision::VideoSync sync;
     analysis::SilhouetteCheck silhouettes;
   };

@@ -15,6 +15,7 @@
 
 #include <Eigen/Core>
 
+#include "acro/assess/trial_analysis.h"
 #include "acro/scene/athlete_scene.h"
 #include "acro/scene/scene.h"
 
@@ -78,5 +79,16 @@ int WriteFilmstripVideo(const std::vector<FilmstripRow>& rows,
 
 /// `count` frames evenly spaced from `first` to `last` (both included).
 std::vector<int> EvenlySpacedFrames(int first, int last, int count);
+
+/// The filmstrips of an analysis, as `analyze` writes them into `dir`: per complete jump
+/// filmstrip_jump_N.png (8 instants of its flight, seen from its take-off heading) and, with
+/// `videos`, filmstrip_jump_N.mp4; the files' names per jump index. Throws acro::InputError when
+/// the views cannot render here (no display) or a file cannot be written.
+struct JumpFilmstrips {
+  std::vector<std::pair<int, std::string>> pictures, videos;
+};
+JumpFilmstrips WriteJumpFilmstrips(analysis::AthleteScene& athlete, const analysis::TrialAnalysis& analysis,
+                                   const std::filesystem::path& dir, bool videos,
+                                   const std::function<bool(int, int)>& progress = {});
 
 }  // namespace acro::ui

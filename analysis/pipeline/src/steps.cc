@@ -1,0 +1,52 @@
+#include "acro/pipeline/steps.h"
+
+#include <ctime>
+
+#include <nlohmann/json.hpp>
+
+#include "acro/athlete/body_mesh.h"
+#include "acro/base/version.h"
+#include "acro/scene/trial_scene.h"
+
+namespace acro::pipeline {
+
+analysis::TrialAnalysis Analyze(const TrialInput& input, const analysis::TrialAnalysisOptions& options) {
+  return analysis::AnalyzeTrial(input.trial, input.static_trial ? &*input.static_trial : nullptr,
+                                input.athlete.body, options);
+}
+
+VideoCheck CheckVideo(VideoInput& video, const capture::Trial& trial, const analysis::AthleteBody& body,
+                      const analysis::TrialAnalysis& analysis, const Progress& progress) {
+  // The silhouettes with the body's full mesh: what the video shows.
+  analysis::TrialScene scene(trial, analysis, body, analysis::MakeEllipsoidBodyMesh(body));
+  VideoCheck out;
+  out.sync = video.Sync(scene, progress);
+  out.silhouettes = video.CheckSilhouettes(scene, progress);
+  return out;
+}
+
+VideoCheck AttachVideo(VideoInput& video, const TrialInput& input, analysis::TrialAnalysis* analysis,
+                       const Progress& progress) {
+  VideoCheck out = CheckVideo(video, input.trial, input.athlete.body, *analysis, progress);
+  analysis::AttachSilhouetteCheck(out.silhouettes, analysis);
+  return out;
+}
+
+std::string FormatAnalysisProvenance(const TrialInput& input) {
+  nlohmann::json o;  // keys in alphabetical order, as library add reads them
+  o["acrolab_version"] = AcrolabVersion();
+  std::error_code ec;
+  const std::filesystem::path absolute = std::filesystem::weakly_canonical(input.path, ec);
+  o["trial"] = (ec ? std::filesystem::absolute(input.path).lexically_normal() : absolute).string();
+  o["trial_sha256"] = input.sha256;
+  o["athlete"] = input.athlete.name;
+  const std::time_t now = std::time(nullptr);
+  std::tm tm{};
+  gmtime_r(&now, &tm);
+  char text[32];
+  std::strftime(text, sizeof text, "%Y-%m-%dT%H:%M:%SZ", &tm);
+  o["analysed_at"] = text;
+  return o.dump(1) + "\n";
+}
+
+}  // namespace acro::pipeline
