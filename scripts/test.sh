@@ -4,11 +4,12 @@
 # a missing reference file fails its test instead of skipping it.
 #
 # scripts/test.sh --sanitize: an AddressSanitizer + UndefinedBehaviorSanitizer build in
-# ./build-sanitize of only what the readers' and corpus tests need (no views, no window, no
-# benchmarks, no acrolab), and those tests; any sanitizer report fails them.
-# scripts/test.sh --sanitize-all: the same plus the robustness suite against a sanitized acrolab
-# (the whole analysis built again under ASan: about 20 minutes more on two cores; opt-in,
-# docs/testing.md).
+# ./build-sanitize of only what the readers' and corpus tests need (capture, athlete, vision: no
+# reconstruction, no views, no window, no benchmarks, no acrolab), and those tests; any sanitizer
+# report fails them.
+# scripts/test.sh --sanitize-all: the same plus the skill files' tests and the robustness suite
+# against a sanitized acrolab (the whole analysis built again under ASan: about 25 minutes more on
+# two cores; opt-in, docs/testing.md).
 # ACRO_LONG_TESTS=1: the soak-type tests' full versions (docs/testing.md).
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -25,7 +26,9 @@ if [ "${1:-}" = --sanitize ] || [ "${1:-}" = --sanitize-all ]; then
   # The readers (capture/), the YAML parser, the corpus replays of the fuzz entry points, the bed
   # detector (a photo or a video frame through OpenCV and our decoder); with --sanitize-all the
   # robustness suite against the sanitized acrolab too.
-  tests='^(capture/|analysis/athlete/(yaml|athlete_profile|yeadon_measurements)$|analysis/design/(yaml_corpus|skill_file)$|analysis/vision/(camera|camera_corpus|bed_detection)$)'
+  # The skill files' tests (analysis/design) and the robustness suite need the whole analysis
+  # (Ceres' reconstruction and optimisation) compiled again under ASan: --sanitize-all.
+  tests='^(capture/|analysis/athlete/(yaml|athlete_profile|yeadon_measurements)$|analysis/vision/(camera|camera_corpus|bed_detection)$)'
   if [ "$1" = --sanitize-all ]; then
     tests='^(capture/|robustness/|analysis/athlete/(yaml|athlete_profile|yeadon_measurements)$|analysis/design/(yaml_corpus|skill_file)$|analysis/vision/(camera|camera_corpus|bed_detection)$)'
   fi
@@ -35,9 +38,10 @@ if [ "${1:-}" = --sanitize ] || [ "${1:-}" = --sanitize-all ]; then
   launcher=()
   if command -v ccache >/dev/null 2>&1; then launcher=(-DCMAKE_CXX_COMPILER_LAUNCHER=ccache); fi
   # Line tables only (-g1) for the reports' stack traces: with full debug information the
-  # instrumented acrolab was 684 MB, and its compile and link a large part of CI's time.
+  # instrumented acrolab was 684 MB, and its compile and link a large part of CI's time. -O1, as
+  # ASan's documentation advises: faster to compile than -O2, and the reports keep their frames.
   cmake -S . -B build-sanitize -DCMAKE_BUILD_TYPE=RelWithDebInfo "${launcher[@]}" \
-    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O2 -g1 -DNDEBUG" \
+    -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" -DCMAKE_C_FLAGS_RELWITHDEBINFO="-O1 -g1 -DNDEBUG" \
     -DACRO_BUILD_TESTS=ON -DACRO_BUILD_BENCHMARKS=OFF -DACRO_BUILD_UI=OFF -DACRO_BUILD_STUDIO=OFF \
     -DCMAKE_CXX_FLAGS="$flags" -DCMAKE_C_FLAGS="$flags" -DCMAKE_EXE_LINKER_FLAGS="-fsanitize=address,undefined,float-cast-overflow"
   # The test names say their targets: capture/trc -> test_capture_trc.

@@ -144,6 +144,37 @@ std::vector<SceneMesh> DressedAthlete(const acro::analysis::BodyMesh& mesh, cons
   return out;
 }
 
+// The gym: floor, back and side walls, mats and banners, the trampoline at `bed`.
+static void AddGym(const Eigen::Vector3d& bed, acro::ui::SceneRenderer& renderer) {
+  renderer.AddMesh(Box({-12, -14, -0.05}, {12, 8, 0}, {0.55f, 0.5f, 0.45f, 1}, "floor"));
+  renderer.AddMesh(Box({-12, 8, 0}, {12, 8.3, 9}, {0.8f, 0.82f, 0.85f, 1}, "back wall"));
+  renderer.AddMesh(Box({-12.3, -14, 0}, {-12, 8, 9}, {0.78f, 0.78f, 0.75f, 1}, "left wall"));
+  renderer.AddMesh(Box({12, -14, 0}, {12.3, 8, 9}, {0.78f, 0.78f, 0.75f, 1}, "right wall"));
+  renderer.AddMesh(Box({-9, 7.6, 0}, {-4, 8, 2.2}, {0.2f, 0.35f, 0.7f, 1}, "wall mats"));
+  renderer.AddMesh(Box({4.5, 7.6, 0}, {9.5, 8, 2.2}, {0.2f, 0.35f, 0.7f, 1}, "wall mats"));
+  renderer.AddMesh(Box({-6, 7.9, 5.2}, {-2, 8, 6.2}, {0.75f, 0.15f, 0.15f, 1}, "banner"));
+  renderer.AddMesh(Box({2.5, 7.9, 5.0}, {7.0, 8, 6.0}, {0.95f, 0.75f, 0.1f, 1}, "banner"));
+  renderer.AddMesh(Box({bed.x() - 3.5, bed.y() + 2.2, 0},
+                       {bed.x() + 3.5, bed.y() + 4.2, 0.3},
+                       {0.15f, 0.3f, 0.65f, 1},
+                       "end mat"));
+  acro::analysis::BedGeometry geometry;
+  geometry.centre_W = bed;
+  const acro::analysis::TrampolineScene trampoline =
+      acro::analysis::MakeTrampolineScene(geometry);
+  SceneMesh bed_mesh = trampoline.bed;
+  bed_mesh.colour = {0.08f, 0.08f, 0.1f, 1};
+  renderer.AddMesh(bed_mesh);
+  SceneMesh frame = trampoline.frame;
+  frame.colour = {0.1f, 0.3f, 0.75f, 1};
+  renderer.AddMesh(frame);
+  for (acro::analysis::SceneLines lines : {trampoline.springs, trampoline.legs}) {
+    lines.colour = {0.55f, 0.55f, 0.58f, 1};
+    lines.width_px = 3;
+    renderer.AddLines(lines);
+  }
+}
+
 int main(int argc, char** argv) {
   const bool preview = argc == 6 && std::string(argv[3]) == "--frame";
   if (argc != 3 && !preview) {
@@ -176,34 +207,7 @@ int main(int argc, char** argv) {
     // Ceiling lights slanting down, and a dimmer light from the camera.
     renderer.SetSceneLights({{0.3, 0.5, -1}, {-0.4, 0.2, -1}, {0.0, -0.4, -1}}, 0.45, 0.5);
 
-    // The gym: floor, back and side walls, mats and banners, the trampoline.
-    renderer.AddMesh(Box({-12, -14, -0.05}, {12, 8, 0}, {0.55f, 0.5f, 0.45f, 1}, "floor"));
-    renderer.AddMesh(Box({-12, 8, 0}, {12, 8.3, 9}, {0.8f, 0.82f, 0.85f, 1}, "back wall"));
-    renderer.AddMesh(Box({-12.3, -14, 0}, {-12, 8, 9}, {0.78f, 0.78f, 0.75f, 1}, "left wall"));
-    renderer.AddMesh(Box({12, -14, 0}, {12.3, 8, 9}, {0.78f, 0.78f, 0.75f, 1}, "right wall"));
-    renderer.AddMesh(Box({-9, 7.6, 0}, {-4, 8, 2.2}, {0.2f, 0.35f, 0.7f, 1}, "wall mats"));
-    renderer.AddMesh(Box({4.5, 7.6, 0}, {9.5, 8, 2.2}, {0.2f, 0.35f, 0.7f, 1}, "wall mats"));
-    renderer.AddMesh(Box({-6, 7.9, 5.2}, {-2, 8, 6.2}, {0.75f, 0.15f, 0.15f, 1}, "banner"));
-    renderer.AddMesh(Box({2.5, 7.9, 5.0}, {7.0, 8, 6.0}, {0.95f, 0.75f, 0.1f, 1}, "banner"));
-    renderer.AddMesh(Box({bed.x() - 3.5, bed.y() + 2.2, 0},
-                         {bed.x() + 3.5, bed.y() + 4.2, 0.3},
-                         {0.15f, 0.3f, 0.65f, 1},
-                         "end mat"));
-    acro::analysis::BedGeometry geometry;
-    geometry.centre_W = bed;
-    const acro::analysis::TrampolineScene trampoline =
-        acro::analysis::MakeTrampolineScene(geometry);
-    SceneMesh bed_mesh = trampoline.bed;
-    bed_mesh.colour = {0.08f, 0.08f, 0.1f, 1};
-    renderer.AddMesh(bed_mesh);
-    SceneMesh frame = trampoline.frame;
-    frame.colour = {0.1f, 0.3f, 0.75f, 1};
-    renderer.AddMesh(frame);
-    for (acro::analysis::SceneLines lines : {trampoline.springs, trampoline.legs}) {
-      lines.colour = {0.55f, 0.55f, 0.58f, 1};
-      lines.width_px = 3;
-      renderer.AddLines(lines);
-    }
+    AddGym(bed, renderer);
 
     acro::analysis::AthletePose pose;
     athlete_scene.Pose(0, &pose);

@@ -11,10 +11,10 @@
 #include "acro/base/file_io.h"
 #include "acro/base/input_error.h"
 #include "acro/base/parallel.h"
+#include "acro/pipeline/detect.h"
 #include "acro/pose/keypoints.h"
 #include "acro/pose/video_poses.h"
 #include "acro/report/pose_sheet.h"
-#include "acro/vision/bed_detection.h"
 #include "commands.h"
 
 namespace acro::app {
@@ -70,12 +70,7 @@ void WriteContactSheet(const pose::VideoPoses& r, const std::string& sheet_frame
 // auto (the bed when one is found, else none).
 void ChooseRegion(const DetectArguments& args, const std::string& video, pose::DetectVideoOptions* options) {
   if (args.roi == "auto" || args.roi == "bed") {
-    try {
-      const vision::BedDetection bed = vision::DetectBed(video, options->first_frame);
-      options->tracker.bed_corners_px = bed.corners_px;
-    } catch (const InputError& e) {
-      if (args.roi == "bed") throw;
-    }
+    pipeline::RegionFromBed(video, options->first_frame, args.roi == "bed", &options->tracker);
     return;
   }
   const Eigen::VectorXd box = ParseCommaNumbers("--roi", args.roi, 4, "auto, bed or X,Y,W,H");

@@ -8,6 +8,7 @@
 
 #include "acro/base/input_error.h"
 #include "acro/base/interrupts.h"
+#include "acro/base/progress.h"
 #include "acro/base/version.h"
 #include "commands.h"
 
@@ -79,6 +80,9 @@ int Main(int argc, char** argv) {
     std::fprintf(stderr, "%s: %s (%s --help)\n", name.c_str(), e.message.c_str(), name.c_str());
     return 2;
   } catch (const acro::InputError& e) {
+    std::fprintf(stderr, "acrolab: %s\n", e.what());
+    return 1;
+  } catch (const acro::Cancelled& e) {  // the work stopped by its progress (a door's own cancel)
     std::fprintf(stderr, "acrolab: %s\n", e.what());
     return 1;
   } catch (const std::bad_alloc&) {

@@ -124,7 +124,7 @@ int RunOverlay(const OverlayArguments& args) {
     scene.emplace(input.trial, *result, body, analysis::MakeEllipsoidBodyMesh(body, analysis::OverlayBodyMeshOptions()));
     if (args.ghost_jump > 0) scene->SetGhostJump(args.ghost_jump);
     if (!args.ghost.empty()) {
-      const analysis::DesignedSkill design = analysis::ReadDesignedSkill(args.ghost, analysis::MakeStandardHumanModel(body));
+      const analysis::SkillGhost design = analysis::ReadSkillGhost(args.ghost, analysis::MakeStandardHumanModel(body));
       if (input.athlete.name.rfind(design.athlete + ",", 0) != 0)
         std::fprintf(stderr, "overlay: warning: the design was made for %s, drawn here on %s\n",
                      design.athlete.c_str(), input.athlete.name.c_str());

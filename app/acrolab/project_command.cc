@@ -5,7 +5,7 @@
 #include "acro/base/input_error.h"
 #include "acro/capture/trial_io.h"
 #include "acro/capture/video.h"
-#include "acro/report/overlay.h"
+#include "acro/report/projection_overlay.h"
 #include "acro/vision/projection.h"
 #include "commands.h"
 

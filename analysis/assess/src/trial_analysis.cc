@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <numbers>
 #include <sstream>
@@ -11,6 +12,7 @@
 #include <nlohmann/json.hpp>
 
 #include "acro/base/demand.h"
+#include "acro/base/progress.h"
 #include "acro/base/file_io.h"
 #include "acro/base/input_error.h"
 #include "acro/capture/storage.h"
@@ -196,50 +198,28 @@ std::optional<BedGeometry> FindBed(const capture::Trial& trial) {
   return bed;
 }
 
-TrialAnalysis AnalyzeTrial(const capture::Trial& trial,
-                           const capture::Trial* static_trial,
-                           const AthleteBody& body,
-                           const TrialAnalysisOptions& options) {
-  std::string why;
-  if (!options.IsValid(&why)) throw InputError("", "analysis options", why);
-  auto progress = [&](const std::string& line) {
-    if (options.progress) options.progress(line);
-  };
-  const auto stop_if_cancelled = [&] {
-    if (options.cancelled && options.cancelled())
-      throw InputError(trial.source.path, "", "cancelled");
-  };
-  TrialAnalysis out;
-  out.trial_name = std::filesystem::path(trial.source.path).filename().string();
-  out.stature_m = body.height_m;
+namespace {
 
-  // 1. Reconstruction.
-  auto start = std::chrono::steady_clock::now();
-  progress(fmt::format("reconstruct: {} frames at {:g} Hz", trial.num_frames, trial.point_rate_hz));
-  ReconstructionOptions reconstruction = options.reconstruction;
-  if (!reconstruction.cancelled) reconstruction.cancelled = options.cancelled;
-  out.reconstruction = Reconstruct(trial, static_trial, body, reconstruction);
-  stop_if_cancelled();
-  const ReconstructionResult& rec = out.reconstruction;
-  const Motion& motion = rec.motion;
-  const dynamics::Model<double>& model = rec.model;
-  out.mass_kg = model.total_mass();
-  for (const std::string& w : rec.summary.warnings) out.warnings.push_back(w);
-  progress(fmt::format("reconstruct: marker RMS median {:.1f} mm, p95 {:.1f} mm ({:.2f} s)",
-                       1e3 * rec.summary.median_rms_m,
-                       1e3 * rec.summary.p95_rms_m,
-                       Seconds(start)));
-  out.reconstruct_s = Seconds(start);
+using Say = std::function<void(const std::string&)>;
 
-  // 2. Phases: force plates when the trial has them, else the soles against the bed when the bed
-  // is known, else the whole-body COM.
-  start = std::chrono::steady_clock::now();
+// The soles' and the COM's paths over the motion (W).
+struct BodyPaths {
+  Eigen::Matrix3Xd com_W, sole_r, sole_l;
+};
+
+// 2. Phases: force plates when the trial has them, else the soles against the bed when the bed
+// is known, else the whole-body COM.
+BodyPaths FindPhases(const capture::Trial& trial, const TrialAnalysisOptions& options, const Say& progress,
+                     TrialAnalysis* analysis) {
+  TrialAnalysis& out = *analysis;
+  const Motion& motion = out.reconstruction.motion;
+  const dynamics::Model<double>& model = out.reconstruction.model;
   out.bed = options.bed ? options.bed : FindBed(trial);
   if (!out.bed) out.surface_height_m = options.surface_height_m;
-  Eigen::Matrix3Xd com_W, sole_r, sole_l;
-  CalcComAndSoles(model, motion, com_W, sole_r, sole_l);
-  out.feet_z_m = sole_r.row(2).cwiseMin(sole_l.row(2)).transpose();
-  const Eigen::VectorXd com_z = com_W.row(2).transpose();
+  BodyPaths paths;
+  CalcComAndSoles(model, motion, paths.com_W, paths.sole_r, paths.sole_l);
+  out.feet_z_m = paths.sole_r.row(2).cwiseMin(paths.sole_l.row(2)).transpose();
+  const Eigen::VectorXd com_z = paths.com_W.row(2).transpose();
   PhaseOptions phase_options = options.phases;
   phase_options.gravity_m_per_s2 = model.gravity_W().norm();
   const Eigen::VectorXd fz =
@@ -269,13 +249,16 @@ TrialAnalysis AnalyzeTrial(const capture::Trial& trial,
       }
     }
   }
-  int complete = 0;
-  for (const Flight& f : out.phases.flights) complete += f.partial ? 0 : 1;
-  progress("phases: " + std::to_string(out.phases.flights.size()) + " flights (" +
-           std::to_string(complete) + " complete) from the " + out.phases.method);
-  stop_if_cancelled();
+  return paths;
+}
 
-  // 3. Physical check, localised when it fails.
+// 3. The physical check, judged against the trial's noise, localised when it fails.
+void CheckTrialPhysics(const TrialAnalysisOptions& options, const Say& progress,
+                       const std::function<void()>& stop_if_cancelled, TrialAnalysis* analysis) {
+  TrialAnalysis& out = *analysis;
+  const ReconstructionResult& rec = out.reconstruction;
+  const Motion& motion = rec.motion;
+  const dynamics::Model<double>& model = rec.model;
   out.check_options = options.check;
   out.check = CheckPhysics(
       model, motion, out.phases.flights, out.stature_m, rec.summary.cutoff_hz, options.check);
@@ -301,14 +284,20 @@ TrialAnalysis AnalyzeTrial(const capture::Trial& trial,
     LocalisePhysicsFailure(
         model, motion, rec.marker_positions, rec.markers, options.check, out.check);
   progress("check: " + out.check.verdict);
-  out.check_s = Seconds(start);
-  stop_if_cancelled();
+}
 
-  // 4. Jump metrics per flight.
-  start = std::chrono::steady_clock::now();
+// The body's orientation and its mean hip and knee flexion per frame (for the shape).
+struct PostureSeries {
+  std::vector<Eigen::Quaterniond> q_WB;
+  Eigen::VectorXd hip, knee;
+};
+
+PostureSeries MakePostureSeries(const Motion& motion) {
   const int n = motion.num_frames();
-  std::vector<Eigen::Quaterniond> q_WB(static_cast<size_t>(n));
-  Eigen::VectorXd hip(n), knee(n);
+  PostureSeries out;
+  out.q_WB.resize(static_cast<size_t>(n));
+  out.hip.resize(n);
+  out.knee.resize(n);
   const std::vector<std::string>& names = motion.coordinate_names;
   auto column = [&](const std::string& name) {
     const auto it = std::find(names.begin(), names.end(), name);
@@ -317,58 +306,125 @@ TrialAnalysis AnalyzeTrial(const capture::Trial& trial,
   const int rh = column("r_hip_flexion"), lh = column("l_hip_flexion");
   const int rk = column("r_knee_flexion"), lk = column("l_knee_flexion");
   for (int i = 0; i < n; ++i) {
-    q_WB[static_cast<size_t>(i)] =
+    out.q_WB[static_cast<size_t>(i)] =
         Eigen::Quaterniond(motion.q(3, i), motion.q(4, i), motion.q(5, i), motion.q(6, i))
             .normalized();
     // Anatomical flexion, mean of both sides: the model's hip flexion is a negative angle about y,
     // its knee flexion positive (docs/reconstruction.md).
-    hip[i] = rh >= 0 && lh >= 0 ? -0.5 * (motion.q(rh, i) + motion.q(lh, i)) : 0.0;
-    knee[i] = rk >= 0 && lk >= 0 ? 0.5 * (motion.q(rk, i) + motion.q(lk, i)) : 0.0;
+    out.hip[i] = rh >= 0 && lh >= 0 ? -0.5 * (motion.q(rh, i) + motion.q(lh, i)) : 0.0;
+    out.knee[i] = rk >= 0 && lk >= 0 ? 0.5 * (motion.q(rk, i) + motion.q(lk, i)) : 0.0;
   }
+  return out;
+}
+
+// 4. One flight's metrics: feet at take-off and landing, displacement, landing in the bed,
+// rotation, FIG code and difficulty, the flight's check and verdict.
+JumpMetrics MeasureJump(const TrialAnalysis& out, size_t k, const BodyPaths& paths, const PostureSeries& posture,
+                        const TrialAnalysisOptions& options) {
+  const Motion& motion = out.reconstruction.motion;
+  const int n = motion.num_frames();
+  const Eigen::Matrix3Xd& sole_r = paths.sole_r;
+  const Eigen::Matrix3Xd& sole_l = paths.sole_l;
+  const Flight& f = out.phases.flights[k];
+  JumpMetrics j;
+  j.index = static_cast<int>(k) + 1;
+  j.flight = f;
+  j.takeoff_feet_W =
+      0.5 * (At(sole_r, motion.time_s, f.takeoff_s) + At(sole_l, motion.time_s, f.takeoff_s));
+  j.landing_feet_W =
+      0.5 * (At(sole_r, motion.time_s, f.landing_s) + At(sole_l, motion.time_s, f.landing_s));
+  j.displacement_from_takeoff_m = (j.landing_feet_W - j.takeoff_feet_W).head<2>().norm();
+  j.apex_above_bed_m = kNaN;
+  j.displacement_from_centre_m = kNaN;
+  j.landing_in_bed_m.setConstant(kNaN);
+  if (const std::optional<double> surface = out.SurfaceHeight()) {
+    j.apex_above_bed_m = f.apex_z_m - *surface;
+  }
+  if (out.bed) {
+    const BedGeometry& bed = *out.bed;
+    const Eigen::Vector3d d = j.landing_feet_W - bed.centre_W;
+    const Eigen::Vector3d across = Eigen::Vector3d::UnitZ().cross(bed.long_axis_W);
+    j.landing_in_bed_m = Eigen::Vector2d(d.dot(bed.long_axis_W), d.dot(across));
+    j.displacement_from_centre_m = j.landing_in_bed_m.norm();
+    j.landing_in_zone_a = std::abs(j.landing_in_bed_m.x()) <= 0.5 * kZoneALength_m &&
+                          std::abs(j.landing_in_bed_m.y()) <= 0.5 * kZoneAWidth_m;
+  }
+  // Rotation over the frames that enclose the flight.
+  const int first = std::clamp(f.takeoff_frame - 1, 0, n - 2);
+  const int last = std::clamp(f.landing_frame, first + 1, n - 1);
+  j.rotation = CountJumpRotation(posture.q_WB, first, last, posture.hip, posture.knee, options.rotation);
+  j.fig_code = FormatFigCode(j.rotation.skill);
+  j.skill_name = FigSkillName(j.rotation.skill);
+  j.difficulty = CalcFigDifficulty(j.rotation.skill);
+  // The check of this flight.
+  for (const FlightCheck& fc : out.check.flights)
+    if (fc.flight == static_cast<int>(k)) j.check = fc;
+  if (j.partial()) {
+    j.verdict = "not judged: partial flight";
+  } else if (!j.check) {
+    j.verdict = "not judged";
+  } else if (j.check->pass) {
+    j.verdict = j.check->judged_against_noise ? "pass within its noise" : "pass";
+  } else {
+    j.verdict = "fail: " + j.check->FailureText();
+  }
+  return j;
+}
+
+}  // namespace
+
+TrialAnalysis AnalyzeTrial(const capture::Trial& trial,
+                           const capture::Trial* static_trial,
+                           const AthleteBody& body,
+                           const TrialAnalysisOptions& options) {
+  std::string why;
+  if (!options.IsValid(&why)) throw InputError("", "analysis options", why);
+  auto progress = [&](const std::string& line) {
+    if (options.progress) options.progress(line);
+  };
+  const auto stop_if_cancelled = [&] {
+    if (options.cancelled && options.cancelled())
+      throw Cancelled(trial.source.path + ": cancelled");
+  };
+  TrialAnalysis out;
+  out.trial_name = std::filesystem::path(trial.source.path).filename().string();
+  out.stature_m = body.height_m;
+
+  // 1. Reconstruction.
+  auto start = std::chrono::steady_clock::now();
+  progress(fmt::format("reconstruct: {} frames at {:g} Hz", trial.num_frames, trial.point_rate_hz));
+  ReconstructionOptions reconstruction = options.reconstruction;
+  if (!reconstruction.cancelled) reconstruction.cancelled = options.cancelled;
+  out.reconstruction = Reconstruct(trial, static_trial, body, reconstruction);
+  stop_if_cancelled();
+  const ReconstructionResult& rec = out.reconstruction;
+  out.mass_kg = rec.model.total_mass();
+  for (const std::string& w : rec.summary.warnings) out.warnings.push_back(w);
+  progress(fmt::format("reconstruct: marker RMS median {:.1f} mm, p95 {:.1f} mm ({:.2f} s)",
+                       1e3 * rec.summary.median_rms_m,
+                       1e3 * rec.summary.p95_rms_m,
+                       Seconds(start)));
+  out.reconstruct_s = Seconds(start);
+
+  // 2. Phases.
+  start = std::chrono::steady_clock::now();
+  const BodyPaths paths = FindPhases(trial, options, progress, &out);
+  int complete = 0;
+  for (const Flight& f : out.phases.flights) complete += f.partial ? 0 : 1;
+  progress("phases: " + std::to_string(out.phases.flights.size()) + " flights (" +
+           std::to_string(complete) + " complete) from the " + out.phases.method);
+  stop_if_cancelled();
+
+  // 3. Physical check.
+  CheckTrialPhysics(options, progress, stop_if_cancelled, &out);
+  out.check_s = Seconds(start);
+  stop_if_cancelled();
+
+  // 4. Jump metrics per flight.
+  start = std::chrono::steady_clock::now();
+  const PostureSeries posture = MakePostureSeries(out.reconstruction.motion);
   for (size_t k = 0; k < out.phases.flights.size(); ++k) {
-    const Flight& f = out.phases.flights[k];
-    JumpMetrics j;
-    j.index = static_cast<int>(k) + 1;
-    j.flight = f;
-    j.takeoff_feet_W =
-        0.5 * (At(sole_r, motion.time_s, f.takeoff_s) + At(sole_l, motion.time_s, f.takeoff_s));
-    j.landing_feet_W =
-        0.5 * (At(sole_r, motion.time_s, f.landing_s) + At(sole_l, motion.time_s, f.landing_s));
-    j.displacement_from_takeoff_m = (j.landing_feet_W - j.takeoff_feet_W).head<2>().norm();
-    j.apex_above_bed_m = kNaN;
-    j.displacement_from_centre_m = kNaN;
-    j.landing_in_bed_m.setConstant(kNaN);
-    if (const std::optional<double> surface = out.SurfaceHeight()) {
-      j.apex_above_bed_m = f.apex_z_m - *surface;
-    }
-    if (out.bed) {
-      const BedGeometry& bed = *out.bed;
-      const Eigen::Vector3d d = j.landing_feet_W - bed.centre_W;
-      const Eigen::Vector3d across = Eigen::Vector3d::UnitZ().cross(bed.long_axis_W);
-      j.landing_in_bed_m = Eigen::Vector2d(d.dot(bed.long_axis_W), d.dot(across));
-      j.displacement_from_centre_m = j.landing_in_bed_m.norm();
-      j.landing_in_zone_a = std::abs(j.landing_in_bed_m.x()) <= 0.5 * kZoneALength_m &&
-                            std::abs(j.landing_in_bed_m.y()) <= 0.5 * kZoneAWidth_m;
-    }
-    // Rotation over the frames that enclose the flight.
-    const int first = std::clamp(f.takeoff_frame - 1, 0, n - 2);
-    const int last = std::clamp(f.landing_frame, first + 1, n - 1);
-    j.rotation = CountJumpRotation(q_WB, first, last, hip, knee, options.rotation);
-    j.fig_code = FormatFigCode(j.rotation.skill);
-    j.skill_name = FigSkillName(j.rotation.skill);
-    j.difficulty = CalcFigDifficulty(j.rotation.skill);
-    // The check of this flight.
-    for (const FlightCheck& fc : out.check.flights)
-      if (fc.flight == static_cast<int>(k)) j.check = fc;
-    if (j.partial()) {
-      j.verdict = "not judged: partial flight";
-    } else if (!j.check) {
-      j.verdict = "not judged";
-    } else if (j.check->pass) {
-      j.verdict = j.check->judged_against_noise ? "pass within its noise" : "pass";
-    } else {
-      j.verdict = "fail: " + j.check->FailureText();
-    }
+    JumpMetrics j = MeasureJump(out, k, paths, posture, options);
     if (!j.partial()) {
       ++out.num_scored;
       out.total_difficulty += j.difficulty.total();

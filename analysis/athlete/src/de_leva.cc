@@ -157,10 +157,10 @@ InertialProperties RowInertia(const DeLevaRow& row,
 
 }  // namespace
 
-AthleteBody MakeDeLevaBody(double height_m,
-                           double mass_kg,
-                           Sex sex,
-                           const SegmentLengths& lengths) {
+namespace {
+
+// The stature, the mass and the measured lengths: positive, finite, of known segments.
+void CheckDeLevaInputs(double height_m, double mass_kg, const SegmentLengths& lengths) {
   if (!(height_m > 0.0) || !std::isfinite(height_m))
     throw InputError(
         "", "height_m", "must be a positive height in metres, found " + std::to_string(height_m));
@@ -180,6 +180,15 @@ AthleteBody MakeDeLevaBody(double height_m,
     if (!(value > 0.0) || !std::isfinite(value))
       throw InputError("", "segment_lengths_m." + name, "must be a positive length in metres");
   }
+}
+
+}  // namespace
+
+AthleteBody MakeDeLevaBody(double height_m,
+                           double mass_kg,
+                           Sex sex,
+                           const SegmentLengths& lengths) {
+  CheckDeLevaInputs(height_m, mass_kg, lengths);
   const int k = sex == Sex::kFemale ? 0 : 1;
   const double scale = height_m / (DeLevaReferenceStatureMm(sex) / 1000.0);
   auto table_length = [&](std::string_view segment) {

@@ -95,22 +95,10 @@ Eigen::Quaterniond KeyframeOrientation(const SkillKeyframe& k) {
          Eigen::AngleAxisd(k.twist_rad, Eigen::Vector3d::UnitZ());
 }
 
-Skill SkillFromYaml(const YamlNode& root, const std::filesystem::path& base_dir) {
-  Skill skill;
-  skill.source = root.file();
-  if (!root.IsMap()) throw InputError(root.file(), root.Where(), "a skill file is a map");
-  root.RequireKnownKeys({"name", "fig_code", "athlete", "takeoff", "tolerances", "keyframes"});
-  skill.name = root.At("name").AsString();
-  if (const YamlNode* n = root.Find("fig_code")) skill.fig_code = n->AsString();
+namespace {
 
-  // Athlete profile, relative to the skill's folder.
-  const YamlNode& athlete = root.At("athlete");
-  skill.athlete_path = athlete.AsString();
-  if (skill.athlete_path.is_relative()) skill.athlete_path = base_dir / skill.athlete_path;
-  skill.athlete = ReadAthleteProfile(skill.athlete_path);
-
-  // Take-off: the COM velocity, or the flight time (then the take-off is vertical).
-  const YamlNode& takeoff = root.At("takeoff");
+// The take-off: the COM velocity, or the flight time (then the take-off is vertical).
+void ReadTakeoff(const YamlNode& takeoff, Skill* skill) {
   takeoff.RequireKnownKeys({"com_velocity_mps", "flight_time_s"});
   const YamlNode* vel = takeoff.Find("com_velocity_mps");
   const YamlNode* tof = takeoff.Find("flight_time_s");
@@ -119,87 +107,86 @@ Skill SkillFromYaml(const YamlNode& root, const std::filesystem::path& base_dir)
   if (vel != nullptr) {
     const std::vector<double> v = vel->AsDoubleList();
     if (v.size() != 3) vel->Fail("expected [vx, vy, vz]");
-    skill.takeoff_com_velocity_mps = Eigen::Vector3d(v[0], v[1], v[2]);
-    if (!skill.takeoff_com_velocity_mps.allFinite() || !(v[2] > 0.0))
+    skill->takeoff_com_velocity_mps = Eigen::Vector3d(v[0], v[1], v[2]);
+    if (!skill->takeoff_com_velocity_mps.allFinite() || !(v[2] > 0.0))
       vel->Fail("the vertical take-off velocity must be positive and finite");
     if (std::hypot(v[0], v[1]) > kMaxHorizontalSpeedMps)
       vel->Fail("a horizontal take-off speed of " + FormatFixed(std::hypot(v[0], v[1]), 2) +
                 " m/s is above " + FormatFixed(kMaxHorizontalSpeedMps, 0) + " m/s");
-    CheckFlightTime(*vel, "the vertical velocity", 2.0 * v[2] / skill.gravity_mps2);
+    CheckFlightTime(*vel, "the vertical velocity", 2.0 * v[2] / skill->gravity_mps2);
   } else {
     const double T = tof->AsDouble();
     CheckFlightTime(*tof, "", T);
-    skill.takeoff_com_velocity_mps = Eigen::Vector3d(0.0, 0.0, 0.5 * skill.gravity_mps2 * T);
+    skill->takeoff_com_velocity_mps = Eigen::Vector3d(0.0, 0.0, 0.5 * skill->gravity_mps2 * T);
   }
-  skill.flight_time_s = 2.0 * skill.takeoff_com_velocity_mps.z() / skill.gravity_mps2;
+  skill->flight_time_s = 2.0 * skill->takeoff_com_velocity_mps.z() / skill->gravity_mps2;
+}
 
-  // Default tolerances.
-  double tol_pos_m = 0.05;
-  double tol_angle_rad = 5.0 * kDegToRad;
-  if (const YamlNode* t = root.Find("tolerances")) {
-    t->RequireKnownKeys({"position_m", "angle_deg"});
-    if (const YamlNode* n = t->Find("position_m")) tol_pos_m = n->AsDouble();
-    if (const YamlNode* n = t->Find("angle_deg")) tol_angle_rad = n->AsDouble() * kDegToRad;
-    if (!(tol_pos_m >= 0.0 && tol_pos_m <= 1.0) ||
-        !(tol_angle_rad >= 0.0 && tol_angle_rad <= std::numbers::pi))
-      t->Fail("must be within 0–1 m and 0–180°");
-  }
+struct Tolerances {
+  double position_m = 0.05;
+  double angle_rad = 5.0 * kDegToRad;
+};
 
-  // Keyframes.
-  const YamlNode& keyframes = root.At("keyframes");
-  if (!keyframes.IsSequence() || keyframes.items().size() < 3)
-    keyframes.Fail("expected a sequence of at least 3 keyframes");
-  if (keyframes.items().size() > kMaxKeyframes)
-    keyframes.Fail(std::to_string(keyframes.items().size()) + " keyframes; at most " +
-                   std::to_string(kMaxKeyframes) + " (a skill has 5–15)");
-  const int ndof = StandardJointDofCount();
-  for (const YamlNode& item : keyframes.items()) {
-    if (!item.IsMap()) item.Fail("a keyframe is a map");
-    item.RequireKnownKeys({"name",
-                           "time_s",
-                           "somersault_deg",
-                           "tilt_deg",
-                           "twist_deg",
-                           "joints_deg",
-                           "tolerance_position_m",
-                           "tolerance_angle_deg"});
-    SkillKeyframe k;
-    k.line = item.line();
-    k.name = item.At("name").AsString();
-    k.somersault_rad = AngleDeg(item, "somersault_deg");
-    k.tilt_rad = AngleDeg(item, "tilt_deg");
-    k.twist_rad = AngleDeg(item, "twist_deg");
-    k.joint_angles_rad = Eigen::VectorXd::Zero(ndof);
-    if (const YamlNode* joints = item.Find("joints_deg")) {
-      if (!joints->IsMap()) joints->Fail("expected a map of joint names to angle lists");
-      for (const auto& [key, value] : joints->entries()) {
-        bool sided = false;
-        for (std::string_view s : kSidedSegments) sided = sided || key == s;
-        if (sided) {
-          SetJoint(value, "r_" + key, false, k.joint_angles_rad);
-          SetJoint(value, "l_" + key, true, k.joint_angles_rad);
-        } else {
-          SetJoint(value, key, false, k.joint_angles_rad);
-        }
+bool TolerancesInRange(double position_m, double angle_rad) {
+  return position_m >= 0.0 && position_m <= 1.0 && angle_rad >= 0.0 && angle_rad <= std::numbers::pi;
+}
+
+// The skill's default tolerances (the file's, or 5 cm and 5°).
+Tolerances ReadTolerances(const YamlNode* t) {
+  Tolerances out;
+  if (t == nullptr) return out;
+  t->RequireKnownKeys({"position_m", "angle_deg"});
+  if (const YamlNode* n = t->Find("position_m")) out.position_m = n->AsDouble();
+  if (const YamlNode* n = t->Find("angle_deg")) out.angle_rad = n->AsDouble() * kDegToRad;
+  if (!TolerancesInRange(out.position_m, out.angle_rad)) t->Fail("must be within 0–1 m and 0–180°");
+  return out;
+}
+
+SkillKeyframe ReadKeyframe(const YamlNode& item, const Tolerances& defaults) {
+  if (!item.IsMap()) item.Fail("a keyframe is a map");
+  item.RequireKnownKeys({"name",
+                         "time_s",
+                         "somersault_deg",
+                         "tilt_deg",
+                         "twist_deg",
+                         "joints_deg",
+                         "tolerance_position_m",
+                         "tolerance_angle_deg"});
+  SkillKeyframe k;
+  k.line = item.line();
+  k.name = item.At("name").AsString();
+  k.somersault_rad = AngleDeg(item, "somersault_deg");
+  k.tilt_rad = AngleDeg(item, "tilt_deg");
+  k.twist_rad = AngleDeg(item, "twist_deg");
+  k.joint_angles_rad = Eigen::VectorXd::Zero(StandardJointDofCount());
+  if (const YamlNode* joints = item.Find("joints_deg")) {
+    if (!joints->IsMap()) joints->Fail("expected a map of joint names to angle lists");
+    for (const auto& [key, value] : joints->entries()) {
+      bool sided = false;
+      for (std::string_view s : kSidedSegments) sided = sided || key == s;
+      if (sided) {
+        SetJoint(value, "r_" + key, false, k.joint_angles_rad);
+        SetJoint(value, "l_" + key, true, k.joint_angles_rad);
+      } else {
+        SetJoint(value, key, false, k.joint_angles_rad);
       }
     }
-    if (const YamlNode* n = item.Find("time_s")) {
-      k.time_s = n->AsDouble();
-      if (!std::isfinite(*k.time_s)) n->Fail("not finite");
-    }
-    k.tolerance_position_m = tol_pos_m;
-    k.tolerance_angle_rad = tol_angle_rad;
-    if (const YamlNode* n = item.Find("tolerance_position_m"))
-      k.tolerance_position_m = n->AsDouble();
-    if (const YamlNode* n = item.Find("tolerance_angle_deg"))
-      k.tolerance_angle_rad = n->AsDouble() * kDegToRad;
-    if (!(k.tolerance_position_m >= 0.0 && k.tolerance_position_m <= 1.0) ||
-        !(k.tolerance_angle_rad >= 0.0 && k.tolerance_angle_rad <= std::numbers::pi))
-      item.Fail("tolerances must be within 0–1 m and 0–180°");
-    skill.keyframes.push_back(std::move(k));
   }
+  if (const YamlNode* n = item.Find("time_s")) {
+    k.time_s = n->AsDouble();
+    if (!std::isfinite(*k.time_s)) n->Fail("not finite");
+  }
+  k.tolerance_position_m = defaults.position_m;
+  k.tolerance_angle_rad = defaults.angle_rad;
+  if (const YamlNode* n = item.Find("tolerance_position_m")) k.tolerance_position_m = n->AsDouble();
+  if (const YamlNode* n = item.Find("tolerance_angle_deg")) k.tolerance_angle_rad = n->AsDouble() * kDegToRad;
+  if (!TolerancesInRange(k.tolerance_position_m, k.tolerance_angle_rad))
+    item.Fail("tolerances must be within 0–1 m and 0–180°");
+  return k;
+}
 
-  // Times, when given, must run from 0 to T in increasing order.
+// Times, when given, must run from 0 to T in increasing order.
+void CheckKeyframeTimes(const Skill& skill) {
   const size_t n = skill.keyframes.size();
   for (size_t i = 0; i < n; ++i) {
     const SkillKeyframe& k = skill.keyframes[i];
@@ -220,10 +207,13 @@ Skill SkillFromYaml(const YamlNode& root, const std::filesystem::path& base_dir)
                        "time_s " + FormatFixed(*k.time_s, 3) + " is outside the flight, 0–" +
                            FormatFixed(skill.flight_time_s, 3) + " s");
   }
+}
 
-  // Consecutive keyframes less than 170° apart in each root angle as written (so that −40 then
-  // −250 is not read as the 150° turn the other way) and as orientations (the quaternion
-  // spline's log branch).
+// Consecutive keyframes less than 170° apart in each root angle as written (so that −40 then
+// −250 is not read as the 150° turn the other way) and as orientations (the quaternion
+// spline's log branch).
+void CheckKeyframeSteps(const Skill& skill) {
+  const size_t n = skill.keyframes.size();
   for (size_t i = 1; i < n; ++i) {
     const SkillKeyframe& a = skill.keyframes[i - 1];
     const SkillKeyframe& b = skill.keyframes[i];
@@ -248,6 +238,36 @@ Skill SkillFromYaml(const YamlNode& root, const std::filesystem::path& base_dir)
                        "orientation turns " + FormatFixed(angle / kDegToRad, 1) +
                            "° from the previous keyframe; insert a keyframe (at most 170° apart)");
   }
+}
+
+}  // namespace
+
+Skill SkillFromYaml(const YamlNode& root, const std::filesystem::path& base_dir) {
+  Skill skill;
+  skill.source = root.file();
+  if (!root.IsMap()) throw InputError(root.file(), root.Where(), "a skill file is a map");
+  root.RequireKnownKeys({"name", "fig_code", "athlete", "takeoff", "tolerances", "keyframes"});
+  skill.name = root.At("name").AsString();
+  if (const YamlNode* n = root.Find("fig_code")) skill.fig_code = n->AsString();
+
+  // Athlete profile, relative to the skill's folder.
+  const YamlNode& athlete = root.At("athlete");
+  skill.athlete_path = athlete.AsString();
+  if (skill.athlete_path.is_relative()) skill.athlete_path = base_dir / skill.athlete_path;
+  skill.athlete = ReadAthleteProfile(skill.athlete_path);
+
+  ReadTakeoff(root.At("takeoff"), &skill);
+  const Tolerances tolerances = ReadTolerances(root.Find("tolerances"));
+
+  const YamlNode& keyframes = root.At("keyframes");
+  if (!keyframes.IsSequence() || keyframes.items().size() < 3)
+    keyframes.Fail("expected a sequence of at least 3 keyframes");
+  if (keyframes.items().size() > kMaxKeyframes)
+    keyframes.Fail(std::to_string(keyframes.items().size()) + " keyframes; at most " +
+                   std::to_string(kMaxKeyframes) + " (a skill has 5–15)");
+  for (const YamlNode& item : keyframes.items()) skill.keyframes.push_back(ReadKeyframe(item, tolerances));
+  CheckKeyframeTimes(skill);
+  CheckKeyframeSteps(skill);
   return skill;
 }
 

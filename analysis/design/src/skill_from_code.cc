@@ -19,6 +19,7 @@
 #include "acro/athlete/orientation.h"
 #include "acro/athlete/standard_human.h"
 #include "acro/base/demand.h"
+#include "acro/base/progress.h"
 #include "acro/base/input_error.h"
 #include "acro/design/posture_track.h"
 #include "acro/dynamics/flight_rotation.h"
@@ -478,7 +479,7 @@ class Shooter {
       } else if (++stalled >= 4 && break_stalls) {
         break;
       }
-      if (options.cancelled && options.cancelled()) throw InputError("", "design", "cancelled");
+      if (options.cancelled && options.cancelled()) throw Cancelled("design: cancelled");
       // The forward-difference Jacobian, its columns on two threads (each a flight simulation).
       Eigen::MatrixXd J(r.size(), n);
       auto column = [&](int j) {
@@ -699,11 +700,10 @@ double BaseFlightTime(const FigSkill& skill) {
   }
 }
 
-SkillFromCodeResult DesignSkillFromCode(const std::string& code_text,
-                                        const std::filesystem::path& athlete_path,
-                                        const SkillFromCodeOptions& options) {
-  const FigSkill code = ParseFigCode(code_text);
-  const std::string where = "FIG code '" + code_text + "'";
+namespace {
+
+// Which codes are designed: feet to feet, up to four somersaults, up to 8 half twists in one.
+void CheckDesignable(const FigSkill& code, const std::string& where) {
   if (code.quarter_somersaults % 4 != 0)
     throw InputError("",
                      where,
@@ -717,6 +717,112 @@ SkillFromCodeResult DesignSkillFromCode(const std::string& code_text,
     throw InputError("", where, "a tuck or pike jump with a twist is not designed");
   for (int d : code.half_twists)
     if (d > 8) throw InputError("", where, "more than 8 half twists in one somersault");
+}
+
+// The flight as the analysis would count it: somersault, twist and its direction, half twists per
+// somersault, tilt, the time left to prepare the landing.
+void DescribeFlight(const FigSkill& code, const Plan& plan, const Flight& flight, const VectorXd& nu, double T,
+                    SkillFromCodeResult* out) {
+  SkillFromCodeResult& result = *out;
+  // The flight as the analysis would count it.
+  const Eigen::Index last = flight.somersault.size() - 1;
+  result.air_somersault_rad = flight.somersault[last] - flight.somersault[0];
+  result.air_twist_rad = flight.twist[last] - flight.twist[0];
+  result.twist_direction = TwistDirectionOf(code.total_half_twists(), result.air_twist_rad);
+  {
+    double before = 0;
+    for (int k = 1; k <= std::max(plan.somersaults, 1); ++k) {
+      const double t =
+          k >= plan.somersaults ? flight.t.back() : Shooter::TimeAt(flight, nu, 360.0 * k);
+      const double tw = std::abs(Shooter::TwistAt(flight, t) - flight.twist[0]);
+      result.half_twists_per_somersault.push_back((tw - before) / kPi);
+      before = tw;
+    }
+  }
+  result.max_tilt_rad = flight.tilt.cwiseAbs().maxCoeff();
+  result.landing_tilt_rad = std::abs(flight.tilt[last]);
+  // The time left to prepare the landing: from the end of the twist (its last 20° left) or of the
+  // opening (the landing posture's transition starts), whichever is later.
+  double done = flight.prepare_start_s;
+  if (code.total_half_twists() > 0) {
+    for (Eigen::Index i = last; i >= 0; --i)
+      if (std::abs(flight.twist[last] - flight.twist[i]) > 20.0 * kDeg) {
+        done = std::max(done, flight.t[size_t(i)]);
+        break;
+      }
+  }
+  result.time_to_prepare_landing_s = T - done;
+}
+
+// Can this athlete do it? Each limit passed, one line.
+void CheckFeasible(const SkillFromCodeOptions& options, double T, SkillFromCodeResult* out) {
+  SkillFromCodeResult& result = *out;
+  // Can this athlete do it?
+  if (T > options.max_flight_time_s)
+    result.not_feasible.push_back(
+        fmt::format("needs {:.2f} s of flight (take-off {:.2f} m/s), more than the {:.2f} s this "
+                    "athlete reaches",
+                    T,
+                    result.takeoff_vertical_velocity_mps,
+                    options.max_flight_time_s));
+  if (result.normalized_somersault_momentum > options.max_normalized_somersault_momentum)
+    result.not_feasible.push_back(fmt::format(
+        "needs a somersault angular momentum of {:.1f} kg·m²/s ({:.3f} per kg and m² of height), "
+        "more than elite trampolinists produce ({:.3f})",
+        result.somersault_momentum,
+        result.normalized_somersault_momentum,
+        options.max_normalized_somersault_momentum));
+  if (result.max_tilt_rad > options.max_tilt_deg * kDeg)
+    result.not_feasible.push_back(
+        fmt::format("needs a tilt of {:.1f}° to twist in time, more than {:.0f}°",
+                    result.max_tilt_rad / kDeg,
+                    options.max_tilt_deg));
+  if (result.time_to_prepare_landing_s < options.min_time_to_prepare_landing_s)
+    result.not_feasible.push_back(fmt::format(
+        "leaves {:.2f} s between the end of the rotation and the landing, less than {:.2f} s",
+        result.time_to_prepare_landing_s,
+        options.min_time_to_prepare_landing_s));
+}
+
+// The keyframes: samples of the flight.
+void MakeKeyframes(const FigSkill& code, const Plan& plan, const Flight& flight, double T, double g,
+                   const std::filesystem::path& athlete_path, const AthleteProfile& athlete,
+                   SkillFromCodeResult* out) {
+  Skill& skill = out->skill;
+  skill.fig_code = FormatFigCode(code);
+  const std::string common = FigSkillName(code);
+  skill.name = common.empty() ? skill.fig_code : common + " (" + skill.fig_code + ")";
+  skill.source = "generated from " + skill.fig_code;
+  skill.athlete_path = athlete_path;
+  skill.athlete = athlete;
+  skill.takeoff_com_velocity_mps = Vector3d(0, 0, g * T / 2);
+  skill.flight_time_s = T;
+  skill.gravity_mps2 = g;
+  // At most 100° apart (60° in triples and more: with 100° Model 1 left 2.8 % of momentum
+  // variation in 12001o, with 60° 0.02 %; in singles 60° made Model 1 stop worse, 13 % in 40/).
+  const std::vector<size_t> samples = KeyframeSamples(flight, plan.somersaults >= 3 ? 60.0 : 100.0);
+  for (size_t j = 0; j < samples.size(); ++j) {
+    const size_t i = samples[j];
+    SkillKeyframe k;
+    k.name = KeyframeName(plan, flight, i, flight.t.size() - 1);
+    k.somersault_rad = flight.somersault[Eigen::Index(i)];
+    k.tilt_rad = flight.tilt[Eigen::Index(i)];
+    k.twist_rad = flight.twist[Eigen::Index(i)];
+    k.joint_angles_rad = flight.track.At(flight.t[i]);
+    k.time_s = j + 1 == samples.size() ? T : flight.t[i];
+    if (j == 0) k.time_s = 0.0;
+    skill.keyframes.push_back(std::move(k));
+  }
+}
+
+}  // namespace
+
+SkillFromCodeResult DesignSkillFromCode(const std::string& code_text,
+                                        const std::filesystem::path& athlete_path,
+                                        const SkillFromCodeOptions& options) {
+  const FigSkill code = ParseFigCode(code_text);
+  const std::string where = "FIG code '" + code_text + "'";
+  CheckDesignable(code, where);
 
   SkillFromCodeResult result;
   result.code = code;
@@ -791,88 +897,9 @@ SkillFromCodeResult DesignSkillFromCode(const std::string& code_text,
                                  : 2 * kPi * plan.somersaults - plan.lean_rad - plan.air_target_rad;
   result.momentum_components = Eigen::Vector2d(x[0], plan.unknowns.contact_twist ? x[1] : 0.0);
 
-  // The flight as the analysis would count it.
-  const Eigen::Index last = flight.somersault.size() - 1;
-  result.air_somersault_rad = flight.somersault[last] - flight.somersault[0];
-  result.air_twist_rad = flight.twist[last] - flight.twist[0];
-  result.twist_direction = TwistDirectionOf(code.total_half_twists(), result.air_twist_rad);
-  {
-    const VectorXd nu = shooter.Nominal(flight);
-    double before = 0;
-    for (int k = 1; k <= std::max(plan.somersaults, 1); ++k) {
-      const double t =
-          k >= plan.somersaults ? flight.t.back() : Shooter::TimeAt(flight, nu, 360.0 * k);
-      const double tw = std::abs(Shooter::TwistAt(flight, t) - flight.twist[0]);
-      result.half_twists_per_somersault.push_back((tw - before) / kPi);
-      before = tw;
-    }
-  }
-  result.max_tilt_rad = flight.tilt.cwiseAbs().maxCoeff();
-  result.landing_tilt_rad = std::abs(flight.tilt[last]);
-  // The time left to prepare the landing: from the end of the twist (its last 20° left) or of the
-  // opening (the landing posture's transition starts), whichever is later.
-  double done = flight.prepare_start_s;
-  if (code.total_half_twists() > 0) {
-    for (Eigen::Index i = last; i >= 0; --i)
-      if (std::abs(flight.twist[last] - flight.twist[i]) > 20.0 * kDeg) {
-        done = std::max(done, flight.t[size_t(i)]);
-        break;
-      }
-  }
-  result.time_to_prepare_landing_s = T - done;
-
-  // Can this athlete do it?
-  if (T > options.max_flight_time_s)
-    result.not_feasible.push_back(
-        fmt::format("needs {:.2f} s of flight (take-off {:.2f} m/s), more than the {:.2f} s this "
-                    "athlete reaches",
-                    T,
-                    result.takeoff_vertical_velocity_mps,
-                    options.max_flight_time_s));
-  if (result.normalized_somersault_momentum > options.max_normalized_somersault_momentum)
-    result.not_feasible.push_back(fmt::format(
-        "needs a somersault angular momentum of {:.1f} kg·m²/s ({:.3f} per kg and m² of height), "
-        "more than elite trampolinists produce ({:.3f})",
-        result.somersault_momentum,
-        result.normalized_somersault_momentum,
-        options.max_normalized_somersault_momentum));
-  if (result.max_tilt_rad > options.max_tilt_deg * kDeg)
-    result.not_feasible.push_back(
-        fmt::format("needs a tilt of {:.1f}° to twist in time, more than {:.0f}°",
-                    result.max_tilt_rad / kDeg,
-                    options.max_tilt_deg));
-  if (result.time_to_prepare_landing_s < options.min_time_to_prepare_landing_s)
-    result.not_feasible.push_back(fmt::format(
-        "leaves {:.2f} s between the end of the rotation and the landing, less than {:.2f} s",
-        result.time_to_prepare_landing_s,
-        options.min_time_to_prepare_landing_s));
-
-  // The keyframes: samples of the flight.
-  Skill& skill = result.skill;
-  skill.fig_code = FormatFigCode(code);
-  const std::string common = FigSkillName(code);
-  skill.name = common.empty() ? skill.fig_code : common + " (" + skill.fig_code + ")";
-  skill.source = "generated from " + skill.fig_code;
-  skill.athlete_path = athlete_path;
-  skill.athlete = athlete;
-  skill.takeoff_com_velocity_mps = Vector3d(0, 0, g * T / 2);
-  skill.flight_time_s = T;
-  skill.gravity_mps2 = g;
-  // At most 100° apart (60° in triples and more: with 100° Model 1 left 2.8 % of momentum
-  // variation in 12001o, with 60° 0.02 %; in singles 60° made Model 1 stop worse, 13 % in 40/).
-  const std::vector<size_t> samples = KeyframeSamples(flight, plan.somersaults >= 3 ? 60.0 : 100.0);
-  for (size_t j = 0; j < samples.size(); ++j) {
-    const size_t i = samples[j];
-    SkillKeyframe k;
-    k.name = KeyframeName(plan, flight, i, flight.t.size() - 1);
-    k.somersault_rad = flight.somersault[Eigen::Index(i)];
-    k.tilt_rad = flight.tilt[Eigen::Index(i)];
-    k.twist_rad = flight.twist[Eigen::Index(i)];
-    k.joint_angles_rad = flight.track.At(flight.t[i]);
-    k.time_s = j + 1 == samples.size() ? T : flight.t[i];
-    if (j == 0) k.time_s = 0.0;
-    skill.keyframes.push_back(std::move(k));
-  }
+  DescribeFlight(code, plan, flight, shooter.Nominal(flight), T, &result);
+  CheckFeasible(options, T, &result);
+  MakeKeyframes(code, plan, flight, T, g, athlete_path, athlete, &result);
   return result;
 }
 

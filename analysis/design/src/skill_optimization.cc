@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "acro/base/demand.h"
+#include "acro/base/progress.h"
 #include "acro/base/input_error.h"
 #include "timing_optimization.h"
 #include "trajectory_optimization.h"
@@ -116,7 +117,7 @@ SkillOptimizationResult OptimizeSkill(const SkillDesign& design,
   const Eigen::VectorXd x2 = internal::SolveModel2(design, result.initial, N, options, &s2);
   result.stages.push_back(s2);
   const auto stop_if_cancelled = [&options] {
-    if (options.cancelled && options.cancelled()) throw InputError("", "optimisation", "cancelled");
+    if (options.cancelled && options.cancelled()) throw Cancelled("optimisation: cancelled");
   };
   stop_if_cancelled();
   result.optimized = SkillTrajectoryFromParameters(design, result.initial, SkillModel::kTiming, x2);

@@ -14,6 +14,7 @@
 #include "acro/athlete/orientation.h"
 #include "acro/athlete/standard_human.h"
 #include "acro/base/input_error.h"
+#include "acro/base/progress.h"
 #include "acro/dynamics/configuration.h"
 #include "acro/dynamics/kinematics.h"
 #include "acro/reconstruct/phases.h"
@@ -879,7 +880,7 @@ ReconstructionResult Reconstruct(const capture::Trial& trial,
   for (int c = 0; c <= chunks; ++c) bounds[size_t(c)] = int(std::int64_t(F) * c / chunks);
   FrameSolver solver(options, markers, recorded, P, motion);
   SolveChunksInParallel(result.model, markers, limits, ik_options, bounds, seeds, motion, solver);
-  if (solver.stopped()) throw InputError(trial.source.path, "", "cancelled");
+  if (solver.stopped()) throw Cancelled(trial.source.path + ": cancelled");
   summary.chunks_resolved =
       JoinChunks(result.model, markers, limits, ik_options, bounds, solver, motion);
   MakeQuaternionSignsContinuous(motion);

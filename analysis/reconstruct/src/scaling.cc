@@ -152,6 +152,73 @@ dynamics::Model<double> MakeScaledModel(const dynamics::Model<double>& model,
   return builder.Build();
 }
 
+namespace {
+
+// The scale groups (one factor per group, ScaleGroupOf) and each segment's group.
+struct ScaleGroups {
+  std::vector<std::string> names;
+  std::vector<int> of_segment;
+};
+
+ScaleGroups MakeScaleGroups(const dynamics::Model<double>& model) {
+  ScaleGroups out;
+  out.of_segment.resize(size_t(model.num_segments()));
+  for (int s = 0; s < model.num_segments(); ++s) {
+    const std::string g = ScaleGroupOf(model.segment(s).name);
+    auto it = std::find(out.names.begin(), out.names.end(), g);
+    if (it == out.names.end()) {
+      out.names.push_back(g);
+      it = out.names.end() - 1;
+    }
+    out.of_segment[size_t(s)] = static_cast<int>(it - out.names.begin());
+  }
+  return out;
+}
+
+// The markers' RMS error over the frames at the poses `q`: evaluated there, or (solve) each pose
+// solved first.
+double MarkerRmsOverFrames(InverseKinematics& ik, const std::vector<Eigen::Matrix3Xd>& frames,
+                           std::vector<Eigen::VectorXd>& q, bool solve) {
+  double sum = 0;
+  int count = 0;
+  for (size_t k = 0; k < frames.size(); ++k) {
+    const IkFrameResult r = solve ? ik.Solve(frames[k], q[k], true) : ik.Evaluate(frames[k], q[k], nullptr);
+    if (r.num_markers > 0) {
+      sum += r.rms_m * r.rms_m * r.num_markers;
+      count += r.num_markers;
+    }
+  }
+  return count > 0 ? std::sqrt(sum / count) : 0.0;
+}
+
+// The priors of the joint problem: the scales near 1 within their bounds, the markers' offsets
+// near their defaults.
+void AddScalingPriors(const ScalingOptions& options, std::vector<double>& scales,
+                      std::vector<Eigen::Vector3d>& delta, ceres::Problem& problem) {
+  {
+    auto* prior = new ceres::DynamicAutoDiffCostFunction<PriorResidual, 16>(
+        new PriorResidual{static_cast<int>(scales.size()), options.scale_prior_m, 1.0});
+    prior->AddParameterBlock(static_cast<int>(scales.size()));
+    prior->SetNumResiduals(static_cast<int>(scales.size()));
+    problem.AddResidualBlock(prior, nullptr, scales.data());
+    for (size_t g = 0; g < scales.size(); ++g) {
+      problem.SetParameterLowerBound(scales.data(), static_cast<int>(g), options.min_scale);
+      problem.SetParameterUpperBound(scales.data(), static_cast<int>(g), options.max_scale);
+    }
+  }
+  for (size_t m = 0; m < delta.size(); ++m) {
+    double* d = delta[size_t(m)].data();
+    if (!problem.HasParameterBlock(d)) continue;
+    auto* prior = new ceres::DynamicAutoDiffCostFunction<PriorResidual, 4>(
+        new PriorResidual{3, options.offset_prior, 0.0});
+    prior->AddParameterBlock(3);
+    prior->SetNumResiduals(3);
+    problem.AddResidualBlock(prior, nullptr, d);
+  }
+}
+
+}  // namespace
+
 ScalingResult ScaleModel(const dynamics::Model<double>& model,
                          const std::vector<ModelMarker>& markers,
                          const std::vector<JointLimit>& limits,
@@ -163,18 +230,9 @@ ScalingResult ScaleModel(const dynamics::Model<double>& model,
   ACRO_DEMAND(!frames.empty());
   const int n = model.num_joint_dofs();
   const int M = static_cast<int>(markers.size());
-  // Scale groups.
-  std::vector<std::string> groups;
-  std::vector<int> group_of(size_t(model.num_segments()));
-  for (int s = 0; s < model.num_segments(); ++s) {
-    const std::string g = ScaleGroupOf(model.segment(s).name);
-    auto it = std::find(groups.begin(), groups.end(), g);
-    if (it == groups.end()) {
-      groups.push_back(g);
-      it = groups.end() - 1;
-    }
-    group_of[size_t(s)] = static_cast<int>(it - groups.begin());
-  }
+  const ScaleGroups scale_groups = MakeScaleGroups(model);
+  const std::vector<std::string>& groups = scale_groups.names;
+  const std::vector<int>& group_of = scale_groups.of_segment;
   // Initial poses: inverse kinematics of each frame with the unscaled model.
   InverseKinematics ik(model, markers, limits, ik_options);
   std::vector<Eigen::VectorXd> q(frames.size(), dynamics::MakeNeutralConfiguration(model));
@@ -183,17 +241,8 @@ ScalingResult ScaleModel(const dynamics::Model<double>& model,
     q = *initial_q;
   }
   ScalingResult result;
-  double sum = 0;
-  int count = 0;
-  for (size_t k = 0; k < frames.size(); ++k) {
-    const IkFrameResult r =
-        initial_q ? ik.Evaluate(frames[k], q[k], nullptr) : ik.Solve(frames[k], q[k], true);
-    if (r.num_markers > 0) {
-      sum += r.rms_m * r.rms_m * r.num_markers;
-      count += r.num_markers;
-    }
-  }
-  result.rms_before_m = count > 0 ? std::sqrt(sum / count) : 0.0;
+  // With given poses, their fit as they are.
+  result.rms_before_m = MarkerRmsOverFrames(ik, frames, q, initial_q == nullptr);
   result.frames_used = static_cast<int>(frames.size());
 
   // The joint problem.
@@ -235,26 +284,7 @@ ScalingResult ScaleModel(const dynamics::Model<double>& model,
           {pk, pk + 3, pk + dynamics::kRootNq, scales.data(), delta[size_t(m)].data()});
     }
   }
-  {
-    auto* prior = new ceres::DynamicAutoDiffCostFunction<PriorResidual, 16>(
-        new PriorResidual{static_cast<int>(scales.size()), options.scale_prior_m, 1.0});
-    prior->AddParameterBlock(static_cast<int>(scales.size()));
-    prior->SetNumResiduals(static_cast<int>(scales.size()));
-    problem.AddResidualBlock(prior, nullptr, scales.data());
-    for (size_t g = 0; g < scales.size(); ++g) {
-      problem.SetParameterLowerBound(scales.data(), static_cast<int>(g), options.min_scale);
-      problem.SetParameterUpperBound(scales.data(), static_cast<int>(g), options.max_scale);
-    }
-  }
-  for (int m = 0; m < M; ++m) {
-    double* d = delta[size_t(m)].data();
-    if (!problem.HasParameterBlock(d)) continue;
-    auto* prior = new ceres::DynamicAutoDiffCostFunction<PriorResidual, 4>(
-        new PriorResidual{3, options.offset_prior, 0.0});
-    prior->AddParameterBlock(3);
-    prior->SetNumResiduals(3);
-    problem.AddResidualBlock(prior, nullptr, d);
-  }
+  AddScalingPriors(options, scales, delta, problem);
   ceres::Solver::Options so;
   so.linear_solver_type = ceres::SPARSE_SCHUR;
   if (!ceres::IsSparseLinearAlgebraLibraryTypeAvailable(so.sparse_linear_algebra_library_type))
@@ -280,17 +310,8 @@ ScalingResult ScaleModel(const dynamics::Model<double>& model,
   }
   // Fit after scaling, at the poses fitted with it.
   InverseKinematics ik_scaled(result.model, result.markers, limits, ik_options);
-  sum = 0;
-  count = 0;
-  for (size_t k = 0; k < frames.size(); ++k) {
-    q[k].segment<4>(3).normalize();
-    const IkFrameResult r = ik_scaled.Evaluate(frames[k], q[k], nullptr);
-    if (r.num_markers > 0) {
-      sum += r.rms_m * r.rms_m * r.num_markers;
-      count += r.num_markers;
-    }
-  }
-  result.rms_after_m = count > 0 ? std::sqrt(sum / count) : 0.0;
+  for (Eigen::VectorXd& pose : q) pose.segment<4>(3).normalize();
+  result.rms_after_m = MarkerRmsOverFrames(ik_scaled, frames, q, false);
   result.poses = q;
   return result;
 }

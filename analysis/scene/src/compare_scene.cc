@@ -92,7 +92,7 @@ std::string JumpLabel(const TrialAnalysis& analysis, int jump) {
   return "";
 }
 
-TakeoffPlacement FindDesignTakeoff(const DesignedSkill& design,
+TakeoffPlacement FindDesignTakeoff(const SkillGhost& design,
                                    const dynamics::Model<double>& model) {
   TakeoffPlacement p;
   const Eigen::VectorXd q0 = design.motion.q.col(0);

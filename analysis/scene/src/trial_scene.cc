@@ -206,7 +206,7 @@ void TrialScene::SetGhostJump(const TrialAnalysis& other,
   ghost_ = std::move(ghost);
 }
 
-void TrialScene::SetGhostDesign(const DesignedSkill& design, const AthleteBody& body) {
+void TrialScene::SetGhostDesign(const SkillGhost& design, const AthleteBody& body) {
   if (!athlete_)
     throw std::invalid_argument("TrialScene::SetGhostDesign: the scene has no athlete");
   auto ghost = std::make_unique<Ghost>();

@@ -13,6 +13,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include "acro/base/file_io.h"
+#include "acro/base/progress.h"
 #include "acro/base/input_error.h"
 #include "acro/base/text.h"
 #include "acro/capture/trial_io.h"
@@ -287,7 +288,7 @@ IntrinsicCalibration CalibrateIntrinsics(const std::vector<std::filesystem::path
       result.views.push_back(std::move(view));
     }
     if (options.progress && !options.progress(static_cast<int>(i + 1), int(inputs.size())))
-      throw InputError("", "calibration", "cancelled");
+      throw Cancelled("calibration: cancelled");
   }
 
   std::vector<bool> active(detections.size(), true);

@@ -223,19 +223,26 @@ AutoSyncResult SyncFromDetections(const capture::Trial& trial,
   return r;
 }
 
-AutoSyncResult SyncFromImageMotion(const capture::Trial& trial,
-                                   const Camera& camera,
-                                   capture::VideoReader& video,
-                                   const AutoSyncOptions& options) {
-  DemandValidOptions(options, "sync");
-  const capture::VideoInfo& info = video.info();
-  const std::vector<double>& times = video.frame_times_s();
-  const double frame_s = MedianInterval(times);
-  if (!(frame_s > 0.0)) throw InputError(info.path, "sync", "the video has fewer than two frames");
-  DemandSearchableRange(options, frame_s);
-  if (trial.num_frames < 2 || !(trial.point_rate_hz > 0))
-    throw InputError(trial.source.path, "sync", "the trial has fewer than two samples");
+namespace {
 
+// The video's motion for image-motion sync: per frame and analysed row, the running sums of what
+// moved (row k holds frame k against frame k − 1), at 1/factor of the video's size.
+struct VideoMotion {
+  int n = 0, w = 0, h = 0, factor = 1;
+  std::vector<std::uint32_t> rows;  // n × h × (w + 1)
+
+  double BoxMotion(int k, int x0, int y0, int x1, int y1) const {
+    double m = 0;
+    for (int y = y0; y < y1; ++y) {
+      const std::uint32_t* row = &rows[(static_cast<size_t>(k) * h + y) * (w + 1)];
+      m += double(row[x1]) - double(row[x0]);
+    }
+    return m;
+  }
+};
+
+VideoMotion MeasureVideoMotion(capture::VideoReader& video, const AutoSyncOptions& options) {
+  const capture::VideoInfo& info = video.info();
   // The video's motion: grey frames averaged over factor × factor blocks, the difference of each
   // frame from the one before less twice its mean (the sensor noise and flicker everywhere), and
   // per row the running sums of what is left, so that any box's motion is a sum over its rows.
@@ -303,15 +310,27 @@ AutoSyncResult SyncFromImageMotion(const capture::Trial& trial,
     if (options.progress && !options.progress(k + 1, n))
       throw Cancelled();
   }
+  VideoMotion out;
+  out.n = n;
+  out.w = w;
+  out.h = h;
+  out.factor = factor;
+  out.rows = std::move(rows);
+  return out;
+}
 
-  // The trial's side: per sample, the athlete's box in the analysed image and the mean speed of
-  // the projected points (px per sample) to the next sample.
-  struct Sample {
-    bool valid = false;
-    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
-    double speed = 0.0;
-  };
-  std::vector<Sample> samples(static_cast<size_t>(trial.num_frames));
+// The trial's side: per sample, the athlete's box in the analysed image and the mean speed of
+// the projected points (px per sample) to the next sample.
+struct TrialSample {
+  bool valid = false;
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  double speed = 0.0;
+};
+
+std::vector<TrialSample> ProjectTrialMotion(const capture::Trial& trial, const Camera& camera,
+                                            const AutoSyncOptions& options, const VideoMotion& motion) {
+  const int factor = motion.factor, w = motion.w, h = motion.h;
+  std::vector<TrialSample> samples(static_cast<size_t>(trial.num_frames));
   std::vector<std::optional<Eigen::Vector2d>> uv(static_cast<size_t>(trial.num_points())), next;
   auto project = [&](int f, std::vector<std::optional<Eigen::Vector2d>>* out) {
     out->assign(static_cast<size_t>(trial.num_points()), std::nullopt);
@@ -322,7 +341,7 @@ AutoSyncResult SyncFromImageMotion(const capture::Trial& trial,
   project(0, &uv);
   for (int f = 0; f + 1 < trial.num_frames; ++f) {
     project(f + 1, &next);
-    Sample& s = samples[static_cast<size_t>(f)];
+    TrialSample& s = samples[static_cast<size_t>(f)];
     Eigen::AlignedBox2d box;
     double speed = 0.0;
     int moving = 0;
@@ -345,6 +364,27 @@ AutoSyncResult SyncFromImageMotion(const capture::Trial& trial,
     s.valid = s.x1 > s.x0 && s.y1 > s.y0;
     s.speed = speed / moving;
   }
+  return samples;
+}
+
+}  // namespace
+
+AutoSyncResult SyncFromImageMotion(const capture::Trial& trial,
+                                   const Camera& camera,
+                                   capture::VideoReader& video,
+                                   const AutoSyncOptions& options) {
+  DemandValidOptions(options, "sync");
+  const capture::VideoInfo& info = video.info();
+  const std::vector<double>& times = video.frame_times_s();
+  const double frame_s = MedianInterval(times);
+  if (!(frame_s > 0.0)) throw InputError(info.path, "sync", "the video has fewer than two frames");
+  DemandSearchableRange(options, frame_s);
+  if (trial.num_frames < 2 || !(trial.point_rate_hz > 0))
+    throw InputError(trial.source.path, "sync", "the trial has fewer than two samples");
+
+  const VideoMotion motion = MeasureVideoMotion(video, options);
+  const int n = motion.n;
+  const std::vector<TrialSample> samples = ProjectTrialMotion(trial, camera, options, motion);
 
   auto cost = [&](double offset) {
     const VideoSync sync{offset, options.rate};
@@ -356,13 +396,9 @@ AutoSyncResult SyncFromImageMotion(const capture::Trial& trial,
           sync.TrialTime(0.5 * (times[static_cast<size_t>(k - 1)] + times[static_cast<size_t>(k)]));
       const double x = t * trial.point_rate_hz;
       if (!(x >= 0.0) || x >= trial.num_frames - 1) continue;
-      const Sample& s = samples[static_cast<size_t>(x)];
+      const TrialSample& s = samples[static_cast<size_t>(x)];
       if (!s.valid) continue;
-      double m = 0;
-      for (int y = s.y0; y < s.y1; ++y) {
-        const std::uint32_t* row = &rows[(static_cast<size_t>(k) * h + y) * (w + 1)];
-        m += double(row[s.x1]) - double(row[s.x0]);
-      }
+      const double m = motion.BoxMotion(k, s.x0, s.y0, s.x1, s.y1);
       // The trial's speed over one video frame, not one sample.
       const double v = s.speed * trial.point_rate_hz *
                        (times[static_cast<size_t>(k)] - times[static_cast<size_t>(k - 1)]) /

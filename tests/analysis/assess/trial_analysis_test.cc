@@ -6,6 +6,7 @@
 // and name the cause. Then real data: Sample_Jump2's force plates.
 
 #include "acro/assess/trial_analysis.h"
+#include "acro/base/progress.h"
 
 #include <atomic>
 #include <cmath>
@@ -262,7 +263,7 @@ TEST(TrialAnalysis, CancelStopsTheInverseKinematicsWithinTenFrames) {
   try {
     AnalyzeTrial(SampleTrial(), nullptr, MakeAthleteBody(SampleProfile()), options);
     ADD_FAILURE() << "a cancelled analysis finished";
-  } catch (const InputError& e) {
+  } catch (const Cancelled& e) {
     EXPECT_NE(std::string(e.what()).find("cancelled"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("trampoline_routine.c3d"), std::string::npos) << e.what();
   }

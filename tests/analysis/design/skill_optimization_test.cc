@@ -1,3 +1,4 @@
+#include "acro/base/progress.h"
 #include "acro/design/skill_optimization.h"
 #include "acro/design/skill_simulation.h"
 
@@ -140,7 +141,7 @@ TEST(SkillOptimization, ACancelledRunStopsAfterTheIterationAndSaysSo) {
   try {
     OptimizeSkill(FrontExample(), options);
     ADD_FAILURE() << "a cancelled run returned";
-  } catch (const InputError& e) {
+  } catch (const Cancelled& e) {
     EXPECT_STREQ(e.what(), "optimisation: cancelled");
   }
   EXPECT_EQ(iterations, 3);

@@ -28,17 +28,19 @@
 #include <fstream>
 #include <functional>
 
+#include <Eigen/Geometry>
 #include <fmt/format.h>
 
 #include "acro/athlete/standard_human.h"
 #include "acro/base/input_error.h"
 #include "acro/library/add_trial.h"
-#include "acro/scene/designed_skill.h"
+#include "acro/scene/skill_ghost.h"
 #include "acro/views/display.h"
 #include "compare_window.h"
 #include "image_view.h"
 #include "library_window.h"
 #include "plot_view.h"
+#include "pose_model_cache.h"
 #include "refdata.h"
 #include "skill_window.h"
 #include "timeline.h"
@@ -581,7 +583,7 @@ TEST(Studio, TheSkillDesignerRunsModel2OnThePapersExample) {
   EXPECT_TRUE(designer->last_error().empty()) << designer->last_error();
   const fs::path dir = acro::testing::ScratchDir("studio_design");
   ASSERT_TRUE(designer->SaveDesign((dir / "design").string())) << designer->last_error();
-  const analysis::DesignedSkill saved = analysis::ReadDesignedSkill(
+  const analysis::SkillGhost saved = analysis::ReadSkillGhost(
       dir / "design", analysis::MakeStandardHumanModel(analysis::MakeAthleteBody(file.athlete)));
   EXPECT_EQ(saved.name, file.name);
   std::ofstream(dir / "bad.yaml") << "name: [unclosed\n";
@@ -646,6 +648,80 @@ TEST(Studio, TheSkillDesignerRunsModel2OnThePapersExample) {
   Shot("studio_compare_design");
   EXPECT_FALSE(w.OpenCompareWithDesign(2, (dir / "no_such_design").string()));
   EXPECT_NE(w.last_error().find("no_such_design"), std::string::npos) << w.last_error();
+}
+
+// Video → Detect the athlete (docs/studio.md): the sample's video in a folder of its own (the
+// detections are kept beside it), detected with the full model on the worker, then drawn over the
+// video around the athlete; a second run reads them back from that folder; without the models
+// installed, the one line saying what to run and nothing started.
+TEST(Studio, DetectsTheAthleteInTheVideoAndDrawsTheKeypoints) {
+  ACRO_REQUIRE_POSE_MODELS();
+  const fs::path dir = acro::testing::ScratchDir("studio_detect");
+  SessionFiles files = SampleFiles();
+  fs::copy_file(files.videos.at(0).video, dir / "side_camera.mp4");
+  files.videos.at(0).video = (dir / "side_camera.mp4").string();
+  MainWindow w;
+  w.resize(1920, 1080);
+  w.show();
+  ASSERT_TRUE(QTest::qWaitForWindowExposed(&w));
+  w.OpenFiles(files);
+  ASSERT_TRUE(WaitUntil([&] { return w.session() != nullptr && !w.busy(); }, 180000)) << w.last_error();
+  ASSERT_TRUE(w.last_error().empty()) << w.last_error();
+  Session& s = *w.session();
+  constexpr int kFrame = 150;  // in the third jump's flight
+  w.SetCursor(s.SampleOf(kFrame));
+  ASSERT_EQ(w.video_frame_index(), kFrame);
+  const capture::VideoFrame before = w.drawn_frame();
+  EXPECT_EQ(w.detected_frames(), 0);
+
+  // Without the models: one line, nothing started.
+  const char* models = std::getenv("ACRO_MODELS");
+  const std::string kept = models ? models : "";
+  setenv("ACRO_MODELS", (dir / "no_models").c_str(), 1);
+  EXPECT_FALSE(w.DetectPoses(0, "full"));
+  if (kept.empty()) unsetenv("ACRO_MODELS"); else setenv("ACRO_MODELS", kept.c_str(), 1);
+  const std::string refused = w.last_error();
+  EXPECT_NE(refused.find("install-models.sh"), std::string::npos) << refused;
+  EXPECT_FALSE(w.busy());
+  CloseDialogs();
+
+  ASSERT_TRUE(w.DetectPoses(0, "full"));
+  ASSERT_TRUE(WaitUntil([&] { return !w.busy(); }, 600000));
+  ASSERT_EQ(w.last_error(), refused);  // no new dialog
+  const int detected = w.detected_frames();
+  EXPECT_GE(detected, 0.9 * s.video(0).num_frames()) << detected;  // the athlete is always in view
+  EXPECT_TRUE(fs::exists(dir / "acrolab-detect/side_camera/detect.json"));
+  EXPECT_NE(w.status_text().find("kept in"), std::string::npos) << w.status_text();
+  Shot("studio_detect");
+
+  // The keypoints drawn: pixels changed, all of them around the athlete (the box of the skeleton
+  // drawn, grown by the dots' and lines' width).
+  const capture::VideoFrame& after = w.drawn_frame();
+  ASSERT_EQ(after.index, kFrame);
+  ASSERT_EQ(after.pixels.size(), before.pixels.size());
+  const capture::DetectedPerson* pose = w.detected_pose(0, kFrame);
+  ASSERT_NE(pose, nullptr);
+  Eigen::AlignedBox2d box;
+  for (int j = 0; j < pose->cols(); ++j)
+    if ((*pose)(2, j) >= 0.2) box.extend(Eigen::Vector2d((*pose)(0, j), (*pose)(1, j)));
+  ASSERT_FALSE(box.isEmpty());
+  int changed = 0, outside = 0;
+  for (int y = 0; y < after.height; ++y)
+    for (int x = 0; x < after.width; ++x) {
+      const size_t i = 3 * (size_t(y) * after.width + x);
+      if (after.pixels[i] == before.pixels[i] && after.pixels[i + 1] == before.pixels[i + 1] &&
+          after.pixels[i + 2] == before.pixels[i + 2])
+        continue;
+      ++changed;
+      outside += box.exteriorDistance(Eigen::Vector2d(x + 0.5, y + 0.5)) > 12.0 ? 1 : 0;
+    }
+  EXPECT_GT(changed, 500);
+  EXPECT_EQ(outside, 0) << changed;
+
+  // A second run: read back from beside the video, the same frames.
+  ASSERT_TRUE(w.DetectPoses(0, "full"));
+  ASSERT_TRUE(WaitUntil([&] { return !w.busy(); }, 120000));
+  EXPECT_EQ(w.detected_frames(), detected);
 }
 
 }  // namespace

@@ -11,6 +11,7 @@
 #include "acro/base/input_error.h"
 #include "acro/base/text_format.h"
 #include "acro/dynamics/configuration.h"
+#include "html_page.h"
 
 namespace acro::ui {
 namespace {
@@ -125,32 +126,10 @@ std::string Html(const std::string& s) {
 
 }  // namespace
 
-std::vector<ReportFigure> MakeAnalysisFigures(const analysis::TrialAnalysis& a,
-                                              const AnalysisReportOptions& options) {
-  const analysis::Motion& m = a.reconstruction.motion;
-  const std::vector<double> t = ToVector(m.time_s);
-  std::vector<ReportFigure> out;
+namespace {
 
-  // COM height and the lowest sole with the phases.
-  {
-    Chart c = TimeChart(a, "Centre of mass and feet", "height (m)");
-    c.series.push_back(
-        Series("COM height", t, ToVector(a.check.frames.com_W.row(2).transpose()), kBlue));
-    c.series.push_back(Series("lowest sole", t, ToVector(a.feet_z_m), kGreen));
-    if (const std::optional<double> surface = a.SurfaceHeight()) {
-      ReferenceLine bed;
-      bed.y = *surface;
-      bed.label = a.surface && !a.bed && !a.surface_height_m
-                      ? (a.surface->gives_way ? "bed at rest (estimated)" : "floor (estimated)")
-                      : "bed at rest";
-      c.reference_lines.push_back(bed);
-    }
-    out.push_back(
-        {"com_height.png", "Whole-body centre of mass and the lowest sole; flights shaded.", c});
-  }
-
-  // Root residuals in flight against their thresholds (charts of the judged flights: none
-  // without one — a trial with no flight, a balance trial, has nothing to draw there).
+// Root residuals in flight against their thresholds, and the angular momentum.
+void AddFlightFigures(const analysis::TrialAnalysis& a, const std::vector<double>& t, std::vector<ReportFigure>& out) {
   const analysis::FrameDynamics& f = a.check.frames;
   const Eigen::VectorXd force = f.force_bw.colwise().norm().transpose();
   const Eigen::VectorXd moment = f.moment_bwh.colwise().norm().transpose();
@@ -191,7 +170,13 @@ std::vector<ReportFigure> MakeAnalysisFigures(const analysis::TrialAnalysis& a,
                    c});
   }
 
-  // The chosen joint: angle and torque over the whole trial.
+}
+
+// The chosen joint: angle and torque over the whole trial.
+void AddJointFigures(const analysis::TrialAnalysis& a, const AnalysisReportOptions& options,
+                     const std::vector<double>& t, std::vector<ReportFigure>& out) {
+  const analysis::Motion& m = a.reconstruction.motion;
+  const analysis::FrameDynamics& f = a.check.frames;
   const auto it = std::find(m.coordinate_names.begin(), m.coordinate_names.end(), options.joint);
   const int row =
       it == m.coordinate_names.end() ? -1 : static_cast<int>(it - m.coordinate_names.begin());
@@ -222,6 +207,11 @@ std::vector<ReportFigure> MakeAnalysisFigures(const analysis::TrialAnalysis& a,
                    "Net torque about the " + options.joint + " axis from inverse dynamics.",
                    c});
   }
+}
+
+// The silhouettes' IoU over the video, and each flight's somersault and twist.
+void AddVideoAndRotationFigures(const analysis::TrialAnalysis& a, const AnalysisReportOptions& options,
+                                const std::vector<double>& t, std::vector<ReportFigure>& out) {
   if (!options.silhouette_iou.empty()) {
     Chart c = TimeChart(a, "Silhouettes: video against reconstruction", "IoU");
     LineSeries s =
@@ -259,32 +249,44 @@ std::vector<ReportFigure> MakeAnalysisFigures(const analysis::TrialAnalysis& a,
                    "360°.",
                    c});
   }
+}
+
+}  // namespace
+
+std::vector<ReportFigure> MakeAnalysisFigures(const analysis::TrialAnalysis& a,
+                                              const AnalysisReportOptions& options) {
+  const analysis::Motion& m = a.reconstruction.motion;
+  const std::vector<double> t = ToVector(m.time_s);
+  std::vector<ReportFigure> out;
+
+  // COM height and the lowest sole with the phases.
+  {
+    Chart c = TimeChart(a, "Centre of mass and feet", "height (m)");
+    c.series.push_back(
+        Series("COM height", t, ToVector(a.check.frames.com_W.row(2).transpose()), kBlue));
+    c.series.push_back(Series("lowest sole", t, ToVector(a.feet_z_m), kGreen));
+    if (const std::optional<double> surface = a.SurfaceHeight()) {
+      ReferenceLine bed;
+      bed.y = *surface;
+      bed.label = a.surface && !a.bed && !a.surface_height_m
+                      ? (a.surface->gives_way ? "bed at rest (estimated)" : "floor (estimated)")
+                      : "bed at rest";
+      c.reference_lines.push_back(bed);
+    }
+    out.push_back(
+        {"com_height.png", "Whole-body centre of mass and the lowest sole; flights shaded.", c});
+  }
+
+  AddFlightFigures(a, t, out);
+  AddJointFigures(a, options, t, out);
+  AddVideoAndRotationFigures(a, options, t, out);
   return out;
 }
 
-std::string FormatAnalysisReportHtml(const analysis::TrialAnalysis& a,
-                                     const std::vector<ReportFigure>& figures,
-                                     const AnalysisReportOptions& options,
-                                     const AnalysisReportOutcome& outcome) {
-  const analysis::ReconstructionSummary& rs = a.reconstruction.summary;
-  std::ostringstream h;
-  h << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>Acrolab: " << Html(a.trial_name)
-    << "</title><style>body{font-family:sans-serif;max-width:1000px;margin:2em auto;color:#222}"
-       "table{border-collapse:collapse;margin:0.5em 0}td,th{border:1px solid #ccc;padding:2px 6px;"
-       "text-align:right}td.l,th.l{text-align:left}.pass{color:#1a7f37}.fail{color:#c62828}"
-       ".note{background:#fff8e1;padding:0.5em}img{max-width:100%}</style></head><body>\n";
-  h << "<h1>" << Html(a.trial_name) << "</h1>\n<p>Trial <code>" << Html(options.trial_path)
-    << "</code>; athlete: " << Html(options.athlete) << " (" << Fixed(a.stature_m, 2) << " m, "
-    << Fixed(a.mass_kg, 1) << " kg).</p>\n";
+namespace {
 
-  // Routine summary and verdict.
-  h << "<h2>Routine</h2>\n<p><b>" << a.num_scored << " skills</b>, difficulty (DD) <b>"
-    << Fixed(a.total_difficulty, 1) << "</b>, time of flight <b>"
-    << Fixed(a.total_time_of_flight_s, 3) << " s</b> (the sum the judges use).";
-  const int partial = static_cast<int>(a.jumps.size()) - a.num_scored;
-  if (partial > 0)
-    h << " " << partial << " partial flight(s) at the ends are shown but not scored.";
-  h << "</p>\n";
+// The physical check: verdict, noise, what drives a failure, the mass suggestion, thresholds.
+void WriteCheckSection(const analysis::TrialAnalysis& a, std::ostringstream& h) {
   h << "<h2>Physical check</h2>\n<p class=\"" << (a.check.pass ? "pass" : "fail") << "\"><b>"
     << Html(a.check.verdict) << "</b></p>\n";
   if (a.check.noise_rms_m > 0)
@@ -329,6 +331,10 @@ std::string FormatAnalysisReportHtml(const analysis::TrialAnalysis& a,
     << Fixed(100 * co.max_marker_error_m, 1) << " cm. Frames within "
     << Fixed(1e3 * a.check.edge_margin_s, 0) << " ms of take-off and landing are not judged.</p>\n";
 
+}
+
+// The per-jump table, the shapes, what the columns mean, the contacts' loads.
+void WriteJumpsSection(const analysis::TrialAnalysis& a, const AnalysisReportOptions& options, std::ostringstream& h) {
   // Per-jump table.
   h << "<h2>Jumps</h2>\n<table><tr><th>#</th><th>take-off (s)</th><th>landing (s)</th><th>ToF "
        "(s)</th><th>apex (m)</th><th>HD (m)</th><th>from centre (m)</th><th>somersault "
@@ -376,6 +382,10 @@ std::string FormatAnalysisReportHtml(const analysis::TrialAnalysis& a,
     h << "</p>\n";
   }
 
+}
+
+// The filmstrips and the overlay video.
+void WriteMediaSections(const analysis::TrialAnalysis& a, const AnalysisReportOptions& options, std::ostringstream& h) {
   // Filmstrips.
   if (!options.filmstrips.empty() || !options.filmstrip_note.empty()) {
     h << "<h2>Filmstrips</h2>\n";
@@ -406,6 +416,12 @@ std::string FormatAnalysisReportHtml(const analysis::TrialAnalysis& a,
          "video.</p>\n";
   }
 
+}
+
+// The plots (or why there are none), the reconstruction's summary, the warnings it does not show.
+void WritePlotsAndReconstruction(const analysis::TrialAnalysis& a, const std::vector<ReportFigure>& figures,
+                                 const AnalysisReportOutcome& outcome, std::ostringstream& h) {
+  const analysis::ReconstructionSummary& rs = a.reconstruction.summary;
   // Plots.
   h << "<h2>Plots</h2>\n";
   if (a.check.flights.empty())
@@ -433,9 +449,35 @@ std::string FormatAnalysisReportHtml(const analysis::TrialAnalysis& a,
     for (const std::string& w : more) h << "<li>" << Html(w) << "</li>\n";
     h << "</ul>\n";
   }
+}
+
+}  // namespace
+
+std::string FormatAnalysisReportHtml(const analysis::TrialAnalysis& a,
+                                     const std::vector<ReportFigure>& figures,
+                                     const AnalysisReportOptions& options,
+                                     const AnalysisReportOutcome& outcome) {
+  std::ostringstream h;
+  h << internal::HtmlPageStart("Acrolab: " + a.trial_name, 1000);
+  h << "<h1>" << Html(a.trial_name) << "</h1>\n<p>Trial <code>" << Html(options.trial_path)
+    << "</code>; athlete: " << Html(options.athlete) << " (" << Fixed(a.stature_m, 2) << " m, "
+    << Fixed(a.mass_kg, 1) << " kg).</p>\n";
+
+  // Routine summary and verdict.
+  h << "<h2>Routine</h2>\n<p><b>" << a.num_scored << " skills</b>, difficulty (DD) <b>"
+    << Fixed(a.total_difficulty, 1) << "</b>, time of flight <b>"
+    << Fixed(a.total_time_of_flight_s, 3) << " s</b> (the sum the judges use).";
+  const int partial = static_cast<int>(a.jumps.size()) - a.num_scored;
+  if (partial > 0)
+    h << " " << partial << " partial flight(s) at the ends are shown but not scored.";
+  h << "</p>\n";
+  WriteCheckSection(a, h);
+  WriteJumpsSection(a, options, h);
+  WriteMediaSections(a, options, h);
+  WritePlotsAndReconstruction(a, figures, outcome, h);
   h << "<p>Files: jumps.json, angles.mot (joint angles, degrees), torques.sto (joint torques, "
        "N·m), residuals.csv (root residuals, angular momentum and COM per frame).</p>\n"
-       "</body></html>\n";
+    << internal::kHtmlPageEnd;
   return h.str();
 }
 

@@ -9,6 +9,7 @@
 
 #include "acro/base/file_io.h"
 #include "acro/base/text_format.h"
+#include "html_page.h"
 
 namespace acro::ui {
 
@@ -183,10 +184,7 @@ std::string FormatProgressHtml(const library::Progress& p,
                                const std::vector<ProgressFigure>& session_landings) {
   std::ostringstream h;
   const std::string title = "Acrolab: " + Title(p) + " — " + p.metric_name;
-  h << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>" << HtmlEscape(title)
-    << "</title>\n<style>body{font-family:sans-serif;max-width:960px;margin:1em auto}"
-       "table{border-collapse:collapse}td,th{padding:2px 8px;text-align:right;border-bottom:1px "
-       "solid #ddd}td.l,th.l{text-align:left}img{max-width:100%}</style></head><body>\n";
+  h << internal::HtmlPageStart(title, 960);
   h << "<h1>" << HtmlEscape(Title(p)) << "</h1>\n";
   std::string metric = p.metric_name;
   if (!metric.empty() && metric[0] >= 'a' && metric[0] <= 'z')
@@ -224,7 +222,7 @@ std::string FormatProgressHtml(const library::Progress& p,
               : fmt::format("{} of {}", s.landings_in_zone_a, s.landing_x_m.size()))
       << "</td></tr>\n";
   h << "</table>\n<p>The table as CSV: <a href=\"progress.csv\">progress.csv</a>.</p>\n"
-       "</body></html>\n";
+    << internal::kHtmlPageEnd;
   return h.str();
 }
 

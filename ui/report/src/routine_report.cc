@@ -19,6 +19,7 @@
 #include "acro/dynamics/kinematics.h"
 #include "acro/dynamics/workspace.h"
 #include "acro/reconstruct/markerset.h"
+#include "html_page.h"
 
 namespace acro::ui {
 
@@ -251,10 +252,7 @@ std::vector<std::string> WriteRoutineOutputs(const std::filesystem::path& dir,
 
   // The page.
   std::ostringstream html;
-  html << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>" << HtmlEscape(name)
-       << "</title><style>body{font-family:sans-serif;max-width:1150px;margin:2em auto}"
-          "table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:2px 8px;"
-          "text-align:right}.warning{color:#a40}</style></head><body>\n";
+  html << internal::HtmlPageStart(name, 1150);
   html << "<h1>" << HtmlEscape(name) << "</h1>\n<p>Athlete: " << HtmlEscape(athlete.name) << ". "
        << result.skills.size() << " skills, DD " << fmt::format("{:.1f}", result.difficulty)
        << ", time of flight " << fmt::format("{:.3f}", result.time_of_flight_s)
@@ -299,7 +297,7 @@ std::vector<std::string> WriteRoutineOutputs(const std::filesystem::path& dir,
          << "\" controls style=\"max-width:100%\"></video>\n";
   html << "<p>Files: routine.json, routine.c3d (trampoline marker set and the bed's corners), "
           "routine.mot, skills/NN.yaml (each skill's keyframes, for acrolab optimize).</p>\n"
-          "</body></html>\n";
+       << internal::kHtmlPageEnd;
   write("report.html", html.str());
   return written;
 }

@@ -14,6 +14,7 @@
 #include "acro/capture/c3d.h"
 #include "acro/dynamics/kinematics.h"
 #include "acro/report/chart.h"
+#include "html_page.h"
 
 namespace acro::ui {
 
@@ -305,12 +306,7 @@ std::vector<std::string> WriteSkillOutputs(const std::filesystem::path& dir,
 
   // Report page.
   std::ostringstream html;
-  html << "<!DOCTYPE html>\n<html><head><meta charset=\"utf-8\"><title>"
-       << Html(design.skill().name)
-       << "</title><style>body{font-family:sans-serif;max-width:900px;margin:2em auto}"
-          "table{border-collapse:collapse}td,th{border:1px solid #ccc;padding:2px "
-          "8px;text-align:right}.warning{color:#a40}"
-          "</style></head><body>\n";
+  html << internal::HtmlPageStart(design.skill().name, 900);
   html << "<h1>" << Html(design.skill().name)
        << "</h1>\n<p>Athlete: " << Html(design.skill().athlete.name) << ". Flight time "
        << fmt::format("{:.3f}", design.flight_time_s()) << " s. Model ("
@@ -375,7 +371,8 @@ std::vector<std::string> WriteSkillOutputs(const std::filesystem::path& dir,
   for (const SkillOptimizationSummary& s : r.stages)
     html << "<li>" << Html(s.BriefReport()) << "</li>\n";
   html << "</ul>\n<p>Files: result.json, timing.csv, motion.c3d (virtual markers), "
-          "motion.mot.</p>\n</body></html>\n";
+          "motion.mot.</p>\n"
+       << internal::kHtmlPageEnd;
   write("report.html", html.str());
   return written;
 }

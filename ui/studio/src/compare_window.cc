@@ -43,7 +43,7 @@ CompareWindow::CompareWindow(std::shared_ptr<Session> a_session,
 
 CompareWindow::CompareWindow(std::shared_ptr<Session> a_session,
                              int a,
-                             std::shared_ptr<const analysis::DesignedSkill> design,
+                             std::shared_ptr<const analysis::SkillGhost> design,
                              QWidget* parent)
     : QWidget(parent, Qt::Window), a_session_(std::move(a_session)), design_(std::move(design)) {
   analysis::CompareJump jb;

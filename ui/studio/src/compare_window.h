@@ -12,7 +12,7 @@
 #include <vector>
 
 #include "acro/scene/compare_scene.h"
-#include "acro/scene/designed_skill.h"
+#include "acro/scene/skill_ghost.h"
 #include "acro/studio/session.h"
 
 namespace acro::ui {
@@ -36,7 +36,7 @@ class CompareWindow : public QWidget {
   /// Jump `a` of `a_session`'s trial against a designed skill posed on that trial's athlete.
   CompareWindow(std::shared_ptr<Session> a_session,
                 int a,
-                std::shared_ptr<const analysis::DesignedSkill> design,
+                std::shared_ptr<const analysis::SkillGhost> design,
                 QWidget* parent = nullptr);
   ~CompareWindow() override;
 
@@ -51,7 +51,7 @@ class CompareWindow : public QWidget {
   void Build(analysis::CompareJump a, analysis::CompareJump b);
 
   std::shared_ptr<Session> a_session_, b_session_;  // what the jumps point into
-  std::shared_ptr<const analysis::DesignedSkill> design_;
+  std::shared_ptr<const analysis::SkillGhost> design_;
   std::unique_ptr<analysis::CompareScene> scene_;
   std::unique_ptr<ui::CompareDrawer> drawer_;
   ImageView* view_ = nullptr;

@@ -39,6 +39,10 @@
 #include "acro/athlete/standard_human.h"
 #include "acro/base/input_error.h"
 #include "acro/dynamics/configuration.h"
+#include "acro/pipeline/detect.h"
+#include "acro/pose/keypoints.h"
+#include "acro/pose/pose_models.h"
+#include "acro/report/pose_sheet.h"
 #include "acro/report/analysis_report.h"
 #include "acro/scene/place_scene.h"
 #include "acro/views/scene_overlay.h"
@@ -91,6 +95,41 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
     SetPlaying(false);
     SetCursor(s);
   });
+  BuildJumpTable();
+  QWidget* plot_panel = BuildPlotPanel();
+  QWidget* verdict_panel = BuildVerdictPanel();
+  auto* tabs = new QTabWidget;
+  tabs->addTab(jumps_, "Jumps");
+  tabs->addTab(verdict_panel, "Verdict");
+  auto* tables = new QSplitter(Qt::Horizontal);
+  tables->addWidget(tabs);
+  tables->addWidget(plot_panel);
+  tables->setSizes({800, 800});
+
+  auto* vertical = new QSplitter(Qt::Vertical);
+  vertical->addWidget(views);
+  auto* bottom = new QWidget;
+  auto* bottom_layout = new QVBoxLayout(bottom);
+  bottom_layout->setContentsMargins(0, 0, 0, 0);
+  bottom_layout->addWidget(timeline_);
+  bottom_layout->addWidget(tables, 1);
+  vertical->addWidget(bottom);
+  vertical->setStretchFactor(0, 1);
+  vertical->setStretchFactor(1, 0);
+  jumps_->setMinimumHeight(120);
+  vertical->setSizes({600, 360});
+  setCentralWidget(vertical);
+
+  BuildStatusBar();
+
+  timer_ = new QTimer(this);
+  timer_->setInterval(15);
+  connect(timer_, &QTimer::timeout, this, &MainWindow::Tick);
+  BuildMenus();
+  resize(1600, 950);
+}
+
+void MainWindow::BuildJumpTable() {
   jumps_ = new QTableWidget(0, 9);
   jumps_->setHorizontalHeaderLabels({"#",
                                      "code",
@@ -109,6 +148,9 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
     if (session_ && row >= 0 && size_t(row) < session_->analysis().jumps.size())
       GoToJump(session_->analysis().jumps[size_t(row)].index);
   });
+}
+
+QWidget* MainWindow::BuildPlotPanel() {
   // The plots: the report's figures, the cursor on them, a click moves it; exported as shown.
   plot_ = new PlotView;
   connect(plot_, &PlotView::timeRequested, this, [this](double t) {
@@ -143,6 +185,10 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   plot_bar->addWidget(export_button);
   plot_layout->addLayout(plot_bar);
   plot_layout->addWidget(plot_, 1);
+  return plot_panel;
+}
+
+QWidget* MainWindow::BuildVerdictPanel() {
   verdict_ = new QTableWidget(0, 8);
   verdict_->setHorizontalHeaderLabels({"flight",
                                        "code",
@@ -178,28 +224,10 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   verdict_layout->setContentsMargins(0, 0, 0, 0);
   verdict_layout->addWidget(verdict_, 1);
   verdict_layout->addWidget(findings_);
-  auto* tabs = new QTabWidget;
-  tabs->addTab(jumps_, "Jumps");
-  tabs->addTab(verdict_panel, "Verdict");
-  auto* tables = new QSplitter(Qt::Horizontal);
-  tables->addWidget(tabs);
-  tables->addWidget(plot_panel);
-  tables->setSizes({800, 800});
+  return verdict_panel;
+}
 
-  auto* vertical = new QSplitter(Qt::Vertical);
-  vertical->addWidget(views);
-  auto* bottom = new QWidget;
-  auto* bottom_layout = new QVBoxLayout(bottom);
-  bottom_layout->setContentsMargins(0, 0, 0, 0);
-  bottom_layout->addWidget(timeline_);
-  bottom_layout->addWidget(tables, 1);
-  vertical->addWidget(bottom);
-  vertical->setStretchFactor(0, 1);
-  vertical->setStretchFactor(1, 0);
-  jumps_->setMinimumHeight(120);
-  vertical->setSizes({600, 360});
-  setCentralWidget(vertical);
-
+void MainWindow::BuildStatusBar() {
   status_ = new QLabel;
   progress_ = new QProgressBar;
   progress_->setMaximumWidth(240);
@@ -210,12 +238,6 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   statusBar()->addWidget(status_, 1);
   statusBar()->addPermanentWidget(progress_);
   statusBar()->addPermanentWidget(cancel_);
-
-  timer_ = new QTimer(this);
-  timer_->setInterval(15);
-  connect(timer_, &QTimer::timeout, this, &MainWindow::Tick);
-  BuildMenus();
-  resize(1600, 950);
 }
 
 void MainWindow::LayOutVideoViews(int count) {
@@ -250,6 +272,152 @@ void MainWindow::closeEvent(QCloseEvent* event) {
   event->accept();
 }
 
+void MainWindow::AddVideoFromDialogs() {
+  if (!session_) return ShowError("Open a trial first: the video is synced with it.");
+  if (session_->num_videos() >= kMaxVideos)
+    return ShowError(fmt::format(
+        "The session shows {} videos already: at most {}.", session_->num_videos(), kMaxVideos));
+  const QString video = QFileDialog::getOpenFileName(
+      this, "Add a video of the trial", {}, "Videos (*.mp4 *.mov *.avi *.mkv)");
+  if (video.isEmpty()) return;
+  const QString calib = QFileDialog::getOpenFileName(
+      this, "Its camera calibration", {}, "Calibrations (*.toml *.xml *.yaml *.json)");
+  if (calib.isEmpty()) return;
+  SessionFiles files = session_->files();
+  VideoFiles added;
+  added.video = video.toStdString();
+  added.calibration = calib.toStdString();
+  // A calibration of several cameras: which one filmed it.
+  try {
+    const std::vector<vision::Camera> cameras = vision::ReadCameras(added.calibration);
+    if (cameras.size() > 1) {
+      QStringList names;
+      for (const vision::Camera& c : cameras) names << QString::fromStdString(c.name);
+      bool ok = false;
+      const QString name = QInputDialog::getItem(
+          this, "Which camera", "The camera that filmed it", names, 0, false, &ok);
+      if (!ok) return;
+      added.camera = name.toStdString();
+    }
+  } catch (const std::exception& e) {
+    return ShowError(e.what());
+  }
+  files.videos.push_back(added);
+  OpenFiles(files, view());
+}
+
+void MainWindow::BeginWork(const std::string& line) {
+  JoinLoader();
+  SetPlaying(false);
+  cancel_load_ = false;
+  loaded_ = false;
+  progress_->setRange(0, 0);
+  progress_->show();
+  cancel_->show();
+  status_->setText(QString::fromStdString(line));
+}
+
+std::function<bool(const std::string&, int, int)> MainWindow::WorkerProgress() {
+  return [this](const std::string& step, int done, int total) {
+    QMetaObject::invokeMethod(
+        this,
+        [this, step, done, total] {
+          status_->setText(QString::fromStdString(step));
+          progress_->setRange(0, std::max(0, total));
+          progress_->setValue(done);
+        },
+        Qt::QueuedConnection);
+    return !cancel_load_.load();
+  };
+}
+
+void MainWindow::AskDetectPoses() {
+  if (!session_ || !session_->has_video())
+    return ShowError("Open a trial with its video first: the athlete is detected in the video.");
+  int k = 0;
+  bool ok = true;
+  if (session_->num_videos() > 1) {
+    QStringList names;
+    for (int v = 0; v < session_->num_videos(); ++v)
+      names << QString::fromStdString(std::filesystem::path(session_->files().videos[size_t(v)].video).filename().string());
+    const QString name = QInputDialog::getItem(this, "Detect the athlete", "In the video", names, 0, false, &ok);
+    if (!ok) return;
+    k = int(names.indexOf(name));
+  }
+  const QString model = QInputDialog::getItem(
+      this, "Detect the athlete",
+      "BlazePose model (heavy: the most accurate through somersaults; full: about four times faster)",
+      {"heavy", "full", "lite"}, 0, false, &ok);
+  if (ok) DetectPoses(k, model.toStdString());
+}
+
+bool MainWindow::DetectPoses(int k, const std::string& model) {
+  if (!session_ || k < 0 || k >= session_->num_videos()) {
+    ShowError("Open a trial with its video first: the athlete is detected in the video.");
+    return false;
+  }
+  if (busy()) {
+    ShowError("Still working on the previous files: wait or cancel.");
+    return false;
+  }
+  pose::LandmarkModel landmarks = pose::LandmarkModel::kHeavy;
+  try {
+    landmarks = pose::ParseLandmarkModel(model);
+    pose::FindPoseModels(landmarks);  // not installed: its one line now, not after a wait
+  } catch (const std::exception& e) {
+    ShowError(e.what());
+    return false;
+  }
+  const std::filesystem::path video = session_->files().videos.at(size_t(k)).video;
+  BeginWork("detecting the athlete in " + video.filename().string());
+  loader_ = std::thread([this, video, landmarks, k, session = session_] {
+    Progress progress;
+    progress.report = WorkerProgress();
+    std::vector<capture::DetectedPerson> poses;
+    int found = 0;
+    std::string error, where;
+    try {
+      const pose::VideoPoses r = pipeline::DetectPosesInCache(video, landmarks, progress);
+      poses.assign(size_t(r.info.num_frames), capture::DetectedPerson::Zero(3, 33));
+      for (const pose::FramePose& f : r.frames) {
+        if (!f.found || f.frame < 0 || size_t(f.frame) >= poses.size()) continue;
+        poses[size_t(f.frame)] = f.keypoints;
+        ++found;
+      }
+      where = pipeline::PoseCacheDirectory(video).string();
+    } catch (const std::exception& e) {
+      error = e.what();
+    }
+    QMetaObject::invokeMethod(
+        this,
+        [this, k, session, poses = std::move(poses), found, error, where]() mutable {
+          progress_->hide();
+          cancel_->hide();
+          loaded_ = true;
+          if (!error.empty() && cancel_load_) {
+            status_->setText("Detection cancelled: the frames done are kept; a second run goes on from there.");
+            return;
+          }
+          if (!error.empty()) return ShowError(error);
+          if (session != session_ || size_t(k) >= panes_.size()) return;  // another session since
+          VideoPane& pane = *panes_[size_t(k)];
+          pane.poses = std::move(poses);
+          status_->setText(QString::fromStdString(fmt::format(
+              "{} of {} frames with the athlete's keypoints (kept in {})", found, pane.poses.size(), where)));
+          if (pane.frame_index >= 0) DrawVideo(k);
+        },
+        Qt::QueuedConnection);
+  });
+  return true;
+}
+
+int MainWindow::detected_frames(int k) const {
+  const VideoPane& pane = *panes_.at(size_t(k));
+  int n = 0;
+  for (const capture::DetectedPerson& p : pane.poses) n += p.row(2).maxCoeff() > 0 ? 1 : 0;
+  return n;
+}
+
 void MainWindow::BuildMenus() {
   QMenu* file = menuBar()->addMenu("&File");
   file->addAction("Open &trial…", this, [this] {
@@ -273,39 +441,7 @@ void MainWindow::BuildMenus() {
     files.athlete = athlete.toStdString();
     OpenFiles(files, view());
   });
-  file->addAction("Add a &video…", this, [this] {
-    if (!session_) return ShowError("Open a trial first: the video is synced with it.");
-    if (session_->num_videos() >= kMaxVideos)
-      return ShowError(fmt::format(
-          "The session shows {} videos already: at most {}.", session_->num_videos(), kMaxVideos));
-    const QString video = QFileDialog::getOpenFileName(
-        this, "Add a video of the trial", {}, "Videos (*.mp4 *.mov *.avi *.mkv)");
-    if (video.isEmpty()) return;
-    const QString calib = QFileDialog::getOpenFileName(
-        this, "Its camera calibration", {}, "Calibrations (*.toml *.xml *.yaml *.json)");
-    if (calib.isEmpty()) return;
-    SessionFiles files = session_->files();
-    VideoFiles added;
-    added.video = video.toStdString();
-    added.calibration = calib.toStdString();
-    // A calibration of several cameras: which one filmed it.
-    try {
-      const std::vector<vision::Camera> cameras = vision::ReadCameras(added.calibration);
-      if (cameras.size() > 1) {
-        QStringList names;
-        for (const vision::Camera& c : cameras) names << QString::fromStdString(c.name);
-        bool ok = false;
-        const QString name = QInputDialog::getItem(
-            this, "Which camera", "The camera that filmed it", names, 0, false, &ok);
-        if (!ok) return;
-        added.camera = name.toStdString();
-      }
-    } catch (const std::exception& e) {
-      return ShowError(e.what());
-    }
-    files.videos.push_back(added);
-    OpenFiles(files, view());
-  });
+  file->addAction("Add a &video…", this, [this] { AddVideoFromDialogs(); });
   file->addAction("Open from &library…", this, [this] { OpenFromLibrary(); });
   file->addAction("&Open session…", this, [this] {
     const QString path =
@@ -320,10 +456,16 @@ void MainWindow::BuildMenus() {
   file->addAction("Open s&kill (designer)…", this, [this] { OpenSkillDesigner(); });
   file->addSeparator();
   file->addAction("&Compare two jumps…", this, [this] { AskCompare(); });
+  QMenu* video_menu = menuBar()->addMenu("&Video");
+  video_menu->addAction("&Detect the athlete (2D keypoints)…", this, [this] { AskDetectPoses(); });
   file->addSeparator();
   QAction* quit = file->addAction("&Quit", this, &QWidget::close);
   quit->setShortcut(QKeySequence::Quit);
 
+  BuildTransport();
+}
+
+void MainWindow::BuildTransport() {
   QToolBar* transport = addToolBar("Transport");
   const auto add = [&](const QString& text, const QKeySequence& key, auto slot) {
     QAction* a = transport->addAction(text, this, slot);
@@ -443,26 +585,9 @@ void MainWindow::OpenFiles(const SessionFiles& files, const SessionView& view) {
 void MainWindow::OpenInBackground(const SessionFiles& files,
                                   std::function<void(std::shared_ptr<Session>)> done) {
   if (busy()) return ShowError("Still opening the previous files: wait or cancel.");
-  JoinLoader();
-  SetPlaying(false);
-  cancel_load_ = false;
-  loaded_ = false;
-  progress_->setRange(0, 0);
-  progress_->show();
-  cancel_->show();
-  status_->setText(QString::fromStdString("opening " + files.trial));
+  BeginWork("opening " + files.trial);
   loader_ = std::thread([this, files, done] {
-    const auto report = [this](const std::string& step, int done_steps, int total) {
-      QMetaObject::invokeMethod(
-          this,
-          [this, step, done_steps, total] {
-            status_->setText(QString::fromStdString(step));
-            progress_->setRange(0, std::max(0, total));
-            progress_->setValue(done_steps);
-          },
-          Qt::QueuedConnection);
-      return !cancel_load_.load();
-    };
+    const auto report = WorkerProgress();
     std::shared_ptr<Session> opened;
     std::string error;
     try {
@@ -676,7 +801,7 @@ void MainWindow::SetCursor(int sample) {
 SkillWindow* MainWindow::OpenSkillDesigner(const std::string& path) {
   if (!designer_) {
     designer_ = std::make_unique<SkillWindow>(this);
-    designer_->SetGhostTarget([this](const analysis::DesignedSkill& d) { ShowDesignGhost(d); });
+    designer_->SetGhostTarget([this](const analysis::SkillGhost& d) { ShowDesignGhost(d); });
   }
   designer_->show();
   if (!path.empty()) designer_->OpenSkill(path);
@@ -787,7 +912,7 @@ bool MainWindow::OpenCompareWithDesign(int a, const std::string& design_dir) {
     return false;
   }
   return ShowCompare(a, [&] {
-    auto design = std::make_shared<const analysis::DesignedSkill>(analysis::ReadDesignedSkill(
+    auto design = std::make_shared<const analysis::SkillGhost>(analysis::ReadSkillGhost(
         design_dir, analysis::MakeStandardHumanModel(session_->body())));
     auto window = std::make_unique<CompareWindow>(session_, a, design, this);
     session_->scene().SetGhostDesign(*design, session_->body());
@@ -808,7 +933,7 @@ bool MainWindow::ShowCompare(int a, const std::function<std::unique_ptr<CompareW
   return true;
 }
 
-void MainWindow::ShowDesignGhost(const analysis::DesignedSkill& design) {
+void MainWindow::ShowDesignGhost(const analysis::SkillGhost& design) {
   if (!session_) return ShowError("Open a trial first: the design is drawn in its flights.");
   try {
     session_->scene().SetGhostDesign(design, session_->body());
@@ -887,6 +1012,10 @@ void MainWindow::DrawVideo(int k) {
     const int sample = session_->SampleOf(frame, k);
     if (sample >= 0) pane.overlay->Draw(sample, &pane.drawn);
   }
+  // The detector's keypoints over the model (Video → Detect the athlete).
+  if (size_t(frame) < pane.poses.size() && pane.drawn.channels == 3)
+    ui::DrawSkeleton(pane.drawn.width, pane.drawn.height, pane.poses[size_t(frame)], pose::BlazePoseEdges(),
+                     pose::BlazePoseSides(), 0.2, &pane.drawn.pixels);
   pane.view->SetImage(ToImage(pane.drawn.pixels, pane.drawn.width, pane.drawn.height));
 }
 

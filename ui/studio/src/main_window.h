@@ -19,8 +19,9 @@
 #include <thread>
 #include <vector>
 
+#include "acro/capture/detections.h"
 #include "acro/capture/video.h"
-#include "acro/scene/designed_skill.h"
+#include "acro/scene/skill_ghost.h"
 #include "acro/studio/session.h"
 
 class QAction;
@@ -90,7 +91,7 @@ class MainWindow : public QMainWindow {
   /// The same with a designed skill (`acrolab optimize`'s folder) posed on this athlete.
   bool OpenCompareWithDesign(int a, const std::string& design_dir);
   /// A design (the skill designer's) as the ghost in every flight, over the video and in 3D.
-  void ShowDesignGhost(const analysis::DesignedSkill& design);
+  void ShowDesignGhost(const analysis::SkillGhost& design);
   CompareWindow* compare() { return compare_.get(); }
   /// The skill designer (File → Open skill…), opened on `path` when given.
   SkillWindow* OpenSkillDesigner(const std::string& path = "");
@@ -122,6 +123,21 @@ class MainWindow : public QMainWindow {
   int video_frame_index(int k = 0) const { return panes_.at(size_t(k))->frame_index; }
   const capture::VideoFrame& filmed_frame(int k = 0) const { return panes_.at(size_t(k))->filmed; }
   const analysis::TrialFrame* view_frame() const;
+  /// Video → Detect the athlete: the 2D keypoints of video `k` with BlazePose's `model` (lite,
+  /// full, heavy) on the worker, progress and Cancel in the status bar, kept beside the video
+  /// (pipeline::PoseCacheDirectory: a second run reads them back, a cancelled one goes on), then
+  /// drawn over the video, left blue, right orange. False (and the dialog) without a video, with
+  /// the models not installed, or while the worker is busy.
+  bool DetectPoses(int k, const std::string& model = "heavy");
+  /// The frames of video `k` with the athlete's keypoints (0 before DetectPoses), and the frame as
+  /// drawn (the overlay and the keypoints over the decoded frame).
+  int detected_frames(int k = 0) const;
+  /// Video `k`'s keypoints at `frame` (nullptr before DetectPoses, or beyond the video).
+  const capture::DetectedPerson* detected_pose(int k, int frame) const {
+    const auto& poses = panes_.at(size_t(k))->poses;
+    return frame >= 0 && size_t(frame) < poses.size() ? &poses[size_t(frame)] : nullptr;
+  }
+  const capture::VideoFrame& drawn_frame(int k = 0) const { return panes_.at(size_t(k))->drawn; }
   /// The status bar's line (what the worker is doing, or what is open).
   std::string status_text() const;
   /// The last error shown in a dialog (empty: none).
@@ -132,6 +148,21 @@ class MainWindow : public QMainWindow {
 
  private:
   void BuildMenus();
+  // The parts of the window the constructor assembles.
+  void BuildJumpTable();
+  QWidget* BuildPlotPanel();
+  QWidget* BuildVerdictPanel();
+  void BuildStatusBar();
+  void BuildTransport();
+  // File → Add a video: the video, its calibration, the camera when it holds several.
+  void AddVideoFromDialogs();
+  // Video → Detect the athlete: which video (when several) and which model, then DetectPoses.
+  void AskDetectPoses();
+  // The worker's start on the window's thread: the status bar's progress and Cancel shown, `line`
+  // said; and the progress the worker reports through (each step in the status bar, false once
+  // Cancel is pressed).
+  void BeginWork(const std::string& line);
+  std::function<bool(const std::string&, int, int)> WorkerProgress();
   /// What the 3D view shows (its parts, the cameras) as the toggles say; ApplyShow redraws too.
   void ShowInView();
   void ApplyShow();
@@ -169,6 +200,8 @@ class MainWindow : public QMainWindow {
     /// The last frames decoded (1080p: 6 MB each): a step back, or a loop over a few frames,
     /// needs no seek (a seek decodes from the keyframe before: about 120 ms at 1080p here).
     std::deque<capture::VideoFrame> recent;
+    /// The detector's keypoints per frame (BlazePose's 33; empty: not detected).
+    std::vector<capture::DetectedPerson> poses;
   };
   std::vector<std::unique_ptr<VideoPane>> panes_;
   QWidget* video_grid_ = nullptr;

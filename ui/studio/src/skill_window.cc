@@ -398,7 +398,7 @@ bool SkillWindow::ShowOverAthlete() {
     return false;
   }
   try {
-    ghost_target_(analysis::MakeDesignedSkill(analysis::SkillDesign(*skill_), *result_));
+    ghost_target_(analysis::MakeSkillGhost(analysis::SkillDesign(*skill_), *result_));
   } catch (const std::exception& e) {
     ShowError(e.what());
     return false;

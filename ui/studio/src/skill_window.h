@@ -21,7 +21,7 @@
 
 #include "acro/design/skill_optimization.h"
 #include "acro/design/skill_simulation.h"
-#include "acro/scene/designed_skill.h"
+#include "acro/scene/skill_ghost.h"
 
 class QComboBox;
 class QLabel;
@@ -63,7 +63,7 @@ class SkillWindow : public QWidget {
   /// Writes the design's folder (result.json, motion.mot, charts, filmstrip, report.html).
   bool SaveDesign(const std::string& dir);
   /// Where "Show over the athlete" sends the design (the main window's ghost).
-  void SetGhostTarget(std::function<void(const analysis::DesignedSkill&)> target) {
+  void SetGhostTarget(std::function<void(const analysis::SkillGhost&)> target) {
     ghost_target_ = std::move(target);
   }
   /// Sends the design to the ghost target; false and the dialog without a result.
@@ -99,7 +99,7 @@ class SkillWindow : public QWidget {
   std::optional<analysis::SkillSimulationResult> sim_;
   struct Preview;
   std::unique_ptr<Preview> preview_scenes_;
-  std::function<void(const analysis::DesignedSkill&)> ghost_target_;
+  std::function<void(const analysis::SkillGhost&)> ghost_target_;
   int pose_keyframe_ = 0;
   QTableWidget* keyframes_ = nullptr;
   QTableWidget* pose_ = nullptr;

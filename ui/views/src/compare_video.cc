@@ -6,6 +6,7 @@
 #include <cstring>
 
 #include "acro/base/input_error.h"
+#include "acro/base/progress.h"
 #include "acro/capture/frame_output.h"
 #include "acro/views/camera_composite.h"
 #include "acro/views/display.h"
@@ -162,7 +163,7 @@ int WriteCompareVideo(analysis::CompareScene& scene,
     drawer.Draw(scene.start_s() + i * step, &rgb);
     out.Write(i, rgb);
     if (options.progress && !options.progress(i + 1, total))
-      throw InputError(output.string(), "", "cancelled; nothing written");
+      throw Cancelled(output.string() + ": cancelled; nothing written");
   }
   out.Finish();
   return total;

@@ -6,6 +6,7 @@
 #include "acro/athlete/athlete_body.h"
 #include "acro/athlete/body_mesh.h"
 #include "acro/base/input_error.h"
+#include "acro/base/progress.h"
 #include "acro/capture/video.h"
 #include "acro/dynamics/configuration.h"
 #include "acro/scene/place_scene.h"
@@ -157,7 +158,7 @@ int WriteRoutineVideo(const analysis::SimulatedRoutine& routine,
     }
     writer.Write(rgb);
     if (options.progress && !options.progress(k + 1, frames))
-      throw InputError(path.string(), "", "cancelled");
+      throw Cancelled(path.string() + ": cancelled");
   }
   writer.Finish();
   return frames;

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "acro/base/file_io.h"
+#include "acro/base/progress.h"
 #include "acro/base/input_error.h"
 #include "acro/capture/frame_output.h"
 #include "acro/scene/compare_scene.h"
@@ -269,7 +270,7 @@ int WriteFilmstripVideo(const std::vector<FilmstripRow>& rows,
     Compose(image, rows, options, &rgb);
     out.Write(i, rgb);
     if (video.progress && !video.progress(i + 1, total))
-      throw InputError(path.string(), "", "cancelled; nothing written");
+      throw Cancelled(path.string() + ": cancelled; nothing written");
   }
   out.Finish();
   return out.frames_written();

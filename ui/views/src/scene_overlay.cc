@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "acro/base/input_error.h"
+#include "acro/base/progress.h"
 #include "acro/capture/frame_output.h"
 #include "acro/scene/silhouette_check.h"
 #include "acro/views/camera_composite.h"
@@ -254,7 +255,7 @@ OverlayTiming WriteSceneOverlay(capture::VideoReader& video,
     timing.frames_written += copies;
     timing.encode_s += Since(start);
     if (options.progress && !options.progress(frame.index - first + 1, total))
-      throw InputError(output.string(), "", "cancelled; nothing written");
+      throw Cancelled(output.string() + ": cancelled; nothing written");
     if (frame.index >= last) break;
     start = Clock::now();
     const bool more = video.ReadNext(&frame);

@@ -7,8 +7,8 @@
 //
 // A signal that arrives before InstallInterruptCleanup has run (while the dynamic loader is still
 // mapping the libraries, before main) ends the program with the default action: 143 or 130 with
-// nothing written yet, and no line. tests/robustness waits for the mask (/proc/PID/status SigBlk)
-// before timing its signals.
+// nothing written yet, and no line (tests/robustness: SigtermAtAnyInstantEndsABatchCleanly). The
+// tests that time a signal into the work wait for the mask (/proc/PID/status SigBlk) first.
 
 namespace acro {
 

@@ -65,7 +65,7 @@ struct TrialAnalysisOptions {
   /// One line per step ("reconstruct: …", "phases: …") as the analysis goes.
   std::function<void(const std::string&)> progress;
   /// Asked between the steps and, unless reconstruction.cancelled is set, every ten frames of the
-  /// inverse kinematics: true stops the analysis, which throws acro::InputError ("cancelled").
+  /// inverse kinematics: true stops the analysis, which throws acro::Cancelled.
   std::function<bool()> cancelled;
 
   bool IsValid(std::string* why) const;

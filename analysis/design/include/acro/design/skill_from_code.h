@@ -45,7 +45,7 @@ struct SkillFromCodeOptions {
   /// and the least time between the end of the last twist or opening and the landing (s).
   double max_tilt_deg = 25.0;
   double min_time_to_prepare_landing_s = 0.05;
-  /// Asked between shooting iterations; true stops with acro::InputError ("design: cancelled").
+  /// Asked between shooting iterations; true stops with acro::Cancelled ("design: cancelled").
   std::function<bool()> cancelled;
   /// Progress lines (shooting iterations) are handed here when set; the library prints nothing.
   std::function<void(const std::string&)> progress;

@@ -81,7 +81,7 @@ struct SkillOptimizationOptions {
   /// Progress lines (iteration, objective) are handed here when set; the library prints nothing.
   std::function<void(const std::string&)> progress;
   /// Asked after every solver iteration when set: true stops the optimisation, and OptimizeSkill
-  /// throws acro::InputError ("optimisation: cancelled").
+  /// throws acro::Cancelled ("optimisation: cancelled").
   std::function<bool()> cancelled;
 
   bool IsValid(std::string* why) const;

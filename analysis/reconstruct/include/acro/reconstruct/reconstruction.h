@@ -84,7 +84,7 @@ struct ReconstructionOptions {
   /// Called with (frames done, total frames) from the worker threads (serialised).
   std::function<void(int, int)> progress;
   /// Asked with the progress (every ten frames, serialised): true stops the inverse kinematics,
-  /// and Reconstruct throws acro::InputError ("cancelled").
+  /// and Reconstruct throws acro::Cancelled.
   std::function<bool()> cancelled;
   bool IsValid(std::string* why) const;
 };

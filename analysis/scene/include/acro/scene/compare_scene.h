@@ -15,7 +15,7 @@
 
 #include "acro/assess/trial_analysis.h"
 #include "acro/scene/athlete_scene.h"
-#include "acro/scene/designed_skill.h"
+#include "acro/scene/skill_ghost.h"
 
 namespace acro::analysis {
 
@@ -28,10 +28,10 @@ struct CompareJump {
   BodyMesh mesh;
   int jump = 1;
   std::string label;  ///< "A: 40o back somersault"
-  /// Instead of a trial's jump, a designed skill (ReadDesignedSkill or MakeDesignedSkill) posed on
+  /// Instead of a trial's jump, a designed skill (ReadSkillGhost or MakeSkillGhost) posed on
   /// `body`'s standard human: `trial` and `analysis` stay null, `jump` is not used. It must
   /// outlive the scene.
-  const DesignedSkill* design = nullptr;
+  const SkillGhost* design = nullptr;
 };
 
 /// One instant, τ seconds after both take-offs.
@@ -65,9 +65,9 @@ TakeoffPlacement FindTakeoff(const TrialAnalysis& analysis, int jump);
 /// How a comparison names a jump: "40o back somersault (jump 2)" (empty for a jump not there).
 std::string JumpLabel(const TrialAnalysis& analysis, int jump);
 
-/// The take-off of a designed skill (ReadDesignedSkill for `model`, its standard human): the feet
+/// The take-off of a designed skill (ReadSkillGhost for `model`, its standard human): the feet
 /// and heading of its first frame, time 0, landing at its flight time.
-TakeoffPlacement FindDesignTakeoff(const DesignedSkill& design,
+TakeoffPlacement FindDesignTakeoff(const SkillGhost& design,
                                    const dynamics::Model<double>& model);
 
 /// The rigid motion that puts a jump taking off at `from` onto the take-off `onto`: its heading

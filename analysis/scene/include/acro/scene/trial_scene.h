@@ -16,7 +16,7 @@
 #include "acro/assess/trial_analysis.h"
 #include "acro/capture/trial.h"
 #include "acro/scene/athlete_scene.h"
-#include "acro/scene/designed_skill.h"
+#include "acro/scene/skill_ghost.h"
 #include "acro/scene/scene.h"
 #include "acro/vision/projection.h"
 
@@ -102,11 +102,11 @@ class TrialScene {
                     BodyMesh mesh,
                     int jump,
                     const std::string& label);
-  /// Shows a designed skill (ReadDesignedSkill for `body`'s standard human) as a ghost in every
+  /// Shows a designed skill (ReadSkillGhost for `body`'s standard human) as a ghost in every
   /// flight, placed the same way at each flight's take-off: where the real jump departs from the
   /// design is where the two part. `body` is the athlete's (the design is posed on its mesh).
   /// Throws std::invalid_argument for a scene without an athlete.
-  void SetGhostDesign(const DesignedSkill& design, const AthleteBody& body);
+  void SetGhostDesign(const SkillGhost& design, const AthleteBody& body);
   bool has_ghost() const { return ghost_ != nullptr; }
   void ClearGhost();
 

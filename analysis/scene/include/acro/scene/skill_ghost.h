@@ -17,7 +17,7 @@
 
 namespace acro::analysis {
 
-struct DesignedSkill {
+struct SkillGhost {
   std::string name;      ///< the skill's name ("back tuck")
   std::string fig_code;  ///< may be empty
   std::string athlete;   ///< the athlete it was designed for
@@ -37,14 +37,14 @@ struct DesignedSkill {
 /// Throws acro::InputError naming the file and the field or column at fault (a file missing, a
 /// joint the model lacks or the model's joint the file lacks, times that do not start at the
 /// take-off or do not increase).
-DesignedSkill ReadDesignedSkill(const std::filesystem::path& path,
+SkillGhost ReadSkillGhost(const std::filesystem::path& path,
                                 const dynamics::Model<double>& model);
 
 /// The same straight from the optimisation (the studio's designer, before anything is saved): the
 /// optimised motion sampled evenly over the flight at about `rate_hz` (SampleSkillMotion), the
-/// keyframe times before and after: what ReadDesignedSkill reads back from this design's folder,
+/// keyframe times before and after: what ReadSkillGhost reads back from this design's folder,
 /// sampled on an even grid (motion.mot's samples are 1/rate apart, the last at the flight time).
-DesignedSkill MakeDesignedSkill(const SkillDesign& design,
+SkillGhost MakeSkillGhost(const SkillDesign& design,
                                 const SkillOptimizationResult& result,
                                 double rate_hz = 100.0);
 

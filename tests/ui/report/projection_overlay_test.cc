@@ -1,7 +1,8 @@
 // The projection overlay: points drawn where the camera puts them, on the frames the sync pairs
 // them with, into an MP4 or a directory of PNGs that appears only when complete.
 
-#include "acro/report/overlay.h"
+#include "acro/base/progress.h"
+#include "acro/report/projection_overlay.h"
 
 #include <cairo.h>
 #include <gtest/gtest.h>
@@ -122,7 +123,7 @@ TEST(Overlay, PointsLandOnTheirSyncedFramesInPngsAndMp4) {
   capture::VideoReader fourth(dir / "black.mp4");
   EXPECT_THROW(
       WriteProjectionOverlay(fourth, MovingMarker(), FrontCamera(), dir / "cancelled", options),
-      InputError);
+      Cancelled);
   EXPECT_FALSE(fs::exists(dir / "cancelled"));
   for (const auto& entry : fs::directory_iterator(dir))
     EXPECT_EQ(entry.path().filename().string().find(".tmp-"), std::string::npos) << entry.path();

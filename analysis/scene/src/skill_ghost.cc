@@ -1,4 +1,4 @@
-#include "acro/scene/designed_skill.h"
+#include "acro/scene/skill_ghost.h"
 
 #include <algorithm>
 #include <cmath>
@@ -40,7 +40,7 @@ std::vector<double> Numbers(const Json& j, const std::string& key, const std::st
 
 }  // namespace
 
-DesignedSkill ReadDesignedSkill(const std::filesystem::path& path,
+SkillGhost ReadSkillGhost(const std::filesystem::path& path,
                                 const dynamics::Model<double>& model) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec))
@@ -51,7 +51,7 @@ DesignedSkill ReadDesignedSkill(const std::filesystem::path& path,
   const std::filesystem::path mot_path = dir / "motion.mot";
   const std::string result_file = result_path.string(), mot_file = mot_path.string();
 
-  DesignedSkill d;
+  SkillGhost d;
   {
     const std::vector<std::uint8_t> bytes = ReadFileBytes(result_path, kMaxResultBytes);
     const Json j = Json::parse(bytes.begin(), bytes.end(), nullptr, false);
@@ -154,10 +154,10 @@ int FrameNearestTime(const Motion& motion, double t_s) {
   return int(it - begin);
 }
 
-DesignedSkill MakeDesignedSkill(const SkillDesign& design,
+SkillGhost MakeSkillGhost(const SkillDesign& design,
                                 const SkillOptimizationResult& result,
                                 double rate_hz) {
-  DesignedSkill d;
+  SkillGhost d;
   d.name = design.skill().name;
   d.fig_code = design.skill().fig_code;
   d.athlete = design.skill().athlete.name;

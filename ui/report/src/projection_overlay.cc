@@ -1,4 +1,4 @@
-#include "acro/report/overlay.h"
+#include "acro/report/projection_overlay.h"
 
 #include <cairo.h>
 
@@ -8,6 +8,7 @@
 #include <fmt/format.h>
 
 #include "acro/base/demand.h"
+#include "acro/base/progress.h"
 #include "acro/base/input_error.h"
 #include "acro/capture/frame_output.h"
 #include "rgb_surface.h"
@@ -88,7 +89,7 @@ int WriteProjectionOverlay(capture::VideoReader& video,
     out.Write(frame.index, frame.pixels);
     ++written;
     if (options.progress && !options.progress(written, info.num_frames))
-      throw InputError(output.string(), "", "cancelled; nothing written");
+      throw Cancelled(output.string() + ": cancelled; nothing written");
   }
   out.Finish();
   return written;

@@ -3,7 +3,7 @@
 // directly), and the ghost stands at each flight's take-off of the sample routine, then follows
 // its own take-off parabola — its centre of mass rises as v_z τ − g τ²/2 from there.
 
-#include "acro/scene/designed_skill.h"
+#include "acro/scene/skill_ghost.h"
 
 #include <gtest/gtest.h>
 
@@ -72,10 +72,10 @@ Worst AgainstTheDesign(const Motion& m,
   return w;
 }
 
-TEST(DesignedSkill, ReadsOptimizesFolderBackAsTheOptimisedMotion) {
+TEST(SkillGhost, ReadsOptimizesFolderBackAsTheOptimisedMotion) {
   const Design& d = TheBackTuck();
   const SkillDesign design(d.skill);
-  const DesignedSkill read = ReadDesignedSkill(d.dir, design.model());
+  const SkillGhost read = ReadSkillGhost(d.dir, design.model());
   EXPECT_EQ(read.name, "back tuck");
   EXPECT_EQ(read.fig_code, "40o");
   EXPECT_DOUBLE_EQ(read.flight_time_s, design.flight_time_s());
@@ -90,16 +90,16 @@ TEST(DesignedSkill, ReadsOptimizesFolderBackAsTheOptimisedMotion) {
   EXPECT_LT(worst.angle, 1e-9);
   EXPECT_LT(worst.joint, 1e-9);
   // The folder, its result.json or its motion.mot name the same design.
-  EXPECT_EQ(ReadDesignedSkill(d.dir / "motion.mot", design.model()).motion.q, m.q);
+  EXPECT_EQ(ReadSkillGhost(d.dir / "motion.mot", design.model()).motion.q, m.q);
 }
 
 // The studio's designer hands the optimisation's result to the ghost without writing it: the same
 // design as the folder read back.
-TEST(DesignedSkill, MadeFromTheResultItIsTheFolderReadBack) {
+TEST(SkillGhost, MadeFromTheResultItIsTheFolderReadBack) {
   const Design& d = TheBackTuck();
   const SkillDesign design(d.skill);
-  const DesignedSkill read = ReadDesignedSkill(d.dir, design.model());
-  const DesignedSkill made = MakeDesignedSkill(design, d.result);
+  const SkillGhost read = ReadSkillGhost(d.dir, design.model());
+  const SkillGhost made = MakeSkillGhost(design, d.result);
   EXPECT_EQ(made.name, read.name);
   EXPECT_EQ(made.fig_code, read.fig_code);
   EXPECT_DOUBLE_EQ(made.flight_time_s, read.flight_time_s);
@@ -124,10 +124,10 @@ TEST(DesignedSkill, MadeFromTheResultItIsTheFolderReadBack) {
 // designed back tuck. At τ = 0 the design stands on the jump's take-off feet; B's curves end at the
 // somersault the skill file's keyframes ask for (the design passes through them: Model 2 keeps the
 // poses), and B's COM follows the design's take-off parabola.
-TEST(DesignedSkill, ComparedWithAJump) {
+TEST(SkillGhost, ComparedWithAJump) {
   const Design& d = TheBackTuck();
   const auto& [trial, body, analysis] = TheSample();
-  const DesignedSkill design = ReadDesignedSkill(d.dir, MakeStandardHumanModel(body));
+  const SkillGhost design = ReadSkillGhost(d.dir, MakeStandardHumanModel(body));
   const BodyMesh mesh = MakeEllipsoidBodyMesh(body, OverlayBodyMeshOptions());
   CompareJump a{&trial, &analysis, &body, mesh, 2, "jump 2"};
   CompareJump b;
@@ -162,7 +162,7 @@ TEST(DesignedSkill, ComparedWithAJump) {
   EXPECT_LT((f.b.com_W - scene.b_to_a() * Eigen::Vector3d(0, 0, 1)).norm(), 1e-9);
 }
 
-TEST(DesignedSkill, AMotionForAnotherModelIsNamed) {
+TEST(SkillGhost, AMotionForAnotherModelIsNamed) {
   const Design& d = TheBackTuck();
   const std::filesystem::path dir = acro::testing::ScratchDir("designed_skill_bad");
   std::filesystem::copy_file(d.dir / "result.json", dir / "result.json");
@@ -182,28 +182,28 @@ TEST(DesignedSkill, AMotionForAnotherModelIsNamed) {
   }
   const SkillDesign design(d.skill);
   try {
-    ReadDesignedSkill(dir, design.model());
+    ReadSkillGhost(dir, design.model());
     ADD_FAILURE() << "a motion without r_knee_flexion was read";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("motion.mot"), std::string::npos) << e.what();
     EXPECT_NE(std::string(e.what()).find("r_knee_flexion"), std::string::npos) << e.what();
   }
   std::filesystem::remove(dir / "result.json");
-  EXPECT_THROW(ReadDesignedSkill(dir, design.model()), InputError);
+  EXPECT_THROW(ReadSkillGhost(dir, design.model()), InputError);
   // A folder that is not there is named as given.
   try {
-    ReadDesignedSkill(dir / "no_such_design", design.model());
+    ReadSkillGhost(dir / "no_such_design", design.model());
     ADD_FAILURE() << "a folder that is not there was read";
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("no_such_design"), std::string::npos) << e.what();
   }
 }
 
-TEST(DesignedSkill, TheGhostTakesOffWithEachFlightAndFliesItsOwnParabola) {
+TEST(SkillGhost, TheGhostTakesOffWithEachFlightAndFliesItsOwnParabola) {
   const Design& d = TheBackTuck();
   const auto& [trial, body, analysis] = TheSample();
   const dynamics::Model<double> model = MakeStandardHumanModel(body);
-  const DesignedSkill design = ReadDesignedSkill(d.dir, model);
+  const SkillGhost design = ReadSkillGhost(d.dir, model);
   TrialScene scene(trial, analysis, body, MakeEllipsoidBodyMesh(body, OverlayBodyMeshOptions()));
   scene.SetGhostDesign(design, body);
 
