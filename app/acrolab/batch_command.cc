@@ -17,6 +17,7 @@
 #include "acro/base/interrupts.h"
 #include "acro/base/process.h"
 #include "acro/library/add_trial.h"
+#include "acro/library/batch_jobs.h"
 #include "acro/library/library.h"
 #include "commands.h"
 
@@ -34,147 +35,11 @@ struct BatchArguments {
   std::string analyses_to, analyses;
 };
 
-// One job: a trial and the `library add` options of its line.
-struct Job {
-  int number = 0;                  ///< 1-based, in the list's order
-  std::string where;               ///< "LIST:line" for messages
-  std::vector<std::string> words;  ///< TRIAL then options
-  library::AddRequest request;
-};
-
-// A line's words: blanks separate, '…' and "…" quote, \ escapes (a subset of the shell's).
-std::vector<std::string> SplitWords(const std::string& line, const std::string& where) {
-  std::vector<std::string> words;
-  std::string word;
-  bool in_word = false;
-  char quote = 0;
-  for (size_t i = 0; i < line.size(); ++i) {
-    const char c = line[i];
-    if (quote) {
-      if (c == quote) {
-        quote = 0;
-      } else if (c == '\\' && quote == '"' && i + 1 < line.size()) {
-        word += line[++i];
-      } else {
-        word += c;
-      }
-    } else if (c == '\'' || c == '"') {
-      quote = c;
-      in_word = true;
-    } else if (c == '\\' && i + 1 < line.size()) {
-      word += line[++i];
-      in_word = true;
-    } else if (c == ' ' || c == '\t') {
-      if (in_word) words.push_back(word);
-      word.clear();
-      in_word = false;
-    } else if (c == '#' && !in_word) {
-      break;
-    } else {
-      word += c;
-      in_word = true;
-    }
-  }
-  if (quote) throw InputError(where, "", "a quote is not closed");
-  if (in_word) words.push_back(word);
-  return words;
-}
-
-std::string ShellQuote(const std::string& word) {
-  if (!word.empty() && word.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
-                                              "0123456789-_./=:,+@%") == std::string::npos)
-    return word;
-  std::string q = "'";
-  for (char c : word) q += c == '\'' ? std::string("'\\''") : std::string(1, c);
-  return q + "'";
-}
-
-// The value after `option` in the words, or empty.
-std::string OptionValue(const std::vector<std::string>& words, const std::string& option) {
-  for (size_t i = 1; i + 1 < words.size(); ++i)
-    if (words[i] == option) return words[i + 1];
-  return {};
-}
-
-std::vector<Job> ReadJobs(const BatchArguments& args) {
-  std::vector<Job> jobs;
-  const std::filesystem::path source = args.source;
-  if (std::filesystem::is_directory(source)) {
-    // Every C3D and TRC under DIR, in name order.
-    std::vector<std::filesystem::path> files;
-    for (const auto& entry : std::filesystem::recursive_directory_iterator(source)) {
-      const std::string ext = LowerExtension(entry.path());
-      if (entry.is_regular_file() && (ext == "c3d" || ext == "trc")) files.push_back(entry.path());
-    }
-    std::sort(files.begin(), files.end());
-    for (const auto& f : files) {
-      Job j;
-      j.where = f.string();
-      j.words = {std::filesystem::absolute(f).lexically_normal().string()};
-      jobs.push_back(j);
-    }
-  } else {
-    std::ifstream in(source);
-    if (!in) throw InputError(args.source, "", "neither a directory nor a readable job list");
-    std::string line;
-    int number = 0;
-    while (std::getline(in, line)) {
-      ++number;
-      const std::string where = fmt::format("{}: line {}", args.source, number);
-      std::vector<std::string> words = SplitWords(line, where);
-      if (words.empty()) continue;
-      // A relative trial path is relative to the list's folder.
-      std::filesystem::path trial = words[0];
-      if (trial.is_relative()) trial = source.parent_path() / trial;
-      words[0] = std::filesystem::absolute(trial).lexically_normal().string();
-      for (size_t i = 1; i < words.size(); ++i) {
-        static const std::vector<std::string> kTakes = {
-            "--athlete", "--session", "--place", "--notes", "--video", "--calib"};
-        if (std::find(kTakes.begin(), kTakes.end(), words[i]) == kTakes.end() ||
-            i + 1 == words.size())
-          throw InputError(where,
-                           "",
-                           "'" + words[i] +
-                               "' is not one of --athlete, --session, --place, --notes, "
-                               "--video, --calib with its value");
-        if (words[i] != "--session" && words[i] != "--place" && words[i] != "--notes") {
-          std::filesystem::path file = words[i + 1];
-          if (file.is_relative())
-            words[i + 1] = (source.parent_path() / file).lexically_normal().string();
-        }
-        ++i;
-      }
-      Job j;
-      j.where = where;
-      j.words = words;
-      jobs.push_back(j);
-    }
-  }
-  for (size_t k = 0; k < jobs.size(); ++k) {
-    Job& j = jobs[k];
-    j.number = int(k + 1);
-    if (OptionValue(j.words, "--athlete").empty()) {
-      if (args.athlete.empty())
-        throw InputError(
-            j.where, "", "no --athlete for this trial (give one to batch, or on the line)");
-      j.words.insert(j.words.end(), {"--athlete", args.athlete});
-    }
-    if (OptionValue(j.words, "--session").empty() && !args.session.empty())
-      j.words.insert(j.words.end(), {"--session", args.session});
-    j.request.trial = j.words[0];
-    j.request.athlete_profile = OptionValue(j.words, "--athlete");
-    if (!args.analyses.empty())
-      j.request.analysis_dir =
-          std::filesystem::path(args.analyses) / fmt::format("job-{}", j.number);
-  }
-  return jobs;
-}
-
 // The command that runs one job: `acrolab library add …` into the library, or with
 // --analyses-to, `acrolab analyze …` into its own folder (for machines that do not share the
 // library's disk).
 std::vector<std::string> JobCommand(const BatchArguments& args,
-                                    const Job& job,
+                                    const library::BatchJob& job,
                                     const std::string& self,
                                     bool here) {
   std::vector<std::string> argv = {self};
@@ -208,19 +73,23 @@ std::vector<std::string> JobCommand(const BatchArguments& args,
 int RunBatch(const BatchArguments& args) {
   if (!args.analyses.empty() && !args.analyses_to.empty())
     throw UsageError{"--analyses-to makes the analyses, --analyses stores them: one at a time"};
-  std::vector<Job> jobs = ReadJobs(args);
+  library::BatchDefaults defaults;
+  defaults.athlete = args.athlete;
+  defaults.session = args.session;
+  defaults.analyses = args.analyses;
+  std::vector<library::BatchJob> jobs = library::ReadBatchJobs(args.source, defaults);
   if (jobs.empty()) throw InputError(args.source, "", "no trials (C3D or TRC) to add");
   if (args.only_job > int(jobs.size()))
     throw UsageError{fmt::format("--job {}: the list has {} jobs", args.only_job, jobs.size())};
   const std::string self = CurrentExecutable().empty() ? "acrolab" : CurrentExecutable();
 
   // What is left to do, from the library's state: an interrupted batch starts again here.
-  std::vector<const Job*> pending;
+  std::vector<const library::BatchJob*> pending;
   int unchanged = 0;
   std::vector<std::string> failures;
   if (!args.analyses_to.empty()) {
     // Analyses into folders: a job whose folder holds its analysis is done.
-    for (const Job& j : jobs) {
+    for (const library::BatchJob& j : jobs) {
       if (args.only_job > 0 && j.number != args.only_job) continue;
       const std::filesystem::path done = std::filesystem::path(args.analyses_to) /
                                          fmt::format("job-{}", j.number) / "analysis.json";
@@ -232,7 +101,7 @@ int RunBatch(const BatchArguments& args) {
   } else {
     // Opening it for writing creates (or migrates) the library once, before the jobs share it.
     const library::Library lib(args.library, library::Library::Mode::kReadWrite);
-    for (const Job& j : jobs) {
+    for (const library::BatchJob& j : jobs) {
       if (args.only_job > 0 && j.number != args.only_job) continue;
       try {
         library::AddRequest request = j.request;
@@ -248,10 +117,10 @@ int RunBatch(const BatchArguments& args) {
     }
   }
   if (args.print_jobs) {
-    for (const Job* j : pending) {
+    for (const library::BatchJob* j : pending) {
       std::string line;
       for (const std::string& w : JobCommand(args, *j, "acrolab", false))
-        line += (line.empty() ? "" : " ") + ShellQuote(w);
+        line += (line.empty() ? "" : " ") + library::ShellQuote(w);
       std::printf("%s\n", line.c_str());
     }
     std::fprintf(
@@ -267,7 +136,7 @@ int RunBatch(const BatchArguments& args) {
                args.analyses_to.empty() ? "add" : "analyse",
                args.jobs);
   std::vector<std::vector<std::string>> commands;
-  for (const Job* j : pending) commands.push_back(JobCommand(args, *j, self, true));
+  for (const library::BatchJob* j : pending) commands.push_back(JobCommand(args, *j, self, true));
   const auto bar = MakeProgressBar("batch", "trials");
   int done = 0, ok = 0;
   const auto start = std::chrono::steady_clock::now();

@@ -6,13 +6,13 @@
 #include <memory>
 
 #include <fmt/format.h>
-#include <nlohmann/json.hpp>
 
 #include "acro/base/file_io.h"
 #include "acro/base/input_error.h"
 #include "acro/library/add_trial.h"
 #include "acro/library/library.h"
 #include "acro/library/progress.h"
+#include "acro/report/library_text.h"
 #include "acro/report/progress_report.h"
 #include "commands.h"
 
@@ -108,86 +108,14 @@ int RunAdd(LibraryArguments& args) {
 
 int RunList(const LibraryArguments& args) {
   const library::Library lib(args.library, library::Library::Mode::kReadOnly);
-  if (args.athletes) {
-    const std::vector<library::AthleteSummary> list = lib.ListAthletes();
-    std::printf("%-24s %8s %8s %9s %9s %7s %7s\n",
-                "athlete",
-                "stature",
-                "mass",
-                "profiles",
-                "sessions",
-                "trials",
-                "jumps");
-    for (const library::AthleteSummary& a : list)
-      std::printf("%-24s %6.2f m %5.1f kg %9d %9d %7d %7d\n",
-                  a.name.c_str(),
-                  a.stature_m,
-                  a.mass_kg,
-                  a.num_profiles,
-                  a.num_sessions,
-                  a.num_trials,
-                  a.num_jumps);
-    return 0;
-  }
-  if (args.designs) {
-    const std::vector<library::DesignSummary> list = lib.ListDesigns(args.query.athlete);
-    std::printf("%6s  %-18s %-8s %-8s %5s  %-20s  %s\n",
-                "id",
-                "athlete",
-                "kind",
-                "codes",
-                "DD",
-                "created",
-                "name");
-    for (const library::DesignSummary& d : list)
-      std::printf("%6lld  %-18s %-8s %-8s %5.1f  %-20s  %s\n",
-                  static_cast<long long>(d.id),
-                  d.athlete.c_str(),
-                  d.kind.c_str(),
-                  d.codes.c_str(),
-                  d.difficulty,
-                  d.created_at.c_str(),
-                  d.name.c_str());
-    std::printf("%zu designs in %s\n", list.size(), args.library.c_str());
-    return 0;
-  }
-  const std::vector<library::TrialSummary> trials = lib.ListTrials(args.query.athlete);
-  if (args.json) {
-    nlohmann::json out = nlohmann::json::array();
-    for (const library::TrialSummary& t : trials)
-      out.push_back({{"id", t.id},
-                     {"athlete", t.athlete},
-                     {"date", t.session_date},
-                     {"path", t.path},
-                     {"sha256", t.sha256},
-                     {"verdict", t.verdict},
-                     {"jumps", t.num_jumps},
-                     {"difficulty", t.difficulty},
-                     {"time_of_flight_s", t.time_of_flight_s},
-                     {"analysis_version", t.analysis_version}});
-    std::printf("%s\n", out.dump(1).c_str());
-    return 0;
-  }
-  std::printf("%6s  %-10s  %-18s %5s %6s %8s  %-10s  %s\n",
-              "id",
-              "date",
-              "athlete",
-              "jumps",
-              "DD",
-              "ToF (s)",
-              "verdict",
-              "trial");
-  for (const library::TrialSummary& t : trials)
-    std::printf("%6lld  %-10s  %-18s %5d %6.1f %8.3f  %-10s  %s\n",
-                static_cast<long long>(t.id),
-                t.session_date.c_str(),
-                t.athlete.c_str(),
-                t.num_jumps,
-                t.difficulty,
-                t.time_of_flight_s,
-                t.verdict.c_str(),
-                t.path.c_str());
-  std::printf("%zu trials in %s\n", trials.size(), args.library.c_str());
+  if (args.athletes)
+    std::fputs(ui::FormatAthleteTable(lib.ListAthletes()).c_str(), stdout);
+  else if (args.designs)
+    std::fputs(ui::FormatDesignTable(lib.ListDesigns(args.query.athlete), args.library).c_str(), stdout);
+  else if (args.json)
+    std::fputs(ui::FormatTrialListJson(lib.ListTrials(args.query.athlete)).c_str(), stdout);
+  else
+    std::fputs(ui::FormatTrialTable(lib.ListTrials(args.query.athlete), args.library).c_str(), stdout);
   return 0;
 }
 
@@ -198,44 +126,7 @@ int RunShow(const LibraryArguments& args) {
     throw InputError(
         args.library, "", "no trial '" + args.which.front() + "' (acrolab library list)");
   const std::string jumps = lib.TrialJumpsJson(t->id);
-  if (args.json) {
-    std::printf("%s", jumps.c_str());
-    return 0;
-  }
-  std::printf("trial %lld: %s\n  athlete %s, session %s%s\n  SHA-256 %s, %lld bytes\n",
-              static_cast<long long>(t->id),
-              t->path.c_str(),
-              t->athlete.c_str(),
-              t->session_date.c_str(),
-              t->session_place.empty() ? "" : (", " + t->session_place).c_str(),
-              t->sha256.c_str(),
-              static_cast<long long>(t->size_bytes));
-  if (!t->video_path.empty())
-    std::printf("  video %s, calibration %s\n", t->video_path.c_str(), t->calibration_path.c_str());
-  std::printf("  analysed %s by Acrolab %s (%s); verdict %s\n",
-              t->analysed_at.c_str(),
-              t->analysis_version.c_str(),
-              t->analysis_source.c_str(),
-              t->verdict.c_str());
-  std::printf("  %4s %-6s %-28s %8s %7s %7s %5s  %s\n",
-              "jump",
-              "code",
-              "skill",
-              "ToF (s)",
-              "HD (m)",
-              "apex",
-              "DD",
-              "verdict");
-  for (const library::JumpRecord& j : library::ParseJumpsJson(jumps, t->path))
-    std::printf("  %4d %-6s %-28s %8.3f %7.2f %7.2f %5.1f  %s\n",
-                j.index,
-                j.fig_code.c_str(),
-                j.skill_name.c_str(),
-                j.time_of_flight_s,
-                j.displacement_m,
-                j.apex_above_bed_m,
-                j.difficulty,
-                j.verdict.c_str());
+  std::fputs((args.json ? jumps : ui::FormatTrialDetails(*t, jumps)).c_str(), stdout);
   return 0;
 }
 
@@ -246,43 +137,13 @@ int RunQuery(const LibraryArguments& args) {
   const std::vector<library::JumpRow> rows = lib.QueryJumps(args.query);
   const double ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  std::string text;
-  if (args.json)
-    text = library::FormatJumpRowsJson(rows);
-  else if (args.csv || !args.out.empty())
-    text = library::FormatJumpRowsCsv(rows);
+  const std::string data = args.json ? library::FormatJumpRowsJson(rows) : library::FormatJumpRowsCsv(rows);
   if (!args.out.empty()) {
-    WriteFileAtomically(
-        args.out, args.json ? library::FormatJumpRowsJson(rows) : library::FormatJumpRowsCsv(rows));
+    WriteFileAtomically(args.out, data);
     std::printf("%zu jumps (query %.1f ms) written to %s\n", rows.size(), ms, args.out.c_str());
-    return 0;
+  } else {
+    std::fputs((args.json || args.csv ? data : ui::FormatJumpRowTable(rows, ms)).c_str(), stdout);
   }
-  if (!text.empty()) {
-    std::fputs(text.c_str(), stdout);
-    return 0;
-  }
-  std::printf("%-10s  %-16s %4s %-6s %8s %7s %5s  %-10s  %s\n",
-              "date",
-              "athlete",
-              "jump",
-              "code",
-              "ToF (s)",
-              "HD (m)",
-              "DD",
-              "verdict",
-              "trial");
-  for (const library::JumpRow& r : rows)
-    std::printf("%-10s  %-16s %4d %-6s %8.3f %7.2f %5.1f  %-10s  %s\n",
-                r.session_date.c_str(),
-                r.athlete.c_str(),
-                r.jump.index,
-                r.jump.fig_code.c_str(),
-                r.jump.time_of_flight_s,
-                r.jump.displacement_m,
-                r.jump.difficulty,
-                r.jump.verdict_class.c_str(),
-                r.trial_path.c_str());
-  std::printf("%zu jumps (query %.1f ms)\n", rows.size(), ms);
   return 0;
 }
 
@@ -318,26 +179,8 @@ int RunExport(const LibraryArguments& args) {
     std::printf("%zu jumps written to %s\n", rows.size(), args.out.c_str());
     return 0;
   }
-  nlohmann::json out;
-  out["library"] = args.library;
-  out["schema_version"] = lib.schema_version();
-  out["trials"] = nlohmann::json::array();
-  const std::vector<library::TrialSummary> trials = lib.ListTrials();
-  for (const library::TrialSummary& t : trials)
-    out["trials"].push_back({{"id", t.id},
-                             {"athlete", t.athlete},
-                             {"date", t.session_date},
-                             {"place", t.session_place},
-                             {"path", t.path},
-                             {"sha256", t.sha256},
-                             {"video", t.video_path},
-                             {"calibration", t.calibration_path},
-                             {"analysis_version", t.analysis_version},
-                             {"analysed_at", t.analysed_at},
-                             {"verdict", t.verdict},
-                             {"jumps", nlohmann::json::parse(lib.TrialJumpsJson(t.id))}});
-  WriteFileAtomically(args.out, out.dump(1) + "\n");
-  std::printf("%zu trials written to %s\n", trials.size(), args.out.c_str());
+  WriteFileAtomically(args.out, ui::FormatLibraryExportJson(lib, args.library));
+  std::printf("%zu trials written to %s\n", lib.ListTrials().size(), args.out.c_str());
   return 0;
 }
 
