@@ -10,6 +10,7 @@
 
 #include "acro/athlete/athlete_profile.h"
 #include "acro/athlete/de_leva.h"
+#include "acro/base/file_io.h"
 #include "acro/base/temporaries.h"
 #include "acro/capture/trial_io.h"
 #include "acro/reconstruct/up_axis.h"
@@ -114,6 +115,21 @@ void VideoArguments::Declare(CLI::App* command, bool required) {
   command->add_option("--event", event, "TRIAL_S:VIDEO_S: an event seen in both");
   command->add_option("--sync", sync, "auto: find the offset from the video's image motion");
   command->add_option("--rate", rate, "video seconds per trial second (default 1)");
+}
+
+void CheckVideoOutput(const std::string& out, bool mp4_only) {
+  const std::filesystem::path path(out);
+  const std::string ext = LowerExtension(path);
+  if (ext == "mp4") {
+    CheckOutputDirectory(path.has_parent_path() ? path.parent_path() : std::filesystem::path("."));
+    ResolveOutputTarget(path);  // a directory, a block device or a link loop refused now
+    return;
+  }
+  if (mp4_only) throw UsageError{"-o: " + out + ": an .mp4 file is written here"};
+  if (!ext.empty() && !IsDirectory(path))
+    throw UsageError{"-o: " + out + ": ." + ext +
+                     " cannot be written; give an .mp4 file, or a folder for PNG frames"};
+  CheckOutputDirectory(path);
 }
 
 void WarnIfAnotherSize(const std::string& video,

@@ -116,6 +116,12 @@ struct VideoArguments {
 /// The pipeline's video input, its warnings on stderr.
 pipeline::VideoInput OpenVideoFor(const VideoArguments& video);
 
+/// Checks, before any work, the -o of a command that draws a video: an .mp4 file (its folder must
+/// take it), or a folder of PNG frames (a name with no extension, or an existing directory).
+/// UsageError for any other extension (`-o x.avi` used to write a folder of PNGs named x.avi), or
+/// for a folder when `mp4_only`.
+void CheckVideoOutput(const std::string& out, bool mp4_only = false);
+
 /// A progress bar per step on stderr (a new bar when the step changes), never cancelling (Ctrl-C
 /// stops the program); nothing with `quiet`.
 Progress MakeStepProgress(bool quiet);

@@ -110,12 +110,7 @@ analysis::CompareJump ToCompare(const Side& side) {
 
 int RunCompare(const CompareArguments& args) {
   if (!(args.slow >= 1 && args.slow <= 16)) throw UsageError{"--slow must be between 1 and 16"};
-  {
-    const std::filesystem::path out(args.out);
-    CheckOutputDirectory(out.extension() != ".mp4" ? out
-                         : out.has_parent_path()   ? out.parent_path()
-                                                   : std::filesystem::path("."));
-  }
+  CheckVideoOutput(args.out);
   const Side a = Choose(args.a, args.athlete_a, nullptr);
   const Side b = Choose(args.b, args.athlete_b.empty() ? args.athlete_a : args.athlete_b, a.trial);
   analysis::CompareScene scene(ToCompare(a), ToCompare(b));

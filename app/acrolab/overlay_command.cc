@@ -47,9 +47,8 @@ int RunDetectionOverlay(const OverlayArguments& args) {
   if (!args.common.trial_path.empty() || !args.video.calibration.empty())
     throw UsageError{"--detections draws 2D keypoints over --video alone: no TRIAL and no --calib"};
   if (args.video.video.empty()) throw UsageError{"--detections needs --video"};
+  CheckVideoOutput(args.common.out_dir, /*mp4_only=*/true);
   const std::filesystem::path out(args.common.out_dir);
-  if (out.extension() != ".mp4") throw UsageError{"-o: with --detections, an .mp4 file"};
-  CheckOutputDirectory(out.has_parent_path() ? out.parent_path() : std::filesystem::path("."));
   // acrolab detect's folder for one video: its json/ inside.
   std::filesystem::path source = args.detections;
   if (IsDirectory(source / "json")) source /= "json";
@@ -97,13 +96,7 @@ int RunOverlay(const OverlayArguments& args) {
   }
   if (show.mismatch && !athlete)
     throw UsageError{"--show mismatch needs --athlete (the athlete's silhouette to compare)"};
-  {
-    // Before any work: a bad -o costs nothing.
-    const std::filesystem::path out(args.common.out_dir);
-    CheckOutputDirectory(out.extension() != ".mp4" ? out
-                         : out.has_parent_path()   ? out.parent_path()
-                                                   : std::filesystem::path("."));
-  }
+  CheckVideoOutput(args.common.out_dir);  // before any work: a bad -o costs nothing
 
   // The trial upright with its athlete, the video opened once (the pipeline, as every door).
   const bool auto_sync = args.video.sync == "auto";

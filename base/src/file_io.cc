@@ -148,8 +148,16 @@ void OutputTransaction::Commit() {
     for (const std::filesystem::directory_entry& entry : entries) {
       const std::filesystem::path target = dir_ / entry.path().filename();
       std::error_code move;
-      if (entry.is_directory() && std::filesystem::is_directory(target))
-        std::filesystem::remove_all(target, move);
+      if (!entry.is_directory()) {
+        // A file goes where its name leads: through a link, into a device (OutputTarget).
+        try {
+          PlaceFinishedOutput(entry.path(), ResolveOutputTarget(target));
+        } catch (const InputError& error) {
+          if (failure.empty()) failure = error.what();
+        }
+        continue;
+      }
+      if (std::filesystem::is_directory(target)) std::filesystem::remove_all(target, move);
       std::filesystem::rename(entry.path(), target, move);
       if (move && failure.empty())
         failure =
@@ -163,11 +171,162 @@ void OutputTransaction::Commit() {
   committed_ = true;
 }
 
-void WriteFileAtomically(const std::filesystem::path& path, std::string_view bytes) {
-  // A unique temporary name in the same directory, so that the rename stays on one file system.
+namespace {
+
+std::string Errno() {
+  return std::strerror(errno);
+}
+
+// Opens a character device or FIFO for writing in place. A FIFO nobody reads would block forever:
+// opened without waiting, it fails at once with ENXIO, which is said.
+int OpenWriteThrough(const OutputTarget& target) {
+  const int fd = ::open(target.file.c_str(), O_WRONLY | O_NONBLOCK | O_CLOEXEC | O_NOCTTY);
+  if (fd < 0) {
+    if (errno == ENXIO)
+      throw InputError(target.named.string(), "", "is a FIFO that no program reads");
+    throw InputError(target.named.string(), "", "cannot open for writing: " + Errno());
+  }
+  const int flags = ::fcntl(fd, F_GETFL);
+  if (flags >= 0) ::fcntl(fd, F_SETFL, flags & ~O_NONBLOCK);
+  return fd;
+}
+
+void WriteAll(int fd, const OutputTarget& target, const char* data, std::size_t size) {
+  while (size > 0) {
+    const ssize_t n = ::write(fd, data, size);
+    if (n < 0 && errno == EINTR) continue;
+    if (n <= 0) {
+      const std::string why = n < 0 ? Errno() : "nothing written";
+      ::close(fd);
+      throw InputError(target.named.string(), "", "write failed: " + why);
+    }
+    data += n;
+    size -= static_cast<std::size_t>(n);
+  }
+}
+
+void CloseWritten(int fd, const OutputTarget& target) {
+  if (::close(fd) != 0 && errno != EINTR)
+    throw InputError(target.named.string(), "", "write failed: " + Errno());
+}
+
+// Copies `from` into a temporary beside `to` and renames it there: a finished output moved to
+// another file system is never seen half-copied. Only OutputTransaction::Commit gets here (a
+// staging directory on another file system than a link's target), inside RunUninterrupted, so the
+// temporary is not registered (that would wait for the lock Commit holds).
+void CopyThenRename(const std::filesystem::path& from, const OutputTarget& target) {
+  const std::filesystem::path temp = TemporaryPathFor(target);
+  std::error_code ec;
+  std::filesystem::copy_file(from, temp, std::filesystem::copy_options::overwrite_existing, ec);
+  if (!ec) std::filesystem::rename(temp, target.file, ec);
+  if (ec) {
+    std::error_code ignored;
+    std::filesystem::remove(temp, ignored);
+    throw InputError(target.named.string(), "", "cannot move the finished output into place: " +
+                                                    ec.message());
+  }
+}
+
+}  // namespace
+
+OutputTarget ResolveOutputTarget(const std::filesystem::path& named) {
+  OutputTarget target{named, named, false};
+  const std::string name = named.string();
+  // Follow the chain of links by hand: a dangling link's target is a new file to create.
+  std::error_code ec;
+  for (int hops = 0;; ++hops) {
+    const std::filesystem::file_status link = std::filesystem::symlink_status(target.file, ec);
+    if (ec || link.type() != std::filesystem::file_type::symlink) break;
+    if (hops == 40) throw InputError(name, "", "is a loop of symbolic links");
+    const std::filesystem::path to = std::filesystem::read_symlink(target.file, ec);
+    if (ec) throw InputError(name, "", "cannot read the symbolic link: " + ec.message());
+    target.file = to.is_absolute() ? to : target.file.parent_path() / to;
+  }
+  const std::filesystem::file_status status = std::filesystem::status(target.file, ec);
+  switch (status.type()) {
+    case std::filesystem::file_type::not_found:
+    case std::filesystem::file_type::none:
+    case std::filesystem::file_type::regular:
+      break;
+    case std::filesystem::file_type::character:
+    case std::filesystem::file_type::fifo:
+      target.write_through = true;
+      break;
+    case std::filesystem::file_type::directory:
+      throw InputError(name, "", "is a directory, not a file to write");
+    case std::filesystem::file_type::block:
+      throw InputError(name, "", "is a block device: Acrolab does not write over one");
+    case std::filesystem::file_type::socket:
+      throw InputError(name, "", "is a socket, not a file to write");
+    default:
+      throw InputError(name, "", "cannot be examined: " + ec.message());
+  }
+  return target;
+}
+
+std::filesystem::path TemporaryPathFor(const OutputTarget& target, std::string_view suffix) {
   std::random_device seed;
-  const std::filesystem::path temp = path.parent_path() / ("." + path.filename().string() + ".tmp" +
-                                                           std::to_string(seed() % 1000000));
+  const std::string name = "." + target.file.filename().string() + ".tmp" +
+                           std::to_string(seed() % 1000000) + std::string(suffix);
+  if (target.write_through) {
+    std::error_code ec;
+    std::filesystem::path dir = std::filesystem::temp_directory_path(ec);
+    if (ec) dir = "/tmp";
+    return dir / name;
+  }
+  return target.file.parent_path() / name;
+}
+
+void PlaceFinishedOutput(const std::filesystem::path& finished, const OutputTarget& target) {
+  std::error_code ec;
+  if (target.write_through) {
+    struct Remove {
+      const std::filesystem::path& path;
+      ~Remove() {
+        std::error_code ignored;
+        std::filesystem::remove(path, ignored);
+      }
+    } remove{finished};
+    std::ifstream in(finished, std::ios::binary);
+    if (!in) throw InputError(target.named.string(), "", "the finished output cannot be read back");
+    const int fd = OpenWriteThrough(target);
+    std::vector<char> buffer(1 << 16);
+    while (in) {
+      in.read(buffer.data(), static_cast<std::streamsize>(buffer.size()));
+      WriteAll(fd, target, buffer.data(), static_cast<std::size_t>(in.gcount()));
+    }
+    CloseWritten(fd, target);
+    return;
+  }
+  // Replacing a file keeps its permissions (a shared output stays shared).
+  const std::filesystem::file_status old = std::filesystem::status(target.file, ec);
+  if (!ec && old.type() == std::filesystem::file_type::regular)
+    std::filesystem::permissions(finished, old.permissions(), ec);
+  ec.clear();
+  std::filesystem::rename(finished, target.file, ec);
+  if (ec == std::errc::cross_device_link) {
+    CopyThenRename(finished, target);
+    std::filesystem::remove(finished, ec);
+    return;
+  }
+  if (ec) {
+    std::error_code ignored;
+    std::filesystem::remove(finished, ignored);
+    throw InputError(target.named.string(), "", "cannot rename the finished output into place: " +
+                                                    ec.message());
+  }
+}
+
+void WriteFileAtomically(const std::filesystem::path& path, std::string_view bytes) {
+  const OutputTarget target = ResolveOutputTarget(path);
+  if (target.write_through) {
+    const int fd = OpenWriteThrough(target);
+    WriteAll(fd, target, bytes.data(), bytes.size());
+    CloseWritten(fd, target);
+    return;
+  }
+  // A unique temporary name beside the file, so that the rename stays on one file system.
+  const std::filesystem::path temp = TemporaryPathFor(target);
   const ScopedTemporary registered(temp);  // removed if the program is interrupted
   {
     std::ofstream out(temp, std::ios::binary | std::ios::trunc);
@@ -183,13 +342,7 @@ void WriteFileAtomically(const std::filesystem::path& path, std::string_view byt
       throw InputError(path.string(), "", "write failed (disk full?)");
     }
   }
-  std::error_code ec;
-  std::filesystem::rename(temp, path, ec);
-  if (ec) {
-    std::filesystem::remove(temp);
-    throw InputError(
-        path.string(), "", "cannot rename the finished output into place: " + ec.message());
-  }
+  PlaceFinishedOutput(temp, target);
 }
 
 std::string LowerExtension(const std::filesystem::path& path) {

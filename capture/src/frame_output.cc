@@ -100,10 +100,16 @@ FrameOutput::FrameOutput(const fs::path& path,
   impl_->path = target;
   impl_->width = width;
   impl_->height = height;
-  if (target.extension() == ".mp4") {
+  const std::string ext = LowerExtension(target);
+  if (ext == "mp4") {
     impl_->writer.emplace(target, width, height, video);
     return;
   }
+  // One rule for every door: another extension is not silently a folder of PNGs named x.avi.
+  if (!ext.empty() && !IsDirectory(target))
+    throw InputError(target.string(),
+                     "",
+                     "." + ext + " cannot be written: an .mp4 video, or a folder for PNG frames");
   if (fs::exists(target)) {
     if (!fs::is_directory(target))
       throw InputError(target.string(), "", "exists and is not a directory (frames go into one)");

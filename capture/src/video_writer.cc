@@ -25,6 +25,7 @@ extern "C" {
 
 #include <fmt/format.h>
 
+#include "acro/base/file_io.h"
 #include "acro/base/input_error.h"
 #include "acro/base/temporaries.h"
 #include "internal/ffmpeg.h"
@@ -38,6 +39,7 @@ using internal::AvError;
 
 struct VideoWriter::Impl {
   std::filesystem::path path, temp;
+  OutputTarget target;
   int width = 0, height = 0;              // as given
   int coded_width = 0, coded_height = 0;  // even
   AVFormatContext* format = nullptr;
@@ -160,9 +162,9 @@ VideoWriter::VideoWriter(const std::filesystem::path& path,
   m.height = height;
   m.coded_width = width + (width % 2);
   m.coded_height = height + (height % 2);
-  std::random_device seed;
-  m.temp = path.parent_path() /
-           ("." + path.filename().string() + ".tmp" + std::to_string(seed() % 1000000) + ".mp4");
+  // Through a link to its target, into /dev/null or a FIFO by a copy when finished (OutputTarget).
+  m.target = ResolveOutputTarget(path);
+  m.temp = TemporaryPathFor(m.target, ".mp4");
   m.registered.emplace(m.temp);
 
   // The encoder: libx264, yuv420p, constant quality, one keyframe a second.
@@ -280,10 +282,8 @@ void VideoWriter::Finish() {
   int rc = av_write_trailer(m.format);
   if (rc < 0) m.Fail("cannot write the MP4 index: " + AvError(rc));
   avio_closep(&m.format->pb);
-  std::error_code ec;
-  std::filesystem::rename(m.temp, m.path, ec);
-  if (ec) m.Fail("cannot rename the finished video into place: " + ec.message());
-  m.finished = true;
+  m.finished = true;  // the temporary is PlaceFinishedOutput's from here
+  PlaceFinishedOutput(m.temp, m.target);
 }
 
 }  // namespace acro::capture

@@ -16,9 +16,35 @@ class ScopedTemporary;
 std::vector<std::uint8_t> ReadFileBytes(const std::filesystem::path& path,
                                         std::int64_t max_bytes = std::int64_t(4) << 30);
 
-/// Writes `bytes` to a temporary file beside `path` and renames it over `path` when complete, so
-/// that no reader ever sees a half-written output. Throws acro::InputError on failure (and removes
-/// the temporary file).
+/// Where an output the user named really goes (docs/limits.md, "Outputs"), one rule for every
+/// writer: a symbolic link is followed to its final target, which is written and the link kept; a
+/// character device (/dev/null) or a FIFO is written through in place, never replaced; a regular
+/// file, or a name that does not exist yet, is replaced whole by a rename. A directory, a block
+/// device, a socket or a link loop is refused.
+struct OutputTarget {
+  std::filesystem::path named;  ///< as the user named it
+  std::filesystem::path file;   ///< what is written: `named`, or its link's final target
+  bool write_through = false;   ///< a character device or a FIFO
+};
+
+/// Resolves `named` by the rule above. acro::InputError (file `named`) for what is refused.
+OutputTarget ResolveOutputTarget(const std::filesystem::path& named);
+
+/// A unique temporary name where a writer prepares `target`'s bytes: beside the file for a regular
+/// target (the rename stays on one file system), in the system's temporary directory for a
+/// device or FIFO. `suffix` ends the name (".mp4" for a muxer that reads the extension).
+std::filesystem::path TemporaryPathFor(const OutputTarget& target, std::string_view suffix = "");
+
+/// Puts the finished file `finished` in place of `target`: renamed over the regular file (copied
+/// beside it first when on another file system; an existing file's permissions kept), or copied
+/// through to the device or FIFO and removed. acro::InputError (file target.named) on failure,
+/// with `finished` removed.
+void PlaceFinishedOutput(const std::filesystem::path& finished, const OutputTarget& target);
+
+/// Writes `bytes` to the output named `path` by the rule of OutputTarget: a regular file through a
+/// temporary beside it renamed when complete, so that no reader ever sees a half-written output; a
+/// device or FIFO written through. Throws acro::InputError on failure (and removes the temporary
+/// file).
 void WriteFileAtomically(const std::filesystem::path& path, std::string_view bytes);
 
 /// Checks, before any work starts, that `dir` can take outputs, leaving nothing behind: it is a
