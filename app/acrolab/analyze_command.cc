@@ -137,6 +137,7 @@ int RunAnalyze(AnalyzeArguments& args) {
   }
   analysis::TrialAnalysis result = pipeline::Analyze(input, args.options);
   for (const std::string& w : result.warnings) std::fprintf(stderr, "acrolab analyze: warning: %s\n", w.c_str());
+  pipeline::DemandAFlight(input, result);  // nothing written for a trial with no jump
 
   // Outputs, written into a staging directory and moved into place when all are complete.
   OutputTransaction outputs(common.out_dir);

@@ -132,14 +132,6 @@ void CheckVideoOutput(const std::string& out, bool mp4_only) {
   CheckOutputDirectory(path);
 }
 
-void WarnIfAnotherSize(const std::string& video,
-                       const capture::VideoInfo& info,
-                       const vision::Camera& camera) {
-  if (info.width == camera.width_px && info.height == camera.height_px) return;
-  std::fprintf(stderr, "warning: %s is %d x %d px, camera %s was calibrated at %d x %d\n", video.c_str(),
-               info.width, info.height, camera.name.c_str(), camera.width_px, camera.height_px);
-}
-
 pipeline::TrialRequest TrialArguments::Request() const {
   pipeline::TrialRequest r;
   r.trial = trial_path;

@@ -126,13 +126,6 @@ void CheckVideoOutput(const std::string& out, bool mp4_only = false);
 /// stops the program); nothing with `quiet`.
 Progress MakeStepProgress(bool quiet);
 
-/// Warns on stderr when `video` (its info) is not the size `camera` was calibrated at: the camera's
-/// pixels are then taken as the video's from the top-left corner (right for a calibration at the
-/// coded size, 1088 for a 1080 video; wrong for a downscaled video).
-void WarnIfAnotherSize(const std::string& video,
-                       const capture::VideoInfo& info,
-                       const vision::Camera& camera);
-
 /// What `optimize` and `design` share: Model 2 (then Model 1), the flight simulation, the
 /// filmstrip.
 struct SkillRunArguments {

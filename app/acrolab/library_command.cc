@@ -58,9 +58,23 @@ const char* OutcomeWord(library::AddOutcome o) {
   return "";
 }
 
+// A library this run created and into which nothing went is removed when the run ends (a failed
+// first `library add` leaves no empty library behind: nothing half-written).
+struct NewLibraryGuard {
+  std::filesystem::path path;
+  bool created = false, stored = false;
+  ~NewLibraryGuard() {
+    if (!created || stored) return;
+    std::error_code ec;
+    for (const char* suffix : {"", "-journal", "-wal", "-shm"})
+      std::filesystem::remove(path.string() + suffix, ec);
+  }
+};
+
 int RunAdd(LibraryArguments& args) {
   if (args.trials.size() > 1 && !args.analysis_dir.empty())
     throw UsageError{"--analysis names the analysis of one trial; give one TRIAL with it"};
+  NewLibraryGuard guard{args.library, !PathExists(args.library)};
   library::Library lib(args.library, library::Library::Mode::kReadWrite);
   library::AddRequest request = args.request;
   request.athlete_profile = args.athlete;
@@ -81,6 +95,7 @@ int RunAdd(LibraryArguments& args) {
     request.trial = trial;
     try {
       const library::AddResult r = library::AddTrial(lib, request, options);
+      guard.stored = true;
       if (r.outcome == library::AddOutcome::kUnchanged)
         std::printf("unchanged    %s (stored with this content by this Acrolab)\n", r.path.c_str());
       else

@@ -1,7 +1,10 @@
 // acrolab: the command-line front of Acrolab. Thin by design: parse, call one library function
 // per step, print. See docs/cli.md.
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <exception>
+#include <filesystem>
 #include <string>
 
 #include <CLI/CLI.hpp>
@@ -10,6 +13,7 @@
 #include "acro/base/interrupts.h"
 #include "acro/base/progress.h"
 #include "acro/base/version.h"
+#include "acro/library/library.h"
 #include "commands.h"
 
 namespace {
@@ -22,6 +26,26 @@ std::string CommandName(const CLI::App& app) {
     if (parsed.empty()) return name;
     level = parsed.front();
     name += " " + level->get_name();
+  }
+}
+
+// The first number option of the parsed command whose value is not a finite number, as the line
+// to print; empty when all are. One rule for every FLOAT option of every command (`--offset-s nan`
+// and `--time nan` used to be taken).
+std::string NonFiniteOption(const CLI::App& app) {
+  for (const CLI::App* level = &app;;) {
+    for (const CLI::Option* option : level->get_options()) {
+      if (option->get_type_name().rfind("FLOAT", 0) != 0) continue;
+      for (const std::string& value : option->results()) {
+        char* end = nullptr;
+        const double number = std::strtod(value.c_str(), &end);
+        if (end != value.c_str() && !std::isfinite(number))
+          return option->get_name() + ": '" + value + "' is not a finite number";
+      }
+    }
+    const std::vector<CLI::App*> parsed = level->get_subcommands();
+    if (parsed.empty()) return "";
+    level = parsed.front();
   }
 }
 
@@ -74,6 +98,11 @@ int Main(int argc, char** argv) {
 
   // Run.
   const std::string name = CommandName(app);
+  if (const std::string bad = NonFiniteOption(app); !bad.empty()) {
+    std::fprintf(stderr, "%s: %s (%s --help)\n", name.c_str(), acro::EscapeForTerminal(bad).c_str(),
+                 name.c_str());
+    return 2;
+  }
   try {
     return run();
   } catch (const acro::app::UsageError& e) {
@@ -84,6 +113,13 @@ int Main(int argc, char** argv) {
     return 1;
   } catch (const acro::Cancelled& e) {  // the work stopped by its progress (a door's own cancel)
     std::fprintf(stderr, "acrolab: %s\n", e.what());
+    return 1;
+  } catch (const std::filesystem::filesystem_error& e) {
+    // A file system refusal (a link loop, no permission, a vanished folder) is the named path's
+    // fault, never an internal error.
+    const std::string path = e.path1().empty() ? std::string() : e.path1().string() + ": ";
+    std::fprintf(stderr, "acrolab: %s\n",
+                 acro::EscapeForTerminal(path + e.code().message()).c_str());
     return 1;
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr, "acrolab: out of memory\n");
@@ -98,5 +134,8 @@ int Main(int argc, char** argv) {
 
 int main(int argc, char** argv) {
   acro::InstallInterruptCleanup();
+  // A library locked by another process: said at once, with the wait (docs/library.md, "Locks").
+  acro::library::Library::SetLockNotice(
+      [](const std::string& line) { std::fprintf(stderr, "acrolab: %s\n", line.c_str()); });
   return acro::ExitStatusUnlessInterrupted(Main(argc, argv));
 }

@@ -29,9 +29,13 @@ int RunProject(const ProjectArguments& args) {
   const vision::VideoSync sync = ParseVideoSync(args.offset_s, args.event, args.rate);
   if (!args.video.empty()) {
     // One video: one camera, its frames numbering the rows.
-    const vision::Camera& camera = vision::FindCamera(cameras, args.camera, args.calibration);
     capture::VideoReader video(args.video);
-    WarnIfAnotherSize(args.video, video.info(), camera);
+    std::string note;
+    const vision::Camera camera =
+        vision::FitCameraToVideo(vision::FindCamera(cameras, args.camera, args.calibration),
+                                 video.info().width, video.info().height, args.video, &note);
+    if (!note.empty()) std::fprintf(stderr, "acrolab project: warning: %s\n", note.c_str());
+    vision::DemandTrialInsideVideo(sync, trial.duration_s(), video.info().duration_s, args.video);
     if (!args.csv.empty()) {
       const std::vector<vision::ProjectedPoint> points =
           vision::ProjectTrialOnFrames(trial, camera, video.frame_times_s(), sync, axes);

@@ -39,7 +39,10 @@ int RunReconstruct(ReconstructArguments& args) {
   CheckOutputDirectory(common.out_dir);  // before any work: a bad -o costs nothing
 
   // Inputs: trial, static trial, athlete — opened as every door opens them (the pipeline).
-  const pipeline::TrialInput input = OpenTrialFor("reconstruct", common.Request());
+  pipeline::TrialRequest request = common.Request();
+  request.min_frames = 1;  // joint angles of a single pose are still joint angles
+  request.use = "the reconstruction";
+  const pipeline::TrialInput input = OpenTrialFor("reconstruct", request);
   const capture::Trial& trial = input.trial;
   const std::optional<capture::Trial>& static_trial = input.static_trial;
   CheckCutoffBelowNyquist(options, trial);

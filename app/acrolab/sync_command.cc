@@ -88,8 +88,12 @@ int RunSync(const SyncArguments& args) {
     if (videos.size() != 1)
       throw UsageError{"without --detections, give one --video to sync from its image motion"};
     capture::VideoReader video(videos[0].second, {.pixels = capture::VideoPixels::kGrey});
+    std::string note;
+    const vision::Camera camera = vision::FitCameraToVideo(
+        *videos[0].first, video.info().width, video.info().height, videos[0].second, &note);
+    if (!note.empty()) std::fprintf(stderr, "acrolab sync: warning: %s\n", note.c_str());
     options.progress = MakeCancellableProgress("image motion", "frames");
-    result = vision::SyncFromImageMotion(trial, *videos[0].first, video, options);
+    result = vision::SyncFromImageMotion(trial, camera, video, options);
   }
   const double frame_s =
       result.offsets_s.size() > 1 ? result.offsets_s[1] - result.offsets_s[0] : 0.0;

@@ -2,6 +2,8 @@
 #include <memory>
 #include <optional>
 
+#include <fmt/format.h>
+
 #include "acro/capture/video.h"
 #include "acro/report/image.h"
 #include "commands.h"
@@ -31,6 +33,9 @@ int RunVideoInfo(const VideoInfoArguments& args) {
 
 int RunVideoFrame(const VideoFrameArguments& args) {
   capture::VideoReader reader(args.file);
+  const double duration = reader.info().duration_s;
+  if (args.time_s && !(*args.time_s >= 0 && *args.time_s <= duration))
+    throw UsageError{fmt::format("--time {} s is outside the video's 0 … {:.3f} s", *args.time_s, duration)};
   const int index = args.frame ? *args.frame : reader.FrameAt(*args.time_s);
   const capture::VideoFrame frame = reader.Frame(index);
   ui::WriteRgbPng(frame.width, frame.height, frame.pixels, args.out);

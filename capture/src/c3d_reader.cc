@@ -514,6 +514,7 @@ Trial C3dReader::Read() {
     for (ForcePlate& plate : trial_.force_plates)
       CalcForcePlateOutputs(trial_, &plate, &trial_.warnings);
   }
+  GapImpossiblePositions(&trial_, name_);
   return std::move(trial_);
 }
 
@@ -609,6 +610,14 @@ double C3dReader::ReadPointScale() const {
   if (!std::isfinite(scale)) {
     warn_("POINT:SCALE", "is not finite; 1 assumed");
     scale = 1.0;
+  }
+  // 0 would make every integer coordinate 0 (and says nothing of the storage, which its sign
+  // gives): the header's copy when it has one, else refused.
+  if (scale == 0.0) {
+    if (header_.scale == 0.0 || !std::isfinite(header_.scale))
+      Fail("POINT:SCALE", "is 0 (and so is the header's): the coordinates cannot be scaled");
+    warn_("POINT:SCALE", fmt::format("is 0; the header's scale {:.9g} is used", header_.scale));
+    scale = header_.scale;
   }
   return scale;
 }

@@ -254,6 +254,7 @@ Trial ReadMarkerCsvFromString(std::string_view text, const std::string& name) {
       }
     }
   }
+  GapImpossiblePositions(&trial, name);
   return trial;
 }
 

@@ -10,6 +10,7 @@
 
 #include "acro/base/file_io.h"
 #include "acro/base/input_error.h"
+#include "acro/base/nesting.h"
 #include "acro/base/text.h"
 #include "acro/capture/trc.h"
 
@@ -83,8 +84,17 @@ KeypointDetections ReadOpenPoseJson(const std::filesystem::path& directory,
   if (!std::filesystem::is_directory(directory, ec))
     throw InputError(directory.string(), "", "not a directory of OpenPose JSON files");
   std::vector<std::pair<long long, std::filesystem::path>> files;
-  for (const auto& entry : std::filesystem::directory_iterator(directory)) {
-    if (!entry.is_regular_file() || LowerExtension(entry.path()) != "json") continue;
+  // Without exceptions: a link loop or an unreadable entry is the folder's fault, said in one line.
+  std::filesystem::directory_iterator it(directory, ec);
+  if (ec) throw InputError(directory.string(), "", "cannot list: " + ec.message());
+  for (; it != std::filesystem::directory_iterator(); it.increment(ec)) {
+    if (ec) throw InputError(directory.string(), "", "cannot list: " + ec.message());
+    const std::filesystem::directory_entry& entry = *it;
+    if (LowerExtension(entry.path()) != "json") continue;
+    std::error_code kind;
+    const bool regular = entry.is_regular_file(kind);
+    if (kind) throw InputError(entry.path().string(), "", "cannot be read: " + kind.message());
+    if (!regular) continue;
     const long long frame = LastNumber(entry.path().stem().string());
     if (frame < 0 || frame >= 1000000) {
       throw InputError(
@@ -106,6 +116,8 @@ KeypointDetections ReadOpenPoseJson(const std::filesystem::path& directory,
   for (const auto& [frame, path] : files) {
     const std::string file = path.string();
     const std::vector<std::uint8_t> bytes = ReadFileBytes(path, std::int64_t(64) << 20);
+    DemandNestingAtMost(
+        std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), 64, file);
     nlohmann::json doc;
     try {
       doc = nlohmann::json::parse(bytes.begin(), bytes.end());

@@ -8,6 +8,8 @@
 #include <unordered_set>
 #include <vector>
 
+#include <fmt/format.h>
+
 #include "acro/base/file_io.h"
 #include "acro/base/input_error.h"
 #include "internal/text.h"
@@ -390,8 +392,22 @@ Trial ReadTrcFromString(std::string_view text, const std::string& name) {
   trial.first_frame = rows.first_frame_number;
   trial.num_frames = num_rows;
 
+  // The grid of positions is sized from what the file holds, never from what it declares: each
+  // coordinate of a row takes at least its separator, so rows × markers × 3 cells larger than the
+  // file's bytes cannot come from it (a header naming 100,000 markers over 400 rows of 3
+  // coordinates asked for 1 GB).
+  const double cells = 3.0 * num_markers * num_rows;
+  if (cells > static_cast<double>(text.size())) {
+    throw InputError(name,
+                     Where(4),
+                     fmt::format("names {} markers over {} rows, {:.3g} coordinates, but the file "
+                                 "holds only {} bytes (the rows hold at most {} columns)",
+                                 num_markers, num_rows, cells, text.size(), rows.max_columns));
+  }
+
   // Assemble frame-major positions in metres.
   AssemblePositions(rows, names, trial.source.point_units_to_m, trial);
+  GapImpossiblePositions(&trial, name);
   return trial;
 }
 

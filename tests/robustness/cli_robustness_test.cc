@@ -13,6 +13,7 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -23,6 +24,7 @@
 #include <vector>
 
 #include <gtest/gtest.h>
+#include <sqlite3.h>
 #include <nlohmann/json.hpp>
 
 #include "acro/capture/c3d.h"
@@ -244,6 +246,154 @@ TEST_F(Robustness, DeeplyNestedYaml) {
       {"30000 nested [", 1, "nested deeper than"}, "body --profile nested.yaml", {"nested.yaml"});
 }
 
+// Every parser of nested text has a depth check in front of it (acro/base/nesting.h): OpenCV's
+// FileStorage crashed (SIGSEGV) on a calibration nested 100,000 deep. Each route, 10^5 levels.
+TEST_F(Robustness, EveryNestedFormatDeepIsOneLine) {
+  const fs::path routine = Samples() / "trials/trampoline_routine";
+  const std::string trial = Quote(routine / "trampoline_routine.c3d");
+  const int n = 100000;
+  std::string open_xml;
+  for (int i = 0; i < n; ++i) open_xml += "<a>";
+  const std::vector<std::pair<std::string, std::string>> calibrations = {
+      {"deep.yml", "%YAML:1.0\ncam: " + std::string(n, '[') + "\n"},
+      {"deep.json", "{\"cam\": " + std::string(n, '[') + "\n"},
+      {"deep.xml", "<?xml version=\"1.0\"?>\n<opencv_storage>" + open_xml + "\n"},
+      {"deep.toml", "[cam]\nmatrix = " + std::string(n, '[') + "\n"},
+      {"deep.qca", "<?xml version=\"1.0\"?>\n<calibration>" + open_xml + "\n"},
+  };
+  std::vector<std::string> inputs;
+  for (const auto& [file, text] : calibrations) {
+    WriteText(dir_ / file, text);
+    inputs.push_back(file);
+    Expect({file.c_str(), 1, "nested deeper than 64 levels"},
+           "project " + trial + " --calib " + file + " --csv out.csv", inputs);
+  }
+  // OpenPose JSON detections.
+  fs::create_directories(dir_ / "detections");
+  WriteText(dir_ / "detections/side_000000000000_keypoints.json", std::string(n, '['));
+  inputs.push_back("detections");
+  Expect({"detections", 1, "nested deeper than 64 levels"},
+         "overlay --detections detections --video " + Quote(routine / "side_camera.mp4") +
+             " -o out.mp4",
+         inputs);
+  // A link loop among them: the folder's fault, one line (was a filesystem exception, exit 3).
+  fs::remove(dir_ / "detections/side_000000000000_keypoints.json");
+  fs::create_symlink("loop_000000000001_keypoints.json", dir_ / "detections/loop_000000000001_keypoints.json");
+  Expect({"link loop", 1, "loop_000000000001_keypoints.json: cannot be read"},
+         "overlay --detections detections --video " + Quote(routine / "side_camera.mp4") +
+             " -o out.mp4",
+         inputs);
+}
+
+// Every number option of every command is finite, and every time given by hand lands in the
+// media (`--offset-s nan`, `--time nan`, `--event 1e300:0` were taken).
+TEST_F(Robustness, TimesAndOffsetsAreFiniteAndInsideTheMedia) {
+  const fs::path routine = Samples() / "trials/trampoline_routine";
+  const std::string trial = Quote(routine / "trampoline_routine.c3d");
+  const std::string video = Quote(routine / "side_camera.mp4");
+  const std::string calib = Quote(routine / "side_camera.toml");
+  Expect({"--time nan", 2, "--time: 'nan' is not a finite number"},
+         "video frame " + video + " --time nan -o a.png", {});
+  Expect({"--time 1e6", 2, "--time 1000000 s is outside the video's 0 … 9.967 s"},
+         "video frame " + video + " --time 1e6 -o a.png", {});
+  Expect({"--offset-s inf", 2, "--offset-s: 'inf' is not a finite number"},
+         "project " + trial + " --calib " + calib + " --video " + video + " --offset-s inf --csv a.csv",
+         {});
+  Expect({"--offset-s 1e300", 1, "outside the video's 0 … 9.967 s"},
+         "project " + trial + " --calib " + calib + " --video " + video +
+             " --offset-s 1e300 --csv a.csv",
+         {});
+  Expect({"--event 1e300:0", 1, "outside the video's 0 … 9.967 s"},
+         "overlay " + trial + " --calib " + calib + " --video " + video +
+             " --event 1e300:0 --frames 0:5 -o a.mp4",
+         {});
+  Expect({"--height nan", 2, "--height: 'nan' is not a finite number"},
+         "body --height nan --mass 60 --sex f", {});
+  // An output extension that cannot be written: refused before any work.
+  Expect({"-o x.avi", 2, ".avi cannot be written"},
+         "overlay " + trial + " --calib " + calib + " --video " + video + " -o x.avi", {});
+}
+
+// One image-size policy for every command that puts the calibrated camera on a video: a scaled
+// copy of the calibrated size is drawn with the camera scaled (said); any other size is refused in
+// one line. A 320×240 proxy of the 1080p camera ended in "internal error: SceneRenderer: size
+// -333 x -57 px" in overlay.
+TEST_F(Robustness, VideosOfAnotherSizeThanTheCalibration) {
+  const fs::path routine = Samples() / "trials/trampoline_routine";
+  const std::string trial = Quote(routine / "trampoline_routine.c3d");
+  const std::string calib = Quote(routine / "side_camera.toml");
+  // Each size as a short lossless grey video (FFV1 takes any size, odd ones too; lavfi's colour
+  // source refuses 1x1 itself, so each is scaled from 16x16).
+  auto make = [&](const std::string& file, const std::string& size) {
+    std::string scale = size;
+    scale.replace(scale.find('x'), 1, ":");
+    const std::string line = "ffmpeg -v error -y -f lavfi -i color=c=gray:s=16x16:r=30,scale=" +
+                             scale + " -t 1 -pix_fmt gray -c:v ffv1 " + Quote(dir_ / file) +
+                             " 2>&1";
+    return std::system(line.c_str()) == 0;
+  };
+  if (!make("scaled.mkv", "320x180")) GTEST_SKIP() << "the ffmpeg command is not installed";
+  const std::vector<std::pair<std::string, std::string>> refused = {
+      {"proxy.mkv", "320x240"}, {"dot.mkv", "1x1"}, {"strip.mkv", "16000x16"}};
+  std::vector<std::string> inputs = {"scaled.mkv"};
+  for (const auto& [file, size] : refused) {
+    ASSERT_TRUE(make(file, size)) << size;
+    inputs.push_back(file);
+  }
+  const std::vector<std::pair<std::string, std::string>> commands = {
+      {"overlay", "overlay " + trial + " --calib " + calib + " --video {V} --offset-s 0 -o out.mp4"},
+      {"project", "project " + trial + " --calib " + calib + " --video {V} -o out.mp4"},
+      {"sync", "sync " + trial + " --calib " + calib + " --video {V}"},
+      {"analyze", "analyze " + trial + " --calib " + calib + " --video {V} --offset-s 0 -o out"},
+  };
+  for (const auto& [name, command] : commands) {
+    for (const auto& [file, size] : refused) {
+      std::string line = command;
+      line.replace(line.find("{V}"), 3, file);
+      Expect({(name + " " + size).c_str(), 1, "neither that size nor a scaled copy of it"}, line,
+             inputs);
+    }
+  }
+  // The scaled copy: the camera scaled and said (project's CSV is quick to check).
+  const Outcome run = Acrolab("project " + trial + " --calib " + calib +
+                                  " --video scaled.mkv --csv points.csv",
+                              dir_);
+  EXPECT_EQ(run.status, 0) << run.err;
+  EXPECT_NE(run.err.find("the camera is scaled by 0.1667 to it"), std::string::npos) << run.err;
+}
+
+// A library another process holds locked: `library add` says at once that it waits and for how
+// long, then refuses in one line when the lock outlives the wait (it sat silent for a minute, then
+// said "database is locked").
+TEST_F(Robustness, ALockedLibraryIsSaidAtOnce) {
+  const std::string add = "library add --library lib.sqlite --athlete " +
+                          Quote(Samples() / "athletes/sample_athlete.yaml") + " " +
+                          Quote(Samples() / "trials/straight_jump/straight_jump.c3d");
+  ASSERT_EQ(Acrolab(add, dir_).status, 0);
+  sqlite3* holder = nullptr;
+  ASSERT_EQ(sqlite3_open((dir_ / "lib.sqlite").c_str(), &holder), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(holder, "BEGIN EXCLUSIVE", nullptr, nullptr, nullptr), SQLITE_OK);
+  ::setenv("ACROLAB_LIBRARY_WAIT_S", "2", 1);
+  // --force: analysed again and written (an unchanged trial is only read, and WAL readers are
+  // never blocked).
+  const Outcome run = Acrolab(add + " --force --quiet", dir_);
+  ::unsetenv("ACROLAB_LIBRARY_WAIT_S");
+  sqlite3_exec(holder, "COMMIT", nullptr, nullptr, nullptr);
+  sqlite3_close(holder);
+  EXPECT_EQ(run.status, 1) << run.err;
+  EXPECT_NE(run.err.find("lib.sqlite: locked by another process (a batch, a window or another add "
+                         "writing to it); waiting up to 2 s"),
+            std::string::npos)
+      << run.err;
+  EXPECT_NE(LastLine(run.err).find("is locked by another process, still after 2 s"),
+            std::string::npos)
+      << run.err;
+  EXPECT_GT(run.seconds, 1.9);
+  EXPECT_LT(run.seconds, 8.0);
+  std::printf("locked library: exit %d in %.2f s: %s\n", run.status, run.seconds,
+              LastLine(run.err).c_str());
+}
+
 TEST_F(Robustness, YamlWithManyKeys) {
   std::string keys;
   for (int i = 0; i < 200000; ++i)
@@ -321,6 +471,106 @@ TEST_F(Robustness, TrialRatesOutOfRange) {
     ExpectWarning(TrcWithRate(dir_, rate),
                   "warning: jump.trc: header DataRate missing or not positive; 200.000000 Hz "
                   "taken from the time column");
+}
+
+// What a trial holds is checked once, in the pipeline, before any command uses it (issue "Rules,
+// not examples"): each case is one line with the counts, exit 1, nothing written.
+TEST_F(Robustness, TrialsWithNothingToUse) {
+  const std::string trc = TrcWithRate(dir_, "200");
+  std::vector<std::string> lines;
+  std::istringstream in(trc);
+  for (std::string l; std::getline(in, l);) lines.push_back(l);
+  const std::vector<std::string> header(lines.begin(), lines.begin() + 5);
+  std::vector<std::string> rows;
+  for (auto l = lines.begin() + 5; l != lines.end(); ++l)
+    if (!l->empty()) rows.push_back(*l);
+  auto write = [&](const std::string& file, const std::vector<std::string>& body) {
+    std::string out;
+    for (const std::string& l : header) out += l + "\n";
+    for (const std::string& l : body) out += l + "\n";
+    WriteText(dir_ / file, out);
+  };
+  // Every coordinate of a row replaced by `value` (the frame number and time kept).
+  auto with_coordinates = [](const std::string& row, const std::string& value) {
+    std::istringstream cells(row);
+    std::string out, cell;
+    for (int k = 0; std::getline(cells, cell, '\t'); ++k) out += (k ? "\t" : "") + (k < 2 ? cell : value);
+    return out;
+  };
+  write("one.trc", {rows[0]});
+  Expect({"one frame", 1, "one.trc: holds 1 frame; the analysis needs at least 2"},
+         "analyze one.trc -o out", {"jump.trc", "one.trc"});
+  std::vector<std::string> nan_rows;
+  for (const std::string& r : rows) nan_rows.push_back(with_coordinates(r, "NaN"));
+  write("nan.trc", nan_rows);
+  Expect({"all NaN", 1, "none of its 16 markers has a position in any of its 444 frames"},
+         "analyze nan.trc -o out", {"jump.trc", "one.trc", "nan.trc"});
+  // The first frame's pose held for the whole trial: no flight.
+  std::vector<std::string> still;
+  for (const std::string& r : rows) {
+    const size_t time_end = r.find('\t', r.find('\t') + 1);
+    still.push_back(r.substr(0, time_end) + rows[0].substr(rows[0].find('\t', rows[0].find('\t') + 1)));
+  }
+  write("still.trc", still);
+  Expect({"never leaves the floor", 1, "no flight in its 444 frames"}, "analyze still.trc -o out",
+         {"jump.trc", "one.trc", "nan.trc", "still.trc"});
+  Expect({"never leaves the floor (library)", 1, "no flight in its 444 frames"},
+         "library add --library lib.sqlite --athlete " +
+             Quote(Samples() / "athletes/sample_athlete.yaml") + " still.trc",
+         {"jump.trc", "one.trc", "nan.trc", "still.trc"});
+  // A header naming 100,000 markers over 400 rows of one marker: refused before the 1 GB grid.
+  {
+    std::string big = lines[0] + "\n" + lines[1] + "\n200\t200\t400\t100000\tmm\t200\t1\t400\nFrame#\tTime";
+    for (int m = 0; m < 100000; ++m) big += "\tM" + std::to_string(m) + "\t\t";
+    big += "\n";
+    for (int f = 0; f < 400; ++f) big += std::to_string(f + 1) + "\t" + std::to_string(f * 0.005) + "\t1\t2\t3\n";
+    WriteText(dir_ / "names.trc", big);
+    Expect({"100000 names over 400 rows", 1, "names 100000 markers over 400 rows"},
+           "info names.trc", {"jump.trc", "one.trc", "nan.trc", "still.trc", "names.trc"});
+  }
+  // Infinite and absurd coordinates: gaps, said.
+  std::vector<std::string> inf_rows = rows;
+  inf_rows[10] = with_coordinates(rows[10], "inf");
+  inf_rows[11] = with_coordinates(rows[11], "1e300");
+  write("jump.trc", inf_rows);
+  std::string out;
+  const Outcome run = Acrolab("info jump.trc", dir_, &out);
+  EXPECT_EQ(run.status, 0) << run.err;
+  EXPECT_NE(out.find("32 positions are not finite or farther than 10 km from the origin, read as "
+                     "gaps (the first: HEAD at frame 11: (inf, inf, inf))"),
+            std::string::npos)
+      << out;
+}
+
+// POINT:SCALE 0 would scale every integer coordinate to 0 (and its sign gives the storage): the
+// header's scale when it has one, said; refused when it has none.
+TEST_F(Robustness, C3dPointScaleOfZero) {
+  const acro::capture::Trial jump =
+      acro::capture::ReadTrial(Samples() / "trials/straight_jump/straight_jump.c3d");
+  std::vector<std::uint8_t> bytes = acro::capture::WriteC3dToMemory(jump);
+  const float stored = static_cast<float>(*jump.parameters.FindDouble("POINT", "SCALE"));
+  const std::string name = "SCALE";
+  auto at = std::search(bytes.begin(), bytes.end(), name.begin(), name.end());
+  ASSERT_NE(at, bytes.end());
+  std::array<std::uint8_t, 4> value;
+  std::memcpy(value.data(), &stored, 4);
+  at = std::search(at, bytes.end(), value.begin(), value.end());
+  ASSERT_NE(at, bytes.end());
+  std::fill(at, at + 4, 0);
+  auto save = [&](const char* file) {
+    std::ofstream(dir_ / file, std::ios::binary)
+        .write(reinterpret_cast<const char*>(bytes.data()), std::streamsize(bytes.size()));
+  };
+  save("zero.c3d");
+  std::string out;
+  const Outcome run = Acrolab("info zero.c3d", dir_, &out);
+  EXPECT_EQ(run.status, 0) << run.err;
+  EXPECT_NE(out.find("POINT:SCALE: is 0; the header's scale"), std::string::npos) << out;
+  EXPECT_NE(out.find("float storage"), std::string::npos) << out;
+  std::fill(bytes.begin() + 12, bytes.begin() + 16, 0);  // the header's copy (words 7–8)
+  save("both.c3d");
+  Expect({"POINT:SCALE 0 twice", 1, "POINT:SCALE: is 0 (and so is the header's)"},
+         "info both.c3d", {"zero.c3d", "both.c3d"});
 }
 
 // Control bytes in a file reach the message escaped, never raw (an escape sequence would act on

@@ -196,7 +196,7 @@ std::vector<Writer> Writers() {
 INSTANTIATE_TEST_SUITE_P(EveryWriter,
                          SpecialOutputs,
                          ::testing::ValuesIn(Writers()),
-                         [](const ::testing::TestParamInfo<Writer>& info) { return info.param.name; });
+                         [](const ::testing::TestParamInfo<Writer>& param) { return param.param.name; });
 
 // A command whose outputs are a folder (analyze's OutputTransaction): a file in it that is a link
 // stays a link, its target rewritten.

@@ -379,6 +379,9 @@ TrialAnalysis AnalyzeTrial(const capture::Trial& trial,
                            const TrialAnalysisOptions& options) {
   std::string why;
   if (!options.IsValid(&why)) throw InputError("", "analysis options", why);
+  // Velocities need two frames: a trial that cannot give them is the user's line, never an
+  // internal check failing further down (every door's pipeline checked this already).
+  capture::DemandUsableContent(trial, trial.source.path, 2, "the analysis");
   auto progress = [&](const std::string& line) {
     if (options.progress) options.progress(line);
   };

@@ -152,6 +152,7 @@ AddResult AddTrial(Library& library, const AddRequest& request, const AddOptions
     const analysis::TrialAnalysis analysed = pipeline::Analyze(input, options.analysis);
     if (options.warn)
       for (const std::string& w : analysed.warnings) options.warn(w);
+    pipeline::DemandAFlight(input, analysed);  // a season holds jumps
     t.analysis_version = AcrolabVersion();
     t.analysis_source = "analysed";
     t.jumps_json = analysis::FormatJumpsJson(analysed);

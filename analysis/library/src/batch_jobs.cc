@@ -85,6 +85,7 @@ std::vector<BatchJob> ReadBatchJobs(const std::filesystem::path& source, const B
     int number = 0;
     while (std::getline(in, line)) {
       ++number;
+      if (!line.empty() && line.back() == '\r') line.pop_back();  // a list written on Windows
       const std::string where = fmt::format("{}: line {}", source.string(), number);
       std::vector<std::string> words = SplitJobWords(line, where);
       if (words.empty()) continue;

@@ -10,6 +10,7 @@
 #include <fstream>
 #include <functional>
 #include <system_error>
+#include <thread>
 
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
@@ -21,6 +22,52 @@
 namespace acro::library {
 
 namespace {
+
+// The lock notice and the wait, process-wide (Library::SetLockNotice).
+std::function<void(const std::string&)>& LockNotice() {
+  static std::function<void(const std::string&)> notice;
+  return notice;
+}
+
+struct BusyWait {
+  std::string file;
+  int timeout_ms = 30000;
+};
+
+// SQLite's busy handler: the first call says that it waits and for how long; then 50 ms steps
+// until the wait is over (returning 0 makes the statement fail with SQLITE_BUSY).
+int WaitWhileLocked(void* data, int count) {
+  const BusyWait* wait = static_cast<const BusyWait*>(data);
+  if (count == 0 && LockNotice())
+    LockNotice()(fmt::format("{}: locked by another process (a batch, a window or another add "
+                             "writing to it); waiting up to {:g} s",
+                             wait->file, wait->timeout_ms / 1000.0));
+  if (count * 50 >= wait->timeout_ms) return 0;
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  return 1;
+}
+
+int WaitFromEnvironment() {
+  const char* text = std::getenv("ACROLAB_LIBRARY_WAIT_S");
+  if (text == nullptr) return 30000;
+  char* end = nullptr;
+  const double s = std::strtod(text, &end);
+  if (end == text || !(s >= 0 && s <= 3600)) return 30000;
+  return static_cast<int>(s * 1000);
+}
+
+// The wait of the library last opened on this thread (a Statement's failure names it).
+thread_local int last_wait_ms = 30000;
+
+// SQLite's message, or what a lock still held after the wait means.
+std::string SqliteMessage(sqlite3* db, const char* error, int timeout_ms = last_wait_ms) {
+  if ((sqlite3_extended_errcode(db) & 0xff) == SQLITE_BUSY)
+    return fmt::format("is locked by another process, still after {:g} s (ACROLAB_LIBRARY_WAIT_S "
+                       "sets the wait)",
+                       timeout_ms / 1000.0);
+  return error ? error : sqlite3_errmsg(db);
+}
+
 
 using Json = nlohmann::json;
 
@@ -191,7 +238,9 @@ class Statement {
   void Check(int rc) {
     if (rc != SQLITE_OK) Fail("bind");
   }
-  [[noreturn]] void Fail(const char* what) { throw InputError(file_, what, sqlite3_errmsg(db_)); }
+  [[noreturn]] void Fail(const char* what) {
+    throw InputError(file_, what, SqliteMessage(db_, nullptr));
+  }
   sqlite3* db_;
   sqlite3_stmt* stmt_ = nullptr;
   std::string file_;
@@ -199,12 +248,17 @@ class Statement {
 
 }  // namespace
 
+void Library::SetLockNotice(std::function<void(const std::string&)> notice) {
+  LockNotice() = std::move(notice);
+}
+
 struct Library::Impl {
   std::filesystem::path path;
   sqlite3* db = nullptr;
   Mode mode = Mode::kReadOnly;
   int found_version = 0;
   int version = 0;
+  BusyWait wait;
 
   ~Impl() {
     if (db) sqlite3_close_v2(db);
@@ -215,7 +269,7 @@ struct Library::Impl {
   void Exec(const std::string& sql, const char* what) {
     char* error = nullptr;
     if (sqlite3_exec(db, sql.c_str(), nullptr, nullptr, &error) != SQLITE_OK) {
-      const std::string message = error ? error : sqlite3_errmsg(db);
+      const std::string message = SqliteMessage(db, error, wait.timeout_ms);
       sqlite3_free(error);
       throw InputError(File(), what, message);
     }
@@ -323,7 +377,9 @@ Library::Library(const std::filesystem::path& path, Mode mode, int busy_timeout_
   flags |= SQLITE_OPEN_NOMUTEX;
   if (sqlite3_open_v2(file.c_str(), &m.db, flags, nullptr) != SQLITE_OK)
     throw InputError(file, "", std::string("cannot open: ") + sqlite3_errmsg(m.db));
-  sqlite3_busy_timeout(m.db, busy_timeout_ms);
+  m.wait = {file, busy_timeout_ms >= 0 ? busy_timeout_ms : WaitFromEnvironment()};
+  sqlite3_busy_handler(m.db, WaitWhileLocked, &m.wait);
+  last_wait_ms = m.wait.timeout_ms;
   sqlite3_extended_result_codes(m.db, 1);
 
   // SQLite makes FILE-wal and FILE-shm beside a WAL library when it opens it; for a file it
@@ -354,8 +410,10 @@ Library::Library(const std::filesystem::path& path, Mode mode, int busy_timeout_
           &found,
           &error);
       if (rc != SQLITE_OK) {
-        const std::string message = error ? error : sqlite3_errmsg(m.db);
+        const bool locked = (sqlite3_extended_errcode(m.db) & 0xff) == SQLITE_BUSY;
+        const std::string message = SqliteMessage(m.db, error, m.wait.timeout_ms);
         sqlite3_free(error);
+        if (locked) throw InputError(file, "", message);
         throw InputError(file, "", "not an Acrolab library: " + message + "; left as it is");
       }
       tables = found.tables;

@@ -2,9 +2,11 @@
 
 #include <ctime>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include "acro/athlete/body_mesh.h"
+#include "acro/base/input_error.h"
 #include "acro/base/version.h"
 #include "acro/scene/trial_scene.h"
 
@@ -13,6 +15,16 @@ namespace acro::pipeline {
 analysis::TrialAnalysis Analyze(const TrialInput& input, const analysis::TrialAnalysisOptions& options) {
   return analysis::AnalyzeTrial(input.trial, input.static_trial ? &*input.static_trial : nullptr,
                                 input.athlete.body, options);
+}
+
+void DemandAFlight(const TrialInput& input, const analysis::TrialAnalysis& analysis) {
+  if (!analysis.phases.flights.empty()) return;
+  const capture::Trial& trial = input.trial;
+  throw InputError(input.path.string(), "",
+                   fmt::format("no flight in its {} frames ({:.2f} s at {:g} Hz): the athlete's "
+                               "centre of mass never leaves the bed, so there is no jump to measure "
+                               "(acrolab reconstruct gives the joint angles of any motion)",
+                               trial.num_frames, trial.duration_s(), trial.point_rate_hz));
 }
 
 VideoCheck CheckVideo(VideoInput& video, const capture::Trial& trial, const analysis::AthleteBody& body,

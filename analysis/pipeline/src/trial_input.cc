@@ -52,10 +52,13 @@ TrialInput OpenTrial(const TrialRequest& request) {
   in.sha256 = Sha256Hex(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
   in.trial = capture::ReadTrialFromBytes(bytes, request.trial);
   for (const std::string& w : in.trial.warnings) in.warnings.push_back(w);
+  capture::DemandUsableContent(in.trial, request.trial.string(), request.min_frames, request.use);
   const std::string turned = analysis::OrientTrialUp(&in.trial, request.up, &in.up);
   if (!turned.empty()) in.warnings.push_back(turned);
   if (!request.static_trial.empty()) {
     in.static_trial = capture::ReadTrial(request.static_trial);
+    capture::DemandUsableContent(*in.static_trial, request.static_trial.string(), 1,
+                                 "a static trial");
     // Recorded in the same lab: the trial's up, forced.
     if (in.up.found)
       analysis::OrientTrialUp(&*in.static_trial, (in.up.sign > 0 ? "" : "-") + std::string(1, char('x' + in.up.axis)));

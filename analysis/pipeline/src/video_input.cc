@@ -35,9 +35,9 @@ VideoInput::VideoInput(const VideoRequest& request) : request_(request) {
   camera_ = vision::FindCamera(cameras, request.camera, request.calibration.string());
   reader_ = std::make_unique<capture::VideoReader>(request.video);
   const capture::VideoInfo& info = reader_->info();
-  if (info.width != camera_.width_px || info.height != camera_.height_px)
-    warnings_.push_back(fmt::format("{} is {} x {} px, camera {} was calibrated at {} x {}", request.video.string(),
-                                    info.width, info.height, camera_.name, camera_.width_px, camera_.height_px));
+  std::string note;
+  camera_ = vision::FitCameraToVideo(camera_, info.width, info.height, request.video.string(), &note);
+  if (!note.empty()) warnings_.push_back(note);
 }
 
 VideoInput::~VideoInput() = default;
@@ -72,6 +72,10 @@ const SyncOutcome& VideoInput::Sync(analysis::TrialScene& scene, const Progress&
     out.sync = {r.offset_s, r.rate};
   } else if (r.kind == SyncRequest::Kind::kEvent) {
     out.sync = vision::SyncFromEvent(r.event_trial_s, r.event_video_s, r.rate);
+  }
+  if (r.kind != SyncRequest::Kind::kAuto) {
+    vision::DemandTrialInsideVideo(out.sync, scene.trial().duration_s(), reader_->info().duration_s,
+                                   request_.video.string());
   } else {
     // From the image motion, then refined by the silhouettes to the trial's sample.
     vision::AutoSyncOptions motion;

@@ -216,6 +216,9 @@ CalibrationBoard ParseCalibrationBoard(const std::string& text) {
   const std::optional<double> square = ParseLength(f[2]);
   if (!square) return fail("the square size '" + std::string(f[2]) + "' is not a length (60mm)");
   b.square_m = *square;
+  // Printed boards: a square from 1 mm to 1 m (1e300 mm reached OpenCV as an assertion).
+  if (!(b.square_m >= 1e-3 && b.square_m <= 1.0))
+    return fail(fmt::format("the square size {:g} m is outside 1 mm … 1 m", b.square_m));
   if (!checker) {
     const std::optional<double> marker = ParseLength(f[3]);
     if (!marker || *marker >= b.square_m)
@@ -314,7 +317,12 @@ IntrinsicCalibration CalibrateIntrinsics(const std::vector<std::filesystem::path
                                    result.views.size(),
                                    options.min_views));
     }
-    rms = cv::calibrateCamera(object, image, size, K, dist, rvecs, tvecs, flags);
+    try {
+      rms = cv::calibrateCamera(object, image, size, K, dist, rvecs, tvecs, flags);
+    } catch (const cv::Exception& e) {  // its assertion text, as the images' fault
+      throw InputError(size_source.empty() ? "calibration" : size_source, "",
+                       "no camera fits the board's corners (OpenCV: " + e.err + ")");
+    }
     // Per-view RMS; the worst view above the threshold is rejected and the rest recalibrated.
     std::vector<double> view_rms(used.size());
     for (size_t j = 0; j < used.size(); ++j)
@@ -461,10 +469,21 @@ ExtrinsicCalibration CalibrateExtrinsics(const Camera& intrinsics,
   for (int i = 0; i < 3; ++i)
     for (int j = 0; j < 3; ++j) K.at<double>(i, j) = intrinsics.K(i, j);
   const cv::Mat dist(intrinsics.distortion, true);
+  // Four points that coincide (or lie on one line) pin no pose: said, not left to OpenCV's
+  // assertions.
+  double spread = 0.0;
+  for (const cv::Point3d& a : object)
+    for (const cv::Point3d& b : object) spread = std::max(spread, cv::norm(a - b));
+  if (!(spread > 1e-3))
+    throw InputError("", "points", fmt::format("the {} 3D points coincide (all within 1 mm)", object.size()));
   cv::Mat rvec, tvec;
-  if (!cv::solvePnP(object, image, K, dist, rvec, tvec, false, cv::SOLVEPNP_SQPNP))
-    throw InputError("", "points", "no camera pose fits these points (SQPnP failed)");
-  cv::solvePnPRefineLM(object, image, K, dist, rvec, tvec);
+  try {
+    if (!cv::solvePnP(object, image, K, dist, rvec, tvec, false, cv::SOLVEPNP_SQPNP))
+      throw InputError("", "points", "no camera pose fits these points (SQPnP failed)");
+    cv::solvePnPRefineLM(object, image, K, dist, rvec, tvec);
+  } catch (const cv::Exception& e) {
+    throw InputError("", "points", "no camera pose fits these points (OpenCV: " + e.err + ")");
+  }
 
   result.camera = intrinsics;
   result.camera.R_KW = RotationFromRodrigues(

@@ -12,6 +12,7 @@
 
 #include "acro/base/file_io.h"
 #include "acro/base/input_error.h"
+#include "acro/base/nesting.h"
 #include "acro/vision/camera.h"
 
 namespace acro::vision {
@@ -29,6 +30,10 @@ class Storage {
     if (ec) throw InputError(file_, "", "cannot read: " + ec.message());
     if (size > (std::uintmax_t(16) << 20))
       throw InputError(file_, "", "larger than 16 MiB: not a calibration");
+    // OpenCV's parsers recurse per level: a file nested 100,000 deep overflowed the stack.
+    const std::vector<std::uint8_t> bytes = ReadFileBytes(path, std::int64_t(16) << 20);
+    DemandNestingAtMost(
+        std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), 64, file_);
     try {
       fs_.open(file_, cv::FileStorage::READ);
     } catch (const cv::Exception& e) {
@@ -242,7 +247,9 @@ std::vector<Camera> ReadOpenCvStorage(const std::filesystem::path& path) {
   }
 }
 
-std::vector<Camera> ReadCameras(const std::filesystem::path& path) {
+namespace {
+
+std::vector<Camera> ReadCamerasByFormat(const std::filesystem::path& path) {
   const std::string ext = LowerExtension(path);
   const std::string name = path.filename().string();
   if (ext == "toml") return ReadPose2SimToml(path);
@@ -261,6 +268,20 @@ std::vector<Camera> ReadCameras(const std::filesystem::path& path) {
                    "unknown calibration format " +
                        (ext.empty() ? std::string("(no extension)") : "'." + ext + "'") +
                        " (.toml Pose2Sim, .qca Qualisys, .yml/.yaml/.xml/.json OpenCV)");
+}
+
+}  // namespace
+
+std::vector<Camera> ReadCameras(const std::filesystem::path& path) {
+  std::vector<Camera> cameras = ReadCamerasByFormat(path);
+  // Two cameras of one name would be one to --camera (it selected both).
+  for (size_t i = 0; i < cameras.size(); ++i)
+    for (size_t j = 0; j < i; ++j)
+      if (cameras[i].name == cameras[j].name)
+        throw InputError(path.string(), "",
+                         fmt::format("camera name '{}' is given twice (cameras {} and {})",
+                                     cameras[i].name, j + 1, i + 1));
+  return cameras;
 }
 
 const Camera& FindCamera(const std::vector<Camera>& cameras,

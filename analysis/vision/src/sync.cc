@@ -25,6 +25,17 @@ VideoSync SyncFromEvent(double trial_time_s, double video_time_s, double rate) {
   return {video_time_s - rate * trial_time_s, rate};
 }
 
+void DemandTrialInsideVideo(const VideoSync& sync, double trial_duration_s,
+                            double video_duration_s, const std::string& video) {
+  const double first = sync.VideoTime(0.0), last = sync.VideoTime(trial_duration_s);
+  if (std::isfinite(first) && std::isfinite(last) && last >= 0.0 && first <= video_duration_s)
+    return;
+  throw InputError(video, "sync",
+                   fmt::format("puts the trial at video time {:.6g} … {:.6g} s, outside the video's "
+                               "0 … {:.3f} s (check --offset-s or --event)",
+                               first, last, video_duration_s));
+}
+
 bool AutoSyncOptions::IsValid(std::string* why) const {
   if (!(rate > 0.0) || !std::isfinite(rate)) {
     *why = fmt::format("rate {} is not positive", rate);

@@ -120,7 +120,9 @@ TEST(SkillFile, WrittenAndReadBackIsTheSameSkill) {
       EXPECT_LT((a.joint_angles_rad - b.joint_angles_rad).cwiseAbs().maxCoeff(), 1e-12)
           << name << " " << a.name;
       EXPECT_EQ(a.time_s.has_value(), b.time_s.has_value());
-      if (a.time_s && b.time_s) EXPECT_NEAR(*a.time_s, *b.time_s, 1e-12);
+      if (a.time_s && b.time_s) {
+        EXPECT_NEAR(*a.time_s, *b.time_s, 1e-12);
+      }
       EXPECT_NEAR(a.tolerance_angle_rad, b.tolerance_angle_rad, 1e-12);
       EXPECT_NEAR(a.tolerance_position_m, b.tolerance_position_m, 1e-12);
     }

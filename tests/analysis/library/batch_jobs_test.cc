@@ -65,6 +65,19 @@ TEST(BatchJobs, AListGivesEachTrialItsOptionsAndTheDefaults) {
   EXPECT_EQ(OptionValue(jobs[1].words, "--session"), "2026-09-02");
 }
 
+// A list saved on Windows: the \r of each line end is no part of the last value.
+TEST(BatchJobs, ACrlfListReadsAsItsLfTwin) {
+  const fs::path dir = acro::testing::ScratchDir("batch_jobs_crlf");
+  const fs::path list =
+      WriteList(dir, "day1/jump.c3d --session 2026-09-01 --notes 'windy day'\r\n# end\r\n");
+  BatchDefaults defaults;
+  defaults.athlete = "a.yaml";
+  const std::vector<BatchJob> jobs = ReadBatchJobs(list, defaults);
+  ASSERT_EQ(jobs.size(), 1u);
+  EXPECT_EQ(OptionValue(jobs[0].words, "--notes"), "windy day");
+  EXPECT_EQ(OptionValue(jobs[0].words, "--session"), "2026-09-01");
+}
+
 TEST(BatchJobs, MistakesNameTheLine) {
   const fs::path dir = acro::testing::ScratchDir("batch_jobs_bad");
   const auto error = [&](const std::string& text, const BatchDefaults& defaults) {

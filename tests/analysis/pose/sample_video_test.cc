@@ -105,7 +105,9 @@ TEST(SampleVideo, HeavyModelFollowsTheRenderedAthleteThroughEveryFlight) {
   }
   std::printf("confidence: %zu keypoints > 40 px off, median %.2f; %zu within 10 px, median %.2f\n", wrong.size(),
               Quantile(wrong, 0.5), right.size(), Quantile(right, 0.5));
-  if (!wrong.empty()) EXPECT_LT(Quantile(wrong, 0.5), Quantile(right, 0.5) - 0.2);
+  if (!wrong.empty()) {
+    EXPECT_LT(Quantile(wrong, 0.5), Quantile(right, 0.5) - 0.2);
+  }
 }
 
 }  // namespace

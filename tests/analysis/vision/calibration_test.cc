@@ -452,7 +452,8 @@ TEST(Calibration, OpenCvFileStorageFilesAreReadInBothLayouts) {
         << "["
         << "a"
         << "]";
-    bad << "K_a" << cv::Mat::eye(3, 3, CV_64F) << "W_a" << 640 << "H_a" << 480;
+    bad << "K_a" << (cv::Mat_<double>(3, 3) << 600, 0, 320, 0, 600, 240, 0, 0, 1) << "W_a" << 640
+        << "H_a" << 480;
     bad << "Rot_a" << (cv::Mat_<double>(3, 3) << 1, 0, 0, 0, 2, 0, 0, 0, 1) << "T_a"
         << cv::Mat::zeros(3, 1, CV_64F);
   }

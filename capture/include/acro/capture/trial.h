@@ -147,6 +147,27 @@ struct Trial {
   int FindAnalog(const std::string& label) const;
 };
 
+/// The check every trial reader ends with (docs/limits.md, "Trials"), so that none can forget it: a
+/// marker coordinate that is not finite, or farther than 10 km from the lab's origin, is no
+/// position in a hall. It becomes a gap (NaN, residual −1), and one warning in trial->warnings says
+/// how many and where the first is (marker, frame and value). `file` names the trial.
+void GapImpossiblePositions(Trial* trial, const std::string& file);
+
+/// What a trial holds that a command can use.
+struct TrialContent {
+  int frames = 0;
+  int markers = 0;             ///< points of type marker
+  int markers_with_data = 0;   ///< markers with a position in at least one frame
+  int frames_with_data = 0;    ///< frames where at least one marker has a position
+};
+TrialContent CountContent(const Trial& trial);
+
+/// Throws acro::InputError naming `file` when the trial cannot give `use` what it needs: fewer than
+/// `min_frames` frames holding a marker position, or no marker with any position. The message has
+/// the counts ("holds 1 frame; analysing it needs at least 2").
+void DemandUsableContent(const Trial& trial, const std::string& file, int min_frames,
+                         const std::string& use);
+
 /// Turns everything the trial holds in W by R_new_old (a rotation): the points, the force plates'
 /// corners and their outputs in W. For a file recorded with another axis up (analysis'
 /// OrientTrialUp). The plates' own frames follow their corners.

@@ -16,6 +16,7 @@
 
 #include <cstdint>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -167,7 +168,15 @@ class Library {
   /// migrates an older schema; kReadOnly never writes. Throws acro::InputError naming the file
   /// when it is not an SQLite database, not an Acrolab library, of a newer schema, or unreadable —
   /// and leaves such a file untouched.
-  Library(const std::filesystem::path& path, Mode mode, int busy_timeout_ms = 60000);
+  ///
+  /// Another process's write lock is waited for (docs/library.md, "Locks"): `busy_timeout_ms`, or
+  /// when it is negative ACROLAB_LIBRARY_WAIT_S seconds from the environment, else 30 s. The
+  /// wait is said at once through the lock notice (SetLockNotice), and a lock still held after it
+  /// is acro::InputError "is locked by another process … still after N s".
+  Library(const std::filesystem::path& path, Mode mode, int busy_timeout_ms = -1);
+  /// Where the line "FILE: locked by another process; waiting up to N s" goes, for every library
+  /// this process opens (the command line: stderr). None by default.
+  static void SetLockNotice(std::function<void(const std::string&)> notice);
   ~Library();
   Library(const Library&) = delete;
   Library& operator=(const Library&) = delete;

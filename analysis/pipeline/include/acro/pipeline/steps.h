@@ -19,6 +19,12 @@ namespace acro::pipeline {
 /// trial when there is one).
 analysis::TrialAnalysis Analyze(const TrialInput& input, const analysis::TrialAnalysisOptions& options = {});
 
+/// Throws acro::InputError naming the trial when the analysis found no flight (the markers never
+/// leave the floor, or the trial is too short to hold one), with what it holds: for the doors that
+/// measure jumps (`analyze`, `library add`), whose outputs would be empty. `reconstruct` gives the
+/// joint angles of any motion.
+void DemandAFlight(const TrialInput& input, const analysis::TrialAnalysis& analysis);
+
 /// What AttachVideo found.
 struct VideoCheck {
   SyncOutcome sync;

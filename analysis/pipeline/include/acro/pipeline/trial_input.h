@@ -58,6 +58,11 @@ struct TrialRequest {
   /// The file's up axis: "auto" (found from the head and the feet), or "x", "-y", … (up_axis.h).
   std::string up = "auto";
   AthleteChoice athlete;
+  /// What the door needs of the trial, checked once when it is opened (capture::DemandUsableContent):
+  /// at least this many frames holding a marker position, and a marker with one. Two for what
+  /// measures motion (a velocity needs two); `reconstruct` takes one.
+  int min_frames = 2;
+  std::string use = "the analysis";
 };
 
 struct TrialInput {
@@ -75,8 +80,9 @@ struct TrialInput {
 };
 
 /// Reads the trial's bytes once, hashes them, parses them by the file's extension (.c3d, .trc,
-/// .csv), turns the trial (and the static trial) Z up as `request.up` says, and makes the athlete.
-/// Throws acro::InputError naming the file for what cannot be read.
+/// .csv), checks its usable content (request.min_frames), turns the trial (and the static trial) Z
+/// up as `request.up` says, and makes the athlete. Throws acro::InputError naming the file for what
+/// cannot be read or used, with the counts.
 TrialInput OpenTrial(const TrialRequest& request);
 
 }  // namespace acro::pipeline

@@ -41,6 +41,14 @@ struct Camera {
   bool IsValid(std::string* why) const;
 };
 
+/// The one image-size policy of every command that puts a camera on a video (docs/limits.md,
+/// "Cameras"): a video of the calibrated size, or within 16 px of it (a calibration at the coded
+/// size, 1088 rows, for a 1080-row video), takes the camera as it is, its pixels from the top-left
+/// corner; a scaled copy (both sides scaled alike, to 1 %) takes the camera scaled to it, said in
+/// `*note`; any other size is refused: acro::InputError naming `video`, both sizes.
+Camera FitCameraToVideo(const Camera& camera, int width, int height, const std::string& video,
+                        std::string* note);
+
 /// Reads a Pose2Sim/Anipose calibration: one table per camera with `name`, `size` [w, h],
 /// `matrix` (3 × 3), `distortions` [k1 k2 p1 p2], `rotation` (Rodrigues vector, rad) and
 /// `translation` (m), world → camera; a `[metadata]` table is skipped. Throws acro::InputError

@@ -3,6 +3,8 @@
 // The time line between a trial and a video (docs/sync.md): video_time = offset + rate ×
 // trial_time, trial time counted from the trial's first sample, video time from the first frame.
 
+#include <string>
+
 #include "acro/capture/trial.h"
 
 namespace acro::vision {
@@ -20,5 +22,11 @@ struct VideoSync {
 
 /// The sync that puts an event at `trial_time_s` in the trial on `video_time_s` in the video.
 VideoSync SyncFromEvent(double trial_time_s, double video_time_s, double rate = 1.0);
+
+/// acro::InputError naming `video` when the sync puts no moment of the trial (0 … trial_duration_s)
+/// inside the video (0 … video_duration_s): every time or offset given by hand must land in the
+/// media (`--offset-s 1e300` drew a video of nothing). The message has both spans.
+void DemandTrialInsideVideo(const VideoSync& sync, double trial_duration_s,
+                            double video_duration_s, const std::string& video);
 
 }  // namespace acro::vision
