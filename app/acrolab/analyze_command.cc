@@ -17,6 +17,7 @@
 #include "acro/capture/trial_io.h"
 #include "acro/capture/video.h"
 #include "acro/dynamics/configuration.h"
+#include "acro/fig/rules.h"
 #include "acro/pipeline/steps.h"
 #include "acro/report/analysis_report.h"
 #include "acro/scene/silhouette_check.h"
@@ -44,6 +45,7 @@ struct AnalyzeArguments {
   VideoArguments video;
   analysis::TrialAnalysisOptions options;
   ui::AnalysisReportOptions report;
+  std::string rules;  // a rule file (rules/*.yaml); empty: the FIG senior routine
 };
 
 // The plotted joint must exist before any work is done (and before any file is written).
@@ -123,6 +125,7 @@ int RunAnalyze(AnalyzeArguments& args) {
   const TrialArguments& common = args.common;
   DemandValidCommandLine(args.options);
   CheckOutputDirectory(common.out_dir);  // before any work: a bad -o costs nothing
+  if (!args.rules.empty()) args.options.rules = fig::LoadRules(args.rules);
   const pipeline::TrialInput input = OpenTrialFor("analyze", common.Request());
   CheckCutoffBelowNyquist(args.options.reconstruction, input.trial);
   CheckJoint(input.athlete.body, args.report.joint);
@@ -157,7 +160,7 @@ int RunAnalyze(AnalyzeArguments& args) {
   outputs.Commit();
   std::fputs(result.BriefReport().c_str(), stdout);
   std::printf("report: %s\n", (outputs.dir() / "report.html").string().c_str());
-  std::printf("wrote %s/{report.html,jumps.json,angles.mot,torques.sto,residuals.csv,analysis.json}\n",
+  std::printf("wrote %s/{report.html,jumps.json,score.json,angles.mot,torques.sto,residuals.csv,analysis.json}\n",
               common.out_dir.c_str());
   return 0;
 }
@@ -170,7 +173,8 @@ void AddAnalyzeCommand(CLI::App& app, CommandRunner* run) {
       "analyze",
       "The main job: import, reconstruct, check the physics, measure every jump. Writes "
       "DIR/report.html (routine summary, per-jump table, verdict with its cause, charts as PNG and "
-      "SVG), DIR/jumps.json, DIR/angles.mot, DIR/torques.sto, DIR/residuals.csv. docs/cli.md.");
+      "SVG, the score sheet), DIR/jumps.json, DIR/score.json, DIR/angles.mot, DIR/torques.sto, "
+      "DIR/residuals.csv. docs/cli.md.");
   args->common.Declare(command, &args->options.reconstruction);
   command->add_option("--joint",
                       args->report.joint,
@@ -190,6 +194,10 @@ void AddAnalyzeCommand(CLI::App& app, CommandRunner* run) {
       "height of the take-off surface (m) when the trial has no BED markers: "
       "1.155 for a FIG trampoline over a floor at z = 0; the phases then come "
       "from the soles (default: the bed or floor estimated from the motion, docs/metrics.md)");
+  command->add_option("--rules", args->rules,
+                      "the routine rules the score sheet follows (rules/*.yaml: FIG senior, age groups, a "
+                      "league; default the FIG senior routine; docs/scoring.md)")
+      ->check(CLI::ExistingFile);
   command->add_flag_callback(
       "--no-force-plates",
       [args] { args->options.use_force_plates = false; },

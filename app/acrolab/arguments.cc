@@ -205,8 +205,11 @@ std::function<void(int, int)> MakeProgressBar(const std::string& label, const st
     if (!tty && done < total) return;
     const int width = 40;
     const int filled = total > 0 ? done * width / total : width;
+    // A terminal redraws the bar in place; a log (stderr not a terminal) gets the last state only,
+    // with no carriage return.
     std::fprintf(stderr,
-                 "\r%s [%s%s] %3d%% (%d/%d %s)",
+                 "%s%s [%s%s] %3d%% (%d/%d %s)",
+                 tty ? "\r" : "",
                  label.c_str(),
                  std::string(size_t(filled), '#').c_str(),
                  std::string(size_t(width - filled), ' ').c_str(),

@@ -4,6 +4,7 @@
 
 #include "acro/athlete/athlete_profile.h"
 #include "acro/athlete/body_mesh.h"
+#include "acro/base/text.h"
 #include "acro/report/body_report.h"
 #include "commands.h"
 
@@ -76,7 +77,7 @@ int RunBody(const BodyArguments& args) {
     analysis::WriteBodyMesh(mesh, args.mesh_path);
     std::fprintf(stderr,
                  "acrolab body: wrote %s (%d vertices, %d triangles)\n",
-                 args.mesh_path.c_str(),
+                 EscapeForTerminal(args.mesh_path).c_str(),
                  mesh.num_vertices(),
                  mesh.num_triangles());
   }

@@ -14,9 +14,9 @@
 #include <CLI/CLI.hpp>
 
 #include "acro/athlete/athlete_body.h"
+#include "acro/base/progress.h"
 #include "acro/capture/trial.h"
 #include "acro/capture/video.h"
-#include "acro/base/progress.h"
 #include "acro/design/skill_optimization.h"
 #include "acro/pipeline/trial_input.h"
 #include "acro/pipeline/video_input.h"
@@ -54,6 +54,10 @@ void AddDetectCommand(CLI::App& app, CommandRunner* run);
 /// What `overlay` and `compare` run in a build without the 3D views: throws the UsageError that
 /// says how to get them.
 int NeedTheViews();
+
+/// An option given an empty value ("--frames ''") is refused by name, never read as "not given".
+inline const CLI::Validator kNotEmpty(
+    [](std::string& value) { return value.empty() ? std::string("an empty value") : std::string(); }, "NOT EMPTY");
 
 /// A command line that parses but does not make sense (contradictory options, an Options struct
 /// that is not valid): main() prints it with the usage hint and exits with status 2.

@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "acro/base/file_io.h"
+#include "acro/base/text.h"
 #include "acro/design/skill_file.h"
 #include "acro/design/skill_from_code.h"
 #include "acro/report/skill_report.h"
@@ -41,8 +42,8 @@ int RunDesign(DesignArguments& args) {
   options.progress = [](const std::string& line) { std::fprintf(stderr, "  %s\n", line.c_str()); };
   std::fprintf(stderr,
                "acrolab design: %s for %s: shooting the flight\n",
-               args.code.c_str(),
-               args.athlete_path.c_str());
+               EscapeForTerminal(args.code).c_str(),
+               EscapeForTerminal(args.athlete_path).c_str());
   const analysis::SkillFromCodeResult designed =
       analysis::DesignSkillFromCode(args.code, fs::absolute(args.athlete_path), options);
   const std::string summary = analysis::FormatSkillFromCode(designed);

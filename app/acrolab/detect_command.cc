@@ -39,6 +39,8 @@ void ParseFrames(const std::string& text, pose::DetectVideoOptions* options) {
   } catch (const std::exception&) {
     throw UsageError{fmt::format("--frames {}: expected A:B (frames A to B − 1)", text)};
   }
+  if (first < 0 || (end >= 0 && end <= first))
+    throw UsageError{fmt::format("--frames {}: not a range A:B with 0 ≤ A < B", text)};
   options->first_frame = first;
   options->end_frame = end;
 }
@@ -165,9 +167,10 @@ void AddDetectCommand(CLI::App& app, CommandRunner* run) {
   command->add_option("--roi", args->roi,
                       "where the athlete is: auto (the trampoline's bed when found, else the whole "
                       "frame), bed (the bed must be found), or a box X,Y,W,H in pixels");
-  command->add_option("--frames", args->frames, "frames A:B (A to B − 1; default: all)");
+  command->add_option("--frames", args->frames, "frames A:B (A to B − 1; default: all)")->check(kNotEmpty);
   command->add_option("--sheet-frames", args->sheet_frames,
-                      "the frames A:B whose skeletons contact_sheet.png shows (up to 24 of them)");
+                      "the frames A:B whose skeletons contact_sheet.png shows (up to 24 of them)")
+      ->check(kNotEmpty);
   command->add_option("-j,--threads", args->threads, "threads (default: all cores)")->check(CLI::NonNegativeNumber);
   command->add_option("-o,--output", args->out_dir, "output folder (one folder per video)")->required();
   command->add_flag("--json", args->json, "print a JSON summary per video");

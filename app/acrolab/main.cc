@@ -92,7 +92,10 @@ int Main(int argc, char** argv) {
     return app.exit(e);
   } catch (const CLI::ParseError& e) {
     const std::string name = CommandName(app);
-    std::fprintf(stderr, "%s: %s (%s --help)\n", name.c_str(), e.what(), name.c_str());
+    // CLI11 repeats the value given: escaped, as every message (a terminal escape typed into an
+    // option must not reach the terminal raw).
+    std::fprintf(stderr, "%s: %s (%s --help)\n", name.c_str(), acro::EscapeForTerminal(e.what()).c_str(),
+                 name.c_str());
     return 2;
   }
 
@@ -106,13 +109,14 @@ int Main(int argc, char** argv) {
   try {
     return run();
   } catch (const acro::app::UsageError& e) {
-    std::fprintf(stderr, "%s: %s (%s --help)\n", name.c_str(), e.message.c_str(), name.c_str());
+    std::fprintf(stderr, "%s: %s (%s --help)\n", name.c_str(), acro::EscapeForTerminal(e.message).c_str(),
+                 name.c_str());
     return 2;
   } catch (const acro::InputError& e) {
     std::fprintf(stderr, "acrolab: %s\n", e.what());
     return 1;
   } catch (const acro::Cancelled& e) {  // the work stopped by its progress (a door's own cancel)
-    std::fprintf(stderr, "acrolab: %s\n", e.what());
+    std::fprintf(stderr, "acrolab: %s\n", acro::EscapeForTerminal(e.what()).c_str());
     return 1;
   } catch (const std::filesystem::filesystem_error& e) {
     // A file system refusal (a link loop, no permission, a vanished folder) is the named path's
@@ -125,7 +129,7 @@ int Main(int argc, char** argv) {
     std::fprintf(stderr, "acrolab: out of memory\n");
     return 1;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "acrolab: internal error: %s\n", e.what());
+    std::fprintf(stderr, "acrolab: internal error: %s\n", acro::EscapeForTerminal(e.what()).c_str());
     return 3;
   }
 }

@@ -14,13 +14,13 @@
 
 #ifdef ACRO_HAVE_VIEWS
 #include "acro/assess/trial_analysis.h"
-#include "acro/pipeline/steps.h"
 #include "acro/athlete/body_mesh.h"
 #include "acro/athlete/standard_human.h"
 #include "acro/base/file_io.h"
 #include "acro/base/input_error.h"
 #include "acro/capture/trial_io.h"
 #include "acro/capture/video.h"
+#include "acro/pipeline/steps.h"
 #include "acro/scene/trial_scene.h"
 #include "acro/views/scene_overlay.h"
 #include "acro/vision/projection.h"
@@ -41,6 +41,19 @@ struct OverlayArguments {
   bool heads_up = true;
 };
 
+// "A:B" → [A, B]; "A:" → [A, end].
+std::pair<int, int> ParseFrames(const std::string& text) {
+  if (text.empty()) return {0, -1};
+  int a = 0, b = -1;
+  char end = 0;
+  const int n = std::sscanf(text.c_str(), "%d:%d%c", &a, &b, &end);
+  const bool open_end = text.back() == ':' && std::sscanf(text.c_str(), "%d:%c", &a, &end) == 1;
+  if (!(n == 2 || open_end) || a < 0 || (n == 2 && b < a))
+    throw UsageError{"--frames '" + text +
+                     "' is not FIRST:LAST (video frames, 0-based, e.g. 120:480)"};
+  return {a, open_end ? -1 : b};
+}
+
 // --detections: 2D keypoints (acrolab detect's folder, OpenPose JSON, a 2D TRC or CSV) drawn over
 // the video itself — no trial, no calibration, no 3D views.
 int RunDetectionOverlay(const OverlayArguments& args) {
@@ -55,30 +68,18 @@ int RunDetectionOverlay(const OverlayArguments& args) {
   const capture::KeypointDetections detections = capture::ReadDetections(source, args.keypoints);
   capture::VideoReader video(args.video.video);
   const pose::Skeleton skeleton = pose::SkeletonOfNames(detections.names);
+  const auto [first, last] = ParseFrames(args.frames);
   Progress progress;
-  progress.report = [bar = MakeProgressBar("overlay", "frames")](const std::string&, int done, int total) {
-    bar(done, total);
-    return true;
+  progress.report = [bar = MakeCancellableProgress("overlay", "frames")](const std::string&, int done, int total) {
+    return bar(done, total);
   };
-  const int frames = ui::WriteDetectionOverlay(video, detections.frames, skeleton.edges, skeleton.sides, out, progress);
+  const int frames = ui::WriteDetectionOverlay(video, detections.frames, skeleton.edges, skeleton.sides, out, progress,
+                                               0.2, first, last);
   std::printf("%d frames with the detections of %s -> %s\n", frames, args.detections.c_str(), out.string().c_str());
   return 0;
 }
 
 #ifdef ACRO_HAVE_VIEWS
-// "A:B" → [A, B]; "A:" → [A, end].
-std::pair<int, int> ParseFrames(const std::string& text) {
-  if (text.empty()) return {0, -1};
-  int a = 0, b = -1;
-  char end = 0;
-  const int n = std::sscanf(text.c_str(), "%d:%d%c", &a, &b, &end);
-  const bool open_end = text.back() == ':' && std::sscanf(text.c_str(), "%d:%c", &a, &end) == 1;
-  if (!(n == 2 || open_end) || a < 0 || (n == 2 && b < a))
-    throw UsageError{"--frames '" + text +
-                     "' is not FIRST:LAST (video frames, 0-based, e.g. 120:480)"};
-  return {a, open_end ? -1 : b};
-}
-
 int RunOverlay(const OverlayArguments& args) {
   if (args.slow < 1 || args.slow > 64) throw UsageError{"--slow must be between 1 and 64"};
   const auto [first, last] = ParseFrames(args.frames);
@@ -197,7 +198,7 @@ void AddOverlayCommand(CLI::App& app, CommandRunner* run) {
                       args->ghost_jump,
                       "with --athlete: jump N (as in jumps.json) drawn as an orange ghost in every "
                       "other flight, placed at its take-off (feet, heading, time)");
-  command->add_option("--frames", args->frames, "FIRST:LAST video frames only (0-based)");
+  command->add_option("--frames", args->frames, "FIRST:LAST video frames only (0-based)")->check(kNotEmpty);
   command->add_option("--slow", args->slow, "write each flight frame K times (slow motion)");
   command->add_flag_callback(
       "--no-hud", [args] { args->heads_up = false; }, "no heads-up line");

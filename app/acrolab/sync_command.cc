@@ -149,7 +149,8 @@ void AddSyncCommand(CLI::App& app, CommandRunner* run) {
   command->add_option("--keypoints",
                       args->keypoints,
                       "the detections' keypoint set: body25, body25b (default), coco17, halpe26");
-  command->add_option("--fps", args->fps, "frame rate of detections without a --video");
+  command->add_option("--fps", args->fps, "frame rate of detections without a --video")
+      ->check(CLI::Range(1.0, 10000.0));
   command->add_option(
       "--axes", args->axes, "how the trial's axes map to the lab's (zxy: Y-up TRC)");
   command->add_option(

@@ -84,10 +84,13 @@ std::string FormatTrialInfoText(const Trial& trial) {
   if (!trial.subject_name.empty()) out << "Subject     " << trial.subject_name << "\n";
   out << "Markers     " << gaps.size() << "; marker-frames missing: " << missing_total << " of "
       << static_cast<long long>(gaps.size()) * trial.num_frames << "\n";
+  // The names' column as wide as the widest name up to 40 bytes: a longer name is printed whole
+  // and pushes its own line only (a 16 MB name padded into every line cost 16 MB a marker).
+  constexpr std::size_t kMaxColumn = 40;
   std::size_t width = 0;
-  for (const auto& g : gaps) width = std::max(width, g.label.size());
+  for (const auto& g : gaps) width = std::max(width, std::min(g.label.size(), kMaxColumn));
   for (const auto& g : gaps) {
-    out << "  " << g.label << std::string(width - g.label.size(), ' ');
+    out << "  " << g.label << std::string(width - std::min(width, g.label.size()), ' ');
     if (g.missing_frames == 0) {
       out << "  complete\n";
     } else {

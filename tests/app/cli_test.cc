@@ -247,7 +247,8 @@ TEST(Cli, AnalyzeWithoutAnyDisplayWritesTheMilestoneOneNumbersAndTheCharts) {
   ASSERT_EQ(expected.size(), 6u);
   // Milestone 2 added keys: the silhouette IoU, null without a video, why the shape (the FIG
   // body positions held: the same shapes as milestone 1's on this sample, checked below), where
-  // the surface's height comes from (here the bed's corner markers) and the twist's direction.
+  // the surface's height comes from (here the bed's corner markers) and the twist's direction;
+  // milestone 3 the score sheet's line.
   for (nlohmann::json& jump : actual) {
     EXPECT_TRUE(jump["silhouette_iou"].is_null());
     jump.erase("silhouette_iou");
@@ -270,6 +271,12 @@ TEST(Cli, AnalyzeWithoutAnyDisplayWritesTheMilestoneOneNumbersAndTheCharts) {
     const std::string code = jump["fig_code"].get<std::string>();
     EXPECT_EQ(jump["twist_direction"], code == "41/" || code == "42/" ? "left" : "none") << code;
     jump.erase("twist_direction");
+    // Milestone 3: the jump's line on the score sheet (the straight in-bounce is no element).
+    EXPECT_EQ(jump["score"].is_null(), code == "00") << code;
+    if (!jump["score"].is_null()) {
+      EXPECT_EQ(jump["score"]["code"], code);
+    }
+    jump.erase("score");
   }
   ExpectSameJson(expected, actual, "jumps");
 }
@@ -880,6 +887,9 @@ TEST(Cli, RoutineOfTenSkillsRoundTripsThroughAnalyze) {
                                     " --marker-noise-mm 1 --video -o " + Quote(dir / "routine"));
   ASSERT_EQ(run.status, 0) << run.err;
   EXPECT_NE(run.out.find("10 skills, DD 10.6"), std::string::npos) << run.out;
+  // Checked against the FIG senior rules: ten different elements, every difficulty counted.
+  EXPECT_NE(run.out.find("FIG senior, individual trampoline: D 10.6, T "), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("; valid\n"), std::string::npos) << run.out;
   const nlohmann::json routine = nlohmann::json::parse(Slurp(dir / "routine" / "routine.json"));
   EXPECT_NEAR(routine["difficulty"].get<double>(), 10.6, 1e-9);  // the sum of the FIG values
   EXPECT_TRUE(routine["notes"].empty());
@@ -931,6 +941,39 @@ TEST(Cli, RoutineOfTenSkillsRoundTripsThroughAnalyze) {
   }
   EXPECT_NEAR(dd_analysed, dd_designed, 1e-9);
   EXPECT_NEAR(dd_analysed, 10.6, 1e-9);
+  // Its score sheet: ten elements, D 10.6, T the flights' sum truncated to 0.005, a zone per landing.
+  const nlohmann::json score = nlohmann::json::parse(Slurp(dir / "analysis" / "score.json"));
+  EXPECT_EQ(score["elements_performed"], 10);
+  EXPECT_FALSE(score["interrupted"].get<bool>());
+  EXPECT_TRUE(score["valid"].get<bool>()) << score.dump(1);
+  EXPECT_NEAR(score["D"].get<double>(), 10.6, 1e-9);
+  double tof = 0;
+  for (const nlohmann::json& j : jumps) tof += j["time_of_flight_s"].get<double>();
+  EXPECT_NEAR(score["T"].get<double>(), std::floor(tof / 0.005 + 1e-9) * 0.005, 1e-9);
+  for (const nlohmann::json& e : score["elements"]) EXPECT_TRUE(e["landing"]["zone"].is_string());
+  EXPECT_NE(Slurp(dir / "analysis" / "report.html").find("<h2>Score sheet</h2>"), std::string::npos);
+  // The same routine as an age group's first routine: no element to or from the front or back, so
+  // those two requirements are missing, 1.0 each.
+  const ProcessResult age = Execute(std::string(ACROLAB_EXE) + " analyze " + Quote(dir / "routine" / "routine.c3d") +
+                                    " --athlete " + athlete + " --no-images --rules " +
+                                    Quote(RepoFile("rules/fig-wagc-13-16-first-routine.yaml")) + " -o " +
+                                    Quote(dir / "age"));
+  ASSERT_EQ(age.status, 0) << age.err;
+  const nlohmann::json age_score = nlohmann::json::parse(Slurp(dir / "age" / "score.json"));
+  EXPECT_EQ(age_score["requirements_missing"],
+            (nlohmann::json{"one element to front or back", "one element from front or back"}));
+  EXPECT_NEAR(age_score["penalty"].get<double>(), 2.0, 1e-12);
+  EXPECT_FALSE(age_score["valid"].get<bool>());
+  EXPECT_NE(age.out.find("requirement not performed: one element to front or back"), std::string::npos) << age.out;
+  // A rule file with a typo: one line naming it, nothing written.
+  const auto typo = dir / "typo.yaml";
+  std::ofstream(typo) << "name: club\nsource: our own\nroutine:\n  elementz: 10\n";
+  const ProcessResult bad_rules = Execute(std::string(ACROLAB_EXE) + " analyze " +
+                                          Quote(dir / "routine" / "routine.c3d") + " --athlete " + athlete +
+                                          " --rules " + Quote(typo) + " -o " + Quote(dir / "typo"));
+  EXPECT_EQ(bad_rules.status, 1);
+  EXPECT_NE(bad_rules.err.find("typo.yaml: line 4: unknown key 'elementz'"), std::string::npos) << bad_rules.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "typo"));
 
   // A skill twice: refused before any work, naming it.
   const ProcessResult again =

@@ -14,9 +14,9 @@
 #include <vector>
 
 #include "acro/athlete/athlete_profile.h"
-#include "acro/athlete/yaml.h"
 #include "acro/athlete/yeadon_measurements.h"
 #include "acro/base/input_error.h"
+#include "acro/base/yaml.h"
 #include "acro/design/routine_design.h"
 #include "acro/design/skill_file.h"
 #include "acro/reconstruct/markerset.h"
@@ -32,9 +32,9 @@ inline int FeedYamlReaders(const std::uint8_t* data,
                            const std::filesystem::path& base_dir,
                            std::vector<std::string>* errors = nullptr) {
   const std::string_view text(reinterpret_cast<const char*>(data), size);
-  analysis::YamlNode root;
+  YamlNode root;
   try {
-    root = analysis::ParseYaml(text, "fuzz.yaml");
+    root = ParseYaml(text, "fuzz.yaml");
   } catch (const InputError& e) {
     if (errors) errors->push_back(e.what());
     return 0;

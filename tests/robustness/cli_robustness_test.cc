@@ -31,6 +31,7 @@
 #include "acro/capture/trial.h"
 #include "acro/capture/trial_io.h"
 #include "refdata.h"
+#include "run_command.h"
 
 namespace {
 
@@ -87,14 +88,7 @@ Outcome Acrolab(const std::string& args,
   return run;
 }
 
-// The last line of stderr: the error or warning a user reads.
-std::string LastLine(const std::string& text) {
-  std::string line, last;
-  std::istringstream in(text);
-  while (std::getline(in, line))
-    if (!line.empty()) last = line;
-  return last;
-}
+using acro::testing::LastLine;
 
 // Whatever a run left in `dir` besides the inputs in `keep`.
 std::vector<std::string> Leftovers(const fs::path& dir, const std::vector<std::string>& keep) {

@@ -10,6 +10,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <sstream>
 #include <string>
 
 #include "refdata.h"
@@ -42,6 +43,15 @@ inline ProcessResult Execute(const std::string& command_line) {
 /// A path quoted for the shell.
 inline std::string Quote(const std::filesystem::path& p) {
   return "'" + p.string() + "'";
+}
+
+/// The last non-empty line of a program's output: the error or warning a user reads.
+inline std::string LastLine(const std::string& text) {
+  std::string line, last;
+  std::istringstream in(text);
+  while (std::getline(in, line))
+    if (!line.empty()) last = line;
+  return last;
 }
 
 }  // namespace acro::testing

@@ -16,12 +16,12 @@ constexpr double kPi = 3.14159265358979323846;
 constexpr double kDeg = kPi / 180.0;
 
 // Upright when the long axis leans less than the limit; otherwise front (facing down) or back.
-BodyPosition ClassifyPosition(const Eigen::Quaterniond& q_WB, double max_lean_deg) {
+fig::BodyPosition ClassifyPosition(const Eigen::Quaterniond& q_WB, double max_lean_deg) {
   const Eigen::Matrix3d R = q_WB.toRotationMatrix();
   const double lean = std::acos(std::clamp(R(2, 2), -1.0, 1.0));
-  if (lean < max_lean_deg * kDeg || lean > kPi - max_lean_deg * kDeg) return BodyPosition::kFeet;
-  return R(2, 0) < 0 ? BodyPosition::kFront
-                     : BodyPosition::kBack;  // body x (front) pointing down: prone
+  if (lean < max_lean_deg * kDeg || lean > kPi - max_lean_deg * kDeg) return fig::BodyPosition::kFeet;
+  return R(2, 0) < 0 ? fig::BodyPosition::kFront
+                     : fig::BodyPosition::kBack;  // body x (front) pointing down: prone
 }
 
 // The somersault axis of a flight. The body's long axis z_B sweeps the plane perpendicular to it
@@ -163,7 +163,7 @@ void ClassifyShape(const Eigen::VectorXd& hip_flexion_rad,
   const int limit = static_cast<int>(std::lround(options.closed_angle_deg));
   const int held_percent = static_cast<int>(std::lround(100 * out->shape_hold_fraction));
   if (out->shape_hold_fraction < options.min_shape_hold_fraction) {
-    out->skill.shape = SkillShape::kStraight;
+    out->skill.shape = fig::SkillShape::kStraight;
     out->shape_reason = "straight: the trunk–thigh angle stayed above " + std::to_string(limit) +
                         "° (closed over " + std::to_string(held_percent) +
                         " % of the flight at the most; median " +
@@ -171,7 +171,7 @@ void ClassifyShape(const Eigen::VectorXd& hip_flexion_rad,
     return;
   }
   const bool tuck = has_knee && out->shape_knees_closed_fraction >= 0.5;
-  out->skill.shape = tuck ? SkillShape::kTuck : SkillShape::kPike;
+  out->skill.shape = tuck ? fig::SkillShape::kTuck : fig::SkillShape::kPike;
   out->shape_reason = std::string(tuck ? "tuck" : "pike") + ": trunk–thigh " +
                       std::to_string(static_cast<int>(std::lround(out->shape_hip_angle_deg))) +
                       "°, thigh–shank " +
@@ -207,21 +207,21 @@ JumpRotation CountJumpRotation(const std::vector<Eigen::Quaterniond>& q_WB,
   // happens on the bed (in the direction of rotation).
   const double measured_quarters = out.measured_somersault_rad / (kPi / 2);
   const bool both_upright =
-      out.takeoff_position == BodyPosition::kFeet && out.landing_position == BodyPosition::kFeet;
+      out.takeoff_position == fig::BodyPosition::kFeet && out.landing_position == fig::BodyPosition::kFeet;
   const double bed = (both_upright ? 1.0 : 0.5) * options.bed_rotation_quarters;
   const double direction_sign = measured_quarters >= 0 ? 1.0 : -1.0;
   const int residue =
       static_cast<int>(out.landing_position) - static_cast<int>(out.takeoff_position);
   const int signed_quarters = NearestCongruent(measured_quarters + direction_sign * bed, residue);
-  FigSkill& skill = out.skill;
+  fig::FigSkill& skill = out.skill;
   skill.quarter_somersaults = std::abs(signed_quarters);
-  skill.direction = skill.quarter_somersaults == 0 ? SomersaultDirection::kNone
-                    : signed_quarters > 0          ? SomersaultDirection::kForward
-                                                   : SomersaultDirection::kBackward;
+  skill.direction = skill.quarter_somersaults == 0 ? fig::SomersaultDirection::kNone
+                    : signed_quarters > 0          ? fig::SomersaultDirection::kForward
+                                                   : fig::SomersaultDirection::kBackward;
 
   // Twists per somersault: the nominal somersault angle runs from the bed rotation done before
   // take-off (half the shortfall) to the nominal total; each full turn is one somersault.
-  const int slots = FigSkill::SomersaultSlots(skill.quarter_somersaults);
+  const int slots = fig::FigSkill::SomersaultSlots(skill.quarter_somersaults);
   const double before_takeoff =
       std::max(0.0, (skill.quarter_somersaults - std::abs(measured_quarters)) / 2) * kPi / 2;
   std::vector<double> twist_in_slot(static_cast<std::size_t>(slots), 0.0);
@@ -236,7 +236,7 @@ JumpRotation CountJumpRotation(const std::vector<Eigen::Quaterniond>& q_WB,
     skill.half_twists.push_back(static_cast<int>(std::lround(std::abs(twist) / kPi)));
 
   // Shape: the longest hold with the hips closed, and whether the knees were closed over it.
-  skill.shape = SkillShape::kStraight;
+  skill.shape = fig::SkillShape::kStraight;
   out.shape_reason = "straight: no hip angle measured";
   if (hip_flexion_rad.size() > landing_frame) {
     int best = takeoff_frame;
@@ -251,22 +251,22 @@ JumpRotation CountJumpRotation(const std::vector<Eigen::Quaterniond>& q_WB,
   return out;
 }
 
-TwistDirection TwistDirectionOf(const JumpRotation& rotation) {
+fig::TwistDirection TwistDirectionOf(const JumpRotation& rotation) {
   return TwistDirectionOf(rotation.skill.total_half_twists(), rotation.measured_twist_rad);
 }
 
-TwistDirection TwistDirectionOf(int half_twists, double twist_rad) {
-  if (half_twists == 0) return TwistDirection::kNone;
-  return twist_rad > 0 ? TwistDirection::kLeft : TwistDirection::kRight;
+fig::TwistDirection TwistDirectionOf(int half_twists, double twist_rad) {
+  if (half_twists == 0) return fig::TwistDirection::kNone;
+  return twist_rad > 0 ? fig::TwistDirection::kLeft : fig::TwistDirection::kRight;
 }
 
-const char* TwistDirectionName(TwistDirection direction) {
+const char* TwistDirectionName(fig::TwistDirection direction) {
   switch (direction) {
-    case TwistDirection::kLeft:
+    case fig::TwistDirection::kLeft:
       return "left";
-    case TwistDirection::kRight:
+    case fig::TwistDirection::kRight:
       return "right";
-    case TwistDirection::kNone:
+    case fig::TwistDirection::kNone:
       return "none";
   }
   return "none";

@@ -12,23 +12,21 @@
 #include <nlohmann/json.hpp>
 
 #include "acro/base/demand.h"
-#include "acro/base/progress.h"
 #include "acro/base/file_io.h"
 #include "acro/base/input_error.h"
+#include "acro/base/progress.h"
 #include "acro/capture/storage.h"
 #include "acro/dynamics/configuration.h"
 #include "acro/dynamics/kinematics.h"
 #include "acro/dynamics/workspace.h"
 #include "acro/reconstruct/motion_export.h"
+#include "score_json.h"
 
 namespace acro::analysis {
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 constexpr double kDeg = std::numbers::pi / 180.0;
-// FIG zone A: a 2.15 m × 1.08 m rectangle centred on the bed (DESIGN.md, "Trampoline facts").
-constexpr double kZoneALength_m = 2.15;
-constexpr double kZoneAWidth_m = 1.08;
 
 double Seconds(std::chrono::steady_clock::time_point since) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
@@ -90,6 +88,53 @@ Eigen::Vector3d At(const Eigen::Matrix3Xd& x, const Eigen::VectorXd& time_s, dou
   return (1.0 - u) * x.col(i) + u * x.col(i + 1);
 }
 
+// What touches the bed at a landing at time t, in W: for the feet, the four corners of each sole
+// (toe and heel, each ± half the sole's width across the foot); for the front or back, the two hip
+// joint centres. The heel lies a quarter of the ankle-to-toe length behind the ankle and the sole is
+// 38 % of the foot's length wide (de Leva 1996's foot: heel 20 % of the foot's length behind the
+// lateral malleolus; breadth/length of adult feet about 0.38). Interpolated between the frames
+// around t.
+std::vector<Eigen::Vector3d> LandingContactsW(const dynamics::Model<double>& model, const Motion& motion, double t,
+                                              fig::BodyPosition position) {
+  std::vector<std::pair<int, Eigen::Vector3d>> local;  // segment, point in its frame
+  if (position == fig::BodyPosition::kFeet) {
+    for (const char* side : {"r", "l"}) {
+      const int toe = model.FindPoint(std::string(side) + "_toe");
+      ACRO_DEMAND(toe >= 0);
+      const auto& p = model.point(toe);
+      const Eigen::Vector3d toe_F = p.p_BoP_B;
+      const double length = 1.25 * std::max(toe_F.x(), 0.0);
+      const Eigen::Vector3d heel_F(toe_F.x() - length, toe_F.y(), toe_F.z());
+      const Eigen::Vector3d half_width(0.0, 0.19 * length, 0.0);
+      for (const Eigen::Vector3d& c : {Eigen::Vector3d(toe_F + half_width), Eigen::Vector3d(toe_F - half_width),
+                                       Eigen::Vector3d(heel_F + half_width), Eigen::Vector3d(heel_F - half_width)})
+        local.emplace_back(p.segment, c);
+    }
+  } else {
+    for (const char* name : {"r_hip_jc", "l_hip_jc"}) {
+      const int hip = model.FindPoint(name);
+      ACRO_DEMAND(hip >= 0);
+      local.emplace_back(model.point(hip).segment, model.point(hip).p_BoP_B);
+    }
+  }
+  const int n = motion.num_frames();
+  int i = static_cast<int>(std::upper_bound(motion.time_s.data(), motion.time_s.data() + n, t) - motion.time_s.data()) - 1;
+  i = std::clamp(i, 0, std::max(0, n - 2));
+  const int i1 = std::min(i + 1, n - 1);
+  const double u = i1 == i ? 0.0 : std::clamp((t - motion.time_s[i]) / (motion.time_s[i1] - motion.time_s[i]), 0.0, 1.0);
+  dynamics::Workspace<double> ws(model);
+  std::vector<Eigen::Vector3d> out(local.size(), Eigen::Vector3d::Zero());
+  for (const auto& [frame, weight] : {std::pair<int, double>(i, 1.0 - u), std::pair<int, double>(i1, u)}) {
+    const Eigen::VectorXd q = motion.q.col(frame);
+    dynamics::CalcForwardKinematics(model, ws, q);
+    for (size_t k = 0; k < local.size(); ++k) {
+      const auto& X = ws.X_WB[static_cast<size_t>(local[k].first)];
+      out[k] += weight * (X.rotation() * local[k].second + X.translation());
+    }
+  }
+  return out;
+}
+
 // Total vertical ground reaction of all plates with outputs, per analog sample (empty if none).
 Eigen::VectorXd TotalVerticalForce(const capture::Trial& trial) {
   Eigen::VectorXd fz;
@@ -102,22 +147,22 @@ Eigen::VectorXd TotalVerticalForce(const capture::Trial& trial) {
   return fz;
 }
 
-const char* DirectionName(SomersaultDirection d) {
+const char* DirectionName(fig::SomersaultDirection d) {
   switch (d) {
-    case SomersaultDirection::kForward:
+    case fig::SomersaultDirection::kForward:
       return "forward";
-    case SomersaultDirection::kBackward:
+    case fig::SomersaultDirection::kBackward:
       return "backward";
     default:
       return "none";
   }
 }
 
-const char* ShapeName(SkillShape s) {
+const char* ShapeName(fig::SkillShape s) {
   switch (s) {
-    case SkillShape::kTuck:
+    case fig::SkillShape::kTuck:
       return "tuck";
-    case SkillShape::kPike:
+    case fig::SkillShape::kPike:
       return "pike";
     default:
       return "straight";
@@ -138,6 +183,12 @@ bool TrialAnalysisOptions::IsValid(std::string* why) const {
   }
   if (bed && !(bed->length_m > 0 && bed->width_m > 0 && bed->long_axis_W.norm() > 0.5)) {
     if (why) *why = "bed: length and width must be positive and the long axis a unit vector";
+    return false;
+  }
+  if (!rules.IsValid(why)) return false;
+  if (!execution.IsValid(why)) return false;
+  if (!(std::isfinite(landing_uncertainty_m) && landing_uncertainty_m >= 0 && landing_uncertainty_m <= 1)) {
+    if (why) *why = "landing_uncertainty_m must be between 0 and 1 m";
     return false;
   }
   return true;
@@ -346,16 +397,26 @@ JumpMetrics MeasureJump(const TrialAnalysis& out, size_t k, const BodyPaths& pat
     const Eigen::Vector3d across = Eigen::Vector3d::UnitZ().cross(bed.long_axis_W);
     j.landing_in_bed_m = Eigen::Vector2d(d.dot(bed.long_axis_W), d.dot(across));
     j.displacement_from_centre_m = j.landing_in_bed_m.norm();
-    j.landing_in_zone_a = std::abs(j.landing_in_bed_m.x()) <= 0.5 * kZoneALength_m &&
-                          std::abs(j.landing_in_bed_m.y()) <= 0.5 * kZoneAWidth_m;
+    j.landing_in_zone_a = std::abs(j.landing_in_bed_m.x()) <= 0.5 * fig::kZoneALength_m &&
+                          std::abs(j.landing_in_bed_m.y()) <= 0.5 * fig::kZoneAWidth_m;
   }
   // Rotation over the frames that enclose the flight.
   const int first = std::clamp(f.takeoff_frame - 1, 0, n - 2);
   const int last = std::clamp(f.landing_frame, first + 1, n - 1);
   j.rotation = CountJumpRotation(posture.q_WB, first, last, posture.hip, posture.knee, options.rotation);
-  j.fig_code = FormatFigCode(j.rotation.skill);
-  j.skill_name = FigSkillName(j.rotation.skill);
-  j.difficulty = CalcFigDifficulty(j.rotation.skill);
+  // What touched the bed, in the bed's axes, by the landing position the rotation found.
+  if (out.bed && !f.partial) {
+    const BedGeometry& bed = *out.bed;
+    const Eigen::Vector3d across = Eigen::Vector3d::UnitZ().cross(bed.long_axis_W);
+    for (const Eigen::Vector3d& p :
+         LandingContactsW(out.reconstruction.model, motion, f.landing_s, j.rotation.landing_position)) {
+      const Eigen::Vector3d d = p - bed.centre_W;
+      j.landing_contacts_in_bed_m.emplace_back(d.dot(bed.long_axis_W), d.dot(across));
+    }
+  }
+  j.fig_code = fig::FormatFigCode(j.rotation.skill);
+  j.skill_name = fig::FigSkillName(j.rotation.skill);
+  j.difficulty = fig::CalcFigDifficulty(j.rotation.skill);
   // The check of this flight.
   for (const FlightCheck& fc : out.check.flights)
     if (fc.flight == static_cast<int>(k)) j.check = fc;
@@ -435,6 +496,9 @@ TrialAnalysis AnalyzeTrial(const capture::Trial& trial,
     }
     out.jumps.push_back(std::move(j));
   }
+  for (size_t k = 0; k < out.jumps.size(); ++k)
+    out.jumps[k].execution = MeasureExecution(out, k, options.rules.execution, options.execution);
+  out.score = ScoreTrial(out, options.rules, options.landing_uncertainty_m);
   out.metrics_s = Seconds(start);
   progress(fmt::format("metrics: {} skills, DD {:.1f}, time of flight {:.3f} s",
                        out.num_scored,
@@ -464,6 +528,14 @@ std::string TrialAnalysis::BriefReport() const {
                    num_scored,
                    total_difficulty,
                    total_time_of_flight_s);
+  s << fmt::format("score ({}): D {:.1f}  T {:.3f}  H {}", score.rules_name, score.difficulty,
+                   score.time_of_flight,
+                   score.horizontal_displacement ? fmt::format("{:.2f}", *score.horizontal_displacement)
+                                                 : std::string("- (no bed)"));
+  if (score.interrupted) s << "  (" << score.interruption << ")";
+  s << "\n";
+  for (const std::string& m : score.requirements_missing) s << "  requirement not performed: " << m << "\n";
+  for (const std::string& b : score.rule_breaks) s << "  " << b << "\n";
   s << "physical check: " << check.verdict << "\n";
   for (const Finding& f : check.findings) s << "  cause: " << f.text << "\n";
   for (const JumpMetrics& j : jumps) {
@@ -541,7 +613,7 @@ std::string FormatJumpsJson(const TrialAnalysis& a) {
     o["landing_in_bed_m"] = {j.landing_in_bed_m.x(), j.landing_in_bed_m.y()};
     o["landing_in_zone_a"] = j.landing_in_zone_a ? Json(*j.landing_in_zone_a) : Json(nullptr);
     // The skill and its difficulty.
-    const FigSkill& skill = j.rotation.skill;
+    const fig::FigSkill& skill = j.rotation.skill;
     o["somersault_quarters"] = skill.quarter_somersaults;
     o["direction"] = DirectionName(skill.direction);
     o["twist_halves"] = skill.half_twists;
@@ -559,6 +631,10 @@ std::string FormatJumpsJson(const TrialAnalysis& a) {
     o["shape_reason"] = j.rotation.shape_reason;
     o["verdict"] = j.verdict;
     o["silhouette_iou"] = j.silhouette_iou ? Json(*j.silhouette_iou) : Json(nullptr);
+    // Its line on the score sheet, when it is one of the routine's elements.
+    o["score"] = nullptr;
+    for (const fig::ScoredElement& e : a.score.elements)
+      if (e.flight == j.index) o["score"] = ElementScoreJson(e);
     // The physical check of the flight, when it was judged.
     if (j.check) {
       const FlightCheck& c = *j.check;
@@ -645,6 +721,7 @@ capture::Storage MakeTorqueStorage(const TrialAnalysis& a) {
 
 void WriteAnalysisTables(const TrialAnalysis& a, const std::filesystem::path& dir) {
   WriteFileAtomically(dir / "jumps.json", FormatJumpsJson(a));
+  WriteFileAtomically(dir / "score.json", FormatScoreJson(a.score));
   WriteMotionMot(a.reconstruction.motion, dir / "angles.mot");
   capture::WriteStorage(MakeTorqueStorage(a), dir / "torques.sto", capture::StorageFlavor::kSto);
   WriteFileAtomically(dir / "residuals.csv", FormatResidualsCsv(a));

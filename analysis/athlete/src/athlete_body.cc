@@ -5,9 +5,9 @@
 
 #include <Eigen/Geometry>
 
-#include "acro/athlete/yaml.h"
 #include "acro/base/demand.h"
 #include "acro/base/input_error.h"
+#include "acro/base/yaml.h"
 
 namespace acro::analysis {
 

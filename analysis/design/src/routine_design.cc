@@ -11,8 +11,8 @@
 
 #include <fmt/format.h>
 
-#include "acro/athlete/yaml.h"
 #include "acro/base/input_error.h"
+#include "acro/base/yaml.h"
 
 namespace acro::analysis {
 namespace {
@@ -79,9 +79,9 @@ RoutineSkillPlan PlanOf(const SkillFromCodeResult& d) {
   p.name = d.skill.name;
   p.fig_code = d.skill.fig_code;
   p.flight_s = d.flight_time_s;
-  const FigSkill& c = d.code;
-  p.direction = c.direction == SomersaultDirection::kForward    ? 1
-                : c.direction == SomersaultDirection::kBackward ? -1
+  const fig::FigSkill& c = d.code;
+  p.direction = c.direction == fig::SomersaultDirection::kForward    ? 1
+                : c.direction == fig::SomersaultDirection::kBackward ? -1
                                                                 : 0;
   p.nominal_rad = 2 * kPi * (c.quarter_somersaults / 4);
   // The way the design twists (its option: the athlete's left or right, positive to the left).
@@ -170,13 +170,13 @@ RoutineDesignResult DesignRoutine(const RoutineSpec& spec, const RoutineDesignOp
   std::vector<double> needed;
   for (size_t i = 0; i < spec.skills.size(); ++i) {
     const RoutineSkillSpec& s = spec.skills[i];
-    FigSkill code;
+    fig::FigSkill code;
     try {
-      code = ParseFigCode(s.code);
+      code = fig::ParseFigCode(s.code);
     } catch (const InputError& e) {
       throw InputError("", Where(s, i), e.what());
     }
-    const std::string canonical = FormatFigCode(code);
+    const std::string canonical = fig::FormatFigCode(code);
     const auto [it, inserted] = seen.emplace(canonical, i);
     if (!inserted)
       throw InputError("",
@@ -239,6 +239,19 @@ RoutineDesignResult DesignRoutine(const RoutineSpec& spec, const RoutineDesignOp
                                    c.takeoff_velocity_error_m_per_s));
   }
   return result;
+}
+
+std::vector<fig::PerformedFlight> DesignedFlights(const RoutineDesignResult& result) {
+  std::vector<fig::PerformedFlight> flights;
+  for (size_t i = 0; i < result.skills.size(); ++i) {
+    fig::PerformedFlight f;
+    f.skill = result.skills[i].code;
+    f.time_of_flight_s = i < result.simulation.flights.size()
+                             ? result.simulation.flights[i].landing_s - result.simulation.flights[i].takeoff_s
+                             : result.skills[i].flight_time_s;
+    flights.push_back(std::move(f));
+  }
+  return flights;
 }
 
 }  // namespace acro::analysis

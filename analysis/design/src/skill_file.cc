@@ -34,6 +34,10 @@ void SetJoint(const YamlNode& node, std::string_view segment, bool mirror, Eigen
                 " angles");
     for (size_t k = 0; k < deg.size(); ++k) {
       if (!std::isfinite(deg[k])) node.Fail("angle is not finite");
+      // A joint turns less than a turn from the reference pose (the widest human ranges are
+      // about 180°); beyond ±360° the number is a mistake, never a pose.
+      if (std::abs(deg[k]) > 360.0)
+        node.Fail("joint " + std::string(segment) + ": " + FormatFixed(deg[k], 1) + "° is outside ±360°");
       const bool flip = mirror && j.axis_sequence[k] != 'y';
       q[StandardJointDofIndex(segment, static_cast<int>(k))] =
           (flip ? -deg[k] : deg[k]) * kDegToRad;
@@ -254,7 +258,12 @@ Skill SkillFromYaml(const YamlNode& root, const std::filesystem::path& base_dir)
   const YamlNode& athlete = root.At("athlete");
   skill.athlete_path = athlete.AsString();
   if (skill.athlete_path.is_relative()) skill.athlete_path = base_dir / skill.athlete_path;
-  skill.athlete = ReadAthleteProfile(skill.athlete_path);
+  // A profile that cannot be read is the skill file's line too: which file named it.
+  try {
+    skill.athlete = ReadAthleteProfile(skill.athlete_path);
+  } catch (const InputError& e) {
+    athlete.Fail(e.what());
+  }
 
   ReadTakeoff(root.At("takeoff"), &skill);
   const Tolerances tolerances = ReadTolerances(root.Find("tolerances"));

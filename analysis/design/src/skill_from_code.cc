@@ -19,8 +19,8 @@
 #include "acro/athlete/orientation.h"
 #include "acro/athlete/standard_human.h"
 #include "acro/base/demand.h"
-#include "acro/base/progress.h"
 #include "acro/base/input_error.h"
+#include "acro/base/progress.h"
 #include "acro/design/posture_track.h"
 #include "acro/dynamics/flight_rotation.h"
 
@@ -65,7 +65,7 @@ struct Unknowns {
 // The schedule of a skill: segments over the nominal somersault angle, the postures' times, and
 // the flight's numbers.
 struct Plan {
-  FigSkill code;
+  fig::FigSkill code;
   int somersaults = 0;
   int direction = 0;      // +1 forward, −1 backward, 0 a jump
   double twist_sign = 1;  // the twist's direction
@@ -80,15 +80,15 @@ double SegmentEntryDuration(Posture p) {
   return p == Posture::kTuck || p == Posture::kPike ? 0.22 : 0.18;
 }
 
-Plan MakePlan(const FigSkill& code, double T) {
+Plan MakePlan(const fig::FigSkill& code, double T) {
   Plan plan;
   plan.code = code;
   plan.T = T;
   const int Q = code.quarter_somersaults;
   const int n = Q / 4;
   plan.somersaults = n;
-  plan.direction = code.direction == SomersaultDirection::kForward    ? 1
-                   : code.direction == SomersaultDirection::kBackward ? -1
+  plan.direction = code.direction == fig::SomersaultDirection::kForward    ? 1
+                   : code.direction == fig::SomersaultDirection::kBackward ? -1
                                                                       : 0;
   // The twist angle is about the body's long axis (CalcSomersaultTiltTwist, as the analysis counts
   // it): positive is the athlete's left. Forward skills twist left, backward ones right — not one
@@ -103,8 +103,8 @@ Plan MakePlan(const FigSkill& code, double T) {
     plan.lean_rad = lean_deg * kDeg;
     plan.air_target_rad = (360.0 * n - lean_deg - short_deg) * kDeg;
   }
-  const Posture shape = code.shape == SkillShape::kTuck   ? Posture::kTuck
-                        : code.shape == SkillShape::kPike ? Posture::kPike
+  const Posture shape = code.shape == fig::SkillShape::kTuck   ? Posture::kTuck
+                        : code.shape == fig::SkillShape::kPike ? Posture::kPike
                                                           : Posture::kStraight;
   std::vector<Segment>& s = plan.segments;
   if (n == 0) {
@@ -553,7 +553,7 @@ class Shooter {
   // (With `somersault_momentum`, that instead, and the contact twist scanned for the first
   // somersault's twist.)
   double MomentumGuess() const {
-    const double inertia = plan_.code.shape == SkillShape::kStraight ? 11.0 : 7.0;
+    const double inertia = plan_.code.shape == fig::SkillShape::kStraight ? 11.0 : 7.0;
     return plan_.direction * inertia * (plan_.air_target_rad + plan_.lean_rad) / plan_.T;
   }
   VectorXd Guess(double somersault_momentum = 0) {
@@ -681,11 +681,11 @@ std::string KeyframeName(const Plan& plan, const Flight& f, size_t i, size_t las
 
 }  // namespace
 
-double DefaultFlightTime(const FigSkill& skill) {
+double DefaultFlightTime(const fig::FigSkill& skill) {
   return BaseFlightTime(skill) + 0.05 * skill.total_half_twists();
 }
 
-double BaseFlightTime(const FigSkill& skill) {
+double BaseFlightTime(const fig::FigSkill& skill) {
   switch (skill.quarter_somersaults / 4) {
     case 0:
       return 1.2;
@@ -703,7 +703,7 @@ double BaseFlightTime(const FigSkill& skill) {
 namespace {
 
 // Which codes are designed: feet to feet, up to four somersaults, up to 8 half twists in one.
-void CheckDesignable(const FigSkill& code, const std::string& where) {
+void CheckDesignable(const fig::FigSkill& code, const std::string& where) {
   if (code.quarter_somersaults % 4 != 0)
     throw InputError("",
                      where,
@@ -712,7 +712,7 @@ void CheckDesignable(const FigSkill& code, const std::string& where) {
                          "skills (multiples of 4) are designed from their code");
   if (code.quarter_somersaults > 16)
     throw InputError("", where, "more than four somersaults are not designed");
-  if (code.quarter_somersaults == 0 && code.shape != SkillShape::kStraight &&
+  if (code.quarter_somersaults == 0 && code.shape != fig::SkillShape::kStraight &&
       code.total_half_twists() > 0)
     throw InputError("", where, "a tuck or pike jump with a twist is not designed");
   for (int d : code.half_twists)
@@ -721,7 +721,7 @@ void CheckDesignable(const FigSkill& code, const std::string& where) {
 
 // The flight as the analysis would count it: somersault, twist and its direction, half twists per
 // somersault, tilt, the time left to prepare the landing.
-void DescribeFlight(const FigSkill& code, const Plan& plan, const Flight& flight, const VectorXd& nu, double T,
+void DescribeFlight(const fig::FigSkill& code, const Plan& plan, const Flight& flight, const VectorXd& nu, double T,
                     SkillFromCodeResult* out) {
   SkillFromCodeResult& result = *out;
   // The flight as the analysis would count it.
@@ -785,12 +785,12 @@ void CheckFeasible(const SkillFromCodeOptions& options, double T, SkillFromCodeR
 }
 
 // The keyframes: samples of the flight.
-void MakeKeyframes(const FigSkill& code, const Plan& plan, const Flight& flight, double T, double g,
+void MakeKeyframes(const fig::FigSkill& code, const Plan& plan, const Flight& flight, double T, double g,
                    const std::filesystem::path& athlete_path, const AthleteProfile& athlete,
                    SkillFromCodeResult* out) {
   Skill& skill = out->skill;
-  skill.fig_code = FormatFigCode(code);
-  const std::string common = FigSkillName(code);
+  skill.fig_code = fig::FormatFigCode(code);
+  const std::string common = fig::FigSkillName(code);
   skill.name = common.empty() ? skill.fig_code : common + " (" + skill.fig_code + ")";
   skill.source = "generated from " + skill.fig_code;
   skill.athlete_path = athlete_path;
@@ -820,13 +820,13 @@ void MakeKeyframes(const FigSkill& code, const Plan& plan, const Flight& flight,
 SkillFromCodeResult DesignSkillFromCode(const std::string& code_text,
                                         const std::filesystem::path& athlete_path,
                                         const SkillFromCodeOptions& options) {
-  const FigSkill code = ParseFigCode(code_text);
+  const fig::FigSkill code = fig::ParseFigCode(code_text);
   const std::string where = "FIG code '" + code_text + "'";
   CheckDesignable(code, where);
 
   SkillFromCodeResult result;
   result.code = code;
-  result.difficulty = CalcFigDifficulty(code);
+  result.difficulty = fig::CalcFigDifficulty(code);
   const AthleteProfile athlete = ReadAthleteProfile(athlete_path);
   double T = DefaultFlightTime(code);
   const double g = 9.81;
@@ -924,7 +924,7 @@ std::string FormatSkillFromCode(const SkillFromCodeResult& r) {
       "tilt up to {:.1f}° ({:.1f}° at landing), {:.2f} s left to prepare the landing\n",
       r.air_somersault_rad / (2 * kPi),
       std::abs(r.air_twist_rad) / (2 * kPi),
-      r.twist_direction == TwistDirection::kNone
+      r.twist_direction == fig::TwistDirection::kNone
           ? std::string()
           : std::string(" to the ") + TwistDirectionName(r.twist_direction),
       halves.empty() ? "-" : halves,

@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <fstream>
+#include <sstream>
 
 #include <fmt/format.h>
 
 #include "acro/base/file_io.h"
 #include "acro/base/input_error.h"
+#include "acro/library/library.h"
 
 namespace acro::library {
 
@@ -64,7 +66,8 @@ std::string OptionValue(const std::vector<std::string>& words, const std::string
 
 std::vector<BatchJob> ReadBatchJobs(const std::filesystem::path& source, const BatchDefaults& defaults) {
   std::vector<BatchJob> jobs;
-  if (std::filesystem::is_directory(source)) {
+  std::error_code ec;
+  if (std::filesystem::is_directory(source, ec)) {
     // Every C3D and TRC under DIR, in name order.
     std::vector<std::filesystem::path> files;
     for (const auto& entry : std::filesystem::recursive_directory_iterator(source)) {
@@ -79,8 +82,12 @@ std::vector<BatchJob> ReadBatchJobs(const std::filesystem::path& source, const B
       jobs.push_back(j);
     }
   } else {
-    std::ifstream in(source);
-    if (!in) throw InputError(source.string(), "", "neither a directory nor a readable job list");
+    // Through the one file reader: a pipe or a device is refused before it can block, and a job
+    // list is text of at most 16 MB (a season's 100 000 trials at 160 bytes a line).
+    if (!std::filesystem::exists(source, ec) && !ec)
+      throw InputError(source.string(), "", "neither a directory nor a readable job list");
+    const std::vector<std::uint8_t> bytes = ReadFileBytes(source, std::int64_t(16) << 20);
+    std::istringstream in(std::string(bytes.begin(), bytes.end()));
     std::string line;
     int number = 0;
     while (std::getline(in, line)) {
@@ -103,6 +110,8 @@ std::vector<BatchJob> ReadBatchJobs(const std::filesystem::path& source, const B
                            "'" + words[i] +
                                "' is not one of --athlete, --session, --place, --notes, "
                                "--video, --calib with its value");
+        if (words[i] == "--session" && !IsSessionDate(words[i + 1]))
+          throw InputError(where, "", "--session '" + words[i + 1] + "' is not YYYY-MM-DD");
         if (words[i] != "--session" && words[i] != "--place" && words[i] != "--notes") {
           std::filesystem::path file = words[i + 1];
           if (file.is_relative())

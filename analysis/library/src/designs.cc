@@ -2,9 +2,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "acro/assess/fig_skill.h"
 #include "acro/base/file_io.h"
 #include "acro/base/input_error.h"
+#include "acro/fig/skill.h"
 #include "json_text.h"
 
 namespace acro::library {
@@ -24,7 +24,7 @@ std::int64_t StoreSkillDesign(Library& library,
                               const std::filesystem::path& output_dir) {
   double difficulty = 0.0;
   if (!skill.fig_code.empty())
-    difficulty = analysis::CalcFigDifficulty(analysis::ParseFigCode(skill.fig_code)).total();
+    difficulty = fig::CalcFigDifficulty(fig::ParseFigCode(skill.fig_code)).total();
   const std::filesystem::path result = output_dir / "result.json";
   nlohmann::json content;
   content["skill_file"] = std::filesystem::absolute(skill_file).lexically_normal().string();

@@ -15,8 +15,8 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
-#include "acro/base/input_error.h"
 #include "acro/base/content_hash.h"
+#include "acro/base/input_error.h"
 #include "json_text.h"
 
 namespace acro::library {
@@ -247,6 +247,10 @@ class Statement {
 };
 
 }  // namespace
+
+bool IsSessionDate(const std::string& text) {
+  return IsDate(text);
+}
 
 void Library::SetLockNotice(std::function<void(const std::string&)> notice) {
   LockNotice() = std::move(notice);

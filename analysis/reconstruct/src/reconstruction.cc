@@ -162,7 +162,9 @@ MarkerSet ChooseMarkerSet(const capture::Trial& trial,
     throw InputError(
         trial.source.path,
         "POINT:LABELS",
-        "marker set " + markerset.name + " matches fewer than 3 labels (" + match->Report() + ")");
+        "marker set " + markerset.name +
+            (markerset.source.rfind("builtin:", 0) == 0 ? std::string() : " (" + markerset.source + ")") +
+            " matches fewer than 3 labels (" + match->Report() + ")");
   return markerset;
 }
 

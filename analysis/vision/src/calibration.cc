@@ -13,8 +13,8 @@
 #include <opencv2/imgproc.hpp>
 
 #include "acro/base/file_io.h"
-#include "acro/base/progress.h"
 #include "acro/base/input_error.h"
+#include "acro/base/progress.h"
 #include "acro/base/text.h"
 #include "acro/capture/trial_io.h"
 #include "acro/capture/video.h"
@@ -411,14 +411,14 @@ std::vector<NamedPoint2> ReadPoints2dCsv(const std::filesystem::path& path) {
 std::vector<NamedPoint3> FigTrampolinePoints() {
   std::vector<NamedPoint3> points;
   const double sx[4] = {1, -1, -1, 1}, sy[4] = {1, 1, -1, -1};
-  const double bx = kFigBedLength_m / 2, by = kFigBedWidth_m / 2;
-  const double fx = kFigFrameLength_m / 2, fy = kFigFrameWidth_m / 2;
+  const double bx = fig::kBedLength_m / 2, by = fig::kBedWidth_m / 2;
+  const double fx = fig::kFrameLength_m / 2, fy = fig::kFrameWidth_m / 2;
   for (int k = 0; k < 4; ++k)
     points.push_back({fmt::format("BED_C{}", k + 1), {sx[k] * bx, sy[k] * by, 0.0}});
   for (int k = 0; k < 4; ++k)
     points.push_back({fmt::format("FRAME_C{}", k + 1), {sx[k] * fx, sy[k] * fy, 0.0}});
   for (int k = 0; k < 4; ++k) {
-    points.push_back({fmt::format("FLOOR_C{}", k + 1), {sx[k] * fx, sy[k] * fy, -kFigBedHeight_m}});
+    points.push_back({fmt::format("FLOOR_C{}", k + 1), {sx[k] * fx, sy[k] * fy, -fig::kBedHeight_m}});
   }
   return points;
 }

@@ -273,6 +273,10 @@ std::vector<Camera> ReadQualisysQca(const std::filesystem::path& path) {
     Camera c;
     c.name = cam.attribute("serial").value();
     const std::string where = "camera '" + c.name + "'";
+    // QTM's flag of a camera in use: read although unused here, so that a damaged one is said.
+    if (const pugi::xml_attribute active = cam.attribute("active");
+        active && std::string_view(active.value()) != "0" && std::string_view(active.value()) != "1")
+      throw InputError(file, where, fmt::format("active: '{}' is not 0 or 1", active.value()));
     const pugi::xml_node transform = cam.child("transform");
     const pugi::xml_node intrinsic = cam.child("intrinsic");
     const pugi::xml_node fov = cam.child("fov_video");

@@ -43,7 +43,7 @@ bool AutoSyncOptions::IsValid(std::string* why) const {
   }
   if (!(max_offset_s > min_offset_s) || !std::isfinite(min_offset_s) ||
       !std::isfinite(max_offset_s) || max_offset_s - min_offset_s > 3600.0) {
-    *why = fmt::format("the offsets searched, {} to {} s, are not an interval of at most an hour",
+    *why = fmt::format("the offsets searched (--search-s), {} to {} s, are not an interval of at most an hour",
                        min_offset_s,
                        max_offset_s);
     return false;

@@ -99,14 +99,14 @@ TEST(JumpRotation, RecoversTheNominalSkillFromTheFlight) {
           MakeFlight(c.signed_quarters, c.half_twists, heading, c.hip_deg, c.knee_deg);
       const JumpRotation r = CountJumpRotation(
           flight.q_WB, 0, static_cast<int>(flight.q_WB.size()) - 1, flight.hip, flight.knee);
-      EXPECT_EQ(FormatFigCode(r.skill), c.code)
+      EXPECT_EQ(fig::FormatFigCode(r.skill), c.code)
           << "measured " << r.measured_somersault_rad / kDeg << " deg";
-      EXPECT_EQ(r.takeoff_position, BodyPosition::kFeet);
-      EXPECT_EQ(r.landing_position, BodyPosition::kFeet);
+      EXPECT_EQ(r.takeoff_position, fig::BodyPosition::kFeet);
+      EXPECT_EQ(r.landing_position, fig::BodyPosition::kFeet);
       if (c.signed_quarters != 0) {
         EXPECT_EQ(
             r.skill.direction,
-            c.signed_quarters > 0 ? SomersaultDirection::kForward : SomersaultDirection::kBackward);
+            c.signed_quarters > 0 ? fig::SomersaultDirection::kForward : fig::SomersaultDirection::kBackward);
         // In the air: one quarter short of the nominal (the synthetic bed's share), to the accuracy
         // of the fitted somersault plane.
         EXPECT_NEAR(std::abs(r.measured_somersault_rad),
@@ -142,9 +142,9 @@ TEST(JumpRotation, DropPositionsChangeTheNominalCount) {
   for (int i = 0; i < 100; ++i)
     q.emplace_back(Eigen::AngleAxisd(-i / 99.0 * 80 * kDeg, Eigen::Vector3d::UnitY()));
   const JumpRotation r = CountJumpRotation(q, 0, 99, Eigen::VectorXd(), Eigen::VectorXd());
-  EXPECT_EQ(r.landing_position, BodyPosition::kBack);
+  EXPECT_EQ(r.landing_position, fig::BodyPosition::kBack);
   EXPECT_EQ(r.skill.quarter_somersaults, 1);
-  EXPECT_EQ(r.skill.direction, SomersaultDirection::kBackward);
+  EXPECT_EQ(r.skill.direction, fig::SomersaultDirection::kBackward);
 }
 
 }  // namespace
@@ -179,13 +179,13 @@ TEST(JumpRotation, PublicCountingRulesOfTheTrampolineSuite) {
       CountJumpRotation(a, 0, static_cast<int>(a.size()) - 1, Eigen::VectorXd(), Eigen::VectorXd());
   EXPECT_EQ(ra.skill.quarter_somersaults, 8);
   EXPECT_EQ(ra.skill.half_twists, (std::vector<int>{3, 1}));  // code 831
-  EXPECT_EQ(ra.skill.direction, SomersaultDirection::kBackward);
+  EXPECT_EQ(ra.skill.direction, fig::SomersaultDirection::kBackward);
   const auto b = FromCurves({0.0, 0.55, 1.02, 1.55, 1.94}, {0.0, 0.45, 1.02, 1.32, 1.53});
   const JumpRotation rb =
       CountJumpRotation(b, 0, static_cast<int>(b.size()) - 1, Eigen::VectorXd(), Eigen::VectorXd());
   EXPECT_EQ(rb.skill.quarter_somersaults, 8);
   EXPECT_EQ(rb.skill.half_twists, (std::vector<int>{2, 1}));  // code 821
-  EXPECT_EQ(rb.skill.direction, SomersaultDirection::kForward);
+  EXPECT_EQ(rb.skill.direction, fig::SomersaultDirection::kForward);
 }
 
 // Left and right as the athlete says them, checked on the geometry rather than on the angles: in a
@@ -194,29 +194,29 @@ TEST(JumpRotation, PublicCountingRulesOfTheTrampolineSuite) {
 TEST(JumpRotation, TwistDirectionIsTheAthletesLeftOrRight) {
   struct TwistCase {
     std::vector<double> somersault, twist;
-    TwistDirection want;
+    fig::TwistDirection want;
   };
   const std::vector<TwistCase> cases = {
-      {{0.0, -0.5, -1.0}, {0.0, 0.5, 1.0}, TwistDirection::kLeft},     // back full, left
-      {{0.0, -0.5, -1.0}, {0.0, -0.5, -1.0}, TwistDirection::kRight},  // back full, right
-      {{0.0, 0.5, 1.0}, {0.0, 0.25, 0.5}, TwistDirection::kLeft},      // barani-like, left
-      {{0.0, 0.5, 1.0}, {0.0, -0.25, -0.5}, TwistDirection::kRight},
-      {{0.0, -0.5, -1.0}, {0.0, 0.0, 0.0}, TwistDirection::kNone},  // back somersault
+      {{0.0, -0.5, -1.0}, {0.0, 0.5, 1.0}, fig::TwistDirection::kLeft},     // back full, left
+      {{0.0, -0.5, -1.0}, {0.0, -0.5, -1.0}, fig::TwistDirection::kRight},  // back full, right
+      {{0.0, 0.5, 1.0}, {0.0, 0.25, 0.5}, fig::TwistDirection::kLeft},      // barani-like, left
+      {{0.0, 0.5, 1.0}, {0.0, -0.25, -0.5}, fig::TwistDirection::kRight},
+      {{0.0, -0.5, -1.0}, {0.0, 0.0, 0.0}, fig::TwistDirection::kNone},  // back somersault
   };
   for (const TwistCase& c : cases) {
     const auto q = FromCurves(c.somersault, c.twist);
     const JumpRotation r = CountJumpRotation(
         q, 0, static_cast<int>(q.size()) - 1, Eigen::VectorXd(), Eigen::VectorXd());
     EXPECT_EQ(TwistDirectionOf(r), c.want) << TwistDirectionName(TwistDirectionOf(r));
-    if (c.want == TwistDirection::kNone) continue;
+    if (c.want == fig::TwistDirection::kNone) continue;
     // The front a frame later, seen in the body's own first frame: its y component is positive
     // when it turned toward the left hand (the somersault, about y, moves no front toward y).
     const Eigen::Vector3d front_1 = q[0].conjugate() * (q[1] * Eigen::Vector3d::UnitX());
-    EXPECT_EQ(front_1.y() > 0, c.want == TwistDirection::kLeft) << front_1.transpose();
+    EXPECT_EQ(front_1.y() > 0, c.want == fig::TwistDirection::kLeft) << front_1.transpose();
   }
-  EXPECT_STREQ(TwistDirectionName(TwistDirection::kLeft), "left");
-  EXPECT_STREQ(TwistDirectionName(TwistDirection::kRight), "right");
-  EXPECT_STREQ(TwistDirectionName(TwistDirection::kNone), "none");
+  EXPECT_STREQ(TwistDirectionName(fig::TwistDirection::kLeft), "left");
+  EXPECT_STREQ(TwistDirectionName(fig::TwistDirection::kRight), "right");
+  EXPECT_STREQ(TwistDirectionName(fig::TwistDirection::kNone), "none");
 }
 
 TEST(JumpRotation, ShapeRulesOfTheTrampolineSuite) {
@@ -229,10 +229,10 @@ TEST(JumpRotation, ShapeRulesOfTheTrampolineSuite) {
     const Eigen::VectorXd knee = Eigen::VectorXd::Constant(100, knee_deg * kDeg);
     return CountJumpRotation(q, 0, 99, hip, knee).skill.shape;
   };
-  EXPECT_EQ(shape(80, 85), SkillShape::kTuck);
-  EXPECT_EQ(shape(85, 5), SkillShape::kPike);
-  EXPECT_EQ(shape(90, 15), SkillShape::kPike);
-  EXPECT_EQ(shape(20, 10), SkillShape::kStraight);
+  EXPECT_EQ(shape(80, 85), fig::SkillShape::kTuck);
+  EXPECT_EQ(shape(85, 5), fig::SkillShape::kPike);
+  EXPECT_EQ(shape(90, 15), fig::SkillShape::kPike);
+  EXPECT_EQ(shape(20, 10), fig::SkillShape::kStraight);
 }
 
 // The FIG definition (Code of Points, trampoline, body positions): closed at or below 135° between
@@ -258,14 +258,14 @@ TEST(JumpRotation, ShapeIsTheFigBodyPositionHeld) {
     return CountJumpRotation(q, 0, n - 1, hip, knee);
   };
   // 135° is the line: trunk–thigh 133° is closed, 137° is not.
-  EXPECT_EQ(count(47, 10, 20, 100).skill.shape, SkillShape::kPike);
-  EXPECT_EQ(count(43, 10, 20, 100).skill.shape, SkillShape::kStraight);
-  EXPECT_EQ(count(47, 47, 20, 100).skill.shape, SkillShape::kTuck);
-  EXPECT_EQ(count(47, 43, 20, 100).skill.shape, SkillShape::kPike);
+  EXPECT_EQ(count(47, 10, 20, 100).skill.shape, fig::SkillShape::kPike);
+  EXPECT_EQ(count(43, 10, 20, 100).skill.shape, fig::SkillShape::kStraight);
+  EXPECT_EQ(count(47, 47, 20, 100).skill.shape, fig::SkillShape::kTuck);
+  EXPECT_EQ(count(47, 43, 20, 100).skill.shape, fig::SkillShape::kPike);
   // Held: a closure over 10 % of the flight is a passing moment (the kick-out, the opening); over
   // 20 % it is the shape.
-  EXPECT_EQ(count(110, 120, 50, 62).skill.shape, SkillShape::kStraight);
-  EXPECT_EQ(count(110, 120, 50, 74).skill.shape, SkillShape::kTuck);
+  EXPECT_EQ(count(110, 120, 50, 62).skill.shape, fig::SkillShape::kStraight);
+  EXPECT_EQ(count(110, 120, 50, 74).skill.shape, fig::SkillShape::kTuck);
   // One frame of a left/right swap (the knees read straight for a frame, the hips open for
   // another) neither breaks a tuck nor makes a straight jump a pike.
   const JumpRotation swapped =
@@ -273,11 +273,11 @@ TEST(JumpRotation, ShapeIsTheFigBodyPositionHeld) {
         knee[50] = 0;
         hip[70] = 0;
       });
-  EXPECT_EQ(swapped.skill.shape, SkillShape::kTuck);
+  EXPECT_EQ(swapped.skill.shape, fig::SkillShape::kTuck);
   EXPECT_GT(swapped.shape_hold_fraction, 0.6);
   EXPECT_EQ(count(0, 0, 0, 0, [](Eigen::VectorXd& hip, Eigen::VectorXd&) { hip[60] = 120 * kDeg; })
                 .skill.shape,
-            SkillShape::kStraight);
+            fig::SkillShape::kStraight);
   // Keypoint noise (±8°, fixed pseudo-random) on a held pike.
   const JumpRotation noisy = count(70, 5, 20, 100, [](Eigen::VectorXd& hip, Eigen::VectorXd& knee) {
     std::uint64_t seed = 7;
@@ -288,7 +288,7 @@ TEST(JumpRotation, ShapeIsTheFigBodyPositionHeld) {
       knee[i] += std::abs(16 * u) * kDeg;
     }
   });
-  EXPECT_EQ(noisy.skill.shape, SkillShape::kPike);
+  EXPECT_EQ(noisy.skill.shape, fig::SkillShape::kPike);
   // The reason, in words: the shape, the angles held and for how long.
   const JumpRotation tuck = count(110, 120, 20, 100);
   EXPECT_NEAR(tuck.shape_hip_angle_deg, 70, 1e-9);

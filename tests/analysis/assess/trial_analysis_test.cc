@@ -12,6 +12,7 @@
 #include <cmath>
 #include <fstream>
 #include <limits>
+#include <numbers>
 #include <random>
 
 #include <gtest/gtest.h>
@@ -23,7 +24,9 @@
 #include "acro/capture/c3d.h"
 #include "acro/capture/storage.h"
 #include "acro/capture/trial_io.h"
+#include "acro/dynamics/configuration.h"
 #include "acro/dynamics/kinematics.h"
+#include "acro/dynamics/workspace.h"
 #include "acro/reconstruct/markerset.h"
 #include "json_keys.h"
 #include "refdata.h"
@@ -154,7 +157,7 @@ TEST(TrialAnalysis, SampleRoutineGivesEverySkillWithinAFrameAndPasses) {
     SCOPED_TRACE(t.fig_code + " " + t.name);
     EXPECT_FALSE(j.partial());
     EXPECT_EQ(j.fig_code, t.fig_code);
-    const double expected_dd = CalcFigDifficulty(ParseFigCode(t.fig_code)).total();
+    const double expected_dd = fig::CalcFigDifficulty(fig::ParseFigCode(t.fig_code)).total();
     EXPECT_DOUBLE_EQ(j.difficulty.total(), expected_dd);
     dd += expected_dd;
     tof += t.landing_s - t.takeoff_s;
@@ -179,6 +182,142 @@ TEST(TrialAnalysis, SampleRoutineGivesEverySkillWithinAFrameAndPasses) {
   ASSERT_GE(a.check.contacts.size(), 5u);
   for (size_t c = 1; c + 1 < a.check.contacts.size(); ++c)
     EXPECT_NEAR(a.check.contacts[c].peak_force_bw, truth.contacts[c].peak_force_body_weights, 1.0);
+}
+
+// The score sheet of the sample routine (issue "The judges' view", acceptance): its first flight is
+// a straight jump — an in-bounce, not an element by the Code — so the routine is the five skills
+// after it, whose difficulty sums to D (the straight jump's is 0: the same as the six flights'); T
+// is the elements' flights summed and truncated to 0.005; every landing has its zone and a margin
+// equal to the distance its outermost sole corner has to zone A's lines.
+TEST(TrialAnalysis, SampleRoutineScoreSheet) {
+  const TrialAnalysis& a = CleanAnalysis();
+  const samples::SampleRoutine& truth = Truth();
+  const fig::RoutineScore& s = a.score;
+  ASSERT_EQ(truth.flights.front().fig_code, "00");
+  ASSERT_EQ(s.elements.size(), truth.flights.size() - 1) << a.BriefReport();
+  EXPECT_EQ(s.elements.front().flight, 2);
+  EXPECT_TRUE(s.interrupted);  // five of a routine's ten
+  EXPECT_EQ(s.interruption, "the routine ends after 5 of 10 elements");
+  double dd = 0.0;
+  for (const samples::SampleFlightTruth& t : truth.flights)
+    dd += fig::CalcFigDifficulty(fig::ParseFigCode(t.fig_code)).total();
+  EXPECT_NEAR(s.difficulty, dd, 1e-9);
+  EXPECT_NEAR(s.difficulty, a.total_difficulty, 1e-9);
+  const double elements_tof = a.total_time_of_flight_s - a.jumps.front().time_of_flight_s();
+  EXPECT_NEAR(s.time_of_flight_sum_s, elements_tof, 1e-12);
+  EXPECT_DOUBLE_EQ(s.time_of_flight, std::floor(elements_tof * 200.0 + 1e-9) / 200.0);
+  ASSERT_TRUE(s.horizontal_displacement);
+  double h = 0.0;
+  for (size_t k = 0; k < s.elements.size(); ++k) {
+    const fig::ScoredElement& e = s.elements[k];
+    const JumpMetrics& j = a.jumps[static_cast<size_t>(e.flight - 1)];
+    const samples::SampleFlightTruth& t = truth.flights[static_cast<size_t>(e.flight - 1)];
+    SCOPED_TRACE(e.code);
+    EXPECT_EQ(e.code, t.fig_code);
+    ASSERT_TRUE(e.landing_zone);
+    ASSERT_EQ(j.landing_contacts_in_bed_m.size(), 8u);  // four corners of each sole
+    // The soles' corners are around the truth's landing feet (bed at the origin, x along it).
+    Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+    for (const Eigen::Vector2d& p : j.landing_contacts_in_bed_m) mean += p / 8.0;
+    const Eigen::Vector3d d = t.landing_feet_m - a.bed->centre_W;
+    const Eigen::Vector3d across = Eigen::Vector3d::UnitZ().cross(a.bed->long_axis_W);
+    EXPECT_LT((mean - Eigen::Vector2d(d.dot(a.bed->long_axis_W), d.dot(across))).norm(), 0.03);
+    if (e.landing_zone->zone == "A") {
+      double margin = 1e9;
+      for (const Eigen::Vector2d& p : j.landing_contacts_in_bed_m)
+        margin = std::min({margin, 1.075 - std::abs(p.x()), 0.54 - std::abs(p.y())});
+      EXPECT_NEAR(e.landing_zone->margin_m, margin, 0.0012);
+    }
+    h += 1.0 - e.landing_zone->deduction;
+  }
+  EXPECT_NEAR(*s.horizontal_displacement, h, 1e-12);
+  EXPECT_NEAR(s.total_without_execution, s.difficulty + s.time_of_flight + h, 1e-9);
+}
+
+// The execution assistant on the clean sample routine (issue "The judges' view", acceptance): the
+// simulator's athlete holds her shapes exactly, so no fault is reported beyond the measurement's
+// uncertainty, while every quantity is still measured and shown.
+TEST(TrialAnalysis, CleanRoutineHasNoExecutionFault) {
+  const TrialAnalysis& a = CleanAnalysis();
+  for (const fig::ScoredElement& e : a.score.elements) {
+    SCOPED_TRACE(e.code);
+    EXPECT_GE(e.faults.size(), 4u);  // knees or shape, elbows, arms, legs, travel, …
+    for (const fig::MeasuredFault& f : e.faults)
+      EXPECT_FALSE(f.reported) << f.fault << " " << f.quantity << " " << f.value << " " << f.unit;
+    EXPECT_DOUBLE_EQ(e.execution_deduction, 0.0);
+  }
+  EXPECT_EQ(a.score.faults_reported, 0);
+}
+
+// Faults put into the sample's motion on one element (the joint angles of its flight set as a
+// faulty athlete would hold them) are found on that element with the value put in, within 5° and
+// 3 cm, and on no other element. The legs' spread is checked against the geometry of two straight
+// legs abducted by ±a: the ankles 2·L·sin(a) further apart than the hips.
+TEST(TrialAnalysis, InjectedExecutionFaultsAreFoundWhereTheyAre) {
+  const TrialAnalysis& clean = CleanAnalysis();
+  const Motion& m0 = clean.reconstruction.motion;
+  auto column = [&](const std::string& name) {
+    const auto it = std::find(m0.coordinate_names.begin(), m0.coordinate_names.end(), name);
+    EXPECT_NE(it, m0.coordinate_names.end()) << name;
+    return static_cast<int>(it - m0.coordinate_names.begin());
+  };
+  // The barani (straight): jump 4.
+  const size_t target = 3;
+  ASSERT_EQ(clean.jumps[target].fig_code, "41/");
+  struct Injection {
+    std::string fault;
+    std::vector<std::pair<std::string, double>> set_deg;  // coordinate, value on the flight
+    double expected;
+    double tolerance;
+  };
+  // Leg length hip → ankle of this model, for the spread.
+  const dynamics::Model<double>& model = clean.reconstruction.model;
+  dynamics::Workspace<double> ws(model);
+  const Eigen::VectorXd q_ref = dynamics::MakeNeutralConfiguration(model);
+  dynamics::CalcForwardKinematics(model, ws, q_ref);
+  auto point = [&](const char* name) {
+    const auto& p = model.point(model.FindPoint(name));
+    const auto& X = ws.X_WB[static_cast<size_t>(p.segment)];
+    return Eigen::Vector3d(X.rotation() * p.p_BoP_B + X.translation());
+  };
+  const double leg = (point("r_ankle_jc") - point("r_hip_jc")).norm();
+  const double a_deg = 12.0;
+  const std::vector<Injection> injections = {
+      {"knees_bent", {{"r_knee_flexion", 45}, {"l_knee_flexion", 45}}, 45, 5},
+      {"knees_bent", {{"r_knee_flexion", 20}, {"l_knee_flexion", 20}}, 20, 5},
+      {"arms_bent", {{"r_elbow_flexion", -60}, {"l_elbow_flexion", -60}}, 60, 5},
+      {"arms_out", {{"r_shoulder_abduction", 45}, {"l_shoulder_abduction", -45}}, 45, 5},
+      {"legs_apart", {{"r_hip_abduction", -a_deg}, {"l_hip_abduction", a_deg}},  // the model's abduction outwards
+       2 * leg * std::sin(a_deg * std::numbers::pi / 180), 0.03},
+      {"body_bent", {{"r_hip_flexion", -40}, {"l_hip_flexion", -40}}, 40, 5},
+  };
+  for (const Injection& inj : injections) {
+    SCOPED_TRACE(inj.fault + " " + std::to_string(inj.expected));
+    TrialAnalysis a = clean;
+    Motion& m = a.reconstruction.motion;
+    const Flight& f = a.jumps[target].flight;
+    for (int k = f.takeoff_frame; k <= f.landing_frame; ++k)
+      for (const auto& [name, deg] : inj.set_deg) m.q(column(name), k) = deg * std::numbers::pi / 180;
+    for (size_t j = 0; j < a.jumps.size(); ++j) {
+      const std::vector<fig::MeasuredFault> faults = MeasureExecution(a, j, fig::ExecutionRules::Default(), {});
+      bool found = false;
+      for (const fig::MeasuredFault& mf : faults) {
+        if (j == target && mf.fault == inj.fault) {
+          found = true;
+          EXPECT_NEAR(mf.value, inj.expected, inj.tolerance);
+          EXPECT_TRUE(mf.reported);
+          EXPECT_GT(mf.deduction, 0.0);
+          EXPECT_GE(mf.time_s, f.takeoff_s);
+          EXPECT_LE(mf.time_s, f.landing_s);
+        } else if (j != target) {
+          EXPECT_FALSE(mf.reported) << "jump " << j + 1 << ": " << mf.fault << " " << mf.value;
+        }
+      }
+      if (j == target) {
+        EXPECT_TRUE(found);
+      }
+    }
+  }
 }
 
 TEST(TrialAnalysis, SwappedMarkersFailTheVerdictAndAreNamed) {
@@ -344,7 +483,8 @@ TEST(TrialAnalysis, JumpsJsonHoldsEveryJumpsValues) {
                                          "shape_hold_fraction",
                                          "shape_reason",
                                          "verdict",
-                                         "silhouette_iou"};
+                                         "silhouette_iou",
+                                         "score"};
   for (size_t k = 0; k < a.jumps.size(); ++k) {
     const JumpMetrics& j = a.jumps[k];
     nlohmann::ordered_json& o = json[k];
@@ -355,6 +495,17 @@ TEST(TrialAnalysis, JumpsJsonHoldsEveryJumpsValues) {
       EXPECT_TRUE(o[key].is_number_integer()) << key;
     EXPECT_EQ(o["index"], j.index);
     EXPECT_TRUE(o["silhouette_iou"].is_null());  // no video
+    // Every jump of the sample but the straight in-bounce is an element of its routine: its line on
+    // the score sheet.
+    if (k == 0) {
+      EXPECT_TRUE(o["score"].is_null());
+    } else {
+      EXPECT_TRUE(o["score"].is_object()) << "jump " << k;
+      EXPECT_EQ(o["score"]["element"], static_cast<int>(k));
+      EXPECT_EQ(o["score"]["flight"], j.index);
+      EXPECT_EQ(o["score"]["code"], j.fig_code);
+      EXPECT_TRUE(o["score"]["landing"]["zone"].is_string());
+    }
     EXPECT_EQ(o["partial"], j.partial());
     EXPECT_EQ(o["takeoff_s"].get<double>(), j.flight.takeoff_s);
     EXPECT_EQ(o["landing_s"].get<double>(), j.flight.landing_s);
@@ -533,10 +684,10 @@ TEST(TrialAnalysis, S2mLabRoutineHasItsFiveFlightsWithinTwoFrames) {
       EXPECT_NEAR(j.flight.landing_s * rate, windows[k][1], 2.0);
       EXPECT_GE(j.rotation.skill.quarter_somersaults, 4);
       // The code reads back as the skill it was made from, with one twist digit per somersault.
-      const FigSkill parsed = ParseFigCode(j.fig_code);
+      const fig::FigSkill parsed = fig::ParseFigCode(j.fig_code);
       EXPECT_EQ(parsed.quarter_somersaults, j.rotation.skill.quarter_somersaults);
       EXPECT_EQ(parsed.half_twists.size(),
-                static_cast<size_t>(FigSkill::SomersaultSlots(parsed.quarter_somersaults)));
+                static_cast<size_t>(fig::FigSkill::SomersaultSlots(parsed.quarter_somersaults)));
       EXPECT_EQ(parsed.half_twists, j.rotation.skill.half_twists);
       RecordProperty("flight" + std::to_string(k + 1),
                      j.fig_code + " ToF " + std::to_string(j.time_of_flight_s()));
@@ -632,12 +783,12 @@ TEST(TrialAnalysis, KeypointRoutinesGiveEveryShapeWithNoOptions) {
       const samples::SampleFlightTruth& t = Truth().flights[k];
       const JumpMetrics& j = a.jumps[k];
       SCOPED_TRACE(std::string(set) + " jump " + std::to_string(k + 1));
-      const FigSkill truth = ParseFigCode(t.fig_code, SomersaultDirection::kNone);
+      const fig::FigSkill truth = fig::ParseFigCode(t.fig_code, fig::SomersaultDirection::kNone);
       EXPECT_EQ(j.rotation.skill.shape, truth.shape) << j.rotation.shape_reason;
       EXPECT_EQ(j.fig_code, t.fig_code);
       EXPECT_NEAR(j.flight.takeoff_s, t.takeoff_s, 2 * frame);
       EXPECT_NEAR(j.flight.landing_s, t.landing_s, 2 * frame);
-      difficulty += CalcFigDifficulty(truth).total();
+      difficulty += fig::CalcFigDifficulty(truth).total();
     }
     EXPECT_NEAR(a.total_difficulty, difficulty, 1e-9) << set;
   }

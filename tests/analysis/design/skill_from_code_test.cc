@@ -32,7 +32,7 @@ TEST_P(FromCode, IsDesignedConsistentAndLandsAsDesigned) {
   const std::string code = GetParam();
   const auto t0 = std::chrono::steady_clock::now();
   const SkillFromCodeResult r = DesignSkillFromCode(code, Athlete());
-  const FigSkill fig = ParseFigCode(code);
+  const fig::FigSkill fig = fig::ParseFigCode(code);
   // The shooting turned the code's rotation: the somersault short of the nominal by the bed's
   // share (45° for singles, 75° for multiples), the code's half twists in each somersault.
   const int n = fig.quarter_somersaults / 4;
@@ -44,8 +44,8 @@ TEST_P(FromCode, IsDesignedConsistentAndLandsAsDesigned) {
   ASSERT_EQ(r.half_twists_per_somersault.size(), fig.half_twists.size()) << code;
   for (size_t k = 0; k < fig.half_twists.size(); ++k)
     EXPECT_NEAR(r.half_twists_per_somersault[k], fig.half_twists[k], 0.05) << code << " " << k;
-  EXPECT_EQ(r.difficulty.total_tenths(), CalcFigDifficulty(fig).total_tenths());
-  EXPECT_EQ(r.skill.fig_code, FormatFigCode(fig));
+  EXPECT_EQ(r.difficulty.total_tenths(), fig::CalcFigDifficulty(fig).total_tenths());
+  EXPECT_EQ(r.skill.fig_code, fig::FormatFigCode(fig));
   ASSERT_GE(r.skill.keyframes.size(), 3u);
 
   // Model 2, then Model 1: the angular momentum constant within 2 %, every keyframe within its

@@ -108,8 +108,8 @@ std::string Fixed(double v, int digits) {
 // The flight's twist as a coach reads it: "362 left" (degrees, the way she turned), or the signed
 // degrees alone when no half twist was counted.
 std::string TwistCell(const analysis::JumpRotation& rotation) {
-  const analysis::TwistDirection d = analysis::TwistDirectionOf(rotation);
-  if (d == analysis::TwistDirection::kNone)
+  const fig::TwistDirection d = analysis::TwistDirectionOf(rotation);
+  if (d == fig::TwistDirection::kNone)
     return Fixed(rotation.measured_twist_rad * kRadToDeg, 0);
   return Fixed(std::abs(rotation.measured_twist_rad) * kRadToDeg, 0) + "\u00a0" +  // no break
          analysis::TwistDirectionName(d);
@@ -384,6 +384,75 @@ void WriteJumpsSection(const analysis::TrialAnalysis& a, const AnalysisReportOpt
 
 }
 
+// The faults an element was measured with, each with its value, when, and what it suggests.
+std::string FaultsCell(const fig::ScoredElement& e) {
+  std::string cell;
+  for (const fig::MeasuredFault& f : e.faults) {
+    if (!f.reported) continue;
+    const int digits = f.unit == "deg" ? 0 : 2;
+    cell += (cell.empty() ? "" : "; ") + f.quantity + " " + Fixed(f.value, digits) +
+            (f.unit == "deg" ? "°" : " " + f.unit) + " ±" + Fixed(f.uncertainty, digits) + " at " +
+            Fixed(f.time_s, 2) + " s (−" + Fixed(f.deduction, 1) + ")";
+  }
+  return cell.empty() ? "none beyond the measurement's uncertainty" : cell;
+}
+
+// The score sheet by the analysis's rules (docs/scoring.md): per element its difficulty (struck
+// when not counted), flight, landing zone with its margin, requirements; then D, T, H.
+void WriteScoreSection(const analysis::TrialAnalysis& a, std::ostringstream& h) {
+  const fig::RoutineScore& s = a.score;
+  h << "<h2>Score sheet</h2>\n<p>Rules: <b>" << Html(s.rules_name) << "</b>. " << s.elements.size() << " of "
+    << s.expected_elements << " elements"
+    << (s.interrupted ? "; <span class=\"fail\">interrupted: " + Html(s.interruption) +
+                            "</span> (scored to its last element)"
+                      : "")
+    << ".</p>\n";
+  if (s.elements.empty()) return;
+  h << "<table><tr><th>element</th><th>flight</th><th class=\"l\">code</th><th class=\"l\">skill</th><th>DD</th>"
+       "<th>ToF (s)</th><th class=\"l\">landing zone</th><th>margin (cm)</th><th>HD deduction</th>"
+       "<th class=\"l\">requirements</th><th class=\"l\">execution faults (measured, suggested)</th></tr>\n";
+  for (const fig::ScoredElement& e : s.elements) {
+    h << "<tr><td>" << e.element << "</td><td>" << e.flight << "</td><td class=\"l\"><b>" << Html(e.code)
+      << "</b></td><td class=\"l\">" << Html(e.name) << "</td><td" << (e.note.empty() ? "" : " title=\"" + Html(e.note) + "\"")
+      << ">" << (e.difficulty_counted ? Fixed(e.difficulty.total(), 1) : "<s>" + Fixed(e.difficulty.total(), 1) + "</s>")
+      << "</td><td>" << Fixed(e.time_of_flight_s, 3) << "</td>";
+    if (e.landing_zone) {
+      const fig::HdLanding& z = *e.landing_zone;
+      h << "<td class=\"l\">" << Html(z.zone) << "</td><td" << (z.uncertain ? " class=\"fail\" title=\"within the "
+                                                                            "measurement's uncertainty: a close call\""
+                                                                          : "")
+        << ">" << (std::isfinite(z.margin_m) ? Fixed(100.0 * z.margin_m, 1) : "–") << (z.uncertain ? " ?" : "")
+        << "</td><td>" << Fixed(z.deduction, 1) << "</td>";
+    } else {
+      h << "<td class=\"l\">–</td><td>–</td><td>–</td>";
+    }
+    std::string reqs;
+    for (const std::string& r : e.requirements) reqs += (reqs.empty() ? "" : "; ") + r;
+    h << "<td class=\"l\">" << Html(reqs) << "</td><td class=\"l\">" << Html(FaultsCell(e)) << "</td></tr>\n";
+  }
+  h << "</table>\n<p><b>D " << Fixed(s.difficulty, 1) << "</b>"
+    << (s.difficulty_capped ? " (capped; " + Fixed(s.difficulty_uncapped, 1) + " performed)" : "") << " &nbsp; <b>T "
+    << Fixed(s.time_of_flight, 3) << "</b> (flights " << Fixed(s.time_of_flight_sum_s, 4)
+    << " s, truncated) &nbsp; <b>H "
+    << (s.horizontal_displacement ? Fixed(*s.horizontal_displacement, 2) : std::string("–")) << "</b>"
+    << (s.horizontal_displacement ? "" : " (no bed known: no landing zones)");
+  if (s.penalty > 0) h << " &nbsp; penalties −" << Fixed(s.penalty, 1);
+  h << " &nbsp; D + T + H" << (s.penalty > 0 ? " − penalties" : "") << " = <b>" << Fixed(s.total_without_execution, 3)
+    << "</b>; E is the judges'. The execution assistant suggests −" << Fixed(s.execution_deductions, 1) << " over "
+    << s.elements.size() << " elements (" << s.faults_reported
+    << " fault(s) past the rule file's thresholds by more than the measurement's uncertainty; every quantity "
+       "measured is in score.json).</p>\n";
+  if (s.close_calls > 0)
+    h << "<p class=\"fail\">" << s.close_calls
+      << " landing(s) within the measurement's uncertainty of a zone line (marked ?): the call could go either "
+         "way.</p>\n";
+  for (const std::string& m : s.requirements_missing)
+    h << "<p class=\"fail\">Requirement not performed: " << Html(m) << "</p>\n";
+  for (const std::string& b : s.rule_breaks) h << "<p class=\"fail\">" << Html(b) << "</p>\n";
+  h << "<p>Rules from: " << Html(s.rules_source) << ". Zones: " << Html(s.zones_source)
+    << ". Landing: any part of a foot (the model's soles), the hips for front and back landings.</p>\n";
+}
+
 // The filmstrips and the overlay video.
 void WriteMediaSections(const analysis::TrialAnalysis& a, const AnalysisReportOptions& options, std::ostringstream& h) {
   // Filmstrips.
@@ -472,10 +541,11 @@ std::string FormatAnalysisReportHtml(const analysis::TrialAnalysis& a,
     h << " " << partial << " partial flight(s) at the ends are shown but not scored.";
   h << "</p>\n";
   WriteCheckSection(a, h);
+  WriteScoreSection(a, h);
   WriteJumpsSection(a, options, h);
   WriteMediaSections(a, options, h);
   WritePlotsAndReconstruction(a, figures, outcome, h);
-  h << "<p>Files: jumps.json, angles.mot (joint angles, degrees), torques.sto (joint torques, "
+  h << "<p>Files: jumps.json, score.json, angles.mot (joint angles, degrees), torques.sto (joint torques, "
        "N·m), residuals.csv (root residuals, angular momentum and COM per frame).</p>\n"
     << internal::kHtmlPageEnd;
   return h.str();

@@ -145,15 +145,23 @@ void WritePoseContactSheet(capture::VideoReader& video, const std::vector<int>& 
 
 int WriteDetectionOverlay(capture::VideoReader& video, const std::vector<std::vector<capture::DetectedPerson>>& people,
                           const std::vector<std::pair<int, int>>& edges, const std::vector<int>& side,
-                          const std::filesystem::path& output, const Progress& progress, double min_confidence) {
+                          const std::filesystem::path& output, const Progress& progress, double min_confidence,
+                          int first_frame, int last_frame) {
   const capture::VideoInfo& info = video.info();
+  if (info.num_frames > 0 && first_frame >= info.num_frames)
+    throw InputError(info.path, "--frames",
+                     fmt::format("frame {} is beyond the video's {} frames", first_frame, info.num_frames));
+  const int end = last_frame < 0 || (info.num_frames > 0 && last_frame >= info.num_frames) ? info.num_frames - 1 : last_frame;
+  const int total = std::max(0, end - first_frame + 1);
   capture::VideoWriterOptions options;
   options.fps = info.average_fps > 0 ? info.average_fps : 30.0;
   capture::VideoWriter writer(output, info.width, info.height, options);
   capture::VideoFrame frame;
   int written = 0;
   while (video.ReadNext(&frame)) {
-    progress.ReportOrThrow("overlay", written, info.num_frames);
+    if (frame.index < first_frame) continue;
+    if (last_frame >= 0 && frame.index > last_frame) break;
+    progress.ReportOrThrow("overlay", written, total);
     if (frame.index < static_cast<int>(people.size()))
       for (const capture::DetectedPerson& person : people[frame.index])
         DrawSkeleton(frame.width, frame.height, person, edges, side, min_confidence, &frame.pixels);
@@ -161,7 +169,7 @@ int WriteDetectionOverlay(capture::VideoReader& video, const std::vector<std::ve
     ++written;
   }
   writer.Finish();
-  progress.Report("overlay", written, info.num_frames);
+  progress.Report("overlay", written, total);
   return written;
 }
 

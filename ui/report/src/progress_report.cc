@@ -9,6 +9,7 @@
 
 #include "acro/base/file_io.h"
 #include "acro/base/text_format.h"
+#include "acro/fig/trampoline.h"
 #include "html_page.h"
 
 namespace acro::ui {
@@ -17,8 +18,8 @@ namespace {
 
 // The FIG bed (4.28 m × 2.14 m) and its zone A (2.15 m × 1.08 m about the centre), in the bed's
 // frame as jumps.json's landing_in_bed_m: x along the bed's length.
-constexpr double kBedHalfLength = 4.28 / 2, kBedHalfWidth = 2.14 / 2;
-constexpr double kZoneHalfLength = 2.15 / 2, kZoneHalfWidth = 1.08 / 2;
+constexpr double kBedHalfLength = fig::kBedLength_m / 2, kBedHalfWidth = fig::kBedWidth_m / 2;
+constexpr double kZoneHalfLength = fig::kZoneALength_m / 2, kZoneHalfWidth = fig::kZoneAWidth_m / 2;
 
 LineSeries Rectangle(const std::string& name, double hx, double hy, Rgb color, bool dashed) {
   LineSeries s;

@@ -22,7 +22,7 @@
 #include "acro/athlete/athlete_body.h"
 #include "acro/athlete/body_mesh.h"
 #include "acro/athlete/motion.h"
-#include "acro/athlete/yaml.h"
+#include "acro/base/yaml.h"
 #include "acro/dynamics/configuration.h"
 #include "acro/report/skill_report.h"
 #include "acro/scene/athlete_scene.h"
@@ -294,7 +294,7 @@ bool SkillWindow::EditPose(int keyframe, int row, double degrees) {
   try {
     const std::filesystem::path dir = std::filesystem::path(skill_->source).parent_path();
     analysis::SkillFromYaml(
-        analysis::ParseYaml(analysis::FormatSkillYaml(edited, dir), skill_->source + " (edited)"),
+        ParseYaml(analysis::FormatSkillYaml(edited, dir), skill_->source + " (edited)"),
         dir);
   } catch (const std::exception& e) {
     ShowError(e.what());

@@ -9,7 +9,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "acro/assess/fig_skill.h"
+#include "acro/fig/skill.h"
 
 namespace acro::analysis {
 
@@ -30,8 +30,6 @@ struct RotationAngles {
 RotationAngles CalcRotationAngles(const std::vector<Eigen::Quaterniond>& q_WB,
                                   const Eigen::Vector3d& lateral_W);
 
-/// Body position at a take-off or a landing, in somersault quarters from upright.
-enum class BodyPosition { kFeet = 0, kFront = 1, kBack = -1 };
 
 struct JumpRotationOptions {
   /// A body whose long axis leans less than this from vertical is upright (feet or seat).
@@ -58,12 +56,12 @@ struct JumpRotationOptions {
 
 /// What one flight's rotation amounts to.
 struct JumpRotation {
-  FigSkill skill;  ///< quarters, half twists per somersault, shape, direction
+  fig::FigSkill skill;  ///< quarters, half twists per somersault, shape, direction
   double measured_somersault_rad =
       0;                          ///< in the air, take-off to landing (signed, forward positive)
   double measured_twist_rad = 0;  ///< in the air (signed)
-  BodyPosition takeoff_position = BodyPosition::kFeet;
-  BodyPosition landing_position = BodyPosition::kFeet;
+  fig::BodyPosition takeoff_position = fig::BodyPosition::kFeet;
+  fig::BodyPosition landing_position = fig::BodyPosition::kFeet;
   double max_hip_flexion_deg = 0;  ///< anatomical, mean of both sides, at the most flexed instant
   double knee_flexion_at_max_hip_deg = 0;
   /// Why the shape: the fraction of the flight the hips were held closed (the longest hold; 0 when
@@ -94,17 +92,13 @@ JumpRotation CountJumpRotation(const std::vector<Eigen::Quaterniond>& q_WB,
                                const Eigen::VectorXd& knee_flexion_rad,
                                const JumpRotationOptions& options = {});
 
-/// The way a flight twists, as the athlete says it: left when her front turns toward her left
-/// hand, as a person turning left on the spot (positive about the body's long axis z, with x
-/// forward and y left), whatever the somersault; none without a counted half twist.
-enum class TwistDirection { kNone, kLeft, kRight };
 
-TwistDirection TwistDirectionOf(const JumpRotation& rotation);
+fig::TwistDirection TwistDirectionOf(const JumpRotation& rotation);
 /// The same for a flight of `half_twists` counted half twists that twisted `twist_rad` (signed,
 /// about the body's long axis): a designed one.
-TwistDirection TwistDirectionOf(int half_twists, double twist_rad);
+fig::TwistDirection TwistDirectionOf(int half_twists, double twist_rad);
 
 /// "left", "right" or "none".
-const char* TwistDirectionName(TwistDirection direction);
+const char* TwistDirectionName(fig::TwistDirection direction);
 
 }  // namespace acro::analysis

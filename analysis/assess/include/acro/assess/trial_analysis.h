@@ -15,13 +15,17 @@
 
 #include <Eigen/Core>
 
-#include "acro/assess/fig_skill.h"
+#include "acro/assess/execution.h"
 #include "acro/assess/jump_rotation.h"
 #include "acro/assess/noise_floor.h"
 #include "acro/assess/physical_check.h"
 #include "acro/athlete/athlete_body.h"
 #include "acro/capture/storage.h"
 #include "acro/capture/trial.h"
+#include "acro/fig/rules.h"
+#include "acro/fig/score_sheet.h"
+#include "acro/fig/skill.h"
+#include "acro/fig/trampoline.h"
 #include "acro/reconstruct/phases.h"
 #include "acro/reconstruct/reconstruction.h"
 
@@ -32,8 +36,8 @@ namespace acro::analysis {
 struct BedGeometry {
   Eigen::Vector3d centre_W = Eigen::Vector3d::Zero();
   Eigen::Vector3d long_axis_W = Eigen::Vector3d::UnitX();
-  double length_m = 4.28;  ///< FIG norms: the woven bed is about 4.28 m × 2.14 m
-  double width_m = 2.14;
+  double length_m = fig::kBedLength_m;  ///< FIG norms: the woven bed is about 4.28 m × 2.14 m
+  double width_m = fig::kBedWidth_m;
   std::string source;  ///< "markers BED_C1–BED_C4", "option"
 };
 
@@ -62,6 +66,15 @@ struct TrialAnalysisOptions {
   /// 1.155 m above the floor by the FIG norms; the floor), so that the phases come from the soles.
   /// Empty: the phases come from the COM.
   std::optional<double> surface_height_m;
+  /// The rules the routine is scored by (the score sheet, docs/scoring.md).
+  fig::RoutineRules rules = fig::RoutineRules::FigSenior();
+  /// How far a landing's contact points may be off (m): a zone margin within it is a close call.
+  /// Markers: the feet's outline is the model's (de Leva's proportions: the heel 20 % of the
+  /// foot's length behind the ankle, the sole 38 % of it wide), not measured — about 3 cm, the
+  /// competition devices' own figure (docs/scoring.md).
+  double landing_uncertainty_m = 0.03;
+  /// The execution assistant's uncertainties (execution.h): motion capture's by default.
+  ExecutionOptions execution;
   /// One line per step ("reconstruct: …", "phases: …") as the analysis goes.
   std::function<void(const std::string&)> progress;
   /// Asked between the steps and, unless reconstruction.cancelled is set, every ten frames of the
@@ -95,10 +108,16 @@ struct JumpMetrics {
   Eigen::Vector2d landing_in_bed_m = Eigen::Vector2d::Zero();
   /// Whether the landing lies in the FIG zone A (2.15 m × 1.08 m about the centre), when known.
   std::optional<bool> landing_in_zone_a;
+  /// What touches the bed at landing, in the bed's axes, when the bed is known: the corners of both
+  /// soles for a landing on the feet ("any part of a foot"), the hip joint centres for a landing on
+  /// the front or back ("the hip joint portion", Code of Points, horizontal displacement).
+  std::vector<Eigen::Vector2d> landing_contacts_in_bed_m;
+  /// The execution assistant's measurements of this flight (execution.h), by the options' rules.
+  std::vector<fig::MeasuredFault> execution;
   JumpRotation rotation;
   std::string fig_code;
   std::string skill_name;  ///< the usual name ("barani"), or empty
-  FigDifficulty difficulty;
+  fig::FigDifficulty difficulty;
   /// The physical check of this flight (when judged), else nothing.
   std::optional<FlightCheck> check;
   std::string verdict;  ///< "pass", "fail: …", or "not judged: …"
@@ -125,6 +144,8 @@ struct TrialAnalysis {
   /// "bed at rest 1.075 m (spread …), estimated from the soles and the COM", "no surface known").
   std::string SurfaceSource() const;
   std::vector<JumpMetrics> jumps;
+  /// The routine's score sheet by the options' rules (H only with a bed).
+  fig::RoutineScore score;
   /// Routine totals over the complete (scored) skills: DD and the time of flight the judges sum.
   int num_scored = 0;
   double total_difficulty = 0.0;
@@ -148,6 +169,16 @@ TrialAnalysis AnalyzeTrial(const capture::Trial& trial,
                            const capture::Trial* static_trial,
                            const AthleteBody& body,
                            const TrialAnalysisOptions& options = {});
+
+/// The flights of an analysis as the score sheet reads them: skill, positions, time of flight and,
+/// with a bed, the landing's zone by `zones` (a margin within `landing_uncertainty_m` a close call).
+std::vector<fig::PerformedFlight> PerformedFlights(const TrialAnalysis& analysis, const fig::HdZones& zones,
+                                                   double landing_uncertainty_m);
+/// The score sheet of an analysis by `rules` (AnalyzeTrial fills TrialAnalysis::score with it).
+fig::RoutineScore ScoreTrial(const TrialAnalysis& analysis, const fig::RoutineRules& rules,
+                             double landing_uncertainty_m);
+/// The score sheet as JSON (score.json; docs/cli.md).
+std::string FormatScoreJson(const fig::RoutineScore& score);
 
 /// A flight's rotation as coaches count it, frame by frame from its take-off frame to its landing
 /// frame: the somersault about the pelvis's lateral axis at take-off and the twist, both from 0 at
@@ -181,7 +212,8 @@ std::string FormatResidualsCsv(const TrialAnalysis& analysis);
 /// coordinates: `r_hip_flexion_moment`, …).
 capture::Storage MakeTorqueStorage(const TrialAnalysis& analysis);
 
-/// Writes DIR/jumps.json, DIR/angles.mot, DIR/torques.sto and DIR/residuals.csv (each atomically).
+/// Writes DIR/jumps.json, DIR/score.json, DIR/angles.mot, DIR/torques.sto and DIR/residuals.csv
+/// (each atomically).
 void WriteAnalysisTables(const TrialAnalysis& analysis, const std::filesystem::path& dir);
 
 }  // namespace acro::analysis

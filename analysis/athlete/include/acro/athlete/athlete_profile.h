@@ -10,9 +10,9 @@
 
 #include "acro/athlete/athlete_body.h"
 #include "acro/athlete/de_leva.h"
-#include "acro/athlete/yaml.h"
 #include "acro/athlete/yeadon_human.h"
 #include "acro/athlete/yeadon_measurements.h"
+#include "acro/base/yaml.h"
 
 namespace acro::analysis {
 

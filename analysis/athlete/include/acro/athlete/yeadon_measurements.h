@@ -11,7 +11,7 @@
 #include <string>
 #include <string_view>
 
-#include "acro/athlete/yaml.h"
+#include "acro/base/yaml.h"
 
 namespace acro::analysis {
 

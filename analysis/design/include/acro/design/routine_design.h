@@ -11,9 +11,10 @@
 #include <string>
 #include <vector>
 
-#include "acro/athlete/yaml.h"
+#include "acro/base/yaml.h"
 #include "acro/design/routine_simulation.h"
 #include "acro/design/skill_from_code.h"
+#include "acro/fig/score_sheet.h"
 
 namespace acro::analysis {
 
@@ -74,6 +75,10 @@ struct RoutineDesignResult {
   /// What does not make a FIG routine but is still designed (another count of skills).
   std::vector<std::string> notes;
 };
+
+/// The designed routine as the score sheet reads it (docs/scoring.md): each skill from the feet to
+/// the feet with its simulated flight time; no landing zone (a design lands where it is aimed).
+std::vector<fig::PerformedFlight> DesignedFlights(const RoutineDesignResult& result);
 
 /// Designs every skill, checks the composition and the athlete's reach, chooses the flights and
 /// simulates the routine through the bed. Throws acro::InputError with one line naming the skill

@@ -19,6 +19,7 @@
 #include "acro/athlete/athlete_profile.h"
 #include "acro/design/posture_track.h"
 #include "acro/dynamics/model.h"
+#include "acro/fig/trampoline.h"
 
 namespace acro::analysis {
 
@@ -48,8 +49,8 @@ struct RoutineSimulationOptions {
   double bed_damping_N_s_per_m = 25.0;
   /// The bed's centre cross at rest (Z up, the bed's long axis along X).
   Eigen::Vector3d bed_centre_m = Eigen::Vector3d(0.4, -0.2, 1.155);
-  double bed_length_m = 4.28;
-  double bed_width_m = 2.14;
+  double bed_length_m = fig::kBedLength_m;
+  double bed_width_m = fig::kBedWidth_m;
   /// How a contact takes energy (a lower flight after a higher one): the athlete bends late in
   /// the contact, against the bed's largest force (true, docs/skill-design.md "Routines"), or the
   /// push's squat is reversed (false: knees and hips extended past straight by the push — the

@@ -20,11 +20,11 @@
 
 #include <Eigen/Core>
 
-#include "acro/assess/fig_skill.h"
 #include "acro/assess/jump_rotation.h"
 #include "acro/athlete/athlete_profile.h"
 #include "acro/design/posture_track.h"
 #include "acro/design/skill_file.h"
+#include "acro/fig/skill.h"
 
 namespace acro::analysis {
 
@@ -54,8 +54,8 @@ struct SkillFromCodeOptions {
 /// What the designed skill needs from the take-off and whether this athlete can give it.
 struct SkillFromCodeResult {
   Skill skill;  ///< the keyframes as a skill file holds them
-  FigSkill code;
-  FigDifficulty difficulty;
+  fig::FigSkill code;
+  fig::FigDifficulty difficulty;
   double flight_time_s = 0.0;
   double takeoff_vertical_velocity_mps = 0.0;
   /// Take-off angular momentum about the COM in W (kg·m²/s): the somersault component (about the
@@ -74,7 +74,7 @@ struct SkillFromCodeResult {
   /// residual (rad).
   double air_somersault_rad = 0.0;
   double air_twist_rad = 0.0;                              ///< positive to the athlete's left
-  TwistDirection twist_direction = TwistDirection::kNone;  ///< of air_twist_rad; none without twist
+  fig::TwistDirection twist_direction = fig::TwistDirection::kNone;  ///< of air_twist_rad; none without twist
   std::vector<double> half_twists_per_somersault;
   double max_tilt_rad = 0.0;
   double landing_tilt_rad = 0.0;
@@ -105,8 +105,8 @@ SkillFromCodeResult DesignSkillFromCode(const std::string& code,
                                         const SkillFromCodeOptions& options = {});
 
 /// The flight time chosen for a skill when none is given (s), and its part from the somersaults.
-double DefaultFlightTime(const FigSkill& skill);
-double BaseFlightTime(const FigSkill& skill);
+double DefaultFlightTime(const fig::FigSkill& skill);
+double BaseFlightTime(const fig::FigSkill& skill);
 
 /// The take-off and feasibility in a few lines (what `acrolab design` prints and writes).
 std::string FormatSkillFromCode(const SkillFromCodeResult& result);

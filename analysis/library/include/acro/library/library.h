@@ -31,6 +31,9 @@ inline constexpr int kSchemaVersion = 2;
 /// ~/.local/share/acrolab/library.sqlite ($XDG_DATA_HOME/acrolab/library.sqlite when set).
 std::filesystem::path DefaultLibraryPath();
 
+/// True for a session date as the library stores it: YYYY-MM-DD, month 1–12, day 1–31.
+bool IsSessionDate(const std::string& text);
+
 /// One jump of a stored trial: the columns the library filters on, taken from jumps.json.
 struct JumpRecord {
   int index = 0;  ///< 1-based, as in jumps.json

@@ -12,7 +12,7 @@
 
 #include <Eigen/Core>
 
-#include "acro/athlete/yaml.h"
+#include "acro/base/yaml.h"
 #include "acro/capture/trial.h"
 #include "acro/dynamics/model.h"
 

@@ -16,9 +16,9 @@ namespace acro::analysis {
 /// 2.14 m, the frame 5.05 m × 2.91 m outside, the bed 1.155 m above the floor; the frame pads are
 /// drawn this wide and the springs this many per long and short side.
 struct TrampolineDimensions {
-  double frame_length_m = vision::kFigFrameLength_m;
-  double frame_width_m = vision::kFigFrameWidth_m;
-  double height_m = vision::kFigBedHeight_m;
+  double frame_length_m = fig::kFrameLength_m;
+  double frame_width_m = fig::kFrameWidth_m;
+  double height_m = fig::kBedHeight_m;
   int springs_long_side = 40;
   int springs_short_side = 20;
 };

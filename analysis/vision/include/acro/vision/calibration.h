@@ -11,6 +11,8 @@
 
 #include <Eigen/Core>
 
+#include "acro/fig/trampoline.h"
+
 #include "acro/vision/camera.h"
 
 namespace acro::vision {
@@ -90,14 +92,7 @@ struct NamedPoint2 {
 /// Reads "name,x_m,y_m,z_m" rows (a header line starting with "name" is skipped). Throws
 /// acro::InputError naming the file and line.
 std::vector<NamedPoint3> ReadPoints3dCsv(const std::filesystem::path& path);
-/// The FIG trampoline (FIG Apparatus Norms, trampoline), metres: the woven bed, the frame's
-/// outside, and the bed's height above the floor. The scene draws the apparatus with the same
-/// numbers.
-inline constexpr double kFigBedLength_m = 4.28;
-inline constexpr double kFigBedWidth_m = 2.14;
-inline constexpr double kFigFrameLength_m = 5.05;
-inline constexpr double kFigFrameWidth_m = 2.91;
-inline constexpr double kFigBedHeight_m = 1.155;
+
 
 /// The FIG trampoline's corners in the trampoline's own frame (origin at the centre of the bed at
 /// rest, x along its length, z up, metres): the bed's BED_C1 (+x, +y), BED_C2 (−x, +y), BED_C3

@@ -44,10 +44,12 @@ void WritePoseContactSheet(capture::VideoReader& video, const std::vector<int>& 
 /// The video with each frame's people drawn (`people[k]`: those of frame k; a frame beyond the
 /// list, or without people, is written as it is) into `output`, an .mp4 (H.264 at the video's
 /// average rate), written whole. `progress` as acro::Progress (false cancels: acro::Cancelled,
-/// nothing left behind). Returns the frames written.
+/// nothing left behind). Only the video frames first_frame … last_frame (0-based, inclusive;
+/// last_frame −1: to the end) are written; a first frame beyond the video is acro::InputError.
+/// Returns the frames written.
 int WriteDetectionOverlay(capture::VideoReader& video, const std::vector<std::vector<capture::DetectedPerson>>& people,
                           const std::vector<std::pair<int, int>>& edges, const std::vector<int>& side,
                           const std::filesystem::path& output, const Progress& progress = {},
-                          double min_confidence = 0.2);
+                          double min_confidence = 0.2, int first_frame = 0, int last_frame = -1);
 
 }  // namespace acro::ui

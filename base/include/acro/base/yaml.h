@@ -14,7 +14,7 @@
 #include <utility>
 #include <vector>
 
-namespace acro::analysis {
+namespace acro {
 
 class YamlNode {
  public:
@@ -85,4 +85,4 @@ YamlNode ReadYamlFile(const std::filesystem::path& path);
 /// text is not entirely a number.
 bool ParseYamlNumber(std::string_view text, double* value);
 
-}  // namespace acro::analysis
+}  // namespace acro

@@ -1,10 +1,23 @@
 #pragma once
 
+// The FIG's words for a trampoline skill (Code of Points 2025–2028, trampoline): the numeric code,
+// its shape, direction and landing positions, and the difficulty. Vocabulary for every layer above
+// (assess counts skills in it, design builds them from it, the score sheet sums it).
+
 #include <string>
 #include <string_view>
 #include <vector>
 
-namespace acro::analysis {
+namespace acro::fig {
+
+/// Body position at a take-off or a landing, in somersault quarters from upright (the Code's
+/// landing positions; a seat landing is not told apart from the feet by the analysis).
+enum class BodyPosition { kFeet = 0, kFront = 1, kBack = -1 };
+
+/// The way a flight twists, as the athlete says it: left when her front turns toward her left
+/// hand, as a person turning left on the spot (positive about the body's long axis z, with x
+/// forward and y left), whatever the somersault; none without a counted half twist.
+enum class TwistDirection { kNone, kLeft, kRight };
 
 /// Body shape of a skill as the FIG numeric code writes it: `o` tuck, `<` pike, `/` straight.
 enum class SkillShape { kTuck, kPike, kStraight };
@@ -67,4 +80,4 @@ FigDifficulty CalcFigDifficulty(const FigSkill& skill);
 /// empty when the skill has no usual name.
 std::string FigSkillName(const FigSkill& skill);
 
-}  // namespace acro::analysis
+}  // namespace acro::fig

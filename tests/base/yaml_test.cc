@@ -1,4 +1,4 @@
-#include "acro/athlete/yaml.h"
+#include "acro/base/yaml.h"
 
 #include <cmath>
 #include <string>
@@ -7,7 +7,7 @@
 
 #include "acro/base/input_error.h"
 
-namespace acro::analysis {
+namespace acro {
 namespace {
 
 // The message of the InputError that parsing `text` throws ("" when it does not throw).
@@ -215,4 +215,4 @@ TEST(Yaml, TypeErrorsNameFileLineAndKey) {
 }
 
 }  // namespace
-}  // namespace acro::analysis
+}  // namespace acro

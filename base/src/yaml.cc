@@ -1,4 +1,4 @@
-#include "acro/athlete/yaml.h"
+#include "acro/base/yaml.h"
 
 #include <charconv>
 #include <cmath>
@@ -15,7 +15,7 @@
 #include "acro/base/input_error.h"
 #include "acro/base/text.h"
 
-namespace acro::analysis {
+namespace acro {
 
 // ---------------------------------------------------------------------------------------------
 // Node accessors.
@@ -294,4 +294,4 @@ YamlNode ReadYamlFile(const std::filesystem::path& path) {
   return ParseYaml(text, path.string());
 }
 
-}  // namespace acro::analysis
+}  // namespace acro

@@ -1,4 +1,4 @@
-#include "acro/assess/fig_skill.h"
+#include "acro/fig/skill.h"
 
 #include <cctype>
 #include <numeric>
@@ -6,7 +6,7 @@
 
 #include "acro/base/input_error.h"
 
-namespace acro::analysis {
+namespace acro::fig {
 namespace {
 
 char ShapeChar(SkillShape shape) {
@@ -172,4 +172,4 @@ std::string FigSkillName(const FigSkill& skill) {
   return "";
 }
 
-}  // namespace acro::analysis
+}  // namespace acro::fig

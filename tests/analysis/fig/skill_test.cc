@@ -1,12 +1,12 @@
 // FIG numeric codes and difficulty against the worked examples of the 2025–2028 Code of Points
 // (as listed in the issue) and the rules they illustrate.
-#include "acro/assess/fig_skill.h"
+#include "acro/fig/skill.h"
 
 #include <gtest/gtest.h>
 
 #include "acro/base/input_error.h"
 
-namespace acro::analysis {
+namespace acro::fig {
 namespace {
 
 using Dir = SomersaultDirection;
@@ -90,4 +90,4 @@ TEST(FigCode, MalformedCodesNameTheCode) {
 }
 
 }  // namespace
-}  // namespace acro::analysis
+}  // namespace acro::fig
