@@ -4,6 +4,7 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <string>
 #include <thread>
 
 #include <pthread.h>
@@ -37,12 +38,16 @@ void InstallInterruptCleanup() {
     // X server would end this program with status 1 before it has cleaned up.
     StopRegisteredChildren(ChildRole::kJob);
     const int removed = RemoveRegisteredTemporaries();
+    // Outputs already moved into place before the signal are whole: kept, and said (a Ctrl-C as a
+    // command finishes finds its outputs written).
+    const int kept = CommittedOutputs();
     StopRegisteredChildren(ChildRole::kHelper);
     std::fprintf(stderr,
-                 "\nacrolab: interrupted (%s); %d unfinished output%s removed\n",
+                 "\nacrolab: interrupted (%s); %d unfinished output%s removed%s\n",
                  received == SIGINT ? "SIGINT" : "SIGTERM",
                  removed,
-                 removed == 1 ? "" : "s");
+                 removed == 1 ? "" : "s",
+                 kept > 0 ? (", " + std::to_string(kept) + " finished kept").c_str() : "");
     std::fflush(stderr);
     _exit(128 + received);
   }).detach();

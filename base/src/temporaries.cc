@@ -66,10 +66,20 @@ int RemoveRegisteredTemporaries() noexcept {
   return removed;
 }
 
+namespace {
+std::atomic<int>& Committed() {
+  static std::atomic<int> committed{0};
+  return committed;
+}
+}  // namespace
+
 void RunUninterrupted(const std::function<void()>& work) {
   const std::lock_guard<std::mutex> lock(RegistryMutex());
   work();
+  ++Committed();  // a finished output moved into place, whole
 }
+
+int CommittedOutputs() noexcept { return Committed().load(); }
 
 std::unique_ptr<ScopedChildProcess> ScopedChildProcess::Start(const std::function<pid_t()>& spawn,
                                                               ChildRole role) {

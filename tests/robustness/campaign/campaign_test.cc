@@ -740,7 +740,18 @@ Verdict Campaign::Judge(const Case& c, const Run& run, const fs::path& dir, cons
     for (const fs::directory_entry& e : fs::directory_iterator(small_fs_, ec))
       if (e.path().filename() != "filler" && e.path().filename() != "lost+found") left.push_back(e.path().string());
   }
-  if (!left.empty()) return {"half-written", fmt::format("left {} after exit {}", Printable(left.front()), run.status)};
+  // An interrupt that comes after outputs were moved into place keeps them, whole, and says how many
+  // (", N finished kept"): those may stay; anything more is half-written.
+  size_t kept = 0;
+  if (const size_t at = run.err.find(" finished kept"); c.signal != 0 && at != std::string::npos) {
+    size_t from = run.err.rfind(", ", at);
+    if (from != std::string::npos) kept = static_cast<size_t>(std::atoi(run.err.c_str() + from + 2));
+  }
+  size_t temporaries = 0;
+  for (const std::string& name : left)
+    if (name.find(".tmp") != std::string::npos || name.find(".partial") != std::string::npos) ++temporaries;
+  if (temporaries > 0 || left.size() > kept)
+    return {"half-written", fmt::format("left {} after exit {}", Printable(left.front()), run.status)};
   // The library: whole, and unchanged by a failure.
   const fs::path library = dir / "lib.sqlite";
   if (library_trials_before >= 0 && fs::is_regular_file(library, ec)) {
@@ -934,7 +945,10 @@ TEST(Campaign, EveryReaderAndCommandHoldsItsPromises) {
     for (const auto& [k, v] : by_surface) j["by_reader"][k] = {{"cases", v.first}, {"failed", v.second}};
     std::ofstream(report) << j.dump(1) << "\n";
   }
-  EXPECT_GE(all.size(), 5000u) << "the campaign generates at least 5000 cases";
+  const char* only = std::getenv("ACRO_CAMPAIGN_ONLY");
+  if (only == nullptr || *only == '\0') {
+    EXPECT_GE(all.size(), 5000u) << "the campaign generates at least 5000 cases";
+  }
   EXPECT_EQ(failures.size(), 0u);
 }
 

@@ -36,6 +36,10 @@ int RemoveRegisteredTemporaries() noexcept;
 /// register or unregister temporaries.
 void RunUninterrupted(const std::function<void()>& work);
 
+/// How many outputs RunUninterrupted has moved into place, whole, so far: what an interrupt that
+/// comes after them keeps (and says it kept).
+int CommittedOutputs() noexcept;
+
 /// What a child process is to the interrupt handler.
 enum class ChildRole {
   kJob,     ///< work of its own (a batch's `library add`): stopped and waited for, first
