@@ -15,8 +15,8 @@ namespace acro::analysis {
 
 bool ExecutionOptions::IsValid(std::string* why) const {
   auto ok = [](double v, double hi) { return std::isfinite(v) && v >= 0 && v <= hi; };
-  if (!ok(angle_uncertainty_deg, 90) || !ok(position_uncertainty_m, 1) || !ok(time_uncertainty_s, 1) ||
-      !ok(takeoff_edge_s, 1) || !ok(landing_edge_s, 1)) {
+  if (!ok(angle_uncertainty_deg, 90) || !ok(position_uncertainty_m, 1) ||
+      !ok(time_uncertainty_s, 1) || !ok(takeoff_edge_s, 1) || !ok(landing_edge_s, 1)) {
     if (why) *why = "execution: the uncertainties must be 0–90°, 0–1 m, 0–1 s and the edges 0–1 s";
     return false;
   }
@@ -49,7 +49,9 @@ std::pair<double, int> Worst(const std::vector<int>& frames, const Value& value)
 
 }  // namespace
 
-std::vector<fig::MeasuredFault> MeasureExecution(const TrialAnalysis& a, size_t jump, const fig::ExecutionRules& rules,
+std::vector<fig::MeasuredFault> MeasureExecution(const TrialAnalysis& a,
+                                                 size_t jump,
+                                                 const fig::ExecutionRules& rules,
                                                  const ExecutionOptions& options) {
   std::vector<fig::MeasuredFault> out;
   if (jump >= a.jumps.size()) return out;
@@ -60,26 +62,31 @@ std::vector<fig::MeasuredFault> MeasureExecution(const TrialAnalysis& a, size_t 
   const fig::FigSkill& skill = j.rotation.skill;
   // The element's own frames: the flight less its edges.
   std::vector<int> frames;
-  for (int f = std::max(0, j.flight.takeoff_frame); f <= std::min(m.num_frames() - 1, j.flight.landing_frame); ++f)
-    if (m.time_s[f] > j.flight.takeoff_s + options.takeoff_edge_s && m.time_s[f] < j.flight.landing_s - options.landing_edge_s)
+  for (int f = std::max(0, j.flight.takeoff_frame);
+       f <= std::min(m.num_frames() - 1, j.flight.landing_frame);
+       ++f)
+    if (m.time_s[f] > j.flight.takeoff_s + options.takeoff_edge_s &&
+        m.time_s[f] < j.flight.landing_s - options.landing_edge_s)
       frames.push_back(f);
   if (frames.empty()) return out;
 
-  auto add = [&](const char* fault, const char* quantity, double value, double uncertainty, int frame) {
-    const fig::FaultRule* rule = rules.Find(fault);
-    if (rule == nullptr || !std::isfinite(value)) return;
-    fig::MeasuredFault f;
-    f.fault = fault;
-    f.quantity = quantity;
-    f.unit = rule->unit;
-    f.value = value;
-    f.uncertainty = uncertainty;
-    f.frame = frame;
-    f.time_s = frame >= 0 && frame < m.num_frames() ? m.time_s[frame] : std::numeric_limits<double>::quiet_NaN();
-    f.reported = rule->Exceeds(value, uncertainty);
-    f.deduction = f.reported ? rule->DeductionFor(value) : 0.0;
-    out.push_back(std::move(f));
-  };
+  auto add =
+      [&](const char* fault, const char* quantity, double value, double uncertainty, int frame) {
+        const fig::FaultRule* rule = rules.Find(fault);
+        if (rule == nullptr || !std::isfinite(value)) return;
+        fig::MeasuredFault f;
+        f.fault = fault;
+        f.quantity = quantity;
+        f.unit = rule->unit;
+        f.value = value;
+        f.uncertainty = uncertainty;
+        f.frame = frame;
+        f.time_s = frame >= 0 && frame < m.num_frames() ? m.time_s[frame]
+                                                        : std::numeric_limits<double>::quiet_NaN();
+        f.reported = rule->Exceeds(value, uncertainty);
+        f.deduction = f.reported ? rule->DeductionFor(value) : 0.0;
+        out.push_back(std::move(f));
+      };
   // Mean of the two sides of a joint angle (deg, anatomical: `sign` makes flexion positive).
   auto both = [&](const char* name, double sign) {
     const int r = Column(m, std::string("r_") + name), l = Column(m, std::string("l_") + name);
@@ -113,11 +120,12 @@ std::vector<fig::MeasuredFault> MeasureExecution(const TrialAnalysis& a, size_t 
     const auto& X = ws.X_WB[static_cast<size_t>(p.segment)];
     return Eigen::Vector3d(X.rotation() * p.p_BoP_B + X.translation());
   };
-  if (skill.shape == fig::SkillShape::kStraight && skill.quarter_somersaults > 0 && sh[0] >= 0 && sh[1] >= 0 && el[0] >= 0 && el[1] >= 0 && neck >= 0 &&
-      lumbar >= 0) {
+  if (skill.shape == fig::SkillShape::kStraight && skill.quarter_somersaults > 0 && sh[0] >= 0 &&
+      sh[1] >= 0 && el[0] >= 0 && el[1] >= 0 && neck >= 0 && lumbar >= 0) {
     std::vector<int> middle;
     for (int f : frames)
-      if (std::abs(m.time_s[f] - 0.5 * (j.flight.takeoff_s + j.flight.landing_s)) <= 0.25 * j.time_of_flight_s())
+      if (std::abs(m.time_s[f] - 0.5 * (j.flight.takeoff_s + j.flight.landing_s)) <=
+          0.25 * j.time_of_flight_s())
         middle.push_back(f);
     const auto [v, f] = Worst(middle, [&](int k) {
       const Eigen::VectorXd q = m.q.col(k);
@@ -125,7 +133,8 @@ std::vector<fig::MeasuredFault> MeasureExecution(const TrialAnalysis& a, size_t 
       const Eigen::Vector3d down = (at(lumbar) - at(neck)).normalized();
       double sum = 0;
       for (int s = 0; s < 2; ++s) {
-        const double angle = std::acos(std::clamp((at(el[s]) - at(sh[s])).normalized().dot(down), -1.0, 1.0)) / kDeg;
+        const double angle =
+            std::acos(std::clamp((at(el[s]) - at(sh[s])).normalized().dot(down), -1.0, 1.0)) / kDeg;
         sum += std::min(angle, 180.0 - angle);
       }
       return 0.5 * sum;
@@ -164,8 +173,11 @@ std::vector<fig::MeasuredFault> MeasureExecution(const TrialAnalysis& a, size_t 
         frame = f;
       }
     }
-    add(skill.shape == fig::SkillShape::kPike ? "pike_open" : "tuck_open", "trunk-thigh angle (median of the hold)",
-        j.rotation.shape_hip_angle_deg, ua, frame);
+    add(skill.shape == fig::SkillShape::kPike ? "pike_open" : "tuck_open",
+        "trunk-thigh angle (median of the hold)",
+        j.rotation.shape_hip_angle_deg,
+        ua,
+        frame);
   }
   // The opening before landing: a somersault in a tuck or pike opens (trunk–thigh past 135°) at
   // the end of its longest closed hold, this long before the feet touch. Not the last closed frame:
@@ -173,7 +185,9 @@ std::vector<fig::MeasuredFault> MeasureExecution(const TrialAnalysis& a, size_t 
   if (skill.shape != fig::SkillShape::kStraight && skill.quarter_somersaults >= 4) {
     const auto hip = both("hip_flexion", -1.0);
     int best_end = -1, best_length = 0, run = 0;
-    for (int f = std::max(0, j.flight.takeoff_frame); f <= std::min(m.num_frames() - 1, j.flight.landing_frame); ++f) {
+    for (int f = std::max(0, j.flight.takeoff_frame);
+         f <= std::min(m.num_frames() - 1, j.flight.landing_frame);
+         ++f) {
       const bool closed = m.time_s[f] < j.flight.landing_s && 180.0 - hip(f) <= 135.0;
       run = closed ? run + 1 : 0;
       if (closed && run > best_length) {
@@ -183,16 +197,25 @@ std::vector<fig::MeasuredFault> MeasureExecution(const TrialAnalysis& a, size_t 
     }
     if (best_end >= 0) {
       const int opened = std::min(best_end + 1, m.num_frames() - 1);
-      add("late_opening", "opening before landing", j.flight.landing_s - m.time_s[opened], options.time_uncertainty_s,
+      add("late_opening",
+          "opening before landing",
+          j.flight.landing_s - m.time_s[opened],
+          options.time_uncertainty_s,
           opened);
     }
   }
   // Travel on the bed, and height lost against the element before.
-  add("travel", "landing from take-off", j.displacement_from_takeoff_m, options.position_uncertainty_m,
+  add("travel",
+      "landing from take-off",
+      j.displacement_from_takeoff_m,
+      options.position_uncertainty_m,
       j.flight.landing_frame);
   for (size_t k = jump; k-- > 0;) {
     if (a.jumps[k].partial()) continue;
-    add("height_loss", "apex below the element before", a.jumps[k].apex_m() - j.apex_m(), options.position_uncertainty_m,
+    add("height_loss",
+        "apex below the element before",
+        a.jumps[k].apex_m() - j.apex_m(),
+        options.position_uncertainty_m,
         frames[frames.size() / 2]);
     break;
   }

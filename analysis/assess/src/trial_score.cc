@@ -10,7 +10,8 @@
 
 namespace acro::analysis {
 
-std::vector<fig::PerformedFlight> PerformedFlights(const TrialAnalysis& a, const fig::HdZones& zones,
+std::vector<fig::PerformedFlight> PerformedFlights(const TrialAnalysis& a,
+                                                   const fig::HdZones& zones,
                                                    double landing_uncertainty_m) {
   std::vector<fig::PerformedFlight> out;
   for (const JumpMetrics& j : a.jumps) {
@@ -22,13 +23,16 @@ std::vector<fig::PerformedFlight> PerformedFlights(const TrialAnalysis& a, const
     f.partial = j.partial();
     f.faults = j.execution;
     if (!j.landing_contacts_in_bed_m.empty())
-      f.landing_zone = fig::ClassifyLanding(zones, j.landing_contacts_in_bed_m, landing_uncertainty_m);
+      f.landing_zone =
+          fig::ClassifyLanding(zones, j.landing_contacts_in_bed_m, landing_uncertainty_m);
     out.push_back(std::move(f));
   }
   return out;
 }
 
-fig::RoutineScore ScoreTrial(const TrialAnalysis& a, const fig::RoutineRules& rules, double landing_uncertainty_m) {
+fig::RoutineScore ScoreTrial(const TrialAnalysis& a,
+                             const fig::RoutineRules& rules,
+                             double landing_uncertainty_m) {
   return fig::ScoreRoutine(rules, PerformedFlights(a, rules.zones, landing_uncertainty_m));
 }
 

@@ -38,14 +38,16 @@ int ReadCount(const YamlNode& node, int lo, int hi) {
 
 double ReadNumber(const YamlNode& node, double lo, double hi) {
   const double v = node.AsDouble();
-  if (!std::isfinite(v) || v < lo || v > hi) node.Fail(fmt::format("{} is outside {}..{}", v, lo, hi));
+  if (!std::isfinite(v) || v < lo || v > hi)
+    node.Fail(fmt::format("{} is outside {}..{}", v, lo, hi));
   return v;
 }
 
 // A pair [from, to] in metres for a zone's extent.
 void ReadRange(const YamlNode& node, double* lo, double* hi) {
   const std::vector<double> v = node.AsDoubleList();
-  if (v.size() != 2) node.Fail(fmt::format("a range is two numbers [from, to] in metres, got {}", v.size()));
+  if (v.size() != 2)
+    node.Fail(fmt::format("a range is two numbers [from, to] in metres, got {}", v.size()));
   for (double x : v)
     if (!std::isfinite(x) || std::abs(x) > 10.0) node.Fail(fmt::format("{} m is outside ±10 m", x));
   if (v[0] >= v[1]) node.Fail(fmt::format("[{}, {}] is empty", v[0], v[1]));
@@ -55,11 +57,14 @@ void ReadRange(const YamlNode& node, double* lo, double* hi) {
 
 ElementRequirement ReadRequirement(const YamlNode& node) {
   if (!node.IsMap()) node.Fail("a requirement is a map (name, min_somersault_quarters, …)");
-  node.RequireKnownKeys({"name", "min_somersault_quarters", "min_half_twists", "landing", "takeoff", "direction"});
+  node.RequireKnownKeys(
+      {"name", "min_somersault_quarters", "min_half_twists", "landing", "takeoff", "direction"});
   ElementRequirement r;
   r.name = node.At("name").AsString();
-  if (r.name.empty() || r.name.size() > 200) node.At("name").Fail("a requirement's name is 1 to 200 characters");
-  if (const YamlNode* n = node.Find("min_somersault_quarters")) r.min_quarter_somersaults = ReadCount(*n, 0, 20);
+  if (r.name.empty() || r.name.size() > 200)
+    node.At("name").Fail("a requirement's name is 1 to 200 characters");
+  if (const YamlNode* n = node.Find("min_somersault_quarters"))
+    r.min_quarter_somersaults = ReadCount(*n, 0, 20);
   if (const YamlNode* n = node.Find("min_half_twists")) r.min_half_twists = ReadCount(*n, 0, 20);
   if (const YamlNode* n = node.Find("landing")) r.landing = ReadPositions(*n);
   if (const YamlNode* n = node.Find("takeoff")) r.takeoff = ReadPositions(*n);
@@ -155,8 +160,9 @@ const char* BodyPositionName(BodyPosition position) {
 RoutineRules RoutineRules::FigSenior() {
   RoutineRules r;
   r.name = "FIG senior, individual trampoline";
-  r.source = "FIG Code of Points 2025-2028, trampoline (ten different elements; all elements' difficulty "
-             "counts in both routines since 2022)";
+  r.source =
+      "FIG Code of Points 2025-2028, trampoline (ten different elements; all elements' difficulty "
+      "counts in both routines since 2022)";
   return r;
 }
 
@@ -166,15 +172,18 @@ bool RoutineRules::IsValid(std::string* why) const {
     return false;
   };
   if (elements < 1 || elements > 20) return fail(fmt::format("elements is {} (1 to 20)", elements));
-  if (max_difficulty && !(std::isfinite(*max_difficulty) && *max_difficulty >= 0 && *max_difficulty <= 100))
+  if (max_difficulty &&
+      !(std::isfinite(*max_difficulty) && *max_difficulty >= 0 && *max_difficulty <= 100))
     return fail(fmt::format("max_difficulty is {} (0 to 100)", *max_difficulty));
   if (max_elements_below_270 && (*max_elements_below_270 < 0 || *max_elements_below_270 > elements))
-    return fail(fmt::format("max_elements_below_270 is {} (0 to {})", *max_elements_below_270, elements));
+    return fail(
+        fmt::format("max_elements_below_270 is {} (0 to {})", *max_elements_below_270, elements));
   if (static_cast<int>(requirements.size()) > elements)
     return fail(fmt::format("{} requirements for {} elements", requirements.size(), elements));
   if (!(std::isfinite(missing_requirement_penalty) && missing_requirement_penalty >= 0 &&
         missing_requirement_penalty <= 10))
-    return fail(fmt::format("missing_requirement_penalty is {} (0 to 10)", missing_requirement_penalty));
+    return fail(
+        fmt::format("missing_requirement_penalty is {} (0 to 10)", missing_requirement_penalty));
   if (!(time_of_flight_step > 0 && time_of_flight_step <= 1))
     return fail(fmt::format("time_of_flight_step is {} (above 0, at most 1)", time_of_flight_step));
   return zones.IsValid(why);
@@ -183,16 +192,26 @@ bool RoutineRules::IsValid(std::string* why) const {
 namespace {
 
 RoutineRules RulesFromYaml(const YamlNode& root, const std::string& origin) {
-  if (!root.IsMap()) throw InputError(origin, root.Where(), "a rule file is a map (name, source, routine, …)");
-  root.RequireKnownKeys({"name", "source", "routine", "requirements", "missing_requirement_penalty",
-                         "time_of_flight", "horizontal_displacement", "execution"});
+  if (!root.IsMap())
+    throw InputError(origin, root.Where(), "a rule file is a map (name, source, routine, …)");
+  root.RequireKnownKeys({"name",
+                         "source",
+                         "routine",
+                         "requirements",
+                         "missing_requirement_penalty",
+                         "time_of_flight",
+                         "horizontal_displacement",
+                         "execution"});
   RoutineRules r;
   r.name = root.At("name").AsString();
   r.source = root.At("source").AsString();
   if (r.source.empty()) root.At("source").Fail("say where the rules come from");
   if (const YamlNode* routine = root.Find("routine")) {
     if (!routine->IsMap()) routine->Fail("a map (elements, different_elements, difficulty, …)");
-    routine->RequireKnownKeys({"elements", "different_elements", "difficulty", "max_difficulty",
+    routine->RequireKnownKeys({"elements",
+                               "different_elements",
+                               "difficulty",
+                               "max_difficulty",
                                "max_elements_below_270"});
     if (const YamlNode* n = routine->Find("elements")) r.elements = ReadCount(*n, 1, 20);
     if (const YamlNode* n = routine->Find("different_elements")) r.different_elements = n->AsBool();
@@ -214,7 +233,8 @@ RoutineRules RulesFromYaml(const YamlNode& root, const std::string& origin) {
     if (!reqs->IsSequence() && !reqs->IsNull()) reqs->Fail("a list of requirements");
     for (const YamlNode& item : reqs->items()) r.requirements.push_back(ReadRequirement(item));
     if (static_cast<int>(r.requirements.size()) > r.elements)
-      reqs->Fail(fmt::format("{} requirements for a routine of {} elements", r.requirements.size(), r.elements));
+      reqs->Fail(fmt::format(
+          "{} requirements for a routine of {} elements", r.requirements.size(), r.elements));
   }
   if (const YamlNode* n = root.Find("missing_requirement_penalty"))
     r.missing_requirement_penalty = ReadNumber(*n, 0.0, 10.0);
@@ -229,14 +249,16 @@ RoutineRules RulesFromYaml(const YamlNode& root, const std::string& origin) {
   }
   if (const YamlNode* ex = root.Find("execution")) {
     // A fault's steps replace the default's: `knees_bent: [[15, 0.1], [45, 0.2]]`.
-    if (!ex->IsMap()) ex->Fail("a map of faults (knees_bent, legs_apart, …) to [[threshold, deduction], …]");
+    if (!ex->IsMap())
+      ex->Fail("a map of faults (knees_bent, legs_apart, …) to [[threshold, deduction], …]");
     for (const auto& [key, steps] : ex->entries()) {
       FaultRule* rule = nullptr;
       for (FaultRule& f : r.execution.faults)
         if (f.fault == key) rule = &f;
       if (rule == nullptr) {
         std::string known;
-        for (const FaultRule& f : r.execution.faults) known += (known.empty() ? "" : ", ") + f.fault;
+        for (const FaultRule& f : r.execution.faults)
+          known += (known.empty() ? "" : ", ") + f.fault;
         steps.Fail(fmt::format("unknown fault (known: {})", known));
       }
       if (!steps.IsSequence() || steps.items().empty() || steps.items().size() > 10)
@@ -244,11 +266,15 @@ RoutineRules RulesFromYaml(const YamlNode& root, const std::string& origin) {
       rule->steps.clear();
       for (const YamlNode& step : steps.items()) {
         const std::vector<double> v = step.AsDoubleList();
-        if (v.size() != 2 || !std::isfinite(v[0]) || std::abs(v[0]) > 1000 || !(v[1] >= 0 && v[1] <= 0.5))
-          step.Fail("a step is [threshold, deduction] with a finite threshold and a deduction of 0 to 0.5");
+        if (v.size() != 2 || !std::isfinite(v[0]) || std::abs(v[0]) > 1000 ||
+            !(v[1] >= 0 && v[1] <= 0.5))
+          step.Fail(
+              "a step is [threshold, deduction] with a finite threshold and a deduction of 0 to "
+              "0.5");
         if (!rule->steps.empty() && (rule->smaller_is_worse ? v[0] >= rule->steps.back().first
                                                             : v[0] <= rule->steps.back().first))
-          step.Fail(fmt::format("thresholds must {} from step to step", rule->smaller_is_worse ? "fall" : "rise"));
+          step.Fail(fmt::format("thresholds must {} from step to step",
+                                rule->smaller_is_worse ? "fall" : "rise"));
         rule->steps.emplace_back(v[0], v[1]);
       }
     }

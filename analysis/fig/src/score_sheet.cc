@@ -11,13 +11,17 @@ namespace acro::fig {
 namespace {
 
 bool IsStraightJump(const FigSkill& s) {
-  return s.quarter_somersaults == 0 && s.total_half_twists() == 0 && s.shape == SkillShape::kStraight;
+  return s.quarter_somersaults == 0 && s.total_half_twists() == 0 &&
+         s.shape == SkillShape::kStraight;
 }
 
 // What makes two elements the same element: code, direction, take-off and landing positions.
 std::string ElementKey(const PerformedFlight& f) {
-  return fmt::format("{}|{}|{}|{}", FormatFigCode(f.skill), static_cast<int>(f.skill.direction),
-                     static_cast<int>(f.takeoff), static_cast<int>(f.landing));
+  return fmt::format("{}|{}|{}|{}",
+                     FormatFigCode(f.skill),
+                     static_cast<int>(f.skill.direction),
+                     static_cast<int>(f.takeoff),
+                     static_cast<int>(f.landing));
 }
 
 bool Meets(const ElementRequirement& r, const PerformedFlight& f) {
@@ -70,20 +74,23 @@ RoutineScore ScoreRoutine(const RoutineRules& rules, const std::vector<Performed
   s.expected_elements = rules.elements;
   // 1. The routine's flights: from the first complete flight that is not a straight jump.
   size_t first = 0;
-  while (first < flights.size() && (flights[first].partial || IsStraightJump(flights[first].skill))) ++first;
+  while (first < flights.size() && (flights[first].partial || IsStraightJump(flights[first].skill)))
+    ++first;
   std::vector<const PerformedFlight*> elements;
   std::vector<int> flight_index;
-  for (size_t i = first; i < flights.size() && static_cast<int>(elements.size()) < rules.elements; ++i) {
+  for (size_t i = first; i < flights.size() && static_cast<int>(elements.size()) < rules.elements;
+       ++i) {
     const PerformedFlight& f = flights[i];
     if (f.partial) {
       s.interrupted = true;
-      s.interruption = fmt::format("flight {} was cut by the recording after {} element(s)", i + 1,
-                                   elements.size());
+      s.interruption = fmt::format(
+          "flight {} was cut by the recording after {} element(s)", i + 1, elements.size());
       break;
     }
     if (IsStraightJump(f.skill)) {
       s.interrupted = true;
-      s.interruption = fmt::format("a straight jump (flight {}) after {} element(s)", i + 1, elements.size());
+      s.interruption =
+          fmt::format("a straight jump (flight {}) after {} element(s)", i + 1, elements.size());
       break;
     }
     elements.push_back(&f);
@@ -93,7 +100,8 @@ RoutineScore ScoreRoutine(const RoutineRules& rules, const std::vector<Performed
     s.interrupted = true;
     s.interruption = elements.empty() ? "no element: every flight is a straight jump or cut"
                                       : fmt::format("the routine ends after {} of {} elements",
-                                                    elements.size(), rules.elements);
+                                                    elements.size(),
+                                                    rules.elements);
   }
   // 2. Per element: difficulty (a repeat gets none), flight, landing.
   std::map<std::string, int> seen;
@@ -160,7 +168,8 @@ RoutineScore ScoreRoutine(const RoutineRules& rules, const std::vector<Performed
     }
   }
   if (rules.max_elements_below_270 && below_270 > *rules.max_elements_below_270)
-    s.rule_breaks.push_back(fmt::format("{} elements below 270° of somersault (at most {})", below_270,
+    s.rule_breaks.push_back(fmt::format("{} elements below 270° of somersault (at most {})",
+                                        below_270,
                                         *rules.max_elements_below_270));
   if (rules.different_elements && rules.difficulty == DifficultyCounted::kAll) {
     for (const ScoredElement& e : s.elements)

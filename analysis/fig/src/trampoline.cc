@@ -13,9 +13,8 @@ HdZones HdZones::Default() {
   HdZones z;
   const double ax = kZoneALength_m / 2, ay = kZoneAWidth_m / 2;
   const double bx = kBedLength_m / 2, by = kBedWidth_m / 2;
-  z.zones = {{"A", -ax, ax, -ay, ay, 0.0},
-             {"B", -bx, bx, -ay, ay, 0.1},
-             {"C", -bx, bx, -by, by, 0.2}};
+  z.zones = {
+      {"A", -ax, ax, -ay, ay, 0.0}, {"B", -bx, bx, -ay, ay, 0.1}, {"C", -bx, bx, -by, by, 0.2}};
   z.outside_name = "off the bed";
   z.outside_deduction = 0.3;
   z.source =
@@ -49,10 +48,15 @@ bool HdZones::IsValid(std::string* why) const {
   for (const HdZone& r : zones) {
     for (double v : {r.x_min, r.x_max, r.y_min, r.y_max})
       if (!std::isfinite(v) || std::abs(v) > 10.0)
-        return fail(fmt::format("zone {} reaches {} m from the bed's centre (at most 10 m)", r.name, v));
+        return fail(
+            fmt::format("zone {} reaches {} m from the bed's centre (at most 10 m)", r.name, v));
     if (r.x_min >= r.x_max || r.y_min >= r.y_max)
-      return fail(fmt::format("zone {} is empty ({} to {} m along, {} to {} m across)", r.name, r.x_min,
-                              r.x_max, r.y_min, r.y_max));
+      return fail(fmt::format("zone {} is empty ({} to {} m along, {} to {} m across)",
+                              r.name,
+                              r.x_min,
+                              r.x_max,
+                              r.y_min,
+                              r.y_max));
     if (!deduction_ok(r.deduction))
       return fail(fmt::format("zone {} costs {} (0 to 1)", r.name, r.deduction));
   }
@@ -64,7 +68,9 @@ namespace {
 // How far the rigid set of points can move along `u` before `changed` holds for the set. Marches in
 // 5 mm steps, then bisects to 1 mm; +inf when nothing changes within `reach` (and its last step).
 template <typename Changed>
-double DistanceAlong(const std::vector<Eigen::Vector2d>& points, const Eigen::Vector2d& u, double reach,
+double DistanceAlong(const std::vector<Eigen::Vector2d>& points,
+                     const Eigen::Vector2d& u,
+                     double reach,
                      const Changed& changed) {
   constexpr double kStep = 0.005;
   double inside = 0.0;
@@ -86,7 +92,8 @@ double DistanceAlong(const std::vector<Eigen::Vector2d>& points, const Eigen::Ve
 
 }  // namespace
 
-HdLanding ClassifyLanding(const HdZones& zones, const std::vector<Eigen::Vector2d>& points,
+HdLanding ClassifyLanding(const HdZones& zones,
+                          const std::vector<Eigen::Vector2d>& points,
                           double uncertainty_m) {
   HdLanding out;
   out.deduction = -1.0;
@@ -116,7 +123,8 @@ HdLanding ClassifyLanding(const HdZones& zones, const std::vector<Eigen::Vector2
   constexpr int kDirections = 144;
   constexpr double kReach = 3.0;
   auto along = [&](double a, double reach) {
-    return DistanceAlong(points, Eigen::Vector2d(std::cos(a), std::sin(a)), std::min(kReach, reach), changed);
+    return DistanceAlong(
+        points, Eigen::Vector2d(std::cos(a), std::sin(a)), std::min(kReach, reach), changed);
   };
   double margin = std::numeric_limits<double>::infinity();
   std::vector<std::pair<double, double>> coarse;  // distance, angle
@@ -129,7 +137,9 @@ HdLanding ClassifyLanding(const HdZones& zones, const std::vector<Eigen::Vector2
   std::partial_sort(coarse.begin(), coarse.begin() + 2, coarse.end());
   const double step = 2.0 * std::numbers::pi / kDirections;
   for (int best = 0; best < 2 && std::isfinite(coarse[static_cast<size_t>(best)].first); ++best)
-    for (int k = -25; k <= 25; ++k) margin = std::min(margin, along(coarse[static_cast<size_t>(best)].second + k * step / 25.0, margin));
+    for (int k = -25; k <= 25; ++k)
+      margin = std::min(margin,
+                        along(coarse[static_cast<size_t>(best)].second + k * step / 25.0, margin));
   out.margin_m = margin;
   out.uncertain = std::isfinite(margin) && margin <= uncertainty_m;
   return out;

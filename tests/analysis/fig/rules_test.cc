@@ -31,11 +31,13 @@ TEST(Rules, EveryShippedRuleFileLoadsAndCitesItsSource) {
   EXPECT_DOUBLE_EQ(senior.time_of_flight_step, 0.005);
   ASSERT_EQ(senior.zones.zones.size(), 3u);
   EXPECT_DOUBLE_EQ(senior.zones.zones[0].x_max, 1.075);
-  const RoutineRules age = LoadRules(acro::testing::SourceDir() / "rules/fig-wagc-13-16-first-routine.yaml");
+  const RoutineRules age =
+      LoadRules(acro::testing::SourceDir() / "rules/fig-wagc-13-16-first-routine.yaml");
   ASSERT_EQ(age.requirements.size(), 4u);
   EXPECT_EQ(age.requirements[2].min_quarter_somersaults, 8);
   EXPECT_EQ(age.max_elements_below_270, 1);
-  const RoutineRules league = LoadRules(acro::testing::SourceDir() / "rules/bg-league-2-voluntary.yaml");
+  const RoutineRules league =
+      LoadRules(acro::testing::SourceDir() / "rules/bg-league-2-voluntary.yaml");
   ASSERT_TRUE(league.max_difficulty);
   EXPECT_DOUBLE_EQ(*league.max_difficulty, 7.5);
 }
@@ -64,10 +66,12 @@ TEST(Rules, MistakesAreOneLineNamingFileLineAndKey) {
       {head + "requirements:\n  - {name: x, landing: seat}\n", "'seat' is not a position"},
       {head + "requirements:\n  - {name: x, twists: 2}\n", "twists"},
       {head + "time_of_flight: {truncate_to: 0}\n", "truncate_to"},
-      {head + "horizontal_displacement:\n  source: s\n  zones:\n    - {name: A, x_m: [1, -1], y_m: [-0.5, 0.5], deduction: 0}\n"
+      {head + "horizontal_displacement:\n  source: s\n  zones:\n    - {name: A, x_m: [1, -1], y_m: "
+              "[-0.5, 0.5], deduction: 0}\n"
               "  outside: {name: out, deduction: 0.3}\n",
        "[1, -1] is empty"},
-      {head + "horizontal_displacement:\n  source: s\n  zones:\n    - {name: A, x_m: [-1, 1], y_m: [-0.5, 0.5], deduction: 5}\n"
+      {head + "horizontal_displacement:\n  source: s\n  zones:\n    - {name: A, x_m: [-1, 1], y_m: "
+              "[-0.5, 0.5], deduction: 5}\n"
               "  outside: {name: out, deduction: 0.3}\n",
        "deduction"},
       {head + "execution:\n  knees_bnt: [[15, 0.1]]\n", "unknown fault"},
@@ -88,7 +92,9 @@ TEST(Rules, MistakesAreOneLineNamingFileLineAndKey) {
 // A club's own thresholds replace one fault's steps and keep the others.
 TEST(Rules, AClubsExecutionThresholdsReplaceTheDefaultOnes) {
   const RoutineRules r = ParseRules(
-      "name: club\nsource: our club's own rules, 2026\nexecution:\n  knees_bent: [[10, 0.1], [30, 0.2]]\n", "club.yaml");
+      "name: club\nsource: our club's own rules, 2026\nexecution:\n  knees_bent: [[10, 0.1], [30, "
+      "0.2]]\n",
+      "club.yaml");
   const FaultRule* knees = r.execution.Find("knees_bent");
   ASSERT_NE(knees, nullptr);
   EXPECT_DOUBLE_EQ(knees->DeductionFor(9.9), 0.0);

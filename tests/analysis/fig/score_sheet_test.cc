@@ -10,8 +10,11 @@
 namespace acro::fig {
 namespace {
 
-PerformedFlight Flight(const std::string& code, SomersaultDirection dir, double tof_s,
-                       BodyPosition takeoff = BodyPosition::kFeet, BodyPosition landing = BodyPosition::kFeet,
+PerformedFlight Flight(const std::string& code,
+                       SomersaultDirection dir,
+                       double tof_s,
+                       BodyPosition takeoff = BodyPosition::kFeet,
+                       BodyPosition landing = BodyPosition::kFeet,
                        double deduction = 0.0) {
   PerformedFlight f;
   f.skill = ParseFigCode(code, dir);
@@ -26,12 +29,18 @@ using D = SomersaultDirection;
 
 // Ten different elements of a senior routine, after two in-bounces.
 std::vector<PerformedFlight> TenDifferent() {
-  return {Flight("00", D::kNone, 1.2), Flight("00", D::kNone, 1.4),  // in-bounces: not elements
-          Flight("822/", D::kBackward, 1.71), Flight("813<", D::kForward, 1.69),
-          Flight("800<", D::kBackward, 1.70), Flight("821/", D::kBackward, 1.68),
-          Flight("44/", D::kBackward, 1.66), Flight("43/", D::kForward, 1.65, BodyPosition::kFeet, BodyPosition::kFeet, 0.1),
-          Flight("803<", D::kForward, 1.67), Flight("42/", D::kBackward, 1.62),
-          Flight("41<", D::kForward, 1.60), Flight("40<", D::kBackward, 1.5467, BodyPosition::kFeet, BodyPosition::kFeet, 0.2)};
+  return {Flight("00", D::kNone, 1.2),
+          Flight("00", D::kNone, 1.4),  // in-bounces: not elements
+          Flight("822/", D::kBackward, 1.71),
+          Flight("813<", D::kForward, 1.69),
+          Flight("800<", D::kBackward, 1.70),
+          Flight("821/", D::kBackward, 1.68),
+          Flight("44/", D::kBackward, 1.66),
+          Flight("43/", D::kForward, 1.65, BodyPosition::kFeet, BodyPosition::kFeet, 0.1),
+          Flight("803<", D::kForward, 1.67),
+          Flight("42/", D::kBackward, 1.62),
+          Flight("41<", D::kForward, 1.60),
+          Flight("40<", D::kBackward, 1.5467, BodyPosition::kFeet, BodyPosition::kFeet, 0.2)};
 }
 
 TEST(ScoreSheet, TenDifferentElementsScoreDTAndH) {
@@ -56,7 +65,8 @@ TEST(ScoreSheet, TenDifferentElementsScoreDTAndH) {
 }
 
 TEST(ScoreSheet, TruncationKeepsAWholeStep) {
-  // Ten flights of 1.6 s sum to 16.000000000000004 or 15.999999999999998 in doubles: 16.0 either way.
+  // Ten flights of 1.6 s sum to 16.000000000000004 or 15.999999999999998 in doubles: 16.0 either
+  // way.
   EXPECT_DOUBLE_EQ(TruncateTimeOfFlight(15.999999999999998, 0.005), 16.0);
   EXPECT_DOUBLE_EQ(TruncateTimeOfFlight(16.0049, 0.005), 16.0);
   EXPECT_NEAR(TruncateTimeOfFlight(16.0051, 0.005), 16.005, 1e-12);
@@ -74,7 +84,8 @@ TEST(ScoreSheet, ARepeatedElementGetsNoDifficulty) {
   ASSERT_EQ(s.rule_breaks.size(), 1u);
   EXPECT_NE(s.rule_breaks[0].find("element 5 (822/)"), std::string::npos) << s.rule_breaks[0];
   const RoutineScore clean = ScoreRoutine(RoutineRules::FigSenior(), TenDifferent());
-  EXPECT_NEAR(s.difficulty, clean.difficulty - CalcFigDifficulty(ParseFigCode("44/")).total(), 1e-9);
+  EXPECT_NEAR(
+      s.difficulty, clean.difficulty - CalcFigDifficulty(ParseFigCode("44/")).total(), 1e-9);
   // The same code the other way round is another element.
   f = TenDifferent();
   f[6] = Flight("40<", D::kForward, 1.66);
@@ -96,28 +107,38 @@ TEST(ScoreSheet, AnInterruptedRoutineIsScoredToItsLastElement) {
   // A trial that ends early, and a flight cut by the recording.
   f = TenDifferent();
   f.resize(8);
-  EXPECT_EQ(ScoreRoutine(RoutineRules::FigSenior(), f).interruption, "the routine ends after 6 of 10 elements");
+  EXPECT_EQ(ScoreRoutine(RoutineRules::FigSenior(), f).interruption,
+            "the routine ends after 6 of 10 elements");
   f = TenDifferent();
   f[5].partial = true;
   EXPECT_EQ(ScoreRoutine(RoutineRules::FigSenior(), f).elements.size(), 3u);
 }
 
 TEST(ScoreSheet, AgeGroupRequirementsEachNeedTheirOwnElement) {
-  const RoutineRules rules = LoadRules(acro::testing::SourceDir() / "rules/fig-wagc-13-16-first-routine.yaml");
+  const RoutineRules rules =
+      LoadRules(acro::testing::SourceDir() / "rules/fig-wagc-13-16-first-routine.yaml");
   // A routine meeting all four, each with an element of its own.
   std::vector<PerformedFlight> f = {
-      Flight("42/", D::kBackward, 1.5), Flight("800o", D::kBackward, 1.6),
-      Flight("41<", D::kForward, 1.5), Flight("43/", D::kForward, 1.5),  // rudolph: 540° twist, 360° somersault
-      Flight("40<", D::kBackward, 1.5), Flight("41/", D::kForward, 1.5),
+      Flight("42/", D::kBackward, 1.5),
+      Flight("800o", D::kBackward, 1.6),
+      Flight("41<", D::kForward, 1.5),
+      Flight("43/", D::kForward, 1.5),  // rudolph: 540° twist, 360° somersault
+      Flight("40<", D::kBackward, 1.5),
+      Flight("41/", D::kForward, 1.5),
       Flight("40/", D::kBackward, 1.5),
-      Flight("30o", D::kBackward, 1.4, BodyPosition::kFeet, BodyPosition::kBack),   // to back
-      Flight("10o", D::kForward, 1.2, BodyPosition::kBack, BodyPosition::kFeet),    // from back (below 270°)
+      Flight("30o", D::kBackward, 1.4, BodyPosition::kFeet, BodyPosition::kBack),  // to back
+      Flight("10o",
+             D::kForward,
+             1.2,
+             BodyPosition::kBack,
+             BodyPosition::kFeet),  // from back (below 270°)
       Flight("40o", D::kBackward, 1.5)};
   RoutineScore s = ScoreRoutine(rules, f);
   EXPECT_TRUE(s.requirements_missing.empty()) << s.requirements_missing.front();
   EXPECT_TRUE(s.rule_breaks.empty()) << s.rule_breaks.front();
   EXPECT_DOUBLE_EQ(s.penalty, 0.0);
-  EXPECT_EQ(s.elements[1].requirements, std::vector<std::string>{"one double front or double back somersault"});
+  EXPECT_EQ(s.elements[1].requirements,
+            std::vector<std::string>{"one double front or double back somersault"});
   // Without the double: that requirement missing, 1.0 off.
   f[1] = Flight("40/", D::kForward, 1.6);
   s = ScoreRoutine(rules, f);
@@ -131,10 +152,15 @@ TEST(ScoreSheet, AgeGroupRequirementsEachNeedTheirOwnElement) {
   s = ScoreRoutine(rules, f);
   EXPECT_EQ(s.requirements_missing.size(), 1u);
   // Two elements below 270° where one is allowed.
-  f = {Flight("42/", D::kBackward, 1.5), Flight("800o", D::kBackward, 1.6), Flight("43/", D::kForward, 1.5),
+  f = {Flight("42/", D::kBackward, 1.5),
+       Flight("800o", D::kBackward, 1.6),
+       Flight("43/", D::kForward, 1.5),
        Flight("30o", D::kBackward, 1.4, BodyPosition::kFeet, BodyPosition::kBack),
-       Flight("10o", D::kForward, 1.2, BodyPosition::kBack, BodyPosition::kFeet), Flight("01", D::kNone, 1.1),
-       Flight("40<", D::kBackward, 1.5), Flight("41/", D::kForward, 1.5), Flight("40/", D::kBackward, 1.5),
+       Flight("10o", D::kForward, 1.2, BodyPosition::kBack, BodyPosition::kFeet),
+       Flight("01", D::kNone, 1.1),
+       Flight("40<", D::kBackward, 1.5),
+       Flight("41/", D::kForward, 1.5),
+       Flight("40/", D::kBackward, 1.5),
        Flight("40o", D::kBackward, 1.5)};
   s = ScoreRoutine(rules, f);
   ASSERT_EQ(s.rule_breaks.size(), 1u);
@@ -142,7 +168,8 @@ TEST(ScoreSheet, AgeGroupRequirementsEachNeedTheirOwnElement) {
 }
 
 TEST(ScoreSheet, ALeaguesCapLimitsD) {
-  const RoutineRules rules = LoadRules(acro::testing::SourceDir() / "rules/bg-league-2-voluntary.yaml");
+  const RoutineRules rules =
+      LoadRules(acro::testing::SourceDir() / "rules/bg-league-2-voluntary.yaml");
   const RoutineScore s = ScoreRoutine(rules, TenDifferent());
   EXPECT_TRUE(s.difficulty_capped);
   EXPECT_DOUBLE_EQ(s.difficulty, 7.5);
@@ -166,7 +193,8 @@ TEST(ScoreSheet, ExecutionDeductionsAreTheReportedFaultsUpToHalfAPoint) {
     return m;
   };
   f[2].faults = {fault("knees_bent", 0.2, true), fault("arms_out", 0.0, false)};
-  f[3].faults = {fault("knees_bent", 0.3, true), fault("legs_apart", 0.2, true), fault("travel", 0.1, true)};
+  f[3].faults = {
+      fault("knees_bent", 0.3, true), fault("legs_apart", 0.2, true), fault("travel", 0.1, true)};
   const RoutineScore s = ScoreRoutine(RoutineRules::FigSenior(), f);
   EXPECT_DOUBLE_EQ(s.elements[0].execution_deduction, 0.2);
   EXPECT_EQ(s.elements[0].faults.size(), 2u);  // the unreported one is kept, with its value

@@ -46,7 +46,9 @@ TEST(HdZones, ImpossibleZonesAreRefusedByName) {
 
 // A foot-sized box (0.24 m × 0.09 m) centred at c: its four corners.
 std::vector<Eigen::Vector2d> Foot(const Eigen::Vector2d& c) {
-  return {c + Eigen::Vector2d(0.12, 0.045), c + Eigen::Vector2d(0.12, -0.045), c + Eigen::Vector2d(-0.12, 0.045),
+  return {c + Eigen::Vector2d(0.12, 0.045),
+          c + Eigen::Vector2d(0.12, -0.045),
+          c + Eigen::Vector2d(-0.12, 0.045),
           c + Eigen::Vector2d(-0.12, -0.045)};
 }
 
@@ -79,9 +81,9 @@ double HandMargin(const Eigen::Vector2d& p) {
     return std::hypot(dx, dy);
   };
   if (x <= ax && y <= ay) return std::min(ax - x, ay - y);            // in A: leave it
-  if (x <= bx && y <= ay) return std::min({x - ax, ay - y, bx - x});   // in B: into A, into C, off
+  if (x <= bx && y <= ay) return std::min({x - ax, ay - y, bx - x});  // in B: into A, into C, off
   if (x <= bx && y <= by) return std::min({dist_to_box(x, y, bx, ay), by - y, bx - x});  // in C
-  return dist_to_box(x, y, bx, by);                                    // off: back onto the bed
+  return dist_to_box(x, y, bx, by);  // off: back onto the bed
 }
 
 TEST(ClassifyLanding, MarginOfOnePointMatchesTheDistanceWorkedOutByHand) {

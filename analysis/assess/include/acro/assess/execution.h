@@ -34,7 +34,9 @@ struct ExecutionOptions {
 
 /// The measurements of flight `jump` (0-based index into analysis.jumps); empty for a partial
 /// flight. Every measure applicable to the element's shape is returned, reported or not.
-std::vector<fig::MeasuredFault> MeasureExecution(const TrialAnalysis& analysis, size_t jump,
-                                                 const fig::ExecutionRules& rules, const ExecutionOptions& options);
+std::vector<fig::MeasuredFault> MeasureExecution(const TrialAnalysis& analysis,
+                                                 size_t jump,
+                                                 const fig::ExecutionRules& rules,
+                                                 const ExecutionOptions& options);
 
 }  // namespace acro::analysis

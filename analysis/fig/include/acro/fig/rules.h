@@ -34,7 +34,8 @@ enum class DifficultyCounted { kAll, kNone };
 /// threshold on (the Code of Points gives drawings, not angles — the defaults and why they are
 /// what they are: docs/scoring.md; a club edits them in its rule file).
 struct FaultRule {
-  std::string fault;  ///< the key: knees_bent, arms_bent, arms_out, legs_apart, body_bent, pike_open, tuck_open, late_opening, travel, height_loss
+  std::string fault;  ///< the key: knees_bent, arms_bent, arms_out, legs_apart, body_bent,
+                      ///< pike_open, tuck_open, late_opening, travel, height_loss
   std::string unit;   ///< "deg", "m", "s"
   /// (threshold, deduction), thresholds in the order they are reached.
   std::vector<std::pair<double, double>> steps;

@@ -19,7 +19,7 @@ namespace acro::fig {
 /// worst value over the element, when, and what the rules suggest for it — always with the
 /// measurement, never as a bare number.
 struct MeasuredFault {
-  std::string fault;  ///< the rule's key (FaultRule::fault)
+  std::string fault;     ///< the rule's key (FaultRule::fault)
   std::string quantity;  ///< what was measured, in words ("knee flexion")
   std::string unit;      ///< "deg", "m", "s"
   double value = 0;

@@ -69,8 +69,10 @@ struct HdLanding {
 };
 
 /// Classifies a landing from its contact points in the bed's axes (at least one). The margin is
-/// searched along every direction (2.5°, refined to 0.1° around the best) to 1 mm, out to 3 m. `uncertainty_m` marks close calls.
-HdLanding ClassifyLanding(const HdZones& zones, const std::vector<Eigen::Vector2d>& contact_points_bed,
+/// searched along every direction (2.5°, refined to 0.1° around the best) to 1 mm, out to 3 m.
+/// `uncertainty_m` marks close calls.
+HdLanding ClassifyLanding(const HdZones& zones,
+                          const std::vector<Eigen::Vector2d>& contact_points_bed,
                           double uncertainty_m);
 
 }  // namespace acro::fig
