@@ -58,6 +58,85 @@ class Poses {
   int n_;
 };
 
+// The septic smoothstep of the posture track (acro/design/posture_track.h), and the fraction u
+// of a transition where it reaches s (bisection: S is monotonic on [0, 1]).
+double Smoothstep(double u) {
+  return u * u * u * u * (35 - 84 * u + 70 * u * u - 20 * u * u * u);
+}
+double SmoothstepInverse(double s) {
+  double lo = 0, hi = 1;
+  for (int i = 0; i < 60; ++i) (Smoothstep(0.5 * (lo + hi)) < s ? lo : hi) = 0.5 * (lo + hi);
+  return 0.5 * (lo + hi);
+}
+
+// Puts the faults into their skills' posture tracks (SampleFault says what each does).
+void ApplyFaults(const Poses& P,
+                 const std::vector<SampleFault>& faults,
+                 std::vector<SkillPlan>& plans) {
+  using Kind = SampleFault::Kind;
+  const int r_thigh = analysis::StandardJointDofIndex("r_thigh", 0);
+  // Hip flexion (positive) of a posture, and "closed": trunk–thigh at or below 135°.
+  auto hip_flexion = [&](const VectorXd& q) { return -q[r_thigh]; };
+  auto closed = [&](const VectorXd& q) { return 180.0 - hip_flexion(q) / kDeg <= 135.0; };
+  for (const SampleFault& fault : faults) {
+    ACRO_DEMAND(fault.skill >= 0 && fault.skill < int(plans.size()));
+    SkillPlan& plan = plans[size_t(fault.skill)];
+    std::vector<std::pair<double, VectorXd>> keys = plan.track.keys();
+    ACRO_DEMAND(keys.size() >= 3);
+    const size_t last = keys.size() - 1;
+    switch (fault.kind) {
+      case Kind::kKneesBent:
+        for (size_t k = 1; k < last; ++k) {
+          P.Set(keys[k].second,
+                "r_shank",
+                0,
+                keys[k].second[analysis::StandardJointDofIndex("r_shank", 0)] + fault.value * kDeg);
+          P.Set(keys[k].second,
+                "l_shank",
+                0,
+                keys[k].second[analysis::StandardJointDofIndex("l_shank", 0)] + fault.value * kDeg);
+        }
+        break;
+      case Kind::kLegsApart:  // abduction of the right thigh negative about x, the left mirrored
+        for (size_t k = 1; k < last; ++k)
+          P.Both(keys[k].second, "thigh", 2, -fault.value * kDeg, -1);
+        break;
+      case Kind::kArmsOut:
+        for (size_t k = 1; k < last; ++k)
+          P.Both(keys[k].second, "upper_arm", 2, -fault.value * kDeg, -1);
+        break;
+      case Kind::kTuckAngle:
+        for (size_t k = 1; k < last; ++k)
+          if (closed(keys[k].second))
+            P.Both(keys[k].second, "thigh", 0, -(180.0 - fault.value) * kDeg);
+        break;
+      case Kind::kOpening: {
+        // The last closed posture held, then one transition (0.2 s) into the landing posture,
+        // timed so that the hips pass 135° `value` before landing (at plan.flight_s).
+        size_t c = last;
+        while (c > 0 && !closed(keys[c].second)) --c;
+        ACRO_DEMAND(c > 0);
+        const VectorXd hold = keys[c].second, land = keys[last].second;
+        const double d = 0.2;
+        const double u = SmoothstepInverse((hip_flexion(hold) - 45 * kDeg) /
+                                           (hip_flexion(hold) - hip_flexion(land)));
+        const double t_hold = plan.flight_s - fault.value - u * d;
+        ACRO_DEMAND(t_hold > keys[c - 1].first);
+        keys.resize(c);
+        keys.emplace_back(t_hold, hold);
+        keys.emplace_back(t_hold + d, land);
+        break;
+      }
+      case Kind::kLanding:
+        plan.landing_target_m += fault.offset_m;
+        break;
+    }
+    analysis::PostureTrack track;
+    for (auto& [t, q] : keys) track.Add(t, std::move(q));
+    plan.track = std::move(track);
+  }
+}
+
 std::vector<SkillPlan> MakePlans(const Poses& P, const SampleRoutineOptions& options) {
   std::vector<SkillPlan> plans;
   const double scale = options.flight_time_scale;
@@ -158,6 +237,7 @@ std::vector<SkillPlan> MakePlans(const Poses& P, const SampleRoutineOptions& opt
        {0.88, P.Straight()},
        {0.96, P.Landing()}});
   if (options.num_skills < int(plans.size())) plans.resize(size_t(std::max(options.num_skills, 1)));
+  ApplyFaults(P, options.faults, plans);
   return plans;
 }
 

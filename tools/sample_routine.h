@@ -24,6 +24,27 @@
 
 namespace acro::samples {
 
+/// A fault put into one skill of the routine, as an athlete would make it (the execution
+/// assistant's tests, tests/analysis/assess/execution_faults_test.cc). "The shape" is every posture
+/// of the skill's plan between its take-off and its landing posture.
+struct SampleFault {
+  enum class Kind {
+    kKneesBent,  ///< `value` degrees of knee flexion added over the shape
+    kLegsApart,  ///< each hip abducted by `value` degrees over the shape
+    kArmsOut,    ///< each arm abducted to `value` degrees over the shape (sideways, in place of
+                 ///< the held position)
+    kTuckAngle,  ///< the closed postures' trunk–thigh angle set to `value` degrees (the tuck's
+                 ///< own: 48°)
+    kOpening,    ///< the closed shape held, then opened straight into the landing posture with
+                 ///< the trunk–thigh angle passing 135° `value` seconds before landing
+    kLanding,    ///< the landing target moved by `offset_m` (along, across the bed)
+  };
+  int skill = 0;  ///< 0-based, in the routine's order
+  Kind kind = Kind::kKneesBent;
+  double value = 0;
+  Eigen::Vector2d offset_m = Eigen::Vector2d::Zero();
+};
+
 /// The routine's rate, integration grid and bed (acro/design/routine_simulation.h; the sample
 /// keeps the reverse squat it was first made with, absorb_by_late_squat = false), the markers'
 /// noise, and the variations of a season.
@@ -37,6 +58,8 @@ struct SampleRoutineOptions : analysis::RoutineSimulationOptions {
   double flight_time_scale = 1.0;
   Eigen::Vector2d landing_offset_m = Eigen::Vector2d::Zero();
   int num_skills = 6;
+  /// Faults put into given skills (none: the clean routine).
+  std::vector<SampleFault> faults;
 };
 
 /// One flight and one bed contact as simulated (acro/design/routine_simulation.h).

@@ -1,0 +1,200 @@
+// The execution assistant against faults an athlete makes, put into the sample routine by its
+// generator (tools/sample_routine.h, SampleFault): the faulty postures are simulated like the
+// clean ones (the flight's physics, the bed, markers with noise), written as a trial, and analysed
+// from the markers alone. Each fault must be found on its element with the value put in (5°, 3 cm,
+// 0.02 s), and no fault on any other element (docs/scoring.md, "Execution").
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+
+#include "acro/assess/trial_analysis.h"
+#include "acro/athlete/athlete_body.h"
+#include "acro/athlete/athlete_profile.h"
+#include "acro/dynamics/configuration.h"
+#include "acro/dynamics/kinematics.h"
+#include "acro/dynamics/workspace.h"
+#include "acro/fig/trampoline.h"
+#include "refdata.h"
+#include "sample_routine.h"
+
+namespace acro::analysis {
+namespace {
+
+using Kind = samples::SampleFault::Kind;
+constexpr double kDeg = std::numbers::pi / 180;
+
+std::filesystem::path AthletePath() {
+  return acro::testing::SourceDir() / "samples/athletes/sample_athlete.yaml";
+}
+
+// One injected fault and what the assistant must say about it.
+struct Expected {
+  samples::SampleFault fault;
+  std::string name;  // the MeasuredFault's `fault`
+  double value = 0;  // what it must measure
+  double tolerance = 0;
+  bool reported = true;  // past its rule's first threshold beyond the uncertainty
+};
+
+struct Analysed {
+  samples::SampleRoutine routine;
+  TrialAnalysis analysis;
+};
+
+Analysed Analyse(const std::vector<Expected>& expected) {
+  samples::SampleRoutineOptions options;
+  for (const Expected& e : expected) options.faults.push_back(e.fault);
+  Analysed out{samples::MakeSampleRoutine(AthletePath(), "sample_athlete.yaml", options), {}};
+  out.analysis =
+      AnalyzeTrial(out.routine.trial, nullptr, MakeAthleteBody(ReadAthleteProfile(AthletePath())));
+  return out;
+}
+
+// Every flight (the straight jump before the first somersault too: an in-bounce on the score
+// sheet, but a jump the coach looks at): the injected fault measured within its tolerance and
+// reported (or not) as expected; nothing else reported on it, and nothing at all on the flights
+// left clean.
+void ExpectFoundWhereTheyAre(const Analysed& a, const std::vector<Expected>& expected) {
+  const std::vector<std::string> codes = {"00", "40o", "40<", "41/", "42/", "800o"};
+  ASSERT_EQ(a.analysis.jumps.size(), codes.size());
+  for (size_t j = 0; j < codes.size(); ++j) {
+    const JumpMetrics& jump = a.analysis.jumps[j];
+    SCOPED_TRACE("flight " + std::to_string(j + 1) + " " + jump.fig_code);
+    EXPECT_EQ(jump.fig_code, codes[j]);
+    const Expected* injected = nullptr;
+    for (const Expected& e : expected)
+      if (e.fault.skill == int(j) && !e.name.empty()) injected = &e;
+    bool found = false;
+    for (const fig::MeasuredFault& f : jump.execution) {
+      if (injected != nullptr && f.fault == injected->name) {
+        found = true;
+        std::printf("flight %zu %-5s %-12s injected %.3f measured %.3f %s (deduction %.1f)\n",
+                    j + 1,
+                    jump.fig_code.c_str(),
+                    f.fault.c_str(),
+                    injected->value,
+                    f.value,
+                    f.unit.c_str(),
+                    f.deduction);
+        EXPECT_NEAR(f.value, injected->value, injected->tolerance) << f.quantity;
+        EXPECT_EQ(f.reported, injected->reported) << f.value << " " << f.unit;
+        EXPECT_EQ(f.deduction > 0, injected->reported);
+        // The worst instant lies in the element's flight.
+        const Flight& flight = jump.flight;
+        EXPECT_GE(f.time_s, flight.takeoff_s);
+        EXPECT_LE(f.time_s, flight.landing_s);
+      } else {
+        EXPECT_FALSE(f.reported) << f.fault << " " << f.value << " " << f.unit;
+      }
+    }
+    if (injected != nullptr) {
+      EXPECT_TRUE(found) << injected->name;
+    }
+  }
+}
+
+// The legs' spread of two straight legs abducted by ±a: the ankles 2·L·sin(a) further apart
+// than the hips, L hip to ankle of the generator's athlete.
+double AbductionForSpread(double spread_m) {
+  const samples::SampleRoutine clean_model = [] {
+    samples::SampleRoutineOptions o;
+    o.num_skills = 1;
+    return samples::MakeSampleRoutine(AthletePath(), "sample_athlete.yaml", o);
+  }();
+  const dynamics::Model<double>& model = clean_model.model;
+  dynamics::Workspace<double> ws(model);
+  dynamics::CalcForwardKinematics(model, ws, dynamics::MakeNeutralConfiguration(model));
+  auto point = [&](const char* name) {
+    const auto& p = model.point(model.FindPoint(name));
+    const auto& X = ws.X_WB[static_cast<size_t>(p.segment)];
+    return Eigen::Vector3d(X.rotation() * p.p_BoP_B + X.translation());
+  };
+  const double leg = (point("r_ankle_jc") - point("r_hip_jc")).norm();
+  return std::asin(spread_m / (2 * leg)) / kDeg;
+}
+
+samples::SampleFault Fault(int skill, Kind kind, double value) {
+  samples::SampleFault f;
+  f.skill = skill;
+  f.kind = kind;
+  f.value = value;
+  return f;
+}
+
+// Routine A: the small faults, and an opening 0.1 s before landing.
+TEST(ExecutionFaults, SmallFaultsAndALateOpening) {
+  const std::vector<Expected> expected = {
+      {Fault(0, Kind::kKneesBent, 20), "knees_bent", 20, 5},
+      {Fault(1, Kind::kOpening, 0.1), "late_opening", 0.1, 0.02},
+      {Fault(2, Kind::kKneesBent, 20), "knees_bent", 20, 5},
+      {Fault(3, Kind::kArmsOut, 45), "arms_out", 45, 5},
+      {Fault(4, Kind::kLegsApart, AbductionForSpread(0.20)), "legs_apart", 0.20, 0.03},
+  };
+  ExpectFoundWhereTheyAre(Analyse(expected), expected);
+}
+
+// Routine B: the large faults, an opening in time (0.4 s: no fault), and a tuck at 110°.
+TEST(ExecutionFaults, LargeFaultsAndAnOpenTuck) {
+  const std::vector<Expected> expected = {
+      {Fault(0, Kind::kKneesBent, 45), "knees_bent", 45, 5},
+      {Fault(1, Kind::kOpening, 0.4), "late_opening", 0.4, 0.02, false},
+      {Fault(2, Kind::kKneesBent, 45), "knees_bent", 45, 5},
+      {Fault(3, Kind::kLegsApart, AbductionForSpread(0.40)), "legs_apart", 0.40, 0.03},
+      {Fault(5, Kind::kTuckAngle, 110), "tuck_open", 110, 5},
+  };
+  ExpectFoundWhereTheyAre(Analyse(expected), expected);
+}
+
+// A landing 30 cm outside zone A (the full, element 4, moved along the bed): zone B, 0.1, its
+// margin the distance its outermost foot marker lies beyond zone A's line; the others in A.
+TEST(ExecutionFaults, LandingOutsideZoneA) {
+  samples::SampleFault f = Fault(4, Kind::kLanding, 0);
+  // The full lands at (0.03, −0.14) from the centre: moved to y = 0 (far from the long lines)
+  // and along x so that its toes land about 30 cm beyond zone A's short line.
+  f.offset_m = Eigen::Vector2d(fig::kZoneALength_m / 2 + 0.30 - 0.03 - 0.12, 0.14);
+  const Analysed a = Analyse({{f, "", 0, 0}});
+  const samples::SampleRoutine& r = a.routine;
+  // The truth: the foot markers at the simulated landing time.
+  const capture::Trial& trial = r.trial;
+  const int frame = static_cast<int>(std::lround(r.flights[4].landing_s * trial.point_rate_hz));
+  double outermost = -1e9;
+  for (const char* label : {"RHEE", "RTOE", "RMT5", "LHEE", "LTOE", "LMT5"}) {
+    const int p = trial.FindPoint(label);
+    ASSERT_GE(p, 0) << label;
+    outermost = std::max(outermost, trial.position(frame, p).x() - r.options.bed_centre_m.x());
+  }
+  const double truth_outside = outermost - fig::kZoneALength_m / 2;
+  ASSERT_NEAR(truth_outside, 0.30, 0.05);  // the injection itself
+  const fig::RoutineScore& s = a.analysis.score;
+  ASSERT_EQ(s.elements.size(), 5u);  // the straight jump is the in-bounce
+  for (size_t j = 0; j < s.elements.size(); ++j) {
+    SCOPED_TRACE("element " + std::to_string(j + 1));
+    ASSERT_TRUE(s.elements[j].landing_zone.has_value());
+    const fig::HdLanding& z = *s.elements[j].landing_zone;
+    if (j == 3) {
+      EXPECT_EQ(s.elements[j].code, "42/");
+      EXPECT_EQ(z.zone, "B");
+      EXPECT_DOUBLE_EQ(z.deduction, 0.1);
+      EXPECT_NEAR(z.margin_m, truth_outside, 0.03);
+      EXPECT_FALSE(z.uncertain);
+      std::printf("landing of %s: zone %s, %.3f m outside zone A (truth %.3f m)\n",
+                  s.elements[j].code.c_str(),
+                  z.zone.c_str(),
+                  z.margin_m,
+                  truth_outside);
+    } else {
+      EXPECT_EQ(z.zone, "A");
+    }
+    for (const fig::MeasuredFault& mf : s.elements[j].faults)
+      EXPECT_FALSE(mf.reported) << mf.fault << " " << mf.value;
+  }
+  ASSERT_TRUE(s.horizontal_displacement.has_value());
+  EXPECT_NEAR(*s.horizontal_displacement, 5.0 - 0.1, 1e-9);  // at most the elements done
+}
+
+}  // namespace
+}  // namespace acro::analysis
