@@ -236,6 +236,14 @@ std::vector<SkillPlan> MakePlans(const Poses& P, const SampleRoutineOptions& opt
        {0.76, P.Tuck()},
        {0.88, P.Straight()},
        {0.96, P.Landing()}});
+  if (!options.skill_order.empty()) {
+    std::vector<SkillPlan> ordered;
+    for (int k : options.skill_order) {
+      ACRO_DEMAND(k >= 0 && k < int(plans.size()));
+      ordered.push_back(plans[size_t(k)]);
+    }
+    plans = std::move(ordered);
+  }
   if (options.num_skills < int(plans.size())) plans.resize(size_t(std::max(options.num_skills, 1)));
   ApplyFaults(P, options.faults, plans);
   return plans;

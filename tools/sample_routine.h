@@ -58,6 +58,10 @@ struct SampleRoutineOptions : analysis::RoutineSimulationOptions {
   double flight_time_scale = 1.0;
   Eigen::Vector2d landing_offset_m = Eigen::Vector2d::Zero();
   int num_skills = 6;
+  /// The routine's skills as indices into the six (0 the straight jump … 5 the double back; empty:
+  /// all six in order, before `num_skills`): {0, 1, 2, 3, 2, 5} performs the back pike where the
+  /// full was, as a synchro partner who changed element 4 would.
+  std::vector<int> skill_order;
   /// Faults put into given skills (none: the clean routine).
   std::vector<SampleFault> faults;
 };

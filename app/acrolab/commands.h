@@ -46,6 +46,8 @@ void AddSyncCommand(CLI::App& app, CommandRunner* run);
 /// them.
 void AddOverlayCommand(CLI::App& app, CommandRunner* run);
 void AddCompareCommand(CLI::App& app, CommandRunner* run);
+/// `acrolab synchro A B`: a synchro pair scored element by element.
+void AddSynchroCommand(CLI::App& app, CommandRunner* run);
 /// `acrolab library …` (the season library) and `acrolab batch`.
 void AddLibraryCommand(CLI::App& app, CommandRunner* run);
 void AddBatchCommand(CLI::App& app, CommandRunner* run);

@@ -72,6 +72,7 @@ int Main(int argc, char** argv) {
   acro::app::AddSyncCommand(app, &run);
   acro::app::AddOverlayCommand(app, &run);
   acro::app::AddCompareCommand(app, &run);
+  acro::app::AddSynchroCommand(app, &run);
   acro::app::AddLibraryCommand(app, &run);
   acro::app::AddBatchCommand(app, &run);
   acro::app::AddDetectCommand(app, &run);

@@ -1020,3 +1020,37 @@ TEST(Cli, CompareTwoJumpsOfTheSampleWritesTheVideo) {
 #endif
 
 }  // namespace
+
+// `acrolab synchro`: the sample beside itself is perfectly synchronised (S = 2 × its 5 elements
+// by the default conversion), written as synchro.json; a rule file's synchronisation section with
+// a typo is one line naming the file, and nothing is written.
+TEST(Cli, SynchroOfTheSampleWithItself) {
+  const auto out = acro::testing::TempDir() / "synchro_sample";
+  std::filesystem::remove_all(out);
+  const std::string trial = Quote(RepoFile("samples/trials/trampoline_routine/trampoline_routine.c3d"));
+  const std::string athlete = Quote(RepoFile("samples/athletes/sample_athlete.yaml"));
+  const ProcessResult run = Execute(std::string(ACROLAB_EXE) + " synchro " + trial + " " + trial +
+                                    " --athlete " + athlete + " -o " + Quote(out));
+  ASSERT_EQ(run.status, 0) << run.err;
+  EXPECT_NE(run.out.find("S 10.000 over 5 elements"), std::string::npos) << run.out;
+  std::ifstream in(out / "synchro.json");
+  const nlohmann::json j = nlohmann::json::parse(in);
+  EXPECT_DOUBLE_EQ(j["S"].get<double>(), 10.0);
+  EXPECT_TRUE(j["ended_at_element"].is_null());
+  ASSERT_EQ(j["elements"].size(), 5u);
+  EXPECT_EQ(j["elements"][3]["code_a"], "42/");
+  EXPECT_NE(j["conversion_source"].get<std::string>().find("assumed"), std::string::npos);
+  EXPECT_EQ(j["a"]["elements"].size(), 5u);
+
+  const auto rules = acro::testing::TempDir() / "synchro_typo.yaml";
+  std::ofstream(rules) << "name: club\nsource: our club\nsynchronisation:\n  points_per_element: 2\n"
+                          "  source: ours\n";
+  const auto out2 = acro::testing::TempDir() / "synchro_typo";
+  std::filesystem::remove_all(out2);
+  const ProcessResult bad = Execute(std::string(ACROLAB_EXE) + " synchro " + trial + " " + trial +
+                                    " --rules " + Quote(rules) + " -o " + Quote(out2));
+  EXPECT_EQ(bad.status, 1) << bad.err;
+  EXPECT_NE(bad.err.find("synchro_typo.yaml"), std::string::npos) << bad.err;
+  EXPECT_NE(bad.err.find("points_per_element"), std::string::npos) << bad.err;
+  EXPECT_FALSE(std::filesystem::exists(out2));
+}

@@ -20,6 +20,7 @@ std::vector<fig::PerformedFlight> PerformedFlights(const TrialAnalysis& a,
     f.takeoff = j.rotation.takeoff_position;
     f.landing = j.rotation.landing_position;
     f.time_of_flight_s = j.time_of_flight_s();
+    f.landing_s = j.flight.landing_s;
     f.partial = j.partial();
     f.faults = j.execution;
     if (!j.landing_contacts_in_bed_m.empty())
@@ -102,6 +103,34 @@ std::string FormatScoreJson(const fig::RoutineScore& s) {
   Json elements = Json::array();
   for (const fig::ScoredElement& e : s.elements) elements.push_back(ElementScoreJson(e));
   o["elements"] = std::move(elements);
+  return o.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
+}
+
+std::string FormatSynchroJson(const fig::SynchroScore& s,
+                              const fig::RoutineScore& a,
+                              const fig::RoutineScore& b) {
+  using Json = nlohmann::ordered_json;
+  Json o;
+  o["S"] = s.score;
+  o["conversion_source"] = s.source;
+  o["elements_counted"] = s.elements_counted;
+  o["ended_at_element"] = s.ended_at_element == 0 ? Json(nullptr) : Json(s.ended_at_element);
+  o["ending"] = s.ending;
+  o["mean_abs_landing_difference_s"] = s.mean_abs_difference_s;
+  o["max_abs_landing_difference_s"] = s.max_abs_difference_s;
+  Json elements = Json::array();
+  for (const fig::SynchroElement& e : s.elements)
+    elements.push_back({{"element", e.element},
+                        {"code_a", e.code_a},
+                        {"code_b", e.code_b},
+                        {"skills_match", e.skills_match},
+                        {"shapes_match", e.shapes_match},
+                        {"landing_difference_s", e.landing_difference_s},
+                        {"counted", e.counted},
+                        {"points", e.points}});
+  o["elements"] = std::move(elements);
+  o["a"] = Json::parse(FormatScoreJson(a));
+  o["b"] = Json::parse(FormatScoreJson(b));
   return o.dump(2, ' ', false, Json::error_handler_t::replace) + "\n";
 }
 

@@ -186,7 +186,7 @@ bool RoutineRules::IsValid(std::string* why) const {
         fmt::format("missing_requirement_penalty is {} (0 to 10)", missing_requirement_penalty));
   if (!(time_of_flight_step > 0 && time_of_flight_step <= 1))
     return fail(fmt::format("time_of_flight_step is {} (above 0, at most 1)", time_of_flight_step));
-  return zones.IsValid(why);
+  return zones.IsValid(why) && synchro.IsValid(why);
 }
 
 namespace {
@@ -201,7 +201,8 @@ RoutineRules RulesFromYaml(const YamlNode& root, const std::string& origin) {
                          "missing_requirement_penalty",
                          "time_of_flight",
                          "horizontal_displacement",
-                         "execution"});
+                         "execution",
+                         "synchronisation"});
   RoutineRules r;
   r.name = root.At("name").AsString();
   r.source = root.At("source").AsString();
@@ -246,6 +247,16 @@ RoutineRules RulesFromYaml(const YamlNode& root, const std::string& origin) {
       if (!(r.time_of_flight_step > 0 && r.time_of_flight_step <= 1))
         n->Fail(fmt::format("{} is not a step above 0 and at most 1", r.time_of_flight_step));
     }
+  }
+  if (const YamlNode* sy = root.Find("synchronisation")) {
+    if (!sy->IsMap()) sy->Fail("a map (element_points, points_lost_per_s, tolerance_s, source)");
+    sy->RequireKnownKeys({"element_points", "points_lost_per_s", "tolerance_s", "source"});
+    if (const YamlNode* n = sy->Find("element_points")) r.synchro.element_points = ReadNumber(*n, 0.001, 10.0);
+    if (const YamlNode* n = sy->Find("points_lost_per_s"))
+      r.synchro.points_lost_per_s = ReadNumber(*n, 0.0, 1000.0);
+    if (const YamlNode* n = sy->Find("tolerance_s")) r.synchro.tolerance_s = ReadNumber(*n, 0.0, 1.0);
+    r.synchro.source = sy->At("source").AsString();
+    if (r.synchro.source.empty()) sy->At("source").Fail("say where the conversion comes from");
   }
   if (const YamlNode* ex = root.Find("execution")) {
     // A fault's steps replace the default's: `knees_bent: [[15, 0.1], [45, 0.2]]`.

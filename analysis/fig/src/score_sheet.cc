@@ -118,6 +118,7 @@ RoutineScore ScoreRoutine(const RoutineRules& rules, const std::vector<Performed
     e.name = FigSkillName(f.skill);
     e.difficulty = CalcFigDifficulty(f.skill);
     e.time_of_flight_s = f.time_of_flight_s;
+    e.landing_s = f.landing_s;
     e.landing_zone = f.landing_zone;
     e.faults = f.faults;
     for (const MeasuredFault& m : f.faults) {

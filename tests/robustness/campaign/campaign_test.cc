@@ -284,6 +284,13 @@ void Campaign::MakeSeeds() {
   }
   fs::copy_file(acro::testing::SourceDir() / "analysis/reconstruct/markersets/helen_hayes.yaml",
                 seeds_ / "markerset.yaml");
+  // An age group's rules with every section a club edits: requirements, zones, execution steps and
+  // the synchronisation's conversion.
+  WriteBytes(seeds_ / "rules.yaml",
+             ReadBytes(acro::testing::SourceDir() / "rules/fig-wagc-13-16-first-routine.yaml") +
+                 "execution:\n  knees_bent: [[10, 0.1], [30, 0.2]]\n  late_opening: [[0.25, 0.1], [0.12, 0.2]]\n"
+                 "synchronisation:\n  element_points: 2.0\n  points_lost_per_s: 8\n  tolerance_s: 0.002\n"
+                 "  source: a club's reading\n");
   MakeWith({"convert", "trial.c3d", "trial.trc"}, seeds_);
   MakeWith({"convert", "trial.c3d", "trial.csv"}, seeds_);
   MakeWith({"reconstruct", "trial.c3d", "--athlete", "athlete.yaml", "--quiet", "-o", "rec"}, seeds_);
@@ -370,6 +377,9 @@ void Campaign::MakeSurfaces() {
         {"library", "add", "--library", "{F}", "--athlete", S + "athlete.yaml", S + "trial.trc", "--quiet"}},
        kBinaryDefects, 36},
       {"batch", "jobs.txt", Format::kText, {{"batch", "{F}", "--library", "lib.sqlite", "--print-jobs"}}, text_defects, 23},
+      {"rules", "rules.yaml", Format::kText,
+       {{"synchro", S + "trial.c3d", S + "trial.c3d", "--athlete", S + "athlete.yaml", "--rules", "{F}", "-o", "out"}},
+       text_defects, 16},
       {"pose-model", "pose_landmark_lite.onnx", Format::kBinary,
        {{"detect", S + "video.mp4", "--model", "lite", "--frames", "0:1", "-o", "out", "--quiet"}},
        {Defect::kTruncation, Defect::kBitFlip, Defect::kSpecial, Defect::kHugeLine}, 8},
@@ -401,7 +411,8 @@ std::string SeedFor(const Surface& s, const fs::path& seeds) {
       {"skill", "skill.yaml"},    {"routine", "routine.yaml"},   {"markerset", "markerset.yaml"},
       {"toml", "calib.toml"},     {"opencv-yml", "calib.yml"},   {"opencv-json", "calib.json"},
       {"qca", "calib.qca"},       {"detections", "det/side_000000000001_keypoints.json"},
-      {"video", "video.mp4"},     {"library", "library.sqlite"}, {"batch", "jobs.txt"}};
+      {"video", "video.mp4"},     {"library", "library.sqlite"}, {"batch", "jobs.txt"},
+      {"rules", "rules.yaml"}};
   if (!s.models_file.empty()) {
     // The installed models (scripts/install-models.sh).
     return "";
@@ -493,6 +504,7 @@ std::vector<Case> Campaign::Generate() {
       {{"design", "40o", "--athlete", S + "athlete.yaml", "-o", "out", "--no-simulate", "--flight-time", "{V}"}, "--flight-time"},
       {{"routine", "--codes", "{V}", "--athlete", S + "athlete.yaml", "-o", "out"}, "--codes"},
       {{"routine", "--codes", "40o", "--athlete", S + "athlete.yaml", "-o", "out", "--marker-noise-mm", "{V}"}, "--marker-noise-mm"},
+      {{"synchro", S + "trial.c3d", S + "trial.c3d", "--athlete", S + "athlete.yaml", "--offset-s", "{V}", "-o", "out"}, "--offset-s"},
       {{"detect", S + "video.mp4", "--model", "lite", "--frames", "{V}", "-o", "out", "--quiet"}, "--frames"},
       {{"overlay", "--detections", S + "det", "--video", S + "video.mp4", "--frames", "{V}", "-o", "out.mp4"}, "--frames"},
       {{"optimize", S + "skill.yaml", "-o", "out", "--intervals", "{V}"}, "--intervals"},

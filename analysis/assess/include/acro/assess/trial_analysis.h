@@ -24,6 +24,7 @@
 #include "acro/capture/trial.h"
 #include "acro/fig/rules.h"
 #include "acro/fig/score_sheet.h"
+#include "acro/fig/synchro.h"
 #include "acro/fig/skill.h"
 #include "acro/fig/trampoline.h"
 #include "acro/reconstruct/phases.h"
@@ -179,6 +180,11 @@ fig::RoutineScore ScoreTrial(const TrialAnalysis& analysis, const fig::RoutineRu
                              double landing_uncertainty_m);
 /// The score sheet as JSON (score.json; docs/cli.md).
 std::string FormatScoreJson(const fig::RoutineScore& score);
+/// synchro.json: a synchro pair's elements (codes, landing-time difference, matches), S, where
+/// the synchronised routine ended, and both routines' score sheets.
+std::string FormatSynchroJson(const fig::SynchroScore& synchro,
+                              const fig::RoutineScore& a,
+                              const fig::RoutineScore& b);
 
 /// A flight's rotation as coaches count it, frame by frame from its take-off frame to its landing
 /// frame: the somersault about the pelvis's lateral axis at take-off and the twist, both from 0 at

@@ -55,6 +55,22 @@ struct ExecutionRules {
   const FaultRule* Find(std::string_view fault) const;
 };
 
+/// How a synchro pair's landing-time differences become the synchronisation score
+/// (acro/fig/synchro.h). The default is an assumption (the Code's conversion was not found in a
+/// stored source), said on every sheet; a rule file's `synchronisation:` section replaces it.
+struct SynchroRules {
+  /// What one element's synchronisation is worth (2.0: a routine of ten at most 20), and what each
+  /// second of landing-time difference costs it, to zero at the most.
+  double element_points = 2.0;
+  double points_lost_per_s = 10.0;
+  /// A difference this small is no difference (the measurement's resolution).
+  double tolerance_s = 0.0;
+  std::string source =
+      "assumed, not from the Code of Points: 2.0 points per element (20 for ten), less 0.1 per "
+      "10 ms of landing-time difference";
+  bool IsValid(std::string* why) const;
+};
+
 struct RoutineRules {
   std::string name;
   std::string source;  ///< the rule's citation, printed on every sheet
@@ -73,6 +89,7 @@ struct RoutineRules {
   double time_of_flight_step = 0.005;
   HdZones zones = HdZones::Default();
   ExecutionRules execution = ExecutionRules::Default();
+  SynchroRules synchro;
 
   /// The FIG senior routine with no special requirement (rules/fig-2025-senior.yaml's content).
   static RoutineRules FigSenior();

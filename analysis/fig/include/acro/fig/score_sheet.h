@@ -37,6 +37,8 @@ struct PerformedFlight {
   BodyPosition takeoff = BodyPosition::kFeet;
   BodyPosition landing = BodyPosition::kFeet;
   double time_of_flight_s = 0;
+  /// When it landed (the trial's clock, s; synchro pairs compare them).
+  double landing_s = 0;
   /// Where it landed, when the bed is known.
   std::optional<HdLanding> landing_zone;
   /// Cut by the start or the end of the recording.
@@ -54,6 +56,7 @@ struct ScoredElement {
   bool difficulty_counted = true;
   std::string note;  ///< why not ("repeats element 2"), or empty
   double time_of_flight_s = 0;
+  double landing_s = 0;  ///< the trial's clock
   std::optional<HdLanding> landing_zone;
   /// The special requirements this element fulfils (names), in the rules' order.
   std::vector<std::string> requirements;
