@@ -324,8 +324,8 @@ void AddLibraryCommand(CLI::App& app, CommandRunner* run) {
       "An athlete's season: the metric per jump, session medians and trend, landings on the bed "
       "per session with zone A; DIR/progress.html with PNG and SVG charts and progress.csv.");
   DeclareFilters(progress, args.get(), true);
-  progress->add_option("--metric", args->metric, "tof, hd, dd, apex or verdict (default tof)")
-      ->check(CLI::IsMember({"tof", "hd", "dd", "apex", "verdict"}));
+  progress->add_option("--metric", args->metric, "tof, hd, dd, apex, verdict (per jump), faults (per element), T or H (per routine, as the score sheet counts them) (default tof)")
+      ->check(CLI::IsMember({"tof", "hd", "dd", "apex", "verdict", "faults", "T", "H"}));
   progress->add_option("-o,--output", args->out, "output folder (created)")->required();
   DeclareLibraryOption(progress, args.get());
   progress->callback([args, run] { *run = [args] { return RunProgress(*args); }; });

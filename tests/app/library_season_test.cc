@@ -11,6 +11,7 @@
 #include <unistd.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -108,6 +109,15 @@ Season MakeSeason(const fs::path& root) {
         options.flight_time_scale = 0.92 + 0.08 * part + 0.015 * (r - kRoutines / 2);
         options.landing_offset_m = Eigen::Vector2d(-0.45 * part, 0.12 * part);
         options.noise_seed = unsigned(1000 + 100 * a + 10 * part + r);
+        // A fault corrected over the season: the pike's knees bent 25° in every routine of the
+        // first part, every other one of the second, none of the third.
+        if (part == 0 || (part == 1 && r % 2 == 0)) {
+          acro::samples::SampleFault bent;
+          bent.skill = 2;
+          bent.kind = acro::samples::SampleFault::Kind::kKneesBent;
+          bent.value = 25.0;
+          options.faults.push_back(bent);
+        }
         bases.push_back(
             acro::samples::MakeSampleRoutine(profile_path, profile_path.string(), options));
       }
@@ -297,6 +307,46 @@ TEST(LibrarySeason, BatchKilledHalfWayAndRestartedStoresEveryTrialOnce) {
   EXPECT_NEAR(first_part, 1.0, 1e-12);
   EXPECT_LT(last_part, 0.9);
   EXPECT_GT(progress.trend_slope_per_day, 0.0);
+  // The score sheet's season (the routines are the straight jump, an in-bounce, then the tuck and
+  // the pike): T rises with the flights, H falls as the landings leave zone A, and the bent knees
+  // are the most frequent fault, corrected by the third part.
+  auto routine_progress = [&](acro::library::ProgressMetric metric) {
+    acro::library::JumpQuery all;
+    all.athlete = "Bea Season";
+    return acro::library::CalcProgress(lib.QueryJumps(all), metric, "Bea Season", "");
+  };
+  const acro::library::Progress t = routine_progress(acro::library::ProgressMetric::kRoutineTime);
+  ASSERT_EQ(t.points.size(), size_t(kSessions * kRoutines));  // one per routine
+  ASSERT_EQ(t.sessions.size(), size_t(kSessions));
+  EXPECT_NEAR(t.sessions.back().median / t.sessions.front().median, 1.08 / 0.92, 0.01);
+  for (const acro::library::ProgressPoint& point : t.points)  // truncated to 0.005
+    EXPECT_NEAR(std::round(point.value / 0.005) * 0.005, point.value, 1e-9) << point.value;
+  const acro::library::Progress h = routine_progress(acro::library::ProgressMetric::kRoutineDisplacement);
+  ASSERT_EQ(h.points.size(), size_t(kSessions * kRoutines));
+  EXPECT_DOUBLE_EQ(h.sessions.front().median, 2.0);  // both elements in zone A
+  EXPECT_LT(h.sessions.back().median, 2.0);
+  const acro::library::Progress faults = routine_progress(acro::library::ProgressMetric::kFaults);
+  ASSERT_FALSE(faults.fault_counts.empty());
+  EXPECT_EQ(faults.fault_counts.front().first, "knees_bent");
+  const int bent_routines = kSessions / 3 * kRoutines + (kSessions * 2 / 3 - kSessions / 3) * ((kRoutines + 1) / 2);
+  EXPECT_EQ(faults.fault_counts.front().second, bent_routines);
+  EXPECT_EQ(faults.elements, 2 * kSessions * kRoutines);
+  EXPECT_EQ(faults.sessions.front().most_frequent_fault, "knees_bent");
+  EXPECT_EQ(faults.sessions.front().most_frequent_count, kRoutines);
+  EXPECT_EQ(faults.sessions.back().faults_reported, 0);
+  std::printf("Bea's routines: T %.3f → %.3f, H %.2f → %.2f, %s on %d of %d elements\n",
+              t.sessions.front().median, t.sessions.back().median, h.sessions.front().median,
+              h.sessions.back().median, faults.fault_counts.front().first.c_str(),
+              faults.fault_counts.front().second, faults.elements);
+  for (const char* metric : {"T", "H", "faults"}) {
+    const pid_t page = Start({"library", "progress", "--athlete", "Bea Season", "--metric", metric,
+                              "--library", library.string(), "-o", (root / (std::string("progress_") + metric)).string()},
+                             root, root / "tmp");
+    ASSERT_EQ(Wait(page), 0) << ReadText(root / "stderr.txt");
+    const std::string html = ReadText(root / (std::string("progress_") + metric) / "progress.html");
+    EXPECT_NE(html.find("most frequent fault <b>knees_bent</b>"), std::string::npos) << metric;
+    EXPECT_TRUE(fs::exists(root / (std::string("progress_") + metric) / "progress_faults.png")) << metric;
+  }
   const pid_t chart = Start({"library",
                              "progress",
                              "--athlete",

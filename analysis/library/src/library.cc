@@ -154,6 +154,31 @@ CREATE INDEX jumps_trial ON jumps(trial_id);
 CREATE INDEX sessions_date ON sessions(date, athlete_id);
 )sql";
 
+// Version 3: each jump's place on the score sheet (element number, HD deduction, reported execution
+// faults, space-separated), filled from each trial's stored jumps.json.
+constexpr const char* kSchemaStep3 = R"sql(
+ALTER TABLE jumps ADD COLUMN element INTEGER NOT NULL DEFAULT 0;
+ALTER TABLE jumps ADD COLUMN hd_deduction REAL;
+ALTER TABLE jumps ADD COLUMN faults TEXT NOT NULL DEFAULT '';
+)sql";
+
+std::string JoinFaults(const std::vector<std::string>& faults) {
+  std::string out;
+  for (const std::string& f : faults) out += (out.empty() ? "" : " ") + f;
+  return out;
+}
+
+std::vector<std::string> SplitFaults(const std::string& text) {
+  std::vector<std::string> out;
+  size_t start = 0;
+  while (start < text.size()) {
+    const size_t end = std::min(text.find(' ', start), text.size());
+    if (end > start) out.push_back(text.substr(start, end - start));
+    start = end + 1;
+  }
+  return out;
+}
+
 std::string UtcNow() {
   const std::time_t now = std::time(nullptr);
   std::tm tm{};
@@ -300,6 +325,7 @@ struct Library::Impl {
 
   void ApplyStep(int version_to);
   void FillJumpColumnsFromJson();
+  void FillScoreColumnsFromJson();
   std::int64_t IdOf(const std::string& sql, const std::function<void(Statement&)>& bind);
 };
 
@@ -317,6 +343,9 @@ void Library::Impl::ApplyStep(int version_to) {
     } else if (version_to == 2) {
       Exec(kSchemaStep2, "migrate to schema 2");
       FillJumpColumnsFromJson();
+    } else if (version_to == 3) {
+      Exec(kSchemaStep3, "migrate to schema 3");
+      FillScoreColumnsFromJson();
     }
     Exec(fmt::format("PRAGMA user_version = {}", version_to), "set the schema version");
   });
@@ -337,6 +366,25 @@ void Library::Impl::FillJumpColumnsFromJson() {
           .Bind(5, j.landing_x_m)
           .Bind(6, j.landing_y_m)
           .Bind(7, j.landing_in_zone_a)
+          .Run();
+      update.Reset();
+    }
+  }
+}
+
+void Library::Impl::FillScoreColumnsFromJson() {
+  Statement trials(db, "SELECT id, path, jumps_json FROM trials", File());
+  Statement update(db,
+                   "UPDATE jumps SET element = ?3, hd_deduction = ?4, faults = ?5 WHERE trial_id = "
+                   "?1 AND jump_index = ?2",
+                   File());
+  while (trials.Step()) {
+    for (const JumpRecord& j : ParseJumpsJson(trials.Text(2), trials.Text(1) + " (stored)")) {
+      update.Bind(1, trials.Int(0))
+          .Bind(2, j.index)
+          .Bind(3, j.element)
+          .Bind(4, j.hd_deduction)
+          .Bind(5, JoinFaults(j.faults))
           .Run();
       update.Reset();
     }
@@ -599,8 +647,8 @@ std::int64_t Library::StoreTrial(const TrialToStore& t) {
                      "INSERT INTO jumps(trial_id, jump_index, partial, fig_code, skill_name, "
                      "time_of_flight_s, displacement_m, apex_above_bed_m, difficulty, verdict, "
                      "verdict_class, cause, takeoff_s, landing_x_m, landing_y_m, "
-                     "landing_in_zone_a) VALUES (?1, ?2, ?3, ?4, ?5, ?6, ?7, ?8, ?9, ?10, ?11, "
-                     "?12, ?13, ?14, ?15, ?16)",
+                     "landing_in_zone_a, element, hd_deduction, faults) VALUES (?1, ?2, ?3, ?4, "
+                     "?5, ?6, ?7, ?8, ?9, ?10, ?11, ?12, ?13, ?14, ?15, ?16, ?17, ?18, ?19)",
                      file);
     for (const JumpRecord& j : jumps) {
       insert.Bind(1, trial_id)
@@ -619,6 +667,9 @@ std::int64_t Library::StoreTrial(const TrialToStore& t) {
           .Bind(14, j.landing_x_m)
           .Bind(15, j.landing_y_m)
           .Bind(16, j.landing_in_zone_a)
+          .Bind(17, j.element)
+          .Bind(18, j.hd_deduction)
+          .Bind(19, JoinFaults(j.faults))
           .Run();
       insert.Reset();
     }
@@ -783,8 +834,8 @@ std::vector<JumpRow> Library::QueryJumps(const JumpQuery& q) const {
   std::string sql =
       "SELECT a.name, s.date, t.id, t.path, j.jump_index, j.partial, j.fig_code, j.skill_name, "
       "j.takeoff_s, j.time_of_flight_s, j.displacement_m, j.apex_above_bed_m, j.difficulty, "
-      "j.verdict, j.verdict_class, j.cause, j.landing_x_m, j.landing_y_m, j.landing_in_zone_a "
-      "FROM jumps j JOIN trials t ON t.id = j.trial_id JOIN sessions s ON s.id = t.session_id "
+      "j.verdict, j.verdict_class, j.cause, j.landing_x_m, j.landing_y_m, j.landing_in_zone_a, "
+      "j.element, j.hd_deduction, j.faults FROM jumps j JOIN trials t ON t.id = j.trial_id JOIN sessions s ON s.id = t.session_id "
       "JOIN athletes a ON a.id = s.athlete_id WHERE 1";
   // Each filter present adds its condition and its parameter, in order.
   std::vector<std::function<void(Statement&, int)>> binds;
@@ -834,6 +885,9 @@ std::vector<JumpRow> Library::QueryJumps(const JumpQuery& q) const {
     j.landing_x_m = s.OptionalDouble(16);
     j.landing_y_m = s.OptionalDouble(17);
     if (!s.IsNull(18)) j.landing_in_zone_a = s.Int(18) != 0;
+    j.element = int(s.Int(19));
+    j.hd_deduction = s.OptionalDouble(20);
+    j.faults = SplitFaults(s.Text(21));
     rows.push_back(std::move(r));
   }
   return rows;
@@ -954,6 +1008,25 @@ std::vector<JumpRecord> ParseJumpsJson(const std::string& json, const std::strin
     }
     if (const auto it = o.find("landing_in_zone_a"); it != o.end() && it->is_boolean())
       j.landing_in_zone_a = it->get<bool>();
+    // The score sheet's view of this flight (jumps.json of Acrolab 0.3 and later).
+    if (const auto sc = o.find("score"); sc != o.end() && sc->is_object()) {
+      if (const auto e = sc->find("element"); e != sc->end() && e->is_number_integer() &&
+                                              e->get<long long>() >= 0 && e->get<long long>() <= 1000)
+        j.element = int(e->get<long long>());
+      if (const auto l = sc->find("landing"); l != sc->end() && l->is_object())
+        if (const auto d = l->find("deduction"); d != l->end() && d->is_number() &&
+                                                 std::isfinite(d->get<double>()))
+          j.hd_deduction = d->get<double>();
+      if (const auto ex = sc->find("execution"); ex != sc->end() && ex->is_array())
+        for (const Json& f : *ex)
+          if (f.is_object() && f.value("reported", false) && f.contains("fault") &&
+              f["fault"].is_string()) {
+            std::string key = f["fault"].get<std::string>();
+            if (key.empty() || key.size() > 64 || key.find_first_of(" \t\r\n") != std::string::npos)
+              throw InputError(source, where + ": score.execution", "a fault key is 1 to 64 characters, no spaces");
+            j.faults.push_back(std::move(key));
+          }
+    }
     out.push_back(std::move(j));
   }
   return out;
@@ -981,10 +1054,10 @@ std::string FormatJumpRowsCsv(const std::vector<JumpRow>& rows) {
   std::string out =
       "athlete,date,trial,jump,fig_code,skill,partial,takeoff_s,time_of_flight_s,"
       "displacement_m,apex_above_bed_m,difficulty,verdict,cause,landing_x_m,landing_y_m,"
-      "landing_in_zone_a\n";
+      "landing_in_zone_a,element,hd_deduction,faults\n";
   for (const JumpRow& r : rows) {
     const JumpRecord& j = r.jump;
-    out += fmt::format("{},{},{},{},{},{},{},{:.4f},{:.4f},{:.4f},{:.4f},{:.1f},{},{},{},{},{}\n",
+    out += fmt::format("{},{},{},{},{},{},{},{:.4f},{:.4f},{:.4f},{:.4f},{:.1f},{},{},{},{},{},{},{},{}\n",
                        quoted(r.athlete),
                        r.session_date,
                        quoted(r.trial_path),
@@ -1001,7 +1074,10 @@ std::string FormatJumpRowsCsv(const std::vector<JumpRow>& rows) {
                        quoted(j.cause),
                        optional(j.landing_x_m),
                        optional(j.landing_y_m),
-                       j.landing_in_zone_a ? (*j.landing_in_zone_a ? "1" : "0") : "");
+                       j.landing_in_zone_a ? (*j.landing_in_zone_a ? "1" : "0") : "",
+                       j.element,
+                       j.hd_deduction ? fmt::format("{:.1f}", *j.hd_deduction) : std::string(),
+                       quoted(JoinFaults(j.faults)));
   }
   return out;
 }
@@ -1031,6 +1107,9 @@ std::string FormatJumpRowsJson(const std::vector<JumpRow>& rows) {
                                 ? Json::array({*j.landing_x_m, *j.landing_y_m})
                                 : Json(nullptr);
     o["landing_in_zone_a"] = j.landing_in_zone_a ? Json(*j.landing_in_zone_a) : Json(nullptr);
+    o["element"] = j.element;
+    o["hd_deduction"] = j.hd_deduction ? Json(*j.hd_deduction) : Json(nullptr);
+    o["faults"] = j.faults;
     out.push_back(std::move(o));
   }
   return out.dump(1) + "\n";

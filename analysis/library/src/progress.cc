@@ -7,6 +7,7 @@
 #include <fmt/format.h>
 
 #include "acro/base/input_error.h"
+#include "acro/fig/score_sheet.h"
 
 namespace acro::library {
 
@@ -40,8 +41,75 @@ double MetricOf(const JumpRecord& j, ProgressMetric metric) {
       return j.apex_above_bed_m;
     case ProgressMetric::kVerdict:
       return j.verdict_class == "pass" ? 1.0 : 0.0;
+    case ProgressMetric::kFaults:
+      return double(j.faults.size());
+    case ProgressMetric::kRoutineTime:
+    case ProgressMetric::kRoutineDisplacement:
+      break;  // a routine's (RoutineValues)
   }
   return 0.0;
+}
+
+bool PerRoutine(ProgressMetric metric) {
+  return metric == ProgressMetric::kRoutineTime || metric == ProgressMetric::kRoutineDisplacement;
+}
+
+// One value per trial with a scored routine: T or H from its elements, as the score sheet counts
+// them (analysis/fig: T truncated to 0.005; H only when every element's landing zone is known).
+struct RoutineValue {
+  const JumpRow* first = nullptr;
+  double value = 0.0;
+};
+std::vector<RoutineValue> RoutineValues(const std::vector<const JumpRow*>& rows,
+                                        ProgressMetric metric) {
+  std::vector<RoutineValue> out;
+  std::map<std::int64_t, std::vector<const JumpRow*>> by_trial;
+  std::vector<std::int64_t> order;
+  for (const JumpRow* r : rows) {
+    if (r->jump.element <= 0) continue;
+    if (by_trial.find(r->trial_id) == by_trial.end()) order.push_back(r->trial_id);
+    by_trial[r->trial_id].push_back(r);
+  }
+  for (std::int64_t id : order) {
+    const std::vector<const JumpRow*>& elements = by_trial[id];
+    double sum = 0, deductions = 0;
+    bool zones_known = true;
+    for (const JumpRow* e : elements) {
+      sum += e->jump.time_of_flight_s;
+      if (e->jump.hd_deduction)
+        deductions += *e->jump.hd_deduction;
+      else
+        zones_known = false;
+    }
+    if (metric == ProgressMetric::kRoutineTime)
+      out.push_back({elements.front(), fig::TruncateTimeOfFlight(sum, 0.005)});
+    else if (zones_known)
+      out.push_back({elements.front(), double(elements.size()) - deductions});
+  }
+  return out;
+}
+
+// The reported faults of `rows`' elements, most frequent first (ties in order of appearance).
+std::vector<std::pair<std::string, int>> CountFaults(const std::vector<const JumpRow*>& rows,
+                                                     int* elements) {
+  std::vector<std::pair<std::string, int>> counts;
+  *elements = 0;
+  for (const JumpRow* r : rows) {
+    if (r->jump.element <= 0) continue;
+    ++*elements;
+    for (const std::string& f : r->jump.faults) {
+      auto it =
+          std::find_if(counts.begin(), counts.end(), [&](const auto& c) { return c.first == f; });
+      if (it == counts.end())
+        counts.emplace_back(f, 1);
+      else
+        ++it->second;
+    }
+  }
+  std::stable_sort(counts.begin(), counts.end(), [](const auto& a, const auto& b) {
+    return a.second > b.second;
+  });
+  return counts;
 }
 
 }  // namespace
@@ -56,7 +124,11 @@ ProgressMetric ParseProgressMetric(const std::string& word) {
   if (word == "dd") return ProgressMetric::kDifficulty;
   if (word == "apex") return ProgressMetric::kApex;
   if (word == "verdict") return ProgressMetric::kVerdict;
-  throw InputError("", "--metric", "'" + word + "' is not tof, hd, dd, apex or verdict");
+  if (word == "T") return ProgressMetric::kRoutineTime;
+  if (word == "H") return ProgressMetric::kRoutineDisplacement;
+  if (word == "faults") return ProgressMetric::kFaults;
+  throw InputError(
+      "", "--metric", "'" + word + "' is not tof, hd, dd, apex, verdict, T, H or faults");
 }
 
 Progress CalcProgress(const std::vector<JumpRow>& rows,
@@ -78,48 +150,89 @@ Progress CalcProgress(const std::vector<JumpRow>& rows,
       {ProgressMetric::kDisplacement, {"horizontal displacement", "m"}},
       {ProgressMetric::kDifficulty, {"difficulty (DD)", "points"}},
       {ProgressMetric::kApex, {"apex above the bed", "m"}},
-      {ProgressMetric::kVerdict, {"physical check passed", "fraction"}}};
+      {ProgressMetric::kVerdict, {"physical check passed", "fraction"}},
+      {ProgressMetric::kRoutineTime, {"T, the routine's time of flight", "points"}},
+      {ProgressMetric::kRoutineDisplacement,
+       {"H, the routine's horizontal displacement", "points"}},
+      {ProgressMetric::kFaults, {"execution faults per element", "faults"}}};
+  if (PerRoutine(metric) && !fig_code.empty())
+    throw InputError("", "--skill", "T and H are a routine's, not one skill's: leave out --skill");
   p.metric_name = kNames.at(metric).first;
   p.unit = kNames.at(metric).second;
   p.first_date = rows.front().session_date;
   for (const JumpRow& r : rows) p.first_date = std::min(p.first_date, r.session_date);
 
-  std::map<std::string, std::vector<const JumpRow*>> by_session;
-  for (const JumpRow& r : rows) {
-    ProgressPoint point;
-    point.date = r.session_date;
-    point.day = DaysBetween(p.first_date, r.session_date);
-    point.value = MetricOf(r.jump, metric);
-    point.trial_path = r.trial_path;
-    point.jump = r.jump.index;
-    point.fig_code = r.jump.fig_code;
-    p.points.push_back(point);
-    by_session[r.session_date].push_back(&r);
+  // The rows each metric counts: every jump, the score sheet's elements (faults), or one per
+  // routine (T, H).
+  std::vector<const JumpRow*> all;
+  for (const JumpRow& r : rows) all.push_back(&r);
+  std::vector<std::pair<const JumpRow*, double>> values;
+  if (PerRoutine(metric)) {
+    for (const RoutineValue& v : RoutineValues(all, metric)) values.emplace_back(v.first, v.value);
+    if (values.empty())
+      throw InputError(
+          "",
+          "--metric",
+          fmt::format(
+              "no trial of athlete '{}' has a scored routine{} (analysed by Acrolab 0.3 or later)",
+              athlete,
+              metric == ProgressMetric::kRoutineDisplacement ? " with every landing's zone" : ""));
+  } else {
+    for (const JumpRow* r : all)
+      if (metric != ProgressMetric::kFaults || r->jump.element > 0)
+        values.emplace_back(r, MetricOf(r->jump, metric));
+    if (values.empty())
+      throw InputError(
+          "", "--metric", fmt::format("no element of a scored routine for athlete '{}'", athlete));
   }
-  for (const auto& [date, jumps] : by_session) {
+  p.fault_counts = CountFaults(all, &p.elements);
+  std::map<std::string, std::vector<double>> session_values;
+  std::map<std::string, std::vector<const JumpRow*>> session_rows;
+  for (const auto& [r, value] : values) {
+    ProgressPoint point;
+    point.date = r->session_date;
+    point.day = DaysBetween(p.first_date, r->session_date);
+    point.value = value;
+    point.trial_path = r->trial_path;
+    point.jump = PerRoutine(metric) ? 0 : r->jump.index;
+    point.fig_code = PerRoutine(metric) ? std::string() : r->jump.fig_code;
+    p.points.push_back(point);
+    session_values[r->session_date].push_back(value);
+  }
+  for (const JumpRow* r : all) session_rows[r->session_date].push_back(r);
+  for (const auto& [date, jumps] : session_rows) {
+    if (session_values.find(date) == session_values.end()) continue;
+    const std::vector<double>& v = session_values[date];
     SessionProgress s;
     s.date = date;
     s.day = DaysBetween(p.first_date, date);
     s.num_jumps = static_cast<int>(jumps.size());
-    std::vector<double> values;
     for (const JumpRow* r : jumps) {
-      values.push_back(MetricOf(r->jump, metric));
       if (r->jump.landing_x_m && r->jump.landing_y_m) {
         s.landing_x_m.push_back(*r->jump.landing_x_m);
         s.landing_y_m.push_back(*r->jump.landing_y_m);
         s.landings_in_zone_a += r->jump.landing_in_zone_a.value_or(false) ? 1 : 0;
       }
     }
+    const std::vector<std::pair<std::string, int>> faults = CountFaults(jumps, &s.elements);
+    for (const auto& f : faults) {
+      s.faults_reported += f.second;
+      s.fault_counts[f.first] = f.second;
+    }
+    if (!faults.empty()) {
+      s.most_frequent_fault = faults.front().first;
+      s.most_frequent_count = faults.front().second;
+    }
     // The verdict's "median" is the pass fraction: a median of 0s and 1s says less.
     if (metric == ProgressMetric::kVerdict) {
       double sum = 0;
-      for (double v : values) sum += v;
-      s.median = sum / double(values.size());
+      for (double x : v) sum += x;
+      s.median = sum / double(v.size());
     } else {
-      s.median = Median(values);
+      s.median = Median(v);
     }
-    s.min = *std::min_element(values.begin(), values.end());
-    s.max = *std::max_element(values.begin(), values.end());
+    s.min = *std::min_element(v.begin(), v.end());
+    s.max = *std::max_element(v.begin(), v.end());
     p.sessions.push_back(std::move(s));
   }
 
@@ -144,10 +257,12 @@ Progress CalcProgress(const std::vector<JumpRow>& rows,
 }
 
 std::string FormatProgressCsv(const Progress& p) {
-  std::string out = fmt::format("date,day,jumps,median_{0},min_{0},max_{0},landings,in_zone_a\n",
-                                p.unit == "fraction" ? "pass_fraction" : p.unit);
+  std::string out = fmt::format(
+      "date,day,jumps,median_{0},min_{0},max_{0},landings,in_zone_a,elements,faults,most_frequent_"
+      "fault\n",
+      p.unit == "fraction" ? "pass_fraction" : p.unit);
   for (const SessionProgress& s : p.sessions)
-    out += fmt::format("{},{:g},{},{:.4f},{:.4f},{:.4f},{},{}\n",
+    out += fmt::format("{},{:g},{},{:.4f},{:.4f},{:.4f},{},{},{},{},{}\n",
                        s.date,
                        s.day,
                        s.num_jumps,
@@ -155,7 +270,10 @@ std::string FormatProgressCsv(const Progress& p) {
                        s.min,
                        s.max,
                        s.landing_x_m.size(),
-                       s.landings_in_zone_a);
+                       s.landings_in_zone_a,
+                       s.elements,
+                       s.faults_reported,
+                       s.most_frequent_fault);
   return out;
 }
 

@@ -16,8 +16,8 @@
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
-#include "acro/base/input_error.h"
 #include "acro/base/content_hash.h"
+#include "acro/base/input_error.h"
 #include "acro/library/library.h"
 #include "acro/library/progress.h"
 
@@ -255,7 +255,7 @@ TEST(Library, MigratesASchemaOneLibrary) {
   EXPECT_THROW(Library(file, Library::Mode::kReadOnly), acro::InputError);
   Library lib(file, Library::Mode::kReadWrite);
   EXPECT_EQ(lib.schema_version_found(), 1);
-  EXPECT_EQ(lib.schema_version(), 2);
+  EXPECT_EQ(lib.schema_version(), acro::library::kSchemaVersion);
   const std::vector<JumpRow> rows = lib.QueryJumps(JumpQuery{});
   ASSERT_EQ(rows.size(), 2u);
   // The new columns, filled from the stored jumps.json.
@@ -451,3 +451,68 @@ TEST(ContentHash, MatchesTheStandardsTestVectors) {
 }
 
 }  // namespace
+
+// Schema 3 adds each jump's place on the score sheet, filled from the stored jumps.json's `score`
+// objects when a schema-2 library is opened for writing; a jumps.json without them (older
+// analyses) leaves the jumps off the sheet.
+TEST(Library, MigratesASchemaTwoLibraryWithItsScoreSheets) {
+  TempDir dir;
+  const fs::path file = dir.path() / "two.sqlite";
+  Library::CreateWithSchemaVersion(file, 2);
+  nlohmann::json jumps = nlohmann::json::parse(
+      JumpsJson({{"00", 1.2, 0.0, "pass", 0.0, 0.0}, {"40o", 1.3, 0.2, "pass", 1.2, 0.1}}));
+  jumps[1]["score"] = {{"element", 1},
+                       {"landing", {{"zone", "B"}, {"deduction", 0.1}}},
+                       {"execution",
+                        {{{"fault", "knees_bent"}, {"reported", true}},
+                         {{"fault", "arms_bent"}, {"reported", false}},
+                         {{"fault", "late_opening"}, {"reported", true}}}}};
+  {
+    sqlite3* db = nullptr;
+    ASSERT_EQ(sqlite3_open(file.c_str(), &db), SQLITE_OK);
+    const std::string sql =
+        "INSERT INTO athletes(id, name) VALUES (1, 'Ann');"
+        "INSERT INTO athlete_profiles(id, athlete_id, first_seen, sha256, stature_m, mass_kg, "
+        "profile) VALUES (1, 1, '2026-01-01', 'x', 1.7, 60, 'name: Ann');"
+        "INSERT INTO sessions(id, athlete_id, date) VALUES (1, 1, '2026-01-01');"
+        "INSERT INTO trials(id, session_id, profile_id, path, sha256, size_bytes, "
+        "analysis_version, analysis_source, analysed_at, verdict, jumps_json) VALUES (1, 1, 1, "
+        "'/old/a.c3d', 'abc', 10, '0.2.0', 'analysed', '2026-01-01T00:00:00Z', 'pass', '" +
+        jumps.dump() +
+        "');"
+        "INSERT INTO jumps(trial_id, jump_index, partial, fig_code, skill_name, time_of_flight_s, "
+        "displacement_m, apex_above_bed_m, difficulty, verdict, verdict_class) VALUES "
+        "(1, 1, 0, '00', 's', 1.2, 0.0, 2, 0.0, 'pass', 'pass'),"
+        "(1, 2, 0, '40o', 's', 1.3, 0.2, 2, 0.5, 'pass', 'pass');";
+    ASSERT_EQ(sqlite3_exec(db, sql.c_str(), nullptr, nullptr, nullptr), SQLITE_OK)
+        << sqlite3_errmsg(db);
+    sqlite3_close(db);
+  }
+  Library lib(file, Library::Mode::kReadWrite);
+  EXPECT_EQ(lib.schema_version_found(), 2);
+  const std::vector<JumpRow> rows = lib.QueryJumps(JumpQuery{});
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0].jump.element, 0);  // the in-bounce
+  EXPECT_FALSE(rows[0].jump.hd_deduction.has_value());
+  EXPECT_EQ(rows[1].jump.element, 1);
+  ASSERT_TRUE(rows[1].jump.hd_deduction.has_value());
+  EXPECT_DOUBLE_EQ(*rows[1].jump.hd_deduction, 0.1);
+  EXPECT_EQ(rows[1].jump.faults, (std::vector<std::string>{"knees_bent", "late_opening"}));
+  // The routine's T and H, and its faults, as the season's progress reads them.
+  const auto t =
+      acro::library::CalcProgress(rows, acro::library::ProgressMetric::kRoutineTime, "Ann", "");
+  ASSERT_EQ(t.points.size(), 1u);
+  EXPECT_NEAR(t.points[0].value, 1.3, 1e-12);
+  const auto h = acro::library::CalcProgress(
+      rows, acro::library::ProgressMetric::kRoutineDisplacement, "Ann", "");
+  EXPECT_NEAR(h.points[0].value, 0.9, 1e-12);
+  const auto f =
+      acro::library::CalcProgress(rows, acro::library::ProgressMetric::kFaults, "Ann", "");
+  ASSERT_EQ(f.points.size(), 1u);  // elements only
+  EXPECT_EQ(f.points[0].value, 2.0);
+  ASSERT_EQ(f.fault_counts.size(), 2u);
+  EXPECT_EQ(f.sessions[0].most_frequent_fault, "knees_bent");
+  EXPECT_THROW(
+      acro::library::CalcProgress(rows, acro::library::ProgressMetric::kRoutineTime, "Ann", "40o"),
+      acro::InputError);
+}

@@ -1,6 +1,7 @@
 #include "acro/report/progress_report.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <sstream>
@@ -46,8 +47,11 @@ std::vector<ProgressFigure> MakeProgressFigures(const library::Progress& p) {
     c.title = fmt::format("{}: {} over the season", Title(p), p.metric_name);
     c.x_label = x_label;
     c.y_label = fmt::format("{} ({})", p.metric_name, p.unit);
+    const bool per_routine = p.metric == library::ProgressMetric::kRoutineTime ||
+                             p.metric == library::ProgressMetric::kRoutineDisplacement;
+    const bool per_element = p.metric == library::ProgressMetric::kFaults;
     LineSeries jumps;
-    jumps.name = "each jump";
+    jumps.name = per_routine ? "each routine" : per_element ? "each element" : "each jump";
     jumps.line = false;
     jumps.markers = true;
     jumps.color = {0.55, 0.65, 0.8};
@@ -81,12 +85,47 @@ std::vector<ProgressFigure> MakeProgressFigures(const library::Progress& p) {
                                          "line through the jumps ({} jumps in {} sessions).",
                                          p.points.size(),
                                          p.sessions.size())
-                           : fmt::format("Each jump's {}, the median of each session and the "
-                                         "trend line through the jumps ({} jumps in {} sessions).",
+                           : fmt::format("Each {0}'s {1}, the median of each session and the "
+                                         "trend line through the {0}s ({2} {0}s in {3} sessions).",
+                                         per_routine   ? "routine"
+                                         : per_element ? "element"
+                                                       : "jump",
                                          p.metric_name,
                                          p.points.size(),
                                          p.sessions.size()),
                        c});
+  }
+  // The season's most frequent execution faults, per session: how many of its elements had each.
+  if (!p.fault_counts.empty()) {
+    Chart c;
+    c.title = Title(p) + ": the most frequent execution faults";
+    c.x_label = x_label;
+    c.y_label = "share of the session's elements";
+    const std::array<std::array<double, 3>, 3> colors = {
+        {{0.8, 0.15, 0.1}, {0.95, 0.55, 0.1}, {0.45, 0.3, 0.7}}};
+    for (size_t k = 0; k < std::min<size_t>(3, p.fault_counts.size()); ++k) {
+      LineSeries f;
+      f.name =
+          fmt::format("{} ({} in the season)", p.fault_counts[k].first, p.fault_counts[k].second);
+      f.markers = true;
+      f.color = {colors[k][0], colors[k][1], colors[k][2]};
+      for (const library::SessionProgress& s : p.sessions) {
+        if (s.elements == 0) continue;
+        const auto it = s.fault_counts.find(p.fault_counts[k].first);
+        f.x.push_back(s.day);
+        f.y.push_back(double(it == s.fault_counts.end() ? 0 : it->second) / double(s.elements));
+      }
+      c.series.push_back(f);
+    }
+    if (p.sessions.back().day <= 0) c.x_range = ValueRange{-1.0, 1.0};
+    c.y_range = ValueRange{0.0, 1.05};
+    figures.push_back(
+        {"progress_faults.png",
+         fmt::format("The season's most frequent execution faults (reported beyond the "
+                     "measurement's uncertainty, docs/scoring.md): the share of each "
+                     "session's elements that had each ({} elements in all).",
+                     p.elements),
+         c});
   }
   // Landings: the season in three parts, so that a drift shows as a colour.
   size_t landings = 0;
@@ -195,6 +234,20 @@ std::string FormatProgressHtml(const library::Progress& p,
     << p.points.size() << " jumps. Trend: " << fmt::format("{:+.3g}", 30 * p.trend_slope_per_day)
     << " " << HtmlEscape(p.unit) << " per 30 days (R² " << fmt::format("{:.2f}", p.trend_r2)
     << ").</p>\n";
+  if (p.elements > 0) {
+    h << "<p>Execution over the season: " << p.elements << " elements; ";
+    if (p.fault_counts.empty()) {
+      h << "no fault reported.";
+    } else {
+      h << "most frequent fault <b>" << HtmlEscape(p.fault_counts.front().first) << "</b> ("
+        << p.fault_counts.front().second << " elements)";
+      for (size_t k = 1; k < std::min<size_t>(4, p.fault_counts.size()); ++k)
+        h << ", then " << HtmlEscape(p.fault_counts[k].first) << " (" << p.fault_counts[k].second
+          << ")";
+      h << ".";
+    }
+    h << "</p>\n";
+  }
   for (const ProgressFigure& f : figures) {
     std::string svg = f.file.substr(0, f.file.size() - 4) + ".svg";
     h << "<figure><a href=\"" << HtmlEscape(svg) << "\"><img src=\"" << HtmlEscape(f.file)
@@ -213,7 +266,8 @@ std::string FormatProgressHtml(const library::Progress& p,
   }
   h << "<h2>Sessions</h2>\n<table><tr><th class=\"l\">date</th><th>jumps</th><th>"
     << (p.metric == library::ProgressMetric::kVerdict ? "passed" : "median") << "</th><th>min</th>"
-    << "<th>max</th><th>landings in zone A</th></tr>\n";
+    << "<th>max</th><th>landings in zone A</th><th>elements</th><th>faults</th>"
+    << "<th class=\"l\">most frequent</th></tr>\n";
   for (const library::SessionProgress& s : p.sessions)
     h << "<tr><td class=\"l\">" << s.date << "</td><td>" << s.num_jumps << "</td><td>"
       << fmt::format("{:.3f}", s.median) << "</td><td>" << fmt::format("{:.3f}", s.min)
@@ -221,6 +275,10 @@ std::string FormatProgressHtml(const library::Progress& p,
       << (s.landing_x_m.empty()
               ? std::string("–")
               : fmt::format("{} of {}", s.landings_in_zone_a, s.landing_x_m.size()))
+      << "</td><td>" << s.elements << "</td><td>" << s.faults_reported << "</td><td class=\"l\">"
+      << (s.most_frequent_fault.empty() ? std::string("–")
+                                        : HtmlEscape(s.most_frequent_fault) + " (" +
+                                              std::to_string(s.most_frequent_count) + ")")
       << "</td></tr>\n";
   h << "</table>\n<p>The table as CSV: <a href=\"progress.csv\">progress.csv</a>.</p>\n"
     << internal::kHtmlPageEnd;

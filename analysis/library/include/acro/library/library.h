@@ -26,7 +26,7 @@ namespace acro::library {
 
 /// The schema this Acrolab writes. A library file of an older schema is migrated when it is
 /// opened for writing (each step in one transaction); a newer one is refused.
-inline constexpr int kSchemaVersion = 2;
+inline constexpr int kSchemaVersion = 3;
 
 /// ~/.local/share/acrolab/library.sqlite ($XDG_DATA_HOME/acrolab/library.sqlite when set).
 std::filesystem::path DefaultLibraryPath();
@@ -57,6 +57,12 @@ struct JumpRecord {
   std::optional<double> landing_x_m;
   std::optional<double> landing_y_m;
   std::optional<bool> landing_in_zone_a;
+  /// On the score sheet (jumps.json's `score`, when it has one): the element's number in the
+  /// routine (0: not an element — an in-bounce, or after the routine ended), its landing's HD
+  /// deduction when the bed is known, and the execution faults reported on it (the rule keys).
+  int element = 0;
+  std::optional<double> hd_deduction;
+  std::vector<std::string> faults;
 };
 
 /// The jumps of a jumps.json (as `acrolab analyze` writes it). Throws acro::InputError naming
