@@ -80,6 +80,8 @@ std::vector<fig::MeasuredFault> MeasureExecution(const TrialAnalysis& a,
         f.unit = rule->unit;
         f.value = value;
         f.uncertainty = uncertainty;
+        if (!rule->steps.empty()) f.threshold = rule->steps.front().first;
+        f.smaller_is_worse = rule->smaller_is_worse;
         f.frame = frame;
         f.time_s = frame >= 0 && frame < m.num_frames() ? m.time_s[frame]
                                                         : std::numeric_limits<double>::quiet_NaN();

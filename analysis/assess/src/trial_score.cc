@@ -66,6 +66,7 @@ nlohmann::ordered_json ElementScoreJson(const fig::ScoredElement& e) {
                       {"value", f.value},
                       {"unit", f.unit},
                       {"uncertainty", f.uncertainty},
+                      {"threshold", std::isfinite(f.threshold) ? Json(f.threshold) : Json(nullptr)},
                       {"time_s", std::isfinite(f.time_s) ? Json(f.time_s) : Json(nullptr)},
                       {"frame", f.frame},
                       {"reported", f.reported},

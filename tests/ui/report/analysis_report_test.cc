@@ -44,11 +44,31 @@ TEST(AnalysisReport, FiguresShowThePhasesTheJudgedResidualsAndTheChosenJoint) {
   AnalysisReportOptions options;
   options.joint = "l_knee_flexion";
   const std::vector<ReportFigure> figures = MakeAnalysisFigures(a, options);
-  ASSERT_EQ(figures.size(), 7u);
+  ASSERT_EQ(figures.size(), 8u);
   const int frames = a.reconstruction.motion.num_frames();
   int judged = 0;
   for (const analysis::FlightCheck& f : a.check.flights) judged += f.last_frame - f.first_frame + 1;
-  for (const ReportFigure& f : figures) {
+  // The execution chart (the last): per element, each fault's worst value over its first
+  // threshold; the clean sample's are all below 1 (no fault), one point per element and fault.
+  const ReportFigure& execution = figures.back();
+  EXPECT_EQ(execution.file, "execution.png");
+  ASSERT_FALSE(execution.chart.series.empty());
+  size_t points = 0;
+  for (const LineSeries& s : execution.chart.series) {
+    EXPECT_FALSE(s.name.empty());
+    for (size_t i = 0; i < s.y.size(); ++i) {
+      EXPECT_LT(s.y[i], 1.0) << s.name << " at element " << s.x[i];
+      EXPECT_GT(s.x[i], 0.5);
+      EXPECT_LT(s.x[i], double(a.score.elements.size()) + 0.5);
+    }
+    points += s.y.size();
+  }
+  size_t measured = 0;
+  for (const auto& e : a.score.elements)
+    for (const auto& f : e.faults) measured += std::isfinite(f.threshold) && f.threshold > 0 ? 1 : 0;
+  EXPECT_EQ(points, measured);
+  for (size_t k = 0; k + 1 < figures.size(); ++k) {
+    const ReportFigure& f = figures[k];
     SCOPED_TRACE(f.file);
     std::string why;
     EXPECT_TRUE(f.chart.IsValid(&why)) << why;
@@ -136,7 +156,7 @@ TEST(AnalysisReport, PngAndSvgAreWrittenAndLinkedWithNoDisplay) {
   const AnalysisReportOutcome outcome = WriteAnalysisReport(Sample(), dir, {});
   if (display) setenv("DISPLAY", saved.c_str(), 1);
   ASSERT_TRUE(outcome.images_rendered) << outcome.reason;
-  ASSERT_EQ(outcome.images.size(), 14u);  // seven figures, PNG and SVG each
+  ASSERT_EQ(outcome.images.size(), 16u);  // eight figures, PNG and SVG each
   for (const fs::path& p : outcome.images) {
     std::ifstream in(p, std::ios::binary);
     std::string head(5, '\0');

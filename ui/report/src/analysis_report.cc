@@ -1,6 +1,8 @@
 #include "acro/report/analysis_report.h"
 
 #include <algorithm>
+
+#include <fmt/format.h>
 #include <cmath>
 #include <limits>
 #include <numbers>
@@ -109,8 +111,7 @@ std::string Fixed(double v, int digits) {
 // degrees alone when no half twist was counted.
 std::string TwistCell(const analysis::JumpRotation& rotation) {
   const fig::TwistDirection d = analysis::TwistDirectionOf(rotation);
-  if (d == fig::TwistDirection::kNone)
-    return Fixed(rotation.measured_twist_rad * kRadToDeg, 0);
+  if (d == fig::TwistDirection::kNone) return Fixed(rotation.measured_twist_rad * kRadToDeg, 0);
   return Fixed(std::abs(rotation.measured_twist_rad) * kRadToDeg, 0) + "\u00a0" +  // no break
          analysis::TwistDirectionName(d);
 }
@@ -129,7 +130,9 @@ std::string Html(const std::string& s) {
 namespace {
 
 // Root residuals in flight against their thresholds, and the angular momentum.
-void AddFlightFigures(const analysis::TrialAnalysis& a, const std::vector<double>& t, std::vector<ReportFigure>& out) {
+void AddFlightFigures(const analysis::TrialAnalysis& a,
+                      const std::vector<double>& t,
+                      std::vector<ReportFigure>& out) {
   const analysis::FrameDynamics& f = a.check.frames;
   const Eigen::VectorXd force = f.force_bw.colwise().norm().transpose();
   const Eigen::VectorXd moment = f.moment_bwh.colwise().norm().transpose();
@@ -169,12 +172,13 @@ void AddFlightFigures(const analysis::TrialAnalysis& a, const std::vector<double
                    "constant in each flight for a physically consistent capture.",
                    c});
   }
-
 }
 
 // The chosen joint: angle and torque over the whole trial.
-void AddJointFigures(const analysis::TrialAnalysis& a, const AnalysisReportOptions& options,
-                     const std::vector<double>& t, std::vector<ReportFigure>& out) {
+void AddJointFigures(const analysis::TrialAnalysis& a,
+                     const AnalysisReportOptions& options,
+                     const std::vector<double>& t,
+                     std::vector<ReportFigure>& out) {
   const analysis::Motion& m = a.reconstruction.motion;
   const analysis::FrameDynamics& f = a.check.frames;
   const auto it = std::find(m.coordinate_names.begin(), m.coordinate_names.end(), options.joint);
@@ -210,8 +214,10 @@ void AddJointFigures(const analysis::TrialAnalysis& a, const AnalysisReportOptio
 }
 
 // The silhouettes' IoU over the video, and each flight's somersault and twist.
-void AddVideoAndRotationFigures(const analysis::TrialAnalysis& a, const AnalysisReportOptions& options,
-                                const std::vector<double>& t, std::vector<ReportFigure>& out) {
+void AddVideoAndRotationFigures(const analysis::TrialAnalysis& a,
+                                const AnalysisReportOptions& options,
+                                const std::vector<double>& t,
+                                std::vector<ReportFigure>& out) {
   if (!options.silhouette_iou.empty()) {
     Chart c = TimeChart(a, "Silhouettes: video against reconstruction", "IoU");
     LineSeries s =
@@ -253,6 +259,71 @@ void AddVideoAndRotationFigures(const analysis::TrialAnalysis& a, const Analysis
 
 }  // namespace
 
+// The execution assistant's measurements per element (docs/scoring.md): each fault's worst value as
+// a multiple of its rule's first threshold (1 = where the first deduction begins; for the opening,
+// whose smaller values are worse, the threshold over the value), so that faults of degrees, metres
+// and seconds share one axis; the uncertainty band shows as the dashed line above 1.
+void AddExecutionFigure(const analysis::TrialAnalysis& a, std::vector<ReportFigure>& out) {
+  const fig::RoutineScore& s = a.score;
+  if (s.elements.empty()) return;
+  std::vector<std::string> faults;  // in the order first measured
+  for (const fig::ScoredElement& e : s.elements)
+    for (const fig::MeasuredFault& f : e.faults)
+      if (std::isfinite(f.threshold) && f.threshold > 0 &&
+          std::find(faults.begin(), faults.end(), f.fault) == faults.end())
+        faults.push_back(f.fault);
+  if (faults.empty()) return;
+  static const Rgb kColors[] = {kBlue,
+                                kOrange,
+                                kGreen,
+                                kRed,
+                                {0.58, 0.4, 0.74},
+                                {0.55, 0.34, 0.29},
+                                {0.89, 0.47, 0.76},
+                                kGrey,
+                                {0.74, 0.74, 0.13},
+                                {0.09, 0.75, 0.81}};
+  Chart c;
+  c.title = "Execution: each fault measured, per element";
+  c.x_label = "element";
+  c.y_label = "worst value / first threshold";
+  double top = 1.5;
+  for (size_t k = 0; k < faults.size(); ++k) {
+    LineSeries series;
+    series.markers = true;
+    series.line = false;
+    series.color = kColors[k % std::size(kColors)];
+    for (const fig::ScoredElement& e : s.elements)
+      for (const fig::MeasuredFault& f : e.faults) {
+        if (f.fault != faults[k] || !std::isfinite(f.threshold) || f.threshold <= 0) continue;
+        const double ratio = f.smaller_is_worse ? (f.value > 0 ? f.threshold / f.value : 10.0)
+                                                : f.value / f.threshold;
+        series.x.push_back(e.element + 0.06 * (double(k) - 0.5 * double(faults.size() - 1)));
+        series.y.push_back(std::clamp(ratio, -0.5, 10.0));
+        top = std::max(top, std::min(ratio, 10.0) + 0.2);
+        if (series.name.empty())
+          series.name = fmt::format("{} (1 = {:g} {})", f.fault, f.threshold, f.unit);
+      }
+    c.series.push_back(std::move(series));
+  }
+  ReferenceLine first;
+  first.y = 1.0;
+  first.label = "first deduction (0.1)";
+  first.color = kRed;
+  c.reference_lines.push_back(first);
+  c.x_range = ValueRange{0.5, double(s.elements.size()) + 0.5};
+  c.y_range = ValueRange{0.0, top};
+  c.height_px = 420;
+  out.push_back(
+      {"execution.png",
+       "The execution assistant's measurements: for every element, each fault's worst value "
+       "over the element as a multiple of the rule file's first threshold (1: where its first "
+       "deduction begins; the opening's time before landing inverted, smaller being worse). A "
+       "fault is reported only past 1 by more than the measurement's uncertainty; the values "
+       "are in the score sheet above and in score.json.",
+       c});
+}
+
 std::vector<ReportFigure> MakeAnalysisFigures(const analysis::TrialAnalysis& a,
                                               const AnalysisReportOptions& options) {
   const analysis::Motion& m = a.reconstruction.motion;
@@ -280,6 +351,7 @@ std::vector<ReportFigure> MakeAnalysisFigures(const analysis::TrialAnalysis& a,
   AddFlightFigures(a, t, out);
   AddJointFigures(a, options, t, out);
   AddVideoAndRotationFigures(a, options, t, out);
+  AddExecutionFigure(a, out);
   return out;
 }
 
@@ -330,11 +402,12 @@ void WriteCheckSection(const analysis::TrialAnalysis& a, std::ostringstream& h) 
     << Fixed(100 * co.max_gravity_error, 0) << " %, marker error ≤ "
     << Fixed(100 * co.max_marker_error_m, 1) << " cm. Frames within "
     << Fixed(1e3 * a.check.edge_margin_s, 0) << " ms of take-off and landing are not judged.</p>\n";
-
 }
 
 // The per-jump table, the shapes, what the columns mean, the contacts' loads.
-void WriteJumpsSection(const analysis::TrialAnalysis& a, const AnalysisReportOptions& options, std::ostringstream& h) {
+void WriteJumpsSection(const analysis::TrialAnalysis& a,
+                       const AnalysisReportOptions& options,
+                       std::ostringstream& h) {
   // Per-jump table.
   h << "<h2>Jumps</h2>\n<table><tr><th>#</th><th>take-off (s)</th><th>landing (s)</th><th>ToF "
        "(s)</th><th>apex (m)</th><th>HD (m)</th><th>from centre (m)</th><th>somersault "
@@ -381,7 +454,6 @@ void WriteJumpsSection(const analysis::TrialAnalysis& a, const AnalysisReportOpt
       h << " " << Fixed(c.peak_force_bw, 2) << " at " << Fixed(c.peak_s, 2) << " s;";
     h << "</p>\n";
   }
-
 }
 
 // The faults an element was measured with, each with its value, when, and what it suggests.
@@ -401,60 +473,73 @@ std::string FaultsCell(const fig::ScoredElement& e) {
 // when not counted), flight, landing zone with its margin, requirements; then D, T, H.
 void WriteScoreSection(const analysis::TrialAnalysis& a, std::ostringstream& h) {
   const fig::RoutineScore& s = a.score;
-  h << "<h2>Score sheet</h2>\n<p>Rules: <b>" << Html(s.rules_name) << "</b>. " << s.elements.size() << " of "
-    << s.expected_elements << " elements"
+  h << "<h2>Score sheet</h2>\n<p>Rules: <b>" << Html(s.rules_name) << "</b>. " << s.elements.size()
+    << " of " << s.expected_elements << " elements"
     << (s.interrupted ? "; <span class=\"fail\">interrupted: " + Html(s.interruption) +
                             "</span> (scored to its last element)"
                       : "")
     << ".</p>\n";
   if (s.elements.empty()) return;
-  h << "<table><tr><th>element</th><th>flight</th><th class=\"l\">code</th><th class=\"l\">skill</th><th>DD</th>"
+  h << "<table><tr><th>element</th><th>flight</th><th class=\"l\">code</th><th "
+       "class=\"l\">skill</th><th>DD</th>"
        "<th>ToF (s)</th><th class=\"l\">landing zone</th><th>margin (cm)</th><th>HD deduction</th>"
-       "<th class=\"l\">requirements</th><th class=\"l\">execution faults (measured, suggested)</th></tr>\n";
+       "<th class=\"l\">requirements</th><th class=\"l\">execution faults (measured, "
+       "suggested)</th></tr>\n";
   for (const fig::ScoredElement& e : s.elements) {
-    h << "<tr><td>" << e.element << "</td><td>" << e.flight << "</td><td class=\"l\"><b>" << Html(e.code)
-      << "</b></td><td class=\"l\">" << Html(e.name) << "</td><td" << (e.note.empty() ? "" : " title=\"" + Html(e.note) + "\"")
-      << ">" << (e.difficulty_counted ? Fixed(e.difficulty.total(), 1) : "<s>" + Fixed(e.difficulty.total(), 1) + "</s>")
+    h << "<tr><td>" << e.element << "</td><td>" << e.flight << "</td><td class=\"l\"><b>"
+      << Html(e.code) << "</b></td><td class=\"l\">" << Html(e.name) << "</td><td"
+      << (e.note.empty() ? "" : " title=\"" + Html(e.note) + "\"") << ">"
+      << (e.difficulty_counted ? Fixed(e.difficulty.total(), 1)
+                               : "<s>" + Fixed(e.difficulty.total(), 1) + "</s>")
       << "</td><td>" << Fixed(e.time_of_flight_s, 3) << "</td>";
     if (e.landing_zone) {
       const fig::HdLanding& z = *e.landing_zone;
-      h << "<td class=\"l\">" << Html(z.zone) << "</td><td" << (z.uncertain ? " class=\"fail\" title=\"within the "
-                                                                            "measurement's uncertainty: a close call\""
-                                                                          : "")
-        << ">" << (std::isfinite(z.margin_m) ? Fixed(100.0 * z.margin_m, 1) : "–") << (z.uncertain ? " ?" : "")
-        << "</td><td>" << Fixed(z.deduction, 1) << "</td>";
+      h << "<td class=\"l\">" << Html(z.zone) << "</td><td"
+        << (z.uncertain ? " class=\"fail\" title=\"within the "
+                          "measurement's uncertainty: a close call\""
+                        : "")
+        << ">" << (std::isfinite(z.margin_m) ? Fixed(100.0 * z.margin_m, 1) : "–")
+        << (z.uncertain ? " ?" : "") << "</td><td>" << Fixed(z.deduction, 1) << "</td>";
     } else {
       h << "<td class=\"l\">–</td><td>–</td><td>–</td>";
     }
     std::string reqs;
     for (const std::string& r : e.requirements) reqs += (reqs.empty() ? "" : "; ") + r;
-    h << "<td class=\"l\">" << Html(reqs) << "</td><td class=\"l\">" << Html(FaultsCell(e)) << "</td></tr>\n";
+    h << "<td class=\"l\">" << Html(reqs) << "</td><td class=\"l\">" << Html(FaultsCell(e))
+      << "</td></tr>\n";
   }
   h << "</table>\n<p><b>D " << Fixed(s.difficulty, 1) << "</b>"
-    << (s.difficulty_capped ? " (capped; " + Fixed(s.difficulty_uncapped, 1) + " performed)" : "") << " &nbsp; <b>T "
-    << Fixed(s.time_of_flight, 3) << "</b> (flights " << Fixed(s.time_of_flight_sum_s, 4)
-    << " s, truncated) &nbsp; <b>H "
-    << (s.horizontal_displacement ? Fixed(*s.horizontal_displacement, 2) : std::string("–")) << "</b>"
-    << (s.horizontal_displacement ? "" : " (no bed known: no landing zones)");
+    << (s.difficulty_capped ? " (capped; " + Fixed(s.difficulty_uncapped, 1) + " performed)" : "")
+    << " &nbsp; <b>T " << Fixed(s.time_of_flight, 3) << "</b> (flights "
+    << Fixed(s.time_of_flight_sum_s, 4) << " s, truncated) &nbsp; <b>H "
+    << (s.horizontal_displacement ? Fixed(*s.horizontal_displacement, 2) : std::string("–"))
+    << "</b>" << (s.horizontal_displacement ? "" : " (no bed known: no landing zones)");
   if (s.penalty > 0) h << " &nbsp; penalties −" << Fixed(s.penalty, 1);
-  h << " &nbsp; D + T + H" << (s.penalty > 0 ? " − penalties" : "") << " = <b>" << Fixed(s.total_without_execution, 3)
-    << "</b>; E is the judges'. The execution assistant suggests −" << Fixed(s.execution_deductions, 1) << " over "
-    << s.elements.size() << " elements (" << s.faults_reported
-    << " fault(s) past the rule file's thresholds by more than the measurement's uncertainty; every quantity "
+  h << " &nbsp; D + T + H" << (s.penalty > 0 ? " − penalties" : "") << " = <b>"
+    << Fixed(s.total_without_execution, 3)
+    << "</b>; E is the judges'. The execution assistant suggests −"
+    << Fixed(s.execution_deductions, 1) << " over " << s.elements.size() << " elements ("
+    << s.faults_reported
+    << " fault(s) past the rule file's thresholds by more than the measurement's uncertainty; "
+       "every quantity "
        "measured is in score.json).</p>\n";
   if (s.close_calls > 0)
     h << "<p class=\"fail\">" << s.close_calls
-      << " landing(s) within the measurement's uncertainty of a zone line (marked ?): the call could go either "
+      << " landing(s) within the measurement's uncertainty of a zone line (marked ?): the call "
+         "could go either "
          "way.</p>\n";
   for (const std::string& m : s.requirements_missing)
     h << "<p class=\"fail\">Requirement not performed: " << Html(m) << "</p>\n";
   for (const std::string& b : s.rule_breaks) h << "<p class=\"fail\">" << Html(b) << "</p>\n";
   h << "<p>Rules from: " << Html(s.rules_source) << ". Zones: " << Html(s.zones_source)
-    << ". Landing: any part of a foot (the model's soles), the hips for front and back landings.</p>\n";
+    << ". Landing: any part of a foot (the model's soles), the hips for front and back "
+       "landings.</p>\n";
 }
 
 // The filmstrips and the overlay video.
-void WriteMediaSections(const analysis::TrialAnalysis& a, const AnalysisReportOptions& options, std::ostringstream& h) {
+void WriteMediaSections(const analysis::TrialAnalysis& a,
+                        const AnalysisReportOptions& options,
+                        std::ostringstream& h) {
   // Filmstrips.
   if (!options.filmstrips.empty() || !options.filmstrip_note.empty()) {
     h << "<h2>Filmstrips</h2>\n";
@@ -484,12 +569,13 @@ void WriteMediaSections(const analysis::TrialAnalysis& a, const AnalysisReportOp
       << "</a>: the reconstructed athlete drawn through the camera's calibration over its "
          "video.</p>\n";
   }
-
 }
 
 // The plots (or why there are none), the reconstruction's summary, the warnings it does not show.
-void WritePlotsAndReconstruction(const analysis::TrialAnalysis& a, const std::vector<ReportFigure>& figures,
-                                 const AnalysisReportOutcome& outcome, std::ostringstream& h) {
+void WritePlotsAndReconstruction(const analysis::TrialAnalysis& a,
+                                 const std::vector<ReportFigure>& figures,
+                                 const AnalysisReportOutcome& outcome,
+                                 std::ostringstream& h) {
   const analysis::ReconstructionSummary& rs = a.reconstruction.summary;
   // Plots.
   h << "<h2>Plots</h2>\n";
@@ -545,7 +631,8 @@ std::string FormatAnalysisReportHtml(const analysis::TrialAnalysis& a,
   WriteJumpsSection(a, options, h);
   WriteMediaSections(a, options, h);
   WritePlotsAndReconstruction(a, figures, outcome, h);
-  h << "<p>Files: jumps.json, score.json, angles.mot (joint angles, degrees), torques.sto (joint torques, "
+  h << "<p>Files: jumps.json, score.json, angles.mot (joint angles, degrees), torques.sto (joint "
+       "torques, "
        "N·m), residuals.csv (root residuals, angular momentum and COM per frame).</p>\n"
     << internal::kHtmlPageEnd;
   return h.str();

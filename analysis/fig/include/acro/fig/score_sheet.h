@@ -5,6 +5,7 @@
 // routine's D, T (truncated as the Code says) and H, the special requirements met and missed, and
 // where the routine was interrupted. Works from measured flights, whatever measured them.
 
+#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
@@ -24,6 +25,10 @@ struct MeasuredFault {
   std::string unit;      ///< "deg", "m", "s"
   double value = 0;
   double uncertainty = 0;  ///< of this input's measurement of it
+  /// The rule's first threshold (where a deduction begins; NaN when the rule has no steps), and
+  /// whether smaller values are worse (the opening's time before landing).
+  double threshold = std::numeric_limits<double>::quiet_NaN();
+  bool smaller_is_worse = false;
   double time_s = 0;       ///< where it is worst (trial time)
   int frame = -1;
   /// Past the rules' first threshold by more than the uncertainty: a fault, whatever the noise.
