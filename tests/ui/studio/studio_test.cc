@@ -28,8 +28,8 @@
 #include <fstream>
 #include <functional>
 
-#include <Eigen/Geometry>
 #include <fmt/format.h>
+#include <Eigen/Geometry>
 
 #include "acro/athlete/standard_human.h"
 #include "acro/base/input_error.h"
@@ -217,6 +217,56 @@ TEST(Studio, TheSampleRoutineWithItsVideoAtOneCursor) {
   EXPECT_GE(w.cursor(), four.first_frame);
   EXPECT_LE(w.cursor(), four.last_frame);
   Shot("studio_verdict");
+
+  // The score sheet panel: the routine's five elements after its in-bounce with their codes and
+  // DD, D, T and H below; a click on element 4 puts the cursor at its take-off, a click on its
+  // faults where its most serious measurement is worst (docs/scoring.md).
+  {
+    const fig::RoutineScore& score = s.analysis().score;
+    QTableWidget* sheet = w.score_table();
+    ASSERT_EQ(sheet->rowCount(), 5);
+    ASSERT_EQ(score.elements.size(), 5u);
+    for (int r = 0; r < 5; ++r) {
+      EXPECT_EQ(sheet->item(r, 2)->text().toStdString(), score.elements[size_t(r)].code);
+      EXPECT_EQ(sheet->item(r, 5)->text(), "A");
+      EXPECT_NE(sheet->item(r, 8)->text().toStdString().find("none beyond the uncertainty"),
+                std::string::npos);
+    }
+    EXPECT_EQ(sheet->item(3, 2)->text(), "42/");
+    const std::string summary = w.score_summary();
+    EXPECT_NE(summary.find("<b>D 3.5</b>"), std::string::npos) << summary;
+    EXPECT_NE(summary.find(fmt::format("<b>T {:.3f}</b>", score.time_of_flight)), std::string::npos)
+        << summary;
+    EXPECT_NE(summary.find("interrupted"), std::string::npos) << summary;
+    auto* tabs = w.findChild<QTabWidget*>();
+    tabs->setCurrentIndex(2);
+    QCoreApplication::processEvents();
+    sheet->resizeColumnsToContents();
+    QTest::mouseClick(
+        sheet->viewport(), Qt::LeftButton, {}, sheet->visualItemRect(sheet->item(3, 0)).center());
+    const analysis::JumpMetrics& full = s.analysis().jumps.at(size_t(score.elements[3].flight - 1));
+    EXPECT_EQ(w.cursor(), full.flight.takeoff_frame);
+    sheet->scrollToItem(sheet->item(3, 8));
+    QTest::mouseClick(
+        sheet->viewport(), Qt::LeftButton, {}, sheet->visualItemRect(sheet->item(3, 8)).center());
+    int worst_frame = -1;
+    double worst = 0;
+    for (const fig::MeasuredFault& f : score.elements[3].faults)
+      if (std::isfinite(f.threshold) && f.threshold > 0 && f.frame >= 0) {
+        const double severity = f.smaller_is_worse ? f.threshold / f.value : f.value / f.threshold;
+        if (severity > worst) {
+          worst = severity;
+          worst_frame = f.frame;
+        }
+      }
+    ASSERT_GE(worst_frame, 0);
+    EXPECT_EQ(w.cursor(), worst_frame);
+    EXPECT_GE(w.cursor(), full.flight.takeoff_frame);
+    EXPECT_LE(w.cursor(), full.flight.landing_frame);
+    sheet->scrollToItem(sheet->item(3, 0));
+    Shot("studio_score_sheet");
+    EXPECT_FALSE(w.GoToElement(6, false));
+  }
   w.findChild<QTabWidget*>()->setCurrentIndex(0);
 
   // The plot follows the cursor; a click on it moves the cursor to the time under the pointer
@@ -665,7 +715,8 @@ TEST(Studio, DetectsTheAthleteInTheVideoAndDrawsTheKeypoints) {
   w.show();
   ASSERT_TRUE(QTest::qWaitForWindowExposed(&w));
   w.OpenFiles(files);
-  ASSERT_TRUE(WaitUntil([&] { return w.session() != nullptr && !w.busy(); }, 180000)) << w.last_error();
+  ASSERT_TRUE(WaitUntil([&] { return w.session() != nullptr && !w.busy(); }, 180000))
+      << w.last_error();
   ASSERT_TRUE(w.last_error().empty()) << w.last_error();
   Session& s = *w.session();
   constexpr int kFrame = 150;  // in the third jump's flight
@@ -679,7 +730,10 @@ TEST(Studio, DetectsTheAthleteInTheVideoAndDrawsTheKeypoints) {
   const std::string kept = models ? models : "";
   setenv("ACRO_MODELS", (dir / "no_models").c_str(), 1);
   EXPECT_FALSE(w.DetectPoses(0, "full"));
-  if (kept.empty()) unsetenv("ACRO_MODELS"); else setenv("ACRO_MODELS", kept.c_str(), 1);
+  if (kept.empty())
+    unsetenv("ACRO_MODELS");
+  else
+    setenv("ACRO_MODELS", kept.c_str(), 1);
   const std::string refused = w.last_error();
   EXPECT_NE(refused.find("install-models.sh"), std::string::npos) << refused;
   EXPECT_FALSE(w.busy());

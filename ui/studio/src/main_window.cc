@@ -42,8 +42,8 @@
 #include "acro/pipeline/detect.h"
 #include "acro/pose/keypoints.h"
 #include "acro/pose/pose_models.h"
-#include "acro/report/pose_sheet.h"
 #include "acro/report/analysis_report.h"
+#include "acro/report/pose_sheet.h"
 #include "acro/scene/place_scene.h"
 #include "acro/views/scene_overlay.h"
 #include "acro/views/trial_view.h"
@@ -98,9 +98,11 @@ MainWindow::MainWindow(QWidget* parent) : QMainWindow(parent) {
   BuildJumpTable();
   QWidget* plot_panel = BuildPlotPanel();
   QWidget* verdict_panel = BuildVerdictPanel();
+  QWidget* score_panel = BuildScorePanel();
   auto* tabs = new QTabWidget;
   tabs->addTab(jumps_, "Jumps");
   tabs->addTab(verdict_panel, "Verdict");
+  tabs->addTab(score_panel, "Score sheet");
   auto* tables = new QSplitter(Qt::Horizontal);
   tables->addWidget(tabs);
   tables->addWidget(plot_panel);
@@ -227,6 +229,174 @@ QWidget* MainWindow::BuildVerdictPanel() {
   return verdict_panel;
 }
 
+// The score sheet's columns; a click on the last two goes to the worst measurement.
+constexpr int kScoreFaultColumn = 8;
+
+QWidget* MainWindow::BuildScorePanel() {
+  score_ = new QTableWidget(0, 10);
+  score_->setHorizontalHeaderLabels({"element",
+                                     "flight",
+                                     "code",
+                                     "DD",
+                                     "time of flight (s)",
+                                     "landing zone",
+                                     "margin (cm)",
+                                     "HD",
+                                     "execution faults (measured: suggested)",
+                                     "worst at (s)"});
+  score_->setSelectionBehavior(QAbstractItemView::SelectRows);
+  score_->setEditTriggers(QAbstractItemView::NoEditTriggers);
+  score_->horizontalHeader()->setStretchLastSection(true);
+  score_->verticalHeader()->hide();
+  connect(score_, &QTableWidget::cellClicked, this, [this](int row, int column) {
+    GoToElement(row + 1, column >= kScoreFaultColumn);
+  });
+  score_summary_ = new QLabel;
+  score_summary_->setWordWrap(true);
+  score_summary_->setTextInteractionFlags(Qt::TextSelectableByMouse);
+  auto* panel = new QWidget;
+  auto* layout = new QVBoxLayout(panel);
+  layout->setContentsMargins(0, 0, 0, 0);
+  layout->addWidget(score_, 1);
+  layout->addWidget(score_summary_);
+  return panel;
+}
+
+namespace {
+
+// How serious a measurement is: its worst value over its rule's first threshold (the opening's
+// inverted, smaller being worse); 0 without a threshold.
+double Severity(const fig::MeasuredFault& f) {
+  if (!std::isfinite(f.threshold) || f.threshold <= 0 || !std::isfinite(f.value)) return 0.0;
+  return f.smaller_is_worse ? (f.value > 0 ? f.threshold / f.value : 1e9) : f.value / f.threshold;
+}
+
+// The element's most serious measurement: a reported fault first, then the nearest to its rule.
+const fig::MeasuredFault* WorstMeasurement(const fig::ScoredElement& e) {
+  const fig::MeasuredFault* worst = nullptr;
+  for (const fig::MeasuredFault& f : e.faults) {
+    if (f.frame < 0 || Severity(f) <= 0) continue;
+    if (worst == nullptr ||
+        std::make_pair(f.reported, Severity(f)) > std::make_pair(worst->reported, Severity(*worst)))
+      worst = &f;
+  }
+  return worst;
+}
+
+std::string Unit(const std::string& unit) {
+  return unit == "deg" ? "°" : " " + unit;
+}
+
+}  // namespace
+
+void MainWindow::FillScoreSheet() {
+  const fig::RoutineScore& s = session_->analysis().score;
+  score_->setRowCount(int(s.elements.size()));
+  for (size_t r = 0; r < s.elements.size(); ++r) {
+    const fig::ScoredElement& e = s.elements[r];
+    std::string faults;
+    for (const fig::MeasuredFault& f : e.faults)
+      if (f.reported)
+        faults += fmt::format("{}{} {:.3g}{}: −{:.1f}",
+                              faults.empty() ? "" : "; ",
+                              f.fault,
+                              f.value,
+                              Unit(f.unit),
+                              f.deduction);
+    const fig::MeasuredFault* worst = WorstMeasurement(e);
+    if (faults.empty())
+      faults = worst == nullptr
+                   ? "none measured"
+                   : fmt::format("none beyond the uncertainty (nearest: {} {:.3g}{} of {:g})",
+                                 worst->fault,
+                                 worst->value,
+                                 Unit(worst->unit),
+                                 worst->threshold);
+    std::vector<std::string> cells = {
+        std::to_string(e.element),
+        std::to_string(e.flight),
+        e.code,
+        e.difficulty_counted ? fmt::format("{:.1f}", e.difficulty.total())
+                             : fmt::format("({:.1f}) {}", e.difficulty.total(), e.note),
+        fmt::format("{:.3f}", e.time_of_flight_s),
+        e.landing_zone ? e.landing_zone->zone : "–",
+        e.landing_zone && std::isfinite(e.landing_zone->margin_m)
+            ? fmt::format(
+                  "{:.1f}{}", 100 * e.landing_zone->margin_m, e.landing_zone->uncertain ? " ?" : "")
+            : "–",
+        e.landing_zone ? fmt::format("{:.1f}", e.landing_zone->deduction) : "–",
+        faults,
+        worst != nullptr ? fmt::format("{:.2f}", worst->time_s) : "–"};
+    for (size_t c = 0; c < cells.size(); ++c) {
+      auto* item = new QTableWidgetItem(QString::fromStdString(cells[c]));
+      if (c == size_t(kScoreFaultColumn) && e.execution_deduction > 0)
+        item->setForeground(QColor(200, 40, 30));
+      if (c == 6 && e.landing_zone && e.landing_zone->uncertain)
+        item->setForeground(QColor(200, 40, 30));
+      score_->setItem(int(r), int(c), item);
+    }
+  }
+  score_->resizeColumnsToContents();
+  score_summary_->setText(QString::fromStdString(score_summary()));
+}
+
+std::string MainWindow::score_summary() const {
+  if (!session_) return "";
+  const fig::RoutineScore& s = session_->analysis().score;
+  std::string text = fmt::format(
+      "<b>{}</b>: {} of {} elements. <b>D {:.1f}</b>{} &nbsp; <b>T {:.3f}</b> (flights {:.4f} s) "
+      "&nbsp; <b>H {}</b> "
+      "&nbsp; D + T + H{} = <b>{:.3f}</b>; E is the judges' ",
+      s.rules_name,
+      s.elements.size(),
+      s.expected_elements,
+      s.difficulty,
+      s.difficulty_capped ? fmt::format(" (capped; {:.1f} performed)", s.difficulty_uncapped) : "",
+      s.time_of_flight,
+      s.time_of_flight_sum_s,
+      s.horizontal_displacement ? fmt::format("{:.2f}", *s.horizontal_displacement)
+                                : std::string("– (no bed)"),
+      s.penalty > 0 ? fmt::format(" − {:.1f}", s.penalty) : "",
+      s.total_without_execution);
+  text += s.faults_reported == 0
+              ? "(the assistant measured no fault beyond the measurement's uncertainty). "
+              : fmt::format("(the assistant suggests −{:.1f} from {} fault(s)). ",
+                            s.execution_deductions,
+                            s.faults_reported);
+  std::vector<std::string> why;
+  if (s.interrupted)
+    why.push_back("interrupted: " + s.interruption + " (scored to its last element)");
+  for (const std::string& m : s.requirements_missing)
+    why.push_back("requirement not performed: " + m);
+  for (const std::string& b : s.rule_breaks) why.push_back(b);
+  if (s.valid()) {
+    text += "<span style=\"color:#1e8c32\">Valid by these rules.</span>";
+  } else {
+    text += "<span style=\"color:#c8281e\">Not valid:</span> ";
+    for (size_t k = 0; k < why.size(); ++k) text += (k ? "; " : "") + why[k];
+    text += ".";
+  }
+  if (s.close_calls > 0)
+    text += fmt::format(" {} landing(s) within the uncertainty of a zone line (?).", s.close_calls);
+  return text;
+}
+
+bool MainWindow::GoToElement(int element, bool worst_fault) {
+  if (!session_) return false;
+  const fig::RoutineScore& s = session_->analysis().score;
+  if (element < 1 || element > int(s.elements.size())) return false;
+  const fig::ScoredElement& e = s.elements[size_t(element - 1)];
+  GoToJump(e.flight);
+  score_->selectRow(element - 1);
+  if (worst_fault) {
+    if (const fig::MeasuredFault* worst = WorstMeasurement(e)) {
+      SetPlaying(false);
+      SetCursor(std::clamp(worst->frame, 0, session_->num_samples() - 1));
+    }
+  }
+  return true;
+}
+
 void MainWindow::BuildStatusBar() {
   status_ = new QLabel;
   progress_ = new QProgressBar;
@@ -339,15 +509,21 @@ void MainWindow::AskDetectPoses() {
   if (session_->num_videos() > 1) {
     QStringList names;
     for (int v = 0; v < session_->num_videos(); ++v)
-      names << QString::fromStdString(std::filesystem::path(session_->files().videos[size_t(v)].video).filename().string());
-    const QString name = QInputDialog::getItem(this, "Detect the athlete", "In the video", names, 0, false, &ok);
+      names << QString::fromStdString(
+          std::filesystem::path(session_->files().videos[size_t(v)].video).filename().string());
+    const QString name =
+        QInputDialog::getItem(this, "Detect the athlete", "In the video", names, 0, false, &ok);
     if (!ok) return;
     k = int(names.indexOf(name));
   }
-  const QString model = QInputDialog::getItem(
-      this, "Detect the athlete",
-      "BlazePose model (heavy: the most accurate through somersaults; full: about four times faster)",
-      {"heavy", "full", "lite"}, 0, false, &ok);
+  const QString model = QInputDialog::getItem(this,
+                                              "Detect the athlete",
+                                              "BlazePose model (heavy: the most accurate through "
+                                              "somersaults; full: about four times faster)",
+                                              {"heavy", "full", "lite"},
+                                              0,
+                                              false,
+                                              &ok);
   if (ok) DetectPoses(k, model.toStdString());
 }
 
@@ -395,15 +571,19 @@ bool MainWindow::DetectPoses(int k, const std::string& model) {
           cancel_->hide();
           loaded_ = true;
           if (!error.empty() && cancel_load_) {
-            status_->setText("Detection cancelled: the frames done are kept; a second run goes on from there.");
+            status_->setText(
+                "Detection cancelled: the frames done are kept; a second run goes on from there.");
             return;
           }
           if (!error.empty()) return ShowError(error);
           if (session != session_ || size_t(k) >= panes_.size()) return;  // another session since
           VideoPane& pane = *panes_[size_t(k)];
           pane.poses = std::move(poses);
-          status_->setText(QString::fromStdString(fmt::format(
-              "{} of {} frames with the athlete's keypoints (kept in {})", found, pane.poses.size(), where)));
+          status_->setText(QString::fromStdString(
+              fmt::format("{} of {} frames with the athlete's keypoints (kept in {})",
+                          found,
+                          pane.poses.size(),
+                          where)));
           if (pane.frame_index >= 0) DrawVideo(k);
         },
         Qt::QueuedConnection);
@@ -660,6 +840,7 @@ void MainWindow::Adopt(std::shared_ptr<Session> session, const SessionView& view
       session_->num_samples(), session_->rate_hz(), std::move(jumps), std::move(events));
   FillJumpTable();
   FillVerdict();
+  FillScoreSheet();
   FillPlots();
   setWindowTitle(QString::fromStdString("Acrolab Studio — " + session_->files().trial));
   std::string note = fmt::format("{} samples at {:g} Hz, {} jumps",
@@ -912,8 +1093,8 @@ bool MainWindow::OpenCompareWithDesign(int a, const std::string& design_dir) {
     return false;
   }
   return ShowCompare(a, [&] {
-    auto design = std::make_shared<const analysis::SkillGhost>(analysis::ReadSkillGhost(
-        design_dir, analysis::MakeStandardHumanModel(session_->body())));
+    auto design = std::make_shared<const analysis::SkillGhost>(
+        analysis::ReadSkillGhost(design_dir, analysis::MakeStandardHumanModel(session_->body())));
     auto window = std::make_unique<CompareWindow>(session_, a, design, this);
     session_->scene().SetGhostDesign(*design, session_->body());
     return window;
@@ -1014,8 +1195,13 @@ void MainWindow::DrawVideo(int k) {
   }
   // The detector's keypoints over the model (Video → Detect the athlete).
   if (size_t(frame) < pane.poses.size() && pane.drawn.channels == 3)
-    ui::DrawSkeleton(pane.drawn.width, pane.drawn.height, pane.poses[size_t(frame)], pose::BlazePoseEdges(),
-                     pose::BlazePoseSides(), 0.2, &pane.drawn.pixels);
+    ui::DrawSkeleton(pane.drawn.width,
+                     pane.drawn.height,
+                     pane.poses[size_t(frame)],
+                     pose::BlazePoseEdges(),
+                     pose::BlazePoseSides(),
+                     0.2,
+                     &pane.drawn.pixels);
   pane.view->SetImage(ToImage(pane.drawn.pixels, pane.drawn.width, pane.drawn.height));
 }
 

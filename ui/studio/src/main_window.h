@@ -118,6 +118,17 @@ class MainWindow : public QMainWindow {
   /// The verdict panel: a row per judged flight (residuals, momentum, gravity, what failed); a
   /// click puts the cursor where its largest residual window starts and loops the judged frames.
   QTableWidget* verdict_table() { return verdict_; }
+  /// The score sheet panel (docs/scoring.md): a row per element of the routine (code, DD, time of
+  /// flight, landing zone and margin, HD, the execution faults reported with their measurement)
+  /// and the routine's D, T, H and validity below. A click on a row puts the cursor at the
+  /// element's take-off and loops it; a click on its faults, at the instant its worst measurement
+  /// is worst (GoToElement).
+  QTableWidget* score_table() { return score_; }
+  std::string score_summary() const;
+  /// Element `element` (1-based, as on the sheet): its take-off, or with `worst_fault` the frame
+  /// where its most serious measurement (a reported fault first, then the nearest to its rule's
+  /// threshold) is worst. False when there is no such element.
+  bool GoToElement(int element, bool worst_fault);
   /// Video `k`'s frame shown (−1: none), as decoded (before the overlay), and the 3D view's scene
   /// frame: what a test compares with the reader and the scene.
   int video_frame_index(int k = 0) const { return panes_.at(size_t(k))->frame_index; }
@@ -152,6 +163,7 @@ class MainWindow : public QMainWindow {
   void BuildJumpTable();
   QWidget* BuildPlotPanel();
   QWidget* BuildVerdictPanel();
+  QWidget* BuildScorePanel();
   void BuildStatusBar();
   void BuildTransport();
   // File → Add a video: the video, its calibration, the camera when it holds several.
@@ -182,6 +194,7 @@ class MainWindow : public QMainWindow {
   void FillJumpTable();
   void FillPlots();
   void FillVerdict();
+  void FillScoreSheet();
   void JoinLoader();
 
   std::shared_ptr<Session> session_;
@@ -209,6 +222,8 @@ class MainWindow : public QMainWindow {
   QTableWidget* jumps_ = nullptr;
   QTableWidget* verdict_ = nullptr;
   QLabel* findings_ = nullptr;
+  QTableWidget* score_ = nullptr;
+  QLabel* score_summary_ = nullptr;
   PlotView* plot_ = nullptr;
   QComboBox* plot_box_ = nullptr;
   QComboBox* joint_box_ = nullptr;
