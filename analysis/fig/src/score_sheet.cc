@@ -1,5 +1,7 @@
 #include "acro/fig/score_sheet.h"
 
+#include "acro/base/input_error.h"
+
 #include <algorithm>
 #include <cmath>
 #include <functional>
@@ -59,6 +61,23 @@ std::vector<int> MatchRequirements(const std::vector<ElementRequirement>& reqs,
 }
 
 }  // namespace
+
+std::vector<PerformedFlight> PlannedFlights(std::string_view codes) {
+  std::vector<PerformedFlight> out;
+  size_t k = 0;
+  while (k < codes.size()) {
+    const size_t start = codes.find_first_not_of(" ,\t\r\n", k);
+    if (start == std::string_view::npos) break;
+    const size_t end = std::min(codes.find_first_of(" ,\t\r\n", start), codes.size());
+    if (out.size() == 100) throw InputError("", "codes", "more than 100 skills");
+    PerformedFlight f;
+    f.skill = ParseFigCode(codes.substr(start, end - start));
+    out.push_back(std::move(f));
+    k = end;
+  }
+  if (out.empty()) throw InputError("", "codes", "no FIG code given");
+  return out;
+}
 
 double TruncateTimeOfFlight(double sum_s, double step) {
   if (!(step > 0.0) || !std::isfinite(sum_s)) return sum_s;

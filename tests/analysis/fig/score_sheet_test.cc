@@ -3,6 +3,8 @@
 // a league's cap — each checked on routines built here with the answer known.
 #include "acro/fig/score_sheet.h"
 
+#include "acro/base/input_error.h"
+
 #include <gtest/gtest.h>
 
 #include "refdata.h"
@@ -201,6 +203,39 @@ TEST(ScoreSheet, ExecutionDeductionsAreTheReportedFaultsUpToHalfAPoint) {
   EXPECT_DOUBLE_EQ(s.elements[1].execution_deduction, 0.5);
   EXPECT_EQ(s.faults_reported, 4);
   EXPECT_DOUBLE_EQ(s.execution_deductions, 0.7);
+}
+
+}  // namespace
+}  // namespace acro::fig
+
+namespace acro::fig {
+namespace {
+
+// A planned routine as codes: spaces, commas and newlines separate them; a bad code, none at all
+// or more than 100 are one line naming what is wrong.
+TEST(ScoreSheet, PlannedFlightsFromCodes) {
+  const std::vector<PerformedFlight> f = PlannedFlights(" 40o, 41/\n800o ");
+  ASSERT_EQ(f.size(), 3u);
+  EXPECT_EQ(FormatFigCode(f[1].skill), "41/");
+  EXPECT_EQ(f[1].skill.direction, SomersaultDirection::kForward);  // one half twist: forward
+  EXPECT_EQ(f[2].skill.direction, SomersaultDirection::kBackward);
+  const RoutineScore s = ScoreRoutine(RoutineRules::FigSenior(), f);
+  EXPECT_NEAR(s.difficulty, 0.5 + 0.6 + 1.1, 1e-9);
+  EXPECT_TRUE(s.interrupted);
+  for (const char* bad : {"", " , ", "40o 4x1/"}) {
+    try {
+      PlannedFlights(bad);
+      ADD_FAILURE() << "accepted '" << bad << "'";
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos);
+      if (std::string(bad).find("4x1/") != std::string::npos) {
+        EXPECT_NE(std::string(e.what()).find("4x1/"), std::string::npos) << e.what();
+      }
+    }
+  }
+  std::string many;
+  for (int k = 0; k < 101; ++k) many += "40o ";
+  EXPECT_THROW(PlannedFlights(many), InputError);
 }
 
 }  // namespace

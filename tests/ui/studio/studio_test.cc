@@ -40,6 +40,7 @@
 #include "image_view.h"
 #include "library_window.h"
 #include "plot_view.h"
+#include "routine_plan_window.h"
 #include "pose_model_cache.h"
 #include "refdata.h"
 #include "skill_window.h"
@@ -789,3 +790,47 @@ int main(int argc, char** argv) {
   QApplication app(argc, argv);
   return RUN_ALL_TESTS();
 }
+
+namespace acro::studio {
+namespace {
+
+// File → Plan a routine…: FIG codes checked against the rules as a panel counts them.
+TEST(Studio, RoutinePlannerSaysDAndWhatTheRoutineMisses) {
+  MainWindow w;
+  RoutinePlanWindow* plan = w.OpenRoutinePlanner();
+  ASSERT_NE(plan, nullptr);
+  ASSERT_TRUE(QTest::qWaitForWindowExposed(plan));
+  // Ten different elements of a senior routine: valid, D the sum of their DD.
+  const std::string ten = "822/ 813< 800< 821/ 44/ 43/ 803< 42/ 41< 40<";
+  ASSERT_TRUE(plan->SetCodes(ten));
+  EXPECT_EQ(plan->table()->rowCount(), 10);
+  double sum = 0;
+  for (const fig::ScoredElement& e : plan->score().elements) sum += e.difficulty.total();
+  EXPECT_NEAR(plan->score().difficulty, sum, 1e-9);
+  EXPECT_NE(plan->summary().find("<b>Valid</b>"), std::string::npos) << plan->summary();
+  EXPECT_NE(plan->summary().find(fmt::format("<b>D {:.1f}</b>", sum)), std::string::npos) << plan->summary();
+  Shot("studio_routine_plan");
+  // A repeated element: its DD struck and said; the routine still ten elements.
+  ASSERT_TRUE(plan->SetCodes("822/ 813< 800< 821/ 44/ 43/ 803< 42/ 41< 822/"));
+  EXPECT_TRUE(plan->table()->item(9, 4)->text().startsWith("no: "));
+  // An age group's first routine: its missing requirement named.
+  ASSERT_TRUE(plan->SetRules((acro::testing::SourceDir() / "rules/fig-wagc-13-16-first-routine.yaml").string()));
+  EXPECT_NE(plan->summary().find("requirement missing"), std::string::npos) << plan->summary();
+  EXPECT_NE(plan->summary().find("Not valid"), std::string::npos);
+  // Short: interrupted. A typo: said, with the code.
+  ASSERT_TRUE(plan->SetRules(""));
+  ASSERT_TRUE(plan->SetCodes("40o 41/"));
+  EXPECT_NE(plan->summary().find("ends after 2 of 10"), std::string::npos) << plan->summary();
+  EXPECT_FALSE(plan->SetCodes("40o 4x1/"));
+  EXPECT_NE(plan->summary().find("4x1/"), std::string::npos) << plan->summary();
+  EXPECT_EQ(plan->table()->rowCount(), 0);
+  // A bad rule file: the dialog, the rules in use stay.
+  const fs::path bad = acro::testing::ScratchDir("studio_rules") / "bad.yaml";
+  std::ofstream(bad) << "name: x\nsource: y\nroutine:\n  elements: 99\n";
+  EXPECT_FALSE(plan->SetRules(bad.string()));
+  EXPECT_NE(plan->last_error().find("bad.yaml"), std::string::npos) << plan->last_error();
+  CloseDialogs();
+}
+
+}  // namespace
+}  // namespace acro::studio

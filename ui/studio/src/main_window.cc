@@ -1,5 +1,7 @@
 #include "main_window.h"
 
+#include "routine_plan_window.h"
+
 #include "library_window.h"
 
 #include <QAction>
@@ -634,6 +636,7 @@ void MainWindow::BuildMenus() {
     if (!path.isEmpty()) SaveSessionFile(path.toStdString());
   });
   file->addAction("Open s&kill (designer)…", this, [this] { OpenSkillDesigner(); });
+  file->addAction("&Plan a routine…", this, [this] { OpenRoutinePlanner(); });
   file->addSeparator();
   file->addAction("&Compare two jumps…", this, [this] { AskCompare(); });
   QMenu* video_menu = menuBar()->addMenu("&Video");
@@ -977,6 +980,13 @@ void MainWindow::SetCursor(int sample) {
   if (!playing_) play_position_ = cursor_;
   timeline_->SetCursor(cursor_);
   Redraw();
+}
+
+RoutinePlanWindow* MainWindow::OpenRoutinePlanner() {
+  if (!planner_) planner_ = std::make_unique<RoutinePlanWindow>();
+  planner_->show();
+  planner_->raise();
+  return planner_.get();
 }
 
 SkillWindow* MainWindow::OpenSkillDesigner(const std::string& path) {

@@ -40,6 +40,7 @@ class TrialOverlay;
 namespace acro::studio {
 
 class CompareWindow;
+class RoutinePlanWindow;
 class SkillWindow;
 class LibraryDialog;
 class ImageView;
@@ -95,6 +96,8 @@ class MainWindow : public QMainWindow {
   CompareWindow* compare() { return compare_.get(); }
   /// The skill designer (File → Open skill…), opened on `path` when given.
   SkillWindow* OpenSkillDesigner(const std::string& path = "");
+  /// File → Plan a routine…: FIG codes checked against a rule file (D, validity, what is missing).
+  RoutinePlanWindow* OpenRoutinePlanner();
   /// File → Open from library…: the library's trials in a dialog (LibraryDialog); the one chosen
   /// opens with its athlete and video. An unreadable library is the dialog with its one line.
   /// `library` empty: the one of SetLibrary (default ~/.local/share/acrolab/library.sqlite).
@@ -202,6 +205,7 @@ class MainWindow : public QMainWindow {
   std::unique_ptr<CompareWindow> compare_;
   std::shared_ptr<Session> compare_other_;  // the other trial a ghost jump comes from
   std::unique_ptr<SkillWindow> designer_;
+  std::unique_ptr<RoutinePlanWindow> planner_;
   ImageView* view3d_ = nullptr;
   /// One video view: its camera's video with the athlete drawn over it.
   struct VideoPane {

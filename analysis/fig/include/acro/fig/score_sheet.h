@@ -8,6 +8,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "acro/fig/rules.h"
@@ -109,6 +110,11 @@ struct RoutineScore {
 /// element count, at a straight jump or a cut flight in between (interrupted), or at the trial's
 /// end (interrupted when short).
 RoutineScore ScoreRoutine(const RoutineRules& rules, const std::vector<PerformedFlight>& flights);
+
+/// A planned routine as the score sheet reads it: FIG codes separated by spaces or commas ("821o
+/// 42/ 812/"), each with its direction by the parity rule (ParseFigCode), feet to feet, no time of
+/// flight yet. Throws acro::InputError naming the code at fault (or none given, or more than 100).
+std::vector<PerformedFlight> PlannedFlights(std::string_view codes);
 
 /// T from the flights' sum: 1 s = 1 point, truncated to `step` (0.005 by the Code).
 double TruncateTimeOfFlight(double sum_s, double step);
