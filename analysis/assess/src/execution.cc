@@ -15,12 +15,24 @@ namespace acro::analysis {
 
 bool ExecutionOptions::IsValid(std::string* why) const {
   auto ok = [](double v, double hi) { return std::isfinite(v) && v >= 0 && v <= hi; };
-  if (!ok(angle_uncertainty_deg, 90) || !ok(position_uncertainty_m, 1) ||
-      !ok(time_uncertainty_s, 1) || !ok(takeoff_edge_s, 1) || !ok(landing_edge_s, 1)) {
+  if (!ok(angle_uncertainty_deg, 90) || !ok(elbow_uncertainty_deg, 90) ||
+      !ok(position_uncertainty_m, 1) || !ok(time_uncertainty_s, 1) || !ok(takeoff_edge_s, 1) ||
+      !ok(landing_edge_s, 1)) {
     if (why) *why = "execution: the uncertainties must be 0–90°, 0–1 m, 0–1 s and the edges 0–1 s";
     return false;
   }
   return true;
+}
+
+ExecutionOptions ExecutionOptions::WithNoise(double noise_rms_m) const {
+  ExecutionOptions o = *this;
+  if (!std::isfinite(noise_rms_m)) return o;
+  const double beyond_mm = std::max(0.0, 1000.0 * noise_rms_m - 2.0);
+  o.angle_uncertainty_deg += 0.4 * beyond_mm;
+  o.elbow_uncertainty_deg += 1.5 * beyond_mm;
+  o.position_uncertainty_m += 0.0015 * beyond_mm;
+  o.time_uncertainty_s += 0.001 * beyond_mm;
+  return o;
 }
 
 namespace {
@@ -106,7 +118,7 @@ std::vector<fig::MeasuredFault> MeasureExecution(const TrialAnalysis& a,
   }
   if (skill.shape != fig::SkillShape::kTuck) {  // a tuck's hands hold the shins: elbows bent
     const auto [v, f] = Worst(frames, both("elbow_flexion", -1.0));
-    add("arms_bent", "elbow flexion", v, ua, f);
+    add("arms_bent", "elbow flexion", v, options.elbow_uncertainty_deg, f);
   }
   // The arms away from a held position, in a straight somersault's middle half (a tuck's and a
   // pike's hands hold the legs; jumps swing the arms — the sample's in-bounce reaches 53°; the

@@ -90,11 +90,13 @@ Eigen::Vector3d At(const Eigen::Matrix3Xd& x, const Eigen::VectorXd& time_s, dou
 
 // What touches the bed at a landing at time t, in W: for the feet, the four corners of each sole
 // (toe and heel, each ± half the sole's width across the foot); for the front or back, the two hip
-// joint centres. The heel lies a quarter of the ankle-to-toe length behind the ankle and the sole is
-// 38 % of the foot's length wide (de Leva 1996's foot: heel 20 % of the foot's length behind the
+// joint centres. The heel lies a quarter of the ankle-to-toe length behind the ankle and the sole
+// is 38 % of the foot's length wide (de Leva 1996's foot: heel 20 % of the foot's length behind the
 // lateral malleolus; breadth/length of adult feet about 0.38). Interpolated between the frames
 // around t.
-std::vector<Eigen::Vector3d> LandingContactsW(const dynamics::Model<double>& model, const Motion& motion, double t,
+std::vector<Eigen::Vector3d> LandingContactsW(const dynamics::Model<double>& model,
+                                              const Motion& motion,
+                                              double t,
                                               fig::BodyPosition position) {
   std::vector<std::pair<int, Eigen::Vector3d>> local;  // segment, point in its frame
   if (position == fig::BodyPosition::kFeet) {
@@ -106,8 +108,10 @@ std::vector<Eigen::Vector3d> LandingContactsW(const dynamics::Model<double>& mod
       const double length = 1.25 * std::max(toe_F.x(), 0.0);
       const Eigen::Vector3d heel_F(toe_F.x() - length, toe_F.y(), toe_F.z());
       const Eigen::Vector3d half_width(0.0, 0.19 * length, 0.0);
-      for (const Eigen::Vector3d& c : {Eigen::Vector3d(toe_F + half_width), Eigen::Vector3d(toe_F - half_width),
-                                       Eigen::Vector3d(heel_F + half_width), Eigen::Vector3d(heel_F - half_width)})
+      for (const Eigen::Vector3d& c : {Eigen::Vector3d(toe_F + half_width),
+                                       Eigen::Vector3d(toe_F - half_width),
+                                       Eigen::Vector3d(heel_F + half_width),
+                                       Eigen::Vector3d(heel_F - half_width)})
         local.emplace_back(p.segment, c);
     }
   } else {
@@ -118,13 +122,19 @@ std::vector<Eigen::Vector3d> LandingContactsW(const dynamics::Model<double>& mod
     }
   }
   const int n = motion.num_frames();
-  int i = static_cast<int>(std::upper_bound(motion.time_s.data(), motion.time_s.data() + n, t) - motion.time_s.data()) - 1;
+  int i = static_cast<int>(std::upper_bound(motion.time_s.data(), motion.time_s.data() + n, t) -
+                           motion.time_s.data()) -
+          1;
   i = std::clamp(i, 0, std::max(0, n - 2));
   const int i1 = std::min(i + 1, n - 1);
-  const double u = i1 == i ? 0.0 : std::clamp((t - motion.time_s[i]) / (motion.time_s[i1] - motion.time_s[i]), 0.0, 1.0);
+  const double u =
+      i1 == i
+          ? 0.0
+          : std::clamp((t - motion.time_s[i]) / (motion.time_s[i1] - motion.time_s[i]), 0.0, 1.0);
   dynamics::Workspace<double> ws(model);
   std::vector<Eigen::Vector3d> out(local.size(), Eigen::Vector3d::Zero());
-  for (const auto& [frame, weight] : {std::pair<int, double>(i, 1.0 - u), std::pair<int, double>(i1, u)}) {
+  for (const auto& [frame, weight] :
+       {std::pair<int, double>(i, 1.0 - u), std::pair<int, double>(i1, u)}) {
     const Eigen::VectorXd q = motion.q.col(frame);
     dynamics::CalcForwardKinematics(model, ws, q);
     for (size_t k = 0; k < local.size(); ++k) {
@@ -187,7 +197,8 @@ bool TrialAnalysisOptions::IsValid(std::string* why) const {
   }
   if (!rules.IsValid(why)) return false;
   if (!execution.IsValid(why)) return false;
-  if (!(std::isfinite(landing_uncertainty_m) && landing_uncertainty_m >= 0 && landing_uncertainty_m <= 1)) {
+  if (!(std::isfinite(landing_uncertainty_m) && landing_uncertainty_m >= 0 &&
+        landing_uncertainty_m <= 1)) {
     if (why) *why = "landing_uncertainty_m must be between 0 and 1 m";
     return false;
   }
@@ -260,7 +271,9 @@ struct BodyPaths {
 
 // 2. Phases: force plates when the trial has them, else the soles against the bed when the bed
 // is known, else the whole-body COM.
-BodyPaths FindPhases(const capture::Trial& trial, const TrialAnalysisOptions& options, const Say& progress,
+BodyPaths FindPhases(const capture::Trial& trial,
+                     const TrialAnalysisOptions& options,
+                     const Say& progress,
                      TrialAnalysis* analysis) {
   TrialAnalysis& out = *analysis;
   const Motion& motion = out.reconstruction.motion;
@@ -304,8 +317,10 @@ BodyPaths FindPhases(const capture::Trial& trial, const TrialAnalysisOptions& op
 }
 
 // 3. The physical check, judged against the trial's noise, localised when it fails.
-void CheckTrialPhysics(const TrialAnalysisOptions& options, const Say& progress,
-                       const std::function<void()>& stop_if_cancelled, TrialAnalysis* analysis) {
+void CheckTrialPhysics(const TrialAnalysisOptions& options,
+                       const Say& progress,
+                       const std::function<void()>& stop_if_cancelled,
+                       TrialAnalysis* analysis) {
   TrialAnalysis& out = *analysis;
   const ReconstructionResult& rec = out.reconstruction;
   const Motion& motion = rec.motion;
@@ -370,7 +385,10 @@ PostureSeries MakePostureSeries(const Motion& motion) {
 
 // 4. One flight's metrics: feet at take-off and landing, displacement, landing in the bed,
 // rotation, FIG code and difficulty, the flight's check and verdict.
-JumpMetrics MeasureJump(const TrialAnalysis& out, size_t k, const BodyPaths& paths, const PostureSeries& posture,
+JumpMetrics MeasureJump(const TrialAnalysis& out,
+                        size_t k,
+                        const BodyPaths& paths,
+                        const PostureSeries& posture,
                         const TrialAnalysisOptions& options) {
   const Motion& motion = out.reconstruction.motion;
   const int n = motion.num_frames();
@@ -403,13 +421,14 @@ JumpMetrics MeasureJump(const TrialAnalysis& out, size_t k, const BodyPaths& pat
   // Rotation over the frames that enclose the flight.
   const int first = std::clamp(f.takeoff_frame - 1, 0, n - 2);
   const int last = std::clamp(f.landing_frame, first + 1, n - 1);
-  j.rotation = CountJumpRotation(posture.q_WB, first, last, posture.hip, posture.knee, options.rotation);
+  j.rotation =
+      CountJumpRotation(posture.q_WB, first, last, posture.hip, posture.knee, options.rotation);
   // What touched the bed, in the bed's axes, by the landing position the rotation found.
   if (out.bed && !f.partial) {
     const BedGeometry& bed = *out.bed;
     const Eigen::Vector3d across = Eigen::Vector3d::UnitZ().cross(bed.long_axis_W);
-    for (const Eigen::Vector3d& p :
-         LandingContactsW(out.reconstruction.model, motion, f.landing_s, j.rotation.landing_position)) {
+    for (const Eigen::Vector3d& p : LandingContactsW(
+             out.reconstruction.model, motion, f.landing_s, j.rotation.landing_position)) {
       const Eigen::Vector3d d = p - bed.centre_W;
       j.landing_contacts_in_bed_m.emplace_back(d.dot(bed.long_axis_W), d.dot(across));
     }
@@ -496,8 +515,13 @@ TrialAnalysis AnalyzeTrial(const capture::Trial& trial,
     }
     out.jumps.push_back(std::move(j));
   }
+  // The execution assistant's uncertainties for this trial's noise (markers keep theirs).
+  out.execution_options = options.execution.scale_with_noise
+                              ? options.execution.WithNoise(out.check.noise_rms_m)
+                              : options.execution;
   for (size_t k = 0; k < out.jumps.size(); ++k)
-    out.jumps[k].execution = MeasureExecution(out, k, options.rules.execution, options.execution);
+    out.jumps[k].execution =
+        MeasureExecution(out, k, options.rules.execution, out.execution_options);
   out.score = ScoreTrial(out, options.rules, options.landing_uncertainty_m);
   out.metrics_s = Seconds(start);
   progress(fmt::format("metrics: {} skills, DD {:.1f}, time of flight {:.3f} s",
@@ -528,13 +552,17 @@ std::string TrialAnalysis::BriefReport() const {
                    num_scored,
                    total_difficulty,
                    total_time_of_flight_s);
-  s << fmt::format("score ({}): D {:.1f}  T {:.3f}  H {}", score.rules_name, score.difficulty,
+  s << fmt::format("score ({}): D {:.1f}  T {:.3f}  H {}",
+                   score.rules_name,
+                   score.difficulty,
                    score.time_of_flight,
-                   score.horizontal_displacement ? fmt::format("{:.2f}", *score.horizontal_displacement)
-                                                 : std::string("- (no bed)"));
+                   score.horizontal_displacement
+                       ? fmt::format("{:.2f}", *score.horizontal_displacement)
+                       : std::string("- (no bed)"));
   if (score.interrupted) s << "  (" << score.interruption << ")";
   s << "\n";
-  for (const std::string& m : score.requirements_missing) s << "  requirement not performed: " << m << "\n";
+  for (const std::string& m : score.requirements_missing)
+    s << "  requirement not performed: " << m << "\n";
   for (const std::string& b : score.rule_breaks) s << "  " << b << "\n";
   s << "physical check: " << check.verdict << "\n";
   for (const Finding& f : check.findings) s << "  cause: " << f.text << "\n";

@@ -531,6 +531,24 @@ void WriteScoreSection(const analysis::TrialAnalysis& a, std::ostringstream& h) 
   for (const std::string& m : s.requirements_missing)
     h << "<p class=\"fail\">Requirement not performed: " << Html(m) << "</p>\n";
   for (const std::string& b : s.rule_breaks) h << "<p class=\"fail\">" << Html(b) << "</p>\n";
+  {
+    const analysis::ExecutionOptions& u = a.execution_options;
+    h << "<p>How sure the execution assistant is: a fault is reported only past its threshold by "
+         "more than "
+         "the measurement's uncertainty for this input — joint angles ±"
+      << Fixed(u.angle_uncertainty_deg, 1) << "°, elbows ±" << Fixed(u.elbow_uncertainty_deg, 1)
+      << "°, positions ±" << Fixed(100 * u.position_uncertainty_m, 1) << " cm, times ±"
+      << Fixed(u.time_uncertainty_s, 3) << " s"
+      << (a.check.noise_rms_m > 0
+              ? " (this trial's noise: about " + Fixed(1000 * a.check.noise_rms_m, 1) +
+                    " mm per coordinate" +
+                    (u.angle_uncertainty_deg > 5.0 + 1e-9
+                         ? ", beyond motion capture's: the uncertainties grown with it"
+                         : "") +
+                    ")"
+              : std::string())
+      << "; docs/scoring.md.</p>\n";
+  }
   h << "<p>Rules from: " << Html(s.rules_source) << ". Zones: " << Html(s.zones_source)
     << ". Landing: any part of a foot (the model's soles), the hips for front and back "
        "landings.</p>\n";

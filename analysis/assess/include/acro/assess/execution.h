@@ -21,8 +21,13 @@ struct TrialAnalysis;
 /// landing's outline already carries, times to two frames at 200 Hz.
 struct ExecutionOptions {
   double angle_uncertainty_deg = 5.0;
+  /// The elbows' (a forearm is short: its angle moves most with the markers' noise).
+  double elbow_uncertainty_deg = 5.0;
   double position_uncertainty_m = 0.03;
   double time_uncertainty_s = 0.01;
+  /// Each uncertainty grows with the trial's measured noise beyond motion capture's
+  /// (`WithNoise`); AnalyzeTrial applies it when true.
+  bool scale_with_noise = true;
   /// Frames this close to the take-off are not the element's (the bed's push still in the body),
   /// nor those this close to the landing (its preparation: knees and hips bend to meet the bed —
   /// the sample's athlete starts 0.33 s before touch-down, to 20° of knee and 29° of hip flexion).
@@ -30,6 +35,13 @@ struct ExecutionOptions {
   double takeoff_edge_s = 0.05;
   double landing_edge_s = 0.35;
   bool IsValid(std::string* why) const;
+  /// The uncertainties for a trial whose noise is `noise_rms_m` per coordinate (the physical
+  /// check's Winter estimate): each grows by its sensitivity times the noise beyond 2 mm (motion
+  /// capture's, which the defaults already carry) — per mm, 0.4° for joint angles, 1.5° for the
+  /// elbows, 1.5 mm for positions, 1 ms for times. The sensitivities are the largest changes seen
+  /// when the sample routine's markers were given 5–30 mm of white noise (three draws each,
+  /// tests/analysis/assess/execution_noise_test.cc; docs/scoring.md, "Noise").
+  ExecutionOptions WithNoise(double noise_rms_m) const;
 };
 
 /// The measurements of flight `jump` (0-based index into analysis.jumps); empty for a partial

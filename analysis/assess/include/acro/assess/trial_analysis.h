@@ -133,6 +133,8 @@ struct TrialAnalysis {
   PhaseSegmentation phases;
   PhysicalCheck check;
   PhysicalCheckOptions check_options;  ///< the thresholds the check used
+  /// The uncertainties the execution assistant used (its options grown with this trial's noise).
+  ExecutionOptions execution_options;
   std::optional<BedGeometry> bed;
   /// With no bed and no surface height given: the surface estimated from the soles and the COM
   /// (EstimateContactSurface), from which the phases then come.
