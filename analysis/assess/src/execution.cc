@@ -111,8 +111,9 @@ std::vector<fig::MeasuredFault> MeasureExecution(const TrialAnalysis& a,
   };
   const double ua = options.angle_uncertainty_deg;
 
-  // Legs and arms: bent knees (not a tuck's), bent elbows, arms lifted sideways.
-  if (skill.shape != fig::SkillShape::kTuck) {
+  // Legs and arms: bent knees (not a tuck's — unless the tuck is a close call with a pike, whose
+  // bent knees a judge would see), bent elbows, arms lifted sideways.
+  if (skill.shape != fig::SkillShape::kTuck || j.rotation.shape_alternative == "pike") {
     const auto [v, f] = Worst(frames, both("knee_flexion", 1.0));
     add("knees_bent", "knee flexion", v, ua, f);
   }

@@ -19,7 +19,8 @@ constexpr double kDeg = kPi / 180.0;
 fig::BodyPosition ClassifyPosition(const Eigen::Quaterniond& q_WB, double max_lean_deg) {
   const Eigen::Matrix3d R = q_WB.toRotationMatrix();
   const double lean = std::acos(std::clamp(R(2, 2), -1.0, 1.0));
-  if (lean < max_lean_deg * kDeg || lean > kPi - max_lean_deg * kDeg) return fig::BodyPosition::kFeet;
+  if (lean < max_lean_deg * kDeg || lean > kPi - max_lean_deg * kDeg)
+    return fig::BodyPosition::kFeet;
   return R(2, 0) < 0 ? fig::BodyPosition::kFront
                      : fig::BodyPosition::kBack;  // body x (front) pointing down: prone
 }
@@ -64,6 +65,8 @@ bool JumpRotationOptions::IsValid(std::string* why) const {
     return fail("bed_rotation_quarters must be in [0, 2)");
   if (!(closed_angle_deg > 0 && closed_angle_deg < 180))
     return fail("closed_angle_deg must be in (0, 180)");
+  if (!(shape_uncertainty_deg >= 0 && shape_uncertainty_deg <= 45))
+    return fail("shape_uncertainty_deg must be in [0, 45]");
   if (!(min_shape_hold_fraction > 0 && min_shape_hold_fraction <= 1))
     return fail("min_shape_hold_fraction must be in (0, 1]");
   if (!(shape_median_frames >= 1 && shape_median_frames % 2 == 1 && shape_median_frames <= 99))
@@ -179,6 +182,17 @@ void ClassifyShape(const Eigen::VectorXd& hip_flexion_rad,
                       "° (medians) held over " + std::to_string(held_percent) +
                       " % of the flight (FIG: " + (tuck ? "both" : "the hips") + " at or below " +
                       std::to_string(limit) + "°" + (tuck ? "" : ", the knees above") + ")";
+  // A close call: the knees' (tuck or pike) or the hips' (closed or straight) median within the
+  // uncertainty of the line.
+  const double u = options.shape_uncertainty_deg;
+  if (has_knee && std::abs(out->shape_knee_angle_deg - options.closed_angle_deg) < u)
+    out->shape_alternative = tuck ? "pike" : "tuck";
+  else if (std::abs(out->shape_hip_angle_deg - options.closed_angle_deg) < u)
+    out->shape_alternative = "straight";
+  if (!out->shape_alternative.empty())
+    out->shape_reason +=
+        "; a close call (within " + std::to_string(static_cast<int>(std::lround(u))) + "° of " +
+        std::to_string(limit) + "°): it could be read as a " + out->shape_alternative;
 }
 
 }  // namespace
@@ -206,8 +220,8 @@ JumpRotation CountJumpRotation(const std::vector<Eigen::Quaterniond>& q_WB,
   // Nominal quarters: congruent to the change of position, nearest to the in-air rotation plus what
   // happens on the bed (in the direction of rotation).
   const double measured_quarters = out.measured_somersault_rad / (kPi / 2);
-  const bool both_upright =
-      out.takeoff_position == fig::BodyPosition::kFeet && out.landing_position == fig::BodyPosition::kFeet;
+  const bool both_upright = out.takeoff_position == fig::BodyPosition::kFeet &&
+                            out.landing_position == fig::BodyPosition::kFeet;
   const double bed = (both_upright ? 1.0 : 0.5) * options.bed_rotation_quarters;
   const double direction_sign = measured_quarters >= 0 ? 1.0 : -1.0;
   const int residue =

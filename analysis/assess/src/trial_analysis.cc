@@ -657,6 +657,8 @@ std::string FormatJumpsJson(const TrialAnalysis& a) {
     o["knee_flexion_at_max_hip_deg"] = j.rotation.knee_flexion_at_max_hip_deg;
     o["shape_hold_fraction"] = j.rotation.shape_hold_fraction;
     o["shape_reason"] = j.rotation.shape_reason;
+    o["shape_alternative"] =
+        j.rotation.shape_alternative.empty() ? Json(nullptr) : Json(j.rotation.shape_alternative);
     o["verdict"] = j.verdict;
     o["silhouette_iou"] = j.silhouette_iou ? Json(*j.silhouette_iou) : Json(nullptr);
     // Its line on the score sheet, when it is one of the routine's elements.

@@ -146,7 +146,12 @@ TEST(ExecutionFaults, LargeFaultsAndAnOpenTuck) {
       {Fault(3, Kind::kLegsApart, AbductionForSpread(0.40)), "legs_apart", 0.40, 0.03},
       {Fault(5, Kind::kTuckAngle, 110), "tuck_open", 110, 5},
   };
-  ExpectFoundWhereTheyAre(Analyse(expected), expected);
+  const Analysed a = Analyse(expected);
+  ExpectFoundWhereTheyAre(a, expected);
+  // The pike with its knees at 45° lies on the FIG's line between pike and tuck: said.
+  EXPECT_EQ(a.analysis.jumps[2].rotation.shape_alternative, "tuck")
+      << a.analysis.jumps[2].rotation.shape_reason;
+  EXPECT_TRUE(a.analysis.jumps[1].rotation.shape_alternative.empty());
 }
 
 // A landing 30 cm outside zone A (the full, element 4, moved along the bed): zone B, 0.1, its

@@ -104,9 +104,9 @@ TEST(JumpRotation, RecoversTheNominalSkillFromTheFlight) {
       EXPECT_EQ(r.takeoff_position, fig::BodyPosition::kFeet);
       EXPECT_EQ(r.landing_position, fig::BodyPosition::kFeet);
       if (c.signed_quarters != 0) {
-        EXPECT_EQ(
-            r.skill.direction,
-            c.signed_quarters > 0 ? fig::SomersaultDirection::kForward : fig::SomersaultDirection::kBackward);
+        EXPECT_EQ(r.skill.direction,
+                  c.signed_quarters > 0 ? fig::SomersaultDirection::kForward
+                                        : fig::SomersaultDirection::kBackward);
         // In the air: one quarter short of the nominal (the synthetic bed's share), to the accuracy
         // of the fitted somersault plane.
         EXPECT_NEAR(std::abs(r.measured_somersault_rad),
@@ -297,6 +297,16 @@ TEST(JumpRotation, ShapeIsTheFigBodyPositionHeld) {
   EXPECT_EQ(tuck.shape_reason,
             "tuck: trunk–thigh 70°, thigh–shank 60° (medians) held over 67 % of the flight (FIG: "
             "both at or below 135°)");
+  EXPECT_TRUE(tuck.shape_alternative.empty());
+  // Close calls: the knees within 5° of 135° (a tuck or a pike), the hips (closed or straight).
+  EXPECT_EQ(count(70, 47, 20, 100).shape_alternative, "pike");  // a tuck at 133°
+  EXPECT_EQ(count(70, 43, 20, 100).shape_alternative, "tuck");  // a pike at 137°
+  EXPECT_EQ(count(47, 10, 20, 100).shape_alternative, "straight");
+  EXPECT_TRUE(count(70, 10, 20, 100).shape_alternative.empty());
+  EXPECT_TRUE(count(70, 55, 20, 100).shape_alternative.empty());  // 125°: a clear tuck
+  EXPECT_NE(count(70, 47, 20, 100)
+                .shape_reason.find("a close call (within 5° of 135°): it could be read as a pike"),
+            std::string::npos);
 }
 
 }  // namespace

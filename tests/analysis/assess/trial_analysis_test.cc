@@ -482,6 +482,7 @@ TEST(TrialAnalysis, JumpsJsonHoldsEveryJumpsValues) {
                                          "knee_flexion_at_max_hip_deg",
                                          "shape_hold_fraction",
                                          "shape_reason",
+                                         "shape_alternative",
                                          "verdict",
                                          "silhouette_iou",
                                          "score"};

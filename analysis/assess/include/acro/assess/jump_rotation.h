@@ -30,7 +30,6 @@ struct RotationAngles {
 RotationAngles CalcRotationAngles(const std::vector<Eigen::Quaterniond>& q_WB,
                                   const Eigen::Vector3d& lateral_W);
 
-
 struct JumpRotationOptions {
   /// A body whose long axis leans less than this from vertical is upright (feet or seat).
   double upright_max_lean_deg = 55.0;
@@ -50,6 +49,9 @@ struct JumpRotationOptions {
   /// The hip and knee angles are median-filtered over this many frames first (odd; 1: none), so
   /// that keypoint noise and one frame of left/right swap do not break or fake a hold.
   int shape_median_frames = 5;
+  /// A held median this close to the 135° line makes the shape a close call (the measurement's
+  /// angle uncertainty for motion capture: docs/scoring.md): said, with the other reading.
+  double shape_uncertainty_deg = 5.0;
 
   bool IsValid(std::string* why) const;
 };
@@ -74,6 +76,10 @@ struct JumpRotation {
   /// The same in words: "tuck: trunk–thigh 62°, thigh–shank 55° (medians) held over 48 % of the
   /// flight (FIG: both at or below 135°)".
   std::string shape_reason;
+  /// The other reading of a close call ("pike" for a tuck whose knees' median lies within the
+  /// uncertainty of 135°, "tuck" for such a pike, "straight" for a tuck or pike whose hips' does);
+  /// empty when the shape is clear.
+  std::string shape_alternative;
 };
 
 /// Counts the rotation of a flight between `takeoff_frame` and `landing_frame` (inclusive). The
@@ -91,7 +97,6 @@ JumpRotation CountJumpRotation(const std::vector<Eigen::Quaterniond>& q_WB,
                                const Eigen::VectorXd& hip_flexion_rad,
                                const Eigen::VectorXd& knee_flexion_rad,
                                const JumpRotationOptions& options = {});
-
 
 fig::TwistDirection TwistDirectionOf(const JumpRotation& rotation);
 /// The same for a flight of `half_twists` counted half twists that twisted `twist_rad` (signed,
