@@ -152,9 +152,10 @@ int TerminatedAfter(double after_s,
   // The clock starts once acrolab has its interrupt handling in place (SIGTERM blocked for the
   // thread that waits for it): before that the dynamic loader is still mapping ~290 libraries
   // (0.5 s here, over 1 s under ASan on a loaded machine), and a signal then is the default death
-  // with nothing written (acro/base/interrupts.h). A timer from fork() made the test depend on load.
-  // (From::kFork tests that case: the same status, and nothing left behind.)
-  for (int waited_ms = 0; from == From::kHandler && waited_ms < 60000 && !TermBlocked(pid); waited_ms += 5)
+  // with nothing written (acro/base/interrupts.h). A timer from fork() made the test depend on
+  // load. (From::kFork tests that case: the same status, and nothing left behind.)
+  for (int waited_ms = 0; from == From::kHandler && waited_ms < 60000 && !TermBlocked(pid);
+       waited_ms += 5)
     std::this_thread::sleep_for(std::chrono::milliseconds(5));
   std::this_thread::sleep_for(std::chrono::duration<double>(after_s));
   kill(pid, SIGTERM);
@@ -260,7 +261,8 @@ TEST_F(Robustness, EveryNestedFormatDeepIsOneLine) {
     WriteText(dir_ / file, text);
     inputs.push_back(file);
     Expect({file.c_str(), 1, "nested deeper than 64 levels"},
-           "project " + trial + " --calib " + file + " --csv out.csv", inputs);
+           "project " + trial + " --calib " + file + " --csv out.csv",
+           inputs);
   }
   // OpenPose JSON detections.
   fs::create_directories(dir_ / "detections");
@@ -272,7 +274,8 @@ TEST_F(Robustness, EveryNestedFormatDeepIsOneLine) {
          inputs);
   // A link loop among them: the folder's fault, one line (was a filesystem exception, exit 3).
   fs::remove(dir_ / "detections/side_000000000000_keypoints.json");
-  fs::create_symlink("loop_000000000001_keypoints.json", dir_ / "detections/loop_000000000001_keypoints.json");
+  fs::create_symlink("loop_000000000001_keypoints.json",
+                     dir_ / "detections/loop_000000000001_keypoints.json");
   Expect({"link loop", 1, "loop_000000000001_keypoints.json: cannot be read"},
          "overlay --detections detections --video " + Quote(routine / "side_camera.mp4") +
              " -o out.mp4",
@@ -287,11 +290,14 @@ TEST_F(Robustness, TimesAndOffsetsAreFiniteAndInsideTheMedia) {
   const std::string video = Quote(routine / "side_camera.mp4");
   const std::string calib = Quote(routine / "side_camera.toml");
   Expect({"--time nan", 2, "--time: 'nan' is not a finite number"},
-         "video frame " + video + " --time nan -o a.png", {});
+         "video frame " + video + " --time nan -o a.png",
+         {});
   Expect({"--time 1e6", 2, "--time 1000000 s is outside the video's 0 … 9.967 s"},
-         "video frame " + video + " --time 1e6 -o a.png", {});
+         "video frame " + video + " --time 1e6 -o a.png",
+         {});
   Expect({"--offset-s inf", 2, "--offset-s: 'inf' is not a finite number"},
-         "project " + trial + " --calib " + calib + " --video " + video + " --offset-s inf --csv a.csv",
+         "project " + trial + " --calib " + calib + " --video " + video +
+             " --offset-s inf --csv a.csv",
          {});
   Expect({"--offset-s 1e300", 1, "outside the video's 0 … 9.967 s"},
          "project " + trial + " --calib " + calib + " --video " + video +
@@ -302,10 +308,12 @@ TEST_F(Robustness, TimesAndOffsetsAreFiniteAndInsideTheMedia) {
              " --event 1e300:0 --frames 0:5 -o a.mp4",
          {});
   Expect({"--height nan", 2, "--height: 'nan' is not a finite number"},
-         "body --height nan --mass 60 --sex f", {});
+         "body --height nan --mass 60 --sex f",
+         {});
   // An output extension that cannot be written: refused before any work.
   Expect({"-o x.avi", 2, ".avi cannot be written"},
-         "overlay " + trial + " --calib " + calib + " --video " + video + " -o x.avi", {});
+         "overlay " + trial + " --calib " + calib + " --video " + video + " -o x.avi",
+         {});
 }
 
 // One image-size policy for every command that puts the calibrated camera on a video: a scaled
@@ -321,9 +329,9 @@ TEST_F(Robustness, VideosOfAnotherSizeThanTheCalibration) {
   auto make = [&](const std::string& file, const std::string& size) {
     std::string scale = size;
     scale.replace(scale.find('x'), 1, ":");
-    const std::string line = "ffmpeg -v error -y -f lavfi -i color=c=gray:s=16x16:r=30,scale=" +
-                             scale + " -t 1 -pix_fmt gray -c:v ffv1 " + Quote(dir_ / file) +
-                             " 2>&1";
+    const std::string line =
+        "ffmpeg -v error -y -f lavfi -i color=c=gray:s=16x16:r=30,scale=" + scale +
+        " -t 1 -pix_fmt gray -c:v ffv1 " + Quote(dir_ / file) + " 2>&1";
     return std::system(line.c_str()) == 0;
   };
   if (!make("scaled.mkv", "320x180")) GTEST_SKIP() << "the ffmpeg command is not installed";
@@ -335,7 +343,8 @@ TEST_F(Robustness, VideosOfAnotherSizeThanTheCalibration) {
     inputs.push_back(file);
   }
   const std::vector<std::pair<std::string, std::string>> commands = {
-      {"overlay", "overlay " + trial + " --calib " + calib + " --video {V} --offset-s 0 -o out.mp4"},
+      {"overlay",
+       "overlay " + trial + " --calib " + calib + " --video {V} --offset-s 0 -o out.mp4"},
       {"project", "project " + trial + " --calib " + calib + " --video {V} -o out.mp4"},
       {"sync", "sync " + trial + " --calib " + calib + " --video {V}"},
       {"analyze", "analyze " + trial + " --calib " + calib + " --video {V} --offset-s 0 -o out"},
@@ -344,14 +353,14 @@ TEST_F(Robustness, VideosOfAnotherSizeThanTheCalibration) {
     for (const auto& [file, size] : refused) {
       std::string line = command;
       line.replace(line.find("{V}"), 3, file);
-      Expect({(name + " " + size).c_str(), 1, "neither that size nor a scaled copy of it"}, line,
+      Expect({(name + " " + size).c_str(), 1, "neither that size nor a scaled copy of it"},
+             line,
              inputs);
     }
   }
   // The scaled copy: the camera scaled and said (project's CSV is quick to check).
-  const Outcome run = Acrolab("project " + trial + " --calib " + calib +
-                                  " --video scaled.mkv --csv points.csv",
-                              dir_);
+  const Outcome run = Acrolab(
+      "project " + trial + " --calib " + calib + " --video scaled.mkv --csv points.csv", dir_);
   EXPECT_EQ(run.status, 0) << run.err;
   EXPECT_NE(run.err.find("the camera is scaled by 0.1667 to it"), std::string::npos) << run.err;
 }
@@ -384,7 +393,9 @@ TEST_F(Robustness, ALockedLibraryIsSaidAtOnce) {
       << run.err;
   EXPECT_GT(run.seconds, 1.9);
   EXPECT_LT(run.seconds, 8.0);
-  std::printf("locked library: exit %d in %.2f s: %s\n", run.status, run.seconds,
+  std::printf("locked library: exit %d in %.2f s: %s\n",
+              run.status,
+              run.seconds,
               LastLine(run.err).c_str());
 }
 
@@ -488,25 +499,30 @@ TEST_F(Robustness, TrialsWithNothingToUse) {
   auto with_coordinates = [](const std::string& row, const std::string& value) {
     std::istringstream cells(row);
     std::string out, cell;
-    for (int k = 0; std::getline(cells, cell, '\t'); ++k) out += (k ? "\t" : "") + (k < 2 ? cell : value);
+    for (int k = 0; std::getline(cells, cell, '\t'); ++k)
+      out += (k ? "\t" : "") + (k < 2 ? cell : value);
     return out;
   };
   write("one.trc", {rows[0]});
   Expect({"one frame", 1, "one.trc: holds 1 frame; the analysis needs at least 2"},
-         "analyze one.trc -o out", {"jump.trc", "one.trc"});
+         "analyze one.trc -o out",
+         {"jump.trc", "one.trc"});
   std::vector<std::string> nan_rows;
   for (const std::string& r : rows) nan_rows.push_back(with_coordinates(r, "NaN"));
   write("nan.trc", nan_rows);
   Expect({"all NaN", 1, "none of its 16 markers has a position in any of its 444 frames"},
-         "analyze nan.trc -o out", {"jump.trc", "one.trc", "nan.trc"});
+         "analyze nan.trc -o out",
+         {"jump.trc", "one.trc", "nan.trc"});
   // The first frame's pose held for the whole trial: no flight.
   std::vector<std::string> still;
   for (const std::string& r : rows) {
     const size_t time_end = r.find('\t', r.find('\t') + 1);
-    still.push_back(r.substr(0, time_end) + rows[0].substr(rows[0].find('\t', rows[0].find('\t') + 1)));
+    still.push_back(r.substr(0, time_end) +
+                    rows[0].substr(rows[0].find('\t', rows[0].find('\t') + 1)));
   }
   write("still.trc", still);
-  Expect({"never leaves the floor", 1, "no flight in its 444 frames"}, "analyze still.trc -o out",
+  Expect({"never leaves the floor", 1, "no flight in its 444 frames"},
+         "analyze still.trc -o out",
          {"jump.trc", "one.trc", "nan.trc", "still.trc"});
   Expect({"never leaves the floor (library)", 1, "no flight in its 444 frames"},
          "library add --library lib.sqlite --athlete " +
@@ -514,13 +530,16 @@ TEST_F(Robustness, TrialsWithNothingToUse) {
          {"jump.trc", "one.trc", "nan.trc", "still.trc"});
   // A header naming 100,000 markers over 400 rows of one marker: refused before the 1 GB grid.
   {
-    std::string big = lines[0] + "\n" + lines[1] + "\n200\t200\t400\t100000\tmm\t200\t1\t400\nFrame#\tTime";
+    std::string big =
+        lines[0] + "\n" + lines[1] + "\n200\t200\t400\t100000\tmm\t200\t1\t400\nFrame#\tTime";
     for (int m = 0; m < 100000; ++m) big += "\tM" + std::to_string(m) + "\t\t";
     big += "\n";
-    for (int f = 0; f < 400; ++f) big += std::to_string(f + 1) + "\t" + std::to_string(f * 0.005) + "\t1\t2\t3\n";
+    for (int f = 0; f < 400; ++f)
+      big += std::to_string(f + 1) + "\t" + std::to_string(f * 0.005) + "\t1\t2\t3\n";
     WriteText(dir_ / "names.trc", big);
     Expect({"100000 names over 400 rows", 1, "names 100000 markers over 400 rows"},
-           "info names.trc", {"jump.trc", "one.trc", "nan.trc", "still.trc", "names.trc"});
+           "info names.trc",
+           {"jump.trc", "one.trc", "nan.trc", "still.trc", "names.trc"});
   }
   // Infinite and absurd coordinates: gaps, said.
   std::vector<std::string> inf_rows = rows;
@@ -564,7 +583,8 @@ TEST_F(Robustness, C3dPointScaleOfZero) {
   std::fill(bytes.begin() + 12, bytes.begin() + 16, 0);  // the header's copy (words 7–8)
   save("both.c3d");
   Expect({"POINT:SCALE 0 twice", 1, "POINT:SCALE: is 0 (and so is the header's)"},
-         "info both.c3d", {"zero.c3d", "both.c3d"});
+         "info both.c3d",
+         {"zero.c3d", "both.c3d"});
 }
 
 // Control bytes in a file reach the message escaped, never raw (an escape sequence would act on
@@ -816,7 +836,12 @@ TEST_F(Robustness, SigtermStopsABatchWithItsJobs) {
     std::printf("SIGTERM to the batch after %.1f s: exit %d\n", after_s, status);
     EXPECT_EQ(status, 143) << err;
     EXPECT_NE(LastLine(err).find("acrolab: interrupted (SIGTERM)"), std::string::npos) << err;
-    EXPECT_TRUE(fs::is_empty(dir_ / "tmp")) << "after " << after_s << " s";
+    EXPECT_TRUE(fs::is_empty(dir_ / "tmp")) << "after " << after_s << " s: " << [this] {
+      std::string left;
+      for (const fs::directory_entry& e : fs::recursive_directory_iterator(dir_ / "tmp"))
+        left += " " + e.path().lexically_relative(dir_ / "tmp").string();
+      return left;
+    }();
     // No summary: the jobs the signal stopped are not failures.
     const std::string summary = ReadText(dir_ / "stdout.txt");
     EXPECT_EQ(summary.find("failed"), std::string::npos) << summary;
@@ -848,8 +873,18 @@ TEST_F(Robustness, SigtermAtAnyInstantEndsABatchCleanly) {
   for (const double after_s : {0.0, 0.01, 0.05, 0.2, 0.5, 0.8}) {
     fs::remove(dir_ / "lib.sqlite");
     const int status = TerminatedAfter(
-        after_s, dir_,
-        {"batch", "season", "-j", "2", "--athlete", athlete, "--session", "2026-09-01", "--library", "lib.sqlite"},
+        after_s,
+        dir_,
+        {"batch",
+         "season",
+         "-j",
+         "2",
+         "--athlete",
+         athlete,
+         "--session",
+         "2026-09-01",
+         "--library",
+         "lib.sqlite"},
         [this] {
           setenv("TMPDIR", (dir_ / "tmp").c_str(), 1);
           const int err = open("stderr.txt", O_WRONLY | O_CREAT | O_TRUNC, 0644);
@@ -858,13 +893,20 @@ TEST_F(Robustness, SigtermAtAnyInstantEndsABatchCleanly) {
         },
         From::kFork);
     const std::string err = ReadText(dir_ / "stderr.txt");
-    std::printf("SIGTERM %.2f s after the start: exit %d, %s\n", after_s, status,
+    std::printf("SIGTERM %.2f s after the start: exit %d, %s\n",
+                after_s,
+                status,
                 err.empty() ? "before the handler (nothing said)" : "said so");
     EXPECT_EQ(status, 143) << err;
     if (!err.empty()) {
       EXPECT_NE(LastLine(err).find("acrolab: interrupted (SIGTERM)"), std::string::npos) << err;
     }
-    EXPECT_TRUE(fs::is_empty(dir_ / "tmp")) << "after " << after_s << " s";
+    EXPECT_TRUE(fs::is_empty(dir_ / "tmp")) << "after " << after_s << " s: " << [this] {
+      std::string left;
+      for (const fs::directory_entry& e : fs::recursive_directory_iterator(dir_ / "tmp"))
+        left += " " + e.path().lexically_relative(dir_ / "tmp").string();
+      return left;
+    }();
     EXPECT_EQ(ReadText(dir_ / "stdout.txt").find("failed"), std::string::npos);
   }
 }
