@@ -77,9 +77,16 @@ void RunProcesses(const std::vector<std::vector<std::string>>& commands,
       finished(index, failed);
       return;
     }
+    // The job's stderr file, made and registered in one step: an interrupt never finds it made
+    // and not yet registered (which left it behind: seen once under load).
     std::string pattern = (tmp / "acrolab-job-XXXXXX").string();
-    const int fd = mkstemp(pattern.data());
+    std::unique_ptr<ScopedTemporary> registered;
+    const int fd = ScopedTemporary::CreateFile(pattern, &registered);
     if (fd < 0) {
+      if (errno == ECANCELED) {  // the program is being interrupted: no new job
+        stopping = true;
+        return;
+      }
       failed.last_error_line =
           std::string("cannot create a file in ") + tmp.string() + ": " + std::strerror(errno);
       finished(index, failed);
@@ -88,7 +95,7 @@ void RunProcesses(const std::vector<std::vector<std::string>>& commands,
     Running r;
     r.index = index;
     r.stderr_file = pattern;
-    r.stderr_registered = std::make_unique<ScopedTemporary>(r.stderr_file);
+    r.stderr_registered = std::move(registered);
     posix_spawn_file_actions_t actions;
     posix_spawn_file_actions_init(&actions);
     posix_spawn_file_actions_addopen(&actions, 0, "/dev/null", O_RDONLY, 0);

@@ -6,6 +6,7 @@
 #include <cerrno>
 #include <chrono>
 #include <csignal>
+#include <cstdlib>
 #include <map>
 #include <mutex>
 #include <set>
@@ -33,6 +34,12 @@ std::multimap<pid_t, ChildRole>& Children() {
 
 // Set by StopRegisteredChildren: no child is started after it. Atomic: read without the lock by
 // ChildrenBeingStopped (from an X error handler that must not wait for it).
+// Set by RemoveRegisteredTemporaries, under the registry's lock: the program is stopping.
+bool& TemporariesRemoved() {
+  static bool removed = false;
+  return removed;
+}
+
 std::atomic<bool>& ChildrenStopping() {
   static std::atomic<bool> stopping{false};
   return stopping;
@@ -43,6 +50,24 @@ std::atomic<bool>& ChildrenStopping() {
 ScopedTemporary::ScopedTemporary(std::filesystem::path path) : path_(std::move(path)) {
   const std::lock_guard<std::mutex> lock(RegistryMutex());
   Registry().insert(path_);
+}
+
+// With the registry's lock held by the caller.
+ScopedTemporary::ScopedTemporary(std::filesystem::path path, Locked) : path_(std::move(path)) {
+  Registry().insert(path_);
+}
+
+int ScopedTemporary::CreateFile(std::string& pattern,
+                                std::unique_ptr<ScopedTemporary>* registered) {
+  const std::lock_guard<std::mutex> lock(RegistryMutex());
+  if (TemporariesRemoved()) {
+    errno = ECANCELED;
+    return -1;
+  }
+  const int fd = mkstemp(pattern.data());
+  if (fd < 0) return -1;
+  registered->reset(new ScopedTemporary(pattern, Locked{}));
+  return fd;
 }
 
 ScopedTemporary::~ScopedTemporary() {
@@ -60,6 +85,7 @@ int RemoveRegisteredTemporaries() noexcept {
       if (std::filesystem::remove_all(p, ec) > 0 && !ec) ++removed;
     }
     Registry().clear();
+    TemporariesRemoved() = true;  // nothing made after this (CreateFile refuses)
   } catch (...) {
     // Nothing to report to: the program is stopping.
   }
@@ -79,7 +105,9 @@ void RunUninterrupted(const std::function<void()>& work) {
   ++Committed();  // a finished output moved into place, whole
 }
 
-int CommittedOutputs() noexcept { return Committed().load(); }
+int CommittedOutputs() noexcept {
+  return Committed().load();
+}
 
 std::unique_ptr<ScopedChildProcess> ScopedChildProcess::Start(const std::function<pid_t()>& spawn,
                                                               ChildRole role) {

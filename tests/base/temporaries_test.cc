@@ -12,7 +12,9 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <cerrno>
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <thread>
@@ -105,6 +107,33 @@ TEST(Temporaries, StoppingWaitsForTheJobsCleanUpKillsTheStuckAndLeavesTheHelpers
   EXPECT_EQ(StopRegisteredChildren(ChildRole::kHelper, 1500), 1);
   ASSERT_EQ(waitpid(helper->pid(), &status, 0), helper->pid());
   EXPECT_TRUE(WIFSIGNALED(status) && WTERMSIG(status) == SIGTERM);
+  fs::remove_all(dir);
+}
+
+// A file made for a job is registered in the same step (the interrupt handler cannot find it made
+// and unregistered: a batch stopped by SIGTERM under load once left its job's stderr file), and
+// once the handler has removed the temporaries nothing new is made. Run in a fresh process (the
+// handler's removal is for good).
+TEST(Temporaries, AFileIsMadeAndRegisteredInOneStepAndNothingAfterTheRemoval) {
+  GTEST_FLAG_SET(death_test_style, "threadsafe");
+  const fs::path dir = acro::testing::ScratchDir("temporaries_create");
+  EXPECT_EXIT(
+      {
+        std::string pattern = (dir / "job-XXXXXX").string();
+        std::unique_ptr<ScopedTemporary> registered;
+        const int fd = ScopedTemporary::CreateFile(pattern, &registered);
+        bool ok = fd >= 0 && registered != nullptr && fs::exists(pattern) &&
+                  pattern.find("XXXXXX") == std::string::npos;
+        if (fd >= 0) close(fd);
+        ok = ok && RemoveRegisteredTemporaries() == 1 && !fs::exists(pattern);
+        std::string again = (dir / "job-XXXXXX").string();
+        std::unique_ptr<ScopedTemporary> none;
+        ok = ok && ScopedTemporary::CreateFile(again, &none) == -1 && errno == ECANCELED &&
+             none == nullptr && fs::is_empty(dir);
+        std::exit(ok ? 0 : 1);
+      },
+      ::testing::ExitedWithCode(0),
+      "");
   fs::remove_all(dir);
 }
 

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <functional>
 #include <memory>
+#include <string>
 
 #include <sys/types.h>
 
@@ -22,7 +23,16 @@ class ScopedTemporary {
   ScopedTemporary(const ScopedTemporary&) = delete;
   ScopedTemporary& operator=(const ScopedTemporary&) = delete;
 
+  /// Creates a file from `pattern` (mkstemp's: it ends in XXXXXX and becomes the file's name) and
+  /// registers it in one step the interrupt handler cannot come between, so that no file it made
+  /// is ever left unregistered. Returns the open descriptor and sets `*registered`; -1 with errno
+  /// set when the file cannot be made — ECANCELED once the handler has removed the temporaries
+  /// (the program is stopping: nothing new is made).
+  static int CreateFile(std::string& pattern, std::unique_ptr<ScopedTemporary>* registered);
+
  private:
+  struct Locked {};
+  ScopedTemporary(std::filesystem::path path, Locked);
   std::filesystem::path path_;
 };
 
