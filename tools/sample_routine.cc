@@ -58,14 +58,12 @@ class Poses {
   int n_;
 };
 
-// The septic smoothstep of the posture track (acro/design/posture_track.h), and the fraction u
-// of a transition where it reaches s (bisection: S is monotonic on [0, 1]).
-double Smoothstep(double u) {
-  return u * u * u * u * (35 - 84 * u + 70 * u * u - 20 * u * u * u);
-}
-double SmoothstepInverse(double s) {
+// The fraction u of a posture track's transition where its blend (analysis::PostureBlend) reaches
+// s (bisection: the blend is monotonic on [0, 1]).
+double PostureBlendInverse(double s) {
   double lo = 0, hi = 1;
-  for (int i = 0; i < 60; ++i) (Smoothstep(0.5 * (lo + hi)) < s ? lo : hi) = 0.5 * (lo + hi);
+  for (int i = 0; i < 60; ++i)
+    (analysis::PostureBlend(0.5 * (lo + hi)) < s ? lo : hi) = 0.5 * (lo + hi);
   return 0.5 * (lo + hi);
 }
 
@@ -118,8 +116,8 @@ void ApplyFaults(const Poses& P,
         ACRO_DEMAND(c > 0);
         const VectorXd hold = keys[c].second, land = keys[last].second;
         const double d = 0.2;
-        const double u = SmoothstepInverse((hip_flexion(hold) - 45 * kDeg) /
-                                           (hip_flexion(hold) - hip_flexion(land)));
+        const double u = PostureBlendInverse((hip_flexion(hold) - 45 * kDeg) /
+                                             (hip_flexion(hold) - hip_flexion(land)));
         const double t_hold = plan.flight_s - fault.value - u * d;
         ACRO_DEMAND(t_hold > keys[c - 1].first);
         keys.resize(c);

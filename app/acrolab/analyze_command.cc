@@ -50,7 +50,8 @@ struct AnalyzeArguments {
 
 // The plotted joint must exist before any work is done (and before any file is written).
 void CheckJoint(const analysis::AthleteBody& body, const std::string& joint) {
-  const std::vector<std::string> names = analysis::MakeCoordinateNames(analysis::MakeStandardHumanModel(body));
+  const std::vector<std::string> names =
+      analysis::MakeCoordinateNames(analysis::MakeStandardHumanModel(body));
   if (std::find(names.begin() + dynamics::kRootNq, names.end(), joint) == names.end())
     throw UsageError{"--joint: '" + joint +
                      "' is not a joint angle (e.g. r_hip_flexion, l_knee_flexion, lumbar_flexion; "
@@ -58,19 +59,24 @@ void CheckJoint(const analysis::AthleteBody& body, const std::string& joint) {
 }
 
 // The video's share: the sync and the silhouettes (the pipeline), then the overlay (the views).
-void AnalyzeVideo(pipeline::VideoInput& video, const pipeline::TrialInput& input,
-                  analysis::TrialAnalysis* result, const std::filesystem::path& dir,
-                  ui::AnalysisReportOptions* report, bool quiet) {
+void AnalyzeVideo(pipeline::VideoInput& video,
+                  const pipeline::TrialInput& input,
+                  analysis::TrialAnalysis* result,
+                  const std::filesystem::path& dir,
+                  ui::AnalysisReportOptions* report,
+                  bool quiet) {
   auto say = [quiet](const std::string& line) {
     if (!quiet) std::fprintf(stderr, "%s\n", line.c_str());
   };
-  const pipeline::VideoCheck check = pipeline::AttachVideo(video, input, result, MakeStepProgress(quiet));
+  const pipeline::VideoCheck check =
+      pipeline::AttachVideo(video, input, result, MakeStepProgress(quiet));
   for (const std::string& line : check.sync.lines) say(line);
   for (size_t k = 0; k < check.silhouettes.iou.size(); ++k) {
     report->silhouette_time_s.push_back(check.silhouettes.samples[k] / input.trial.point_rate_hz);
     report->silhouette_iou.push_back(check.silhouettes.iou[k]);
   }
-  say(fmt::format("silhouettes: median IoU {:.3f} over {} flight frames", check.silhouettes.median_iou,
+  say(fmt::format("silhouettes: median IoU {:.3f} over {} flight frames",
+                  check.silhouettes.median_iou,
                   check.silhouettes.iou.size()));
 #ifdef ACRO_HAVE_VIEWS
   std::optional<ui::XDisplay> display;
@@ -82,8 +88,11 @@ void AnalyzeVideo(pipeline::VideoInput& video, const pipeline::TrialInput& input
   }
   // The overlay with the lighter mesh (drawn at video rate), the mismatch from the shared
   // background, on the one reader.
-  analysis::TrialScene light(input.trial, *result, input.athlete.body,
-                             analysis::MakeEllipsoidBodyMesh(input.athlete.body, analysis::OverlayBodyMeshOptions()));
+  analysis::TrialScene light(
+      input.trial,
+      *result,
+      input.athlete.body,
+      analysis::MakeEllipsoidBodyMesh(input.athlete.body, analysis::OverlayBodyMeshOptions()));
   ui::SceneOverlayOptions overlay;
   overlay.show = analysis::ParseSceneShow("mesh,skeleton,com,mismatch");
   overlay.background = &video.Background();
@@ -98,16 +107,21 @@ void AnalyzeVideo(pipeline::VideoInput& video, const pipeline::TrialInput& input
 
 // A filmstrip per complete jump, when the 3D views can render here (they are extras: without a
 // display or Xvfb the report says why and goes on).
-void AnalyzeFilmstrips(const pipeline::TrialInput& input, const analysis::TrialAnalysis& result,
-                       const std::filesystem::path& dir, bool videos, ui::AnalysisReportOptions* report) {
+void AnalyzeFilmstrips(const pipeline::TrialInput& input,
+                       const analysis::TrialAnalysis& result,
+                       const std::filesystem::path& dir,
+                       bool videos,
+                       ui::AnalysisReportOptions* report) {
 #ifdef ACRO_HAVE_VIEWS
   try {
     const ui::XDisplay display;
-    analysis::AthleteScene athlete(input.athlete.body,
-                                   analysis::MakeEllipsoidBodyMesh(input.athlete.body, analysis::OverlayBodyMeshOptions()),
-                                   result.reconstruction.motion, result.reconstruction.model);
-    const ui::JumpFilmstrips strips =
-        ui::WriteJumpFilmstrips(athlete, result, dir, videos, MakeCancellableProgress("filmstrip", "frames"));
+    analysis::AthleteScene athlete(
+        input.athlete.body,
+        analysis::MakeEllipsoidBodyMesh(input.athlete.body, analysis::OverlayBodyMeshOptions()),
+        result.reconstruction.motion,
+        result.reconstruction.model);
+    const ui::JumpFilmstrips strips = ui::WriteJumpFilmstrips(
+        athlete, result, dir, videos, MakeCancellableProgress("filmstrip", "frames"));
     report->filmstrips = strips.pictures;
     report->filmstrip_videos = strips.videos;
   } catch (const InputError& e) {
@@ -131,15 +145,19 @@ int RunAnalyze(AnalyzeArguments& args) {
   CheckJoint(input.athlete.body, args.report.joint);
   // The video and its camera before the work: a mistyped name costs nothing.
   std::optional<pipeline::VideoInput> video;
-  if (!args.video.video.empty() || !args.video.calibration.empty()) video.emplace(OpenVideoFor(args.video));
+  if (!args.video.video.empty() || !args.video.calibration.empty())
+    video.emplace(OpenVideoFor(args.video));
 
   // The analysis, with one progress line per step and the IK's frames.
   if (!common.quiet) {
-    args.options.progress = [](const std::string& line) { std::fprintf(stderr, "%s\n", line.c_str()); };
+    args.options.progress = [](const std::string& line) {
+      std::fprintf(stderr, "%s\n", line.c_str());
+    };
     args.options.reconstruction.progress = MakeFrameProgress();
   }
   analysis::TrialAnalysis result = pipeline::Analyze(input, args.options);
-  for (const std::string& w : result.warnings) std::fprintf(stderr, "acrolab analyze: warning: %s\n", w.c_str());
+  for (const std::string& w : result.warnings)
+    std::fprintf(stderr, "acrolab analyze: warning: %s\n", w.c_str());
   pipeline::DemandAFlight(input, result);  // nothing written for a trial with no jump
 
   // Outputs, written into a staging directory and moved into place when all are complete.
@@ -156,12 +174,15 @@ int RunAnalyze(AnalyzeArguments& args) {
   report.render_images = args.images;
   if (!common.quiet) std::fprintf(stderr, "report: rendering plots\n");
   const ui::AnalysisReportOutcome outcome = ui::WriteAnalysisReport(result, dir, report);
-  if (!outcome.images_rendered && !common.quiet) std::fprintf(stderr, "report: no plots: %s\n", outcome.reason.c_str());
+  if (!outcome.images_rendered && !common.quiet)
+    std::fprintf(stderr, "report: no plots: %s\n", outcome.reason.c_str());
   outputs.Commit();
   std::fputs(result.BriefReport().c_str(), stdout);
   std::printf("report: %s\n", (outputs.dir() / "report.html").string().c_str());
-  std::printf("wrote %s/{report.html,jumps.json,score.json,angles.mot,torques.sto,residuals.csv,analysis.json}\n",
-              common.out_dir.c_str());
+  std::printf(
+      "wrote "
+      "%s/{report.html,jumps.json,score.json,angles.mot,torques.sto,residuals.csv,analysis.json}\n",
+      common.out_dir.c_str());
   return 0;
 }
 
@@ -194,9 +215,12 @@ void AddAnalyzeCommand(CLI::App& app, CommandRunner* run) {
       "height of the take-off surface (m) when the trial has no BED markers: "
       "1.155 for a FIG trampoline over a floor at z = 0; the phases then come "
       "from the soles (default: the bed or floor estimated from the motion, docs/metrics.md)");
-  command->add_option("--rules", args->rules,
-                      "the routine rules the score sheet follows (rules/*.yaml: FIG senior, age groups, a "
-                      "league; default the FIG senior routine; docs/scoring.md)")
+  command
+      ->add_option(
+          "--rules",
+          args->rules,
+          "the routine rules the score sheet follows (rules/*.yaml: FIG senior, age groups, a "
+          "league; default the FIG senior routine; docs/scoring.md)")
       ->check(CLI::ExistingFile);
   command->add_flag_callback(
       "--no-force-plates",

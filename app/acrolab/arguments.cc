@@ -144,12 +144,14 @@ pipeline::TrialRequest TrialArguments::Request() const {
   return r;
 }
 
-pipeline::TrialInput OpenTrialFor(const std::string& command, const pipeline::TrialRequest& request,
+pipeline::TrialInput OpenTrialFor(const std::string& command,
+                                  const pipeline::TrialRequest& request,
                                   bool uses_athlete) {
   pipeline::TrialInput input = pipeline::OpenTrial(request);
   std::vector<std::string> lines = input.warnings;
   if (uses_athlete && !input.athlete.warning.empty()) lines.push_back(input.athlete.warning);
-  for (const std::string& w : lines) std::fprintf(stderr, "acrolab %s: warning: %s\n", command.c_str(), w.c_str());
+  for (const std::string& w : lines)
+    std::fprintf(stderr, "acrolab %s: warning: %s\n", command.c_str(), w.c_str());
   return input;
 }
 
@@ -160,14 +162,16 @@ pipeline::VideoRequest VideoArguments::Request() const {
     throw UsageError{"--sync takes 'auto' (or give --offset-s or --event)"};
   if (!sync.empty() && !event.empty())
     throw UsageError{"--sync auto and --event both set the sync: give one"};
-  const vision::VideoSync given = ParseVideoSync(offset_s, event, rate);  // a malformed --event or --rate, now
+  const vision::VideoSync given =
+      ParseVideoSync(offset_s, event, rate);  // a malformed --event or --rate, now
   pipeline::VideoRequest r;
   r.video = video;
   r.calibration = calibration;
   r.camera = camera;
   r.sync.rate = rate;
   r.sync.offset_s = given.offset_s;
-  r.sync.kind = sync == "auto" ? pipeline::SyncRequest::Kind::kAuto : pipeline::SyncRequest::Kind::kOffset;
+  r.sync.kind =
+      sync == "auto" ? pipeline::SyncRequest::Kind::kAuto : pipeline::SyncRequest::Kind::kOffset;
   return r;
 }
 

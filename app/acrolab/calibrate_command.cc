@@ -150,8 +150,9 @@ void AddCalibrateCommand(CLI::App& app, CommandRunner* run) {
       ->required();
   intrinsics->add_option("-o,--output", in->out, "the camera, Pose2Sim TOML")->required();
   intrinsics->add_option("--name", in->name, "the camera's name in the file (default cam)");
-  intrinsics->add_option(
-      "--video-step-s", in->options.video_step_s, "videos: one frame every this many seconds")
+  intrinsics
+      ->add_option(
+          "--video-step-s", in->options.video_step_s, "videos: one frame every this many seconds")
       ->check(CLI::Range(0.001, 3600.0));
   intrinsics->add_option("--reject-factor",
                          in->options.reject_factor,

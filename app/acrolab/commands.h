@@ -59,7 +59,10 @@ int NeedTheViews();
 
 /// An option given an empty value ("--frames ''") is refused by name, never read as "not given".
 inline const CLI::Validator kNotEmpty(
-    [](std::string& value) { return value.empty() ? std::string("an empty value") : std::string(); }, "NOT EMPTY");
+    [](std::string& value) {
+      return value.empty() ? std::string("an empty value") : std::string();
+    },
+    "NOT EMPTY");
 
 /// A command line that parses but does not make sense (contradictory options, an Options struct
 /// that is not valid): main() prints it with the usage hint and exits with status 2.
@@ -83,7 +86,8 @@ struct TrialArguments {
 
 /// pipeline::OpenTrial, its warnings on stderr as "acrolab COMMAND: warning: …" (the default
 /// athlete's too when `uses_athlete`).
-pipeline::TrialInput OpenTrialFor(const std::string& command, const pipeline::TrialRequest& request,
+pipeline::TrialInput OpenTrialFor(const std::string& command,
+                                  const pipeline::TrialRequest& request,
                                   bool uses_athlete = true);
 
 /// Throws UsageError with `why` when `options.IsValid` fails (the reason reaches the user).

@@ -47,30 +47,40 @@ void ParseFrames(const std::string& text, pose::DetectVideoOptions* options) {
 
 // contact_sheet.png: up to 24 frames spread evenly over --sheet-frames (default: those detected),
 // each with its skeleton, cropped around the athlete's path.
-void WriteContactSheet(const pose::VideoPoses& r, const std::string& sheet_frames, const std::filesystem::path& dir) {
+void WriteContactSheet(const pose::VideoPoses& r,
+                       const std::string& sheet_frames,
+                       const std::filesystem::path& dir) {
   pose::DetectVideoOptions range;
   range.first_frame = r.first_frame;
   range.end_frame = r.end_frame;
   ParseFrames(sheet_frames, &range);
   const int first = std::max(range.first_frame, r.first_frame);
   const int end = std::min(range.end_frame < 0 ? r.end_frame : range.end_frame, r.end_frame);
-  if (end <= first) throw UsageError{fmt::format("--sheet-frames {} outside the frames detected", sheet_frames)};
+  if (end <= first)
+    throw UsageError{fmt::format("--sheet-frames {} outside the frames detected", sheet_frames)};
   const int count = std::min(24, end - first);
   std::vector<int> frames;
   std::vector<capture::DetectedPerson> people;
   for (int k = 0; k < count; ++k) {
-    const int f = first + static_cast<int>(std::lround(k * (end - first - 1) / std::max(1.0, count - 1.0)));
+    const int f =
+        first + static_cast<int>(std::lround(k * (end - first - 1) / std::max(1.0, count - 1.0)));
     frames.push_back(f);
     people.push_back(r.frames[f - r.first_frame].keypoints);
   }
   capture::VideoReader reader(r.video);
-  ui::WritePoseContactSheet(reader, frames, people, pose::BlazePoseEdges(), pose::BlazePoseSides(),
+  ui::WritePoseContactSheet(reader,
+                            frames,
+                            people,
+                            pose::BlazePoseEdges(),
+                            pose::BlazePoseSides(),
                             dir / "contact_sheet.png");
 }
 
 // The tracker's region for one video: --roi X,Y,W,H, bed (found in the first frame detected), or
 // auto (the bed when one is found, else none).
-void ChooseRegion(const DetectArguments& args, const std::string& video, pose::DetectVideoOptions* options) {
+void ChooseRegion(const DetectArguments& args,
+                  const std::string& video,
+                  pose::DetectVideoOptions* options) {
   if (args.roi == "auto" || args.roi == "bed") {
     pipeline::RegionFromBed(video, options->first_frame, args.roi == "bed", &options->tracker);
     return;
@@ -99,13 +109,20 @@ int RunDetect(const DetectArguments& args) {
   for (std::size_t v = 0; v < args.videos.size(); ++v) {
     const capture::VideoInfo info = capture::VideoReader(args.videos[v]).info();
     if (base.first_frame >= info.num_frames || base.end_frame > info.num_frames)
-      throw InputError(args.videos[v], "--frames",
-                       fmt::format("{} outside the video's {} frames (0:{})", args.frames, info.num_frames, info.num_frames));
+      throw InputError(args.videos[v],
+                       "--frames",
+                       fmt::format("{} outside the video's {} frames (0:{})",
+                                   args.frames,
+                                   info.num_frames,
+                                   info.num_frames));
     ChooseRegion(args, args.videos[v], &options[v]);
-    const Eigen::AlignedBox2d frame(Eigen::Vector2d::Zero(), Eigen::Vector2d(info.width, info.height));
+    const Eigen::AlignedBox2d frame(Eigen::Vector2d::Zero(),
+                                    Eigen::Vector2d(info.width, info.height));
     if (options[v].tracker.box_px && !frame.contains(*options[v].tracker.box_px))
-      throw InputError(args.videos[v], "--roi",
-                       fmt::format("{} is not inside the {}×{} frame", args.roi, info.width, info.height));
+      throw InputError(
+          args.videos[v],
+          "--roi",
+          fmt::format("{} is not inside the {}×{} frame", args.roi, info.width, info.height));
   }
   CreateOutputDirectory(args.out_dir);
 
@@ -137,16 +154,23 @@ int RunDetect(const DetectArguments& args) {
   std::string json = "[\n";
   for (std::size_t v = 0; v < results.size(); ++v) {
     const pose::VideoPoses& r = results[v];
-    for (const std::string& warning : r.warnings) std::fprintf(stderr, "acrolab detect: warning: %s\n", warning.c_str());
+    for (const std::string& warning : r.warnings)
+      std::fprintf(stderr, "acrolab detect: warning: %s\n", warning.c_str());
     if (args.json) {
       json += pose::FormatVideoPosesJson(r, options[v]) + (v + 1 < results.size() ? ",\n" : "");
       continue;
     }
     const int run = static_cast<int>(r.frames.size()) - r.frames_resumed;
-    std::printf("%s: %zu frames (%d resumed), %d with a pose, median confidence %.2f, %.0f ms per frame -> %s\n",
-                r.video.string().c_str(), r.frames.size(), r.frames_resumed, r.frames_with_pose(),
-                r.median_confidence(), run > 0 ? 1000.0 * r.elapsed_s / run : 0.0,
-                pose::VideoOutputDirectory(args.out_dir, r.video).string().c_str());
+    std::printf(
+        "%s: %zu frames (%d resumed), %d with a pose, median confidence %.2f, %.0f ms per frame -> "
+        "%s\n",
+        r.video.string().c_str(),
+        r.frames.size(),
+        r.frames_resumed,
+        r.frames_with_pose(),
+        r.median_confidence(),
+        run > 0 ? 1000.0 * r.elapsed_s / run : 0.0,
+        pose::VideoOutputDirectory(args.out_dir, r.video).string().c_str());
   }
   if (args.json) std::printf("%s]\n", json.c_str());
   return 0;
@@ -162,17 +186,25 @@ void AddDetectCommand(CLI::App& app, CommandRunner* run) {
       "detector and tracking (docs/pose.md): OpenPose JSON per frame, a 2D TRC and a CSV per "
       "video. Resumes an interrupted run.");
   command->add_option("VIDEO", args->videos, "the videos")->required();
-  command->add_option("--model", args->model, "lite, full or heavy (default: heavy, the most accurate)")
+  command
+      ->add_option(
+          "--model", args->model, "lite, full or heavy (default: heavy, the most accurate)")
       ->check(CLI::IsMember({"lite", "full", "heavy"}));
-  command->add_option("--roi", args->roi,
+  command->add_option("--roi",
+                      args->roi,
                       "where the athlete is: auto (the trampoline's bed when found, else the whole "
                       "frame), bed (the bed must be found), or a box X,Y,W,H in pixels");
-  command->add_option("--frames", args->frames, "frames A:B (A to B − 1; default: all)")->check(kNotEmpty);
-  command->add_option("--sheet-frames", args->sheet_frames,
-                      "the frames A:B whose skeletons contact_sheet.png shows (up to 24 of them)")
+  command->add_option("--frames", args->frames, "frames A:B (A to B − 1; default: all)")
       ->check(kNotEmpty);
-  command->add_option("-j,--threads", args->threads, "threads (default: all cores)")->check(CLI::NonNegativeNumber);
-  command->add_option("-o,--output", args->out_dir, "output folder (one folder per video)")->required();
+  command
+      ->add_option("--sheet-frames",
+                   args->sheet_frames,
+                   "the frames A:B whose skeletons contact_sheet.png shows (up to 24 of them)")
+      ->check(kNotEmpty);
+  command->add_option("-j,--threads", args->threads, "threads (default: all cores)")
+      ->check(CLI::NonNegativeNumber);
+  command->add_option("-o,--output", args->out_dir, "output folder (one folder per video)")
+      ->required();
   command->add_flag("--json", args->json, "print a JSON summary per video");
   command->add_flag("--restart", args->restart, "ignore an earlier run's frames");
   command->add_flag("--quiet", args->quiet, "no progress bar");

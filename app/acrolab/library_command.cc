@@ -126,11 +126,13 @@ int RunList(const LibraryArguments& args) {
   if (args.athletes)
     std::fputs(ui::FormatAthleteTable(lib.ListAthletes()).c_str(), stdout);
   else if (args.designs)
-    std::fputs(ui::FormatDesignTable(lib.ListDesigns(args.query.athlete), args.library).c_str(), stdout);
+    std::fputs(ui::FormatDesignTable(lib.ListDesigns(args.query.athlete), args.library).c_str(),
+               stdout);
   else if (args.json)
     std::fputs(ui::FormatTrialListJson(lib.ListTrials(args.query.athlete)).c_str(), stdout);
   else
-    std::fputs(ui::FormatTrialTable(lib.ListTrials(args.query.athlete), args.library).c_str(), stdout);
+    std::fputs(ui::FormatTrialTable(lib.ListTrials(args.query.athlete), args.library).c_str(),
+               stdout);
   return 0;
 }
 
@@ -152,7 +154,8 @@ int RunQuery(const LibraryArguments& args) {
   const std::vector<library::JumpRow> rows = lib.QueryJumps(args.query);
   const double ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-  const std::string data = args.json ? library::FormatJumpRowsJson(rows) : library::FormatJumpRowsCsv(rows);
+  const std::string data =
+      args.json ? library::FormatJumpRowsJson(rows) : library::FormatJumpRowsCsv(rows);
   if (!args.out.empty()) {
     WriteFileAtomically(args.out, data);
     std::printf("%zu jumps (query %.1f ms) written to %s\n", rows.size(), ms, args.out.c_str());
@@ -324,7 +327,11 @@ void AddLibraryCommand(CLI::App& app, CommandRunner* run) {
       "An athlete's season: the metric per jump, session medians and trend, landings on the bed "
       "per session with zone A; DIR/progress.html with PNG and SVG charts and progress.csv.");
   DeclareFilters(progress, args.get(), true);
-  progress->add_option("--metric", args->metric, "tof, hd, dd, apex, verdict (per jump), faults (per element), T or H (per routine, as the score sheet counts them) (default tof)")
+  progress
+      ->add_option("--metric",
+                   args->metric,
+                   "tof, hd, dd, apex, verdict (per jump), faults (per element), T or H (per "
+                   "routine, as the score sheet counts them) (default tof)")
       ->check(CLI::IsMember({"tof", "hd", "dd", "apex", "verdict", "faults", "T", "H"}));
   progress->add_option("-o,--output", args->out, "output folder (created)")->required();
   DeclareLibraryOption(progress, args.get());

@@ -95,7 +95,10 @@ int Main(int argc, char** argv) {
     const std::string name = CommandName(app);
     // CLI11 repeats the value given: escaped, as every message (a terminal escape typed into an
     // option must not reach the terminal raw).
-    std::fprintf(stderr, "%s: %s (%s --help)\n", name.c_str(), acro::EscapeForTerminal(e.what()).c_str(),
+    std::fprintf(stderr,
+                 "%s: %s (%s --help)\n",
+                 name.c_str(),
+                 acro::EscapeForTerminal(e.what()).c_str(),
                  name.c_str());
     return 2;
   }
@@ -103,14 +106,20 @@ int Main(int argc, char** argv) {
   // Run.
   const std::string name = CommandName(app);
   if (const std::string bad = NonFiniteOption(app); !bad.empty()) {
-    std::fprintf(stderr, "%s: %s (%s --help)\n", name.c_str(), acro::EscapeForTerminal(bad).c_str(),
+    std::fprintf(stderr,
+                 "%s: %s (%s --help)\n",
+                 name.c_str(),
+                 acro::EscapeForTerminal(bad).c_str(),
                  name.c_str());
     return 2;
   }
   try {
     return run();
   } catch (const acro::app::UsageError& e) {
-    std::fprintf(stderr, "%s: %s (%s --help)\n", name.c_str(), acro::EscapeForTerminal(e.message).c_str(),
+    std::fprintf(stderr,
+                 "%s: %s (%s --help)\n",
+                 name.c_str(),
+                 acro::EscapeForTerminal(e.message).c_str(),
                  name.c_str());
     return 2;
   } catch (const acro::InputError& e) {
@@ -123,14 +132,15 @@ int Main(int argc, char** argv) {
     // A file system refusal (a link loop, no permission, a vanished folder) is the named path's
     // fault, never an internal error.
     const std::string path = e.path1().empty() ? std::string() : e.path1().string() + ": ";
-    std::fprintf(stderr, "acrolab: %s\n",
-                 acro::EscapeForTerminal(path + e.code().message()).c_str());
+    std::fprintf(
+        stderr, "acrolab: %s\n", acro::EscapeForTerminal(path + e.code().message()).c_str());
     return 1;
   } catch (const std::bad_alloc&) {
     std::fprintf(stderr, "acrolab: out of memory\n");
     return 1;
   } catch (const std::exception& e) {
-    std::fprintf(stderr, "acrolab: internal error: %s\n", acro::EscapeForTerminal(e.what()).c_str());
+    std::fprintf(
+        stderr, "acrolab: internal error: %s\n", acro::EscapeForTerminal(e.what()).c_str());
     return 3;
   }
 }

@@ -32,7 +32,6 @@ namespace acro::app {
 
 namespace {
 
-
 struct OverlayArguments {
   TrialArguments common;  // TRIAL, --athlete; -o is the output file here
   VideoArguments video;
@@ -70,12 +69,14 @@ int RunDetectionOverlay(const OverlayArguments& args) {
   const pose::Skeleton skeleton = pose::SkeletonOfNames(detections.names);
   const auto [first, last] = ParseFrames(args.frames);
   Progress progress;
-  progress.report = [bar = MakeCancellableProgress("overlay", "frames")](const std::string&, int done, int total) {
-    return bar(done, total);
-  };
-  const int frames = ui::WriteDetectionOverlay(video, detections.frames, skeleton.edges, skeleton.sides, out, progress,
-                                               0.2, first, last);
-  std::printf("%d frames with the detections of %s -> %s\n", frames, args.detections.c_str(), out.string().c_str());
+  progress.report = [bar = MakeCancellableProgress("overlay", "frames")](
+                        const std::string&, int done, int total) { return bar(done, total); };
+  const int frames = ui::WriteDetectionOverlay(
+      video, detections.frames, skeleton.edges, skeleton.sides, out, progress, 0.2, first, last);
+  std::printf("%d frames with the detections of %s -> %s\n",
+              frames,
+              args.detections.c_str(),
+              out.string().c_str());
   return 0;
 }
 
@@ -101,7 +102,8 @@ int RunOverlay(const OverlayArguments& args) {
 
   // The trial upright with its athlete, the video opened once (the pipeline, as every door).
   const bool auto_sync = args.video.sync == "auto";
-  const pipeline::TrialInput input = OpenTrialFor("overlay", args.common.Request(), athlete || auto_sync);
+  const pipeline::TrialInput input =
+      OpenTrialFor("overlay", args.common.Request(), athlete || auto_sync);
   pipeline::VideoInput video = OpenVideoFor(args.video);
   const analysis::AthleteBody& body = input.athlete.body;
 
@@ -115,13 +117,19 @@ int RunOverlay(const OverlayArguments& args) {
     result = pipeline::Analyze(input, options);
   }
   if (athlete) {
-    scene.emplace(input.trial, *result, body, analysis::MakeEllipsoidBodyMesh(body, analysis::OverlayBodyMeshOptions()));
+    scene.emplace(input.trial,
+                  *result,
+                  body,
+                  analysis::MakeEllipsoidBodyMesh(body, analysis::OverlayBodyMeshOptions()));
     if (args.ghost_jump > 0) scene->SetGhostJump(args.ghost_jump);
     if (!args.ghost.empty()) {
-      const analysis::SkillGhost design = analysis::ReadSkillGhost(args.ghost, analysis::MakeStandardHumanModel(body));
+      const analysis::SkillGhost design =
+          analysis::ReadSkillGhost(args.ghost, analysis::MakeStandardHumanModel(body));
       if (input.athlete.name.rfind(design.athlete + ",", 0) != 0)
-        std::fprintf(stderr, "overlay: warning: the design was made for %s, drawn here on %s\n",
-                     design.athlete.c_str(), input.athlete.name.c_str());
+        std::fprintf(stderr,
+                     "overlay: warning: the design was made for %s, drawn here on %s\n",
+                     design.athlete.c_str(),
+                     input.athlete.name.c_str());
       scene->SetGhostDesign(design, body);
     }
   } else {
@@ -176,10 +184,12 @@ void AddOverlayCommand(CLI::App& app, CommandRunner* run) {
       "centre of mass, residual force) and a heads-up line per frame. docs/overlay.md.");
   command->add_option("TRIAL", args->common.trial_path, "markers or keypoints: C3D, TRC or CSV");
   args->video.Declare(command, false);
-  command->add_option("--detections", args->detections,
+  command->add_option("--detections",
+                      args->detections,
                       "instead of TRIAL: 2D keypoints drawn over --video (acrolab detect's folder, "
                       "OpenPose JSON per frame, a 2D TRC or CSV; docs/pose.md)");
-  command->add_option("--keypoints", args->keypoints, "with --detections: the JSON files' keypoint set (body25b)");
+  command->add_option(
+      "--keypoints", args->keypoints, "with --detections: the JSON files' keypoint set (body25b)");
   command->add_option("--athlete",
                       args->common.athlete_path,
                       "athlete profile: reconstruct and analyse the trial, draw the athlete");
@@ -198,7 +208,8 @@ void AddOverlayCommand(CLI::App& app, CommandRunner* run) {
                       args->ghost_jump,
                       "with --athlete: jump N (as in jumps.json) drawn as an orange ghost in every "
                       "other flight, placed at its take-off (feet, heading, time)");
-  command->add_option("--frames", args->frames, "FIRST:LAST video frames only (0-based)")->check(kNotEmpty);
+  command->add_option("--frames", args->frames, "FIRST:LAST video frames only (0-based)")
+      ->check(kNotEmpty);
   command->add_option("--slow", args->slow, "write each flight frame K times (slow motion)");
   command->add_flag_callback(
       "--no-hud", [args] { args->heads_up = false; }, "no heads-up line");
@@ -209,8 +220,10 @@ void AddOverlayCommand(CLI::App& app, CommandRunner* run) {
       *run = [args] { return RunDetectionOverlay(*args); };
       return;
     }
-    if (args->common.trial_path.empty() || args->video.video.empty() || args->video.calibration.empty())
-      throw CLI::ValidationError("TRIAL, --video and --calib", "required (or --detections with --video)");
+    if (args->common.trial_path.empty() || args->video.video.empty() ||
+        args->video.calibration.empty())
+      throw CLI::ValidationError("TRIAL, --video and --calib",
+                                 "required (or --detections with --video)");
 #ifdef ACRO_HAVE_VIEWS
     *run = [args] { return RunOverlay(*args); };
 #else

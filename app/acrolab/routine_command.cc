@@ -74,7 +74,8 @@ int RunRoutine(RoutineArguments& args) {
     throw UsageError{"give either a routine file or --codes"};
   if (!args.codes.empty() && args.athlete_path.empty()) throw UsageError{"--codes needs --athlete"};
   CheckOutputDirectory(args.out_dir);  // before any work: a bad -o costs nothing
-  const fig::RoutineRules rules = args.rules.empty() ? fig::RoutineRules::FigSenior() : fig::LoadRules(args.rules);
+  const fig::RoutineRules rules =
+      args.rules.empty() ? fig::RoutineRules::FigSenior() : fig::LoadRules(args.rules);
   analysis::RoutineSpec spec = args.codes.empty()
                                    ? analysis::ReadRoutineSpec(args.routine_path)
                                    : analysis::RoutineSpecFromCodes(args.codes, args.athlete_path);
@@ -124,13 +125,18 @@ int RunRoutine(RoutineArguments& args) {
   for (const std::string& note : result.notes) std::printf("  note: %s\n", note.c_str());
   // Against the rules (docs/scoring.md): what a panel would count, and what the routine misses.
   const fig::RoutineScore score = fig::ScoreRoutine(rules, analysis::DesignedFlights(result));
-  std::printf("  %s: D %.1f, T %.3f; %s\n", score.rules_name.c_str(), score.difficulty, score.time_of_flight,
+  std::printf("  %s: D %.1f, T %.3f; %s\n",
+              score.rules_name.c_str(),
+              score.difficulty,
+              score.time_of_flight,
               score.valid() ? "valid" : "not valid:");
   if (score.interrupted) std::printf("    %s\n", score.interruption.c_str());
-  for (const std::string& m : score.requirements_missing) std::printf("    requirement missing: %s\n", m.c_str());
+  for (const std::string& m : score.requirements_missing)
+    std::printf("    requirement missing: %s\n", m.c_str());
   for (const std::string& b : score.rule_breaks) std::printf("    %s\n", b.c_str());
   if (score.difficulty_capped)
-    std::printf("    difficulty %.1f capped at %.1f\n", score.difficulty_uncapped, score.difficulty);
+    std::printf(
+        "    difficulty %.1f capped at %.1f\n", score.difficulty_uncapped, score.difficulty);
   std::printf("  wrote %zu files to %s\n",
               files.size() + extras.filmstrips.size() + (extras.video.empty() ? 0 : 1),
               args.out_dir.c_str());
@@ -150,9 +156,12 @@ void AddRoutineCommand(CLI::App& app, CommandRunner* run) {
       "filmstrips and report.html. Method: docs/skill-design.md, \"Routines\".");
   command->add_option("ROUTINE", args->routine_path, "a routine file (docs/formats/routine.md)")
       ->check(CLI::ExistingFile);
-  command->add_option("--rules", args->rules,
-                      "the routine rules it is checked against (rules/*.yaml; default the FIG senior routine; "
-                      "docs/scoring.md)")
+  command
+      ->add_option(
+          "--rules",
+          args->rules,
+          "the routine rules it is checked against (rules/*.yaml; default the FIG senior routine; "
+          "docs/scoring.md)")
       ->check(CLI::ExistingFile);
   command->add_option("--codes", args->codes, "the skills' FIG codes, e.g. \"40o 41/ 42/ 800<\"");
   command->add_option("--athlete", args->athlete_path, "the athlete profile (YAML)")

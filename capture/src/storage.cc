@@ -151,10 +151,11 @@ Storage ReadStorageFromString(std::string_view text, const std::string& name) {
       // NaN is a gap (as written for one); an infinity or a time that is not a number is no value
       // any table holds.
       if (std::isinf(value) || (c == 0 && !std::isfinite(value))) {
-        throw InputError(name,
-                         "line " + std::to_string(lines.line_number()) + ", column " + std::to_string(c + 1) +
-                             " (" + (c == 0 ? std::string("time") : table.labels[c - 1]) + ")",
-                         "'" + std::string(Trim(fields[c]).substr(0, 40)) + "' is not a finite number");
+        throw InputError(
+            name,
+            "line " + std::to_string(lines.line_number()) + ", column " + std::to_string(c + 1) +
+                " (" + (c == 0 ? std::string("time") : table.labels[c - 1]) + ")",
+            "'" + std::string(Trim(fields[c]).substr(0, 40)) + "' is not a finite number");
       }
       values.push_back(value);
     }

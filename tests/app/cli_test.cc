@@ -342,8 +342,8 @@ TEST(Cli, AnalyzeTakesKeypointTrialsWithNoOptions) {
   EXPECT_NE(run.err.find("reconstruct: marker RMS median"), std::string::npos) << run.err;
   EXPECT_NE(run.err.find("no flight in its 100 frames"), std::string::npos) << run.err;
   EXPECT_FALSE(std::filesystem::exists(out)) << "analyze wrote outputs for a trial with no jump";
-  run = Execute(std::string(ACROLAB_EXE) + " reconstruct " + Quote(balancing) + " -o " +
-                Quote(out));
+  run =
+      Execute(std::string(ACROLAB_EXE) + " reconstruct " + Quote(balancing) + " -o " + Quote(out));
   ASSERT_EQ(run.status, 0) << run.err;
   EXPECT_FALSE(std::filesystem::is_empty(out));
 
@@ -891,7 +891,8 @@ TEST(Cli, RoutineOfTenSkillsRoundTripsThroughAnalyze) {
   ASSERT_EQ(run.status, 0) << run.err;
   EXPECT_NE(run.out.find("10 skills, DD 10.6"), std::string::npos) << run.out;
   // Checked against the FIG senior rules: ten different elements, every difficulty counted.
-  EXPECT_NE(run.out.find("FIG senior, individual trampoline: D 10.6, T "), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("FIG senior, individual trampoline: D 10.6, T "), std::string::npos)
+      << run.out;
   EXPECT_NE(run.out.find("; valid\n"), std::string::npos) << run.out;
   const nlohmann::json routine = nlohmann::json::parse(Slurp(dir / "routine" / "routine.json"));
   EXPECT_NEAR(routine["difficulty"].get<double>(), 10.6, 1e-9);  // the sum of the FIG values
@@ -944,7 +945,8 @@ TEST(Cli, RoutineOfTenSkillsRoundTripsThroughAnalyze) {
   }
   EXPECT_NEAR(dd_analysed, dd_designed, 1e-9);
   EXPECT_NEAR(dd_analysed, 10.6, 1e-9);
-  // Its score sheet: ten elements, D 10.6, T the flights' sum truncated to 0.005, a zone per landing.
+  // Its score sheet: ten elements, D 10.6, T the flights' sum truncated to 0.005, a zone per
+  // landing.
   const nlohmann::json score = nlohmann::json::parse(Slurp(dir / "analysis" / "score.json"));
   EXPECT_EQ(score["elements_performed"], 10);
   EXPECT_FALSE(score["interrupted"].get<bool>());
@@ -954,28 +956,32 @@ TEST(Cli, RoutineOfTenSkillsRoundTripsThroughAnalyze) {
   for (const nlohmann::json& j : jumps) tof += j["time_of_flight_s"].get<double>();
   EXPECT_NEAR(score["T"].get<double>(), std::floor(tof / 0.005 + 1e-9) * 0.005, 1e-9);
   for (const nlohmann::json& e : score["elements"]) EXPECT_TRUE(e["landing"]["zone"].is_string());
-  EXPECT_NE(Slurp(dir / "analysis" / "report.html").find("<h2>Score sheet</h2>"), std::string::npos);
+  EXPECT_NE(Slurp(dir / "analysis" / "report.html").find("<h2>Score sheet</h2>"),
+            std::string::npos);
   // The same routine as an age group's first routine: no element to or from the front or back, so
   // those two requirements are missing, 1.0 each.
-  const ProcessResult age = Execute(std::string(ACROLAB_EXE) + " analyze " + Quote(dir / "routine" / "routine.c3d") +
-                                    " --athlete " + athlete + " --no-images --rules " +
-                                    Quote(RepoFile("rules/fig-wagc-13-16-first-routine.yaml")) + " -o " +
-                                    Quote(dir / "age"));
+  const ProcessResult age = Execute(
+      std::string(ACROLAB_EXE) + " analyze " + Quote(dir / "routine" / "routine.c3d") +
+      " --athlete " + athlete + " --no-images --rules " +
+      Quote(RepoFile("rules/fig-wagc-13-16-first-routine.yaml")) + " -o " + Quote(dir / "age"));
   ASSERT_EQ(age.status, 0) << age.err;
   const nlohmann::json age_score = nlohmann::json::parse(Slurp(dir / "age" / "score.json"));
   EXPECT_EQ(age_score["requirements_missing"],
             (nlohmann::json{"one element to front or back", "one element from front or back"}));
   EXPECT_NEAR(age_score["penalty"].get<double>(), 2.0, 1e-12);
   EXPECT_FALSE(age_score["valid"].get<bool>());
-  EXPECT_NE(age.out.find("requirement not performed: one element to front or back"), std::string::npos) << age.out;
+  EXPECT_NE(age.out.find("requirement not performed: one element to front or back"),
+            std::string::npos)
+      << age.out;
   // A rule file with a typo: one line naming it, nothing written.
   const auto typo = dir / "typo.yaml";
   std::ofstream(typo) << "name: club\nsource: our own\nroutine:\n  elementz: 10\n";
-  const ProcessResult bad_rules = Execute(std::string(ACROLAB_EXE) + " analyze " +
-                                          Quote(dir / "routine" / "routine.c3d") + " --athlete " + athlete +
-                                          " --rules " + Quote(typo) + " -o " + Quote(dir / "typo"));
+  const ProcessResult bad_rules =
+      Execute(std::string(ACROLAB_EXE) + " analyze " + Quote(dir / "routine" / "routine.c3d") +
+              " --athlete " + athlete + " --rules " + Quote(typo) + " -o " + Quote(dir / "typo"));
   EXPECT_EQ(bad_rules.status, 1);
-  EXPECT_NE(bad_rules.err.find("typo.yaml: line 4: unknown key 'elementz'"), std::string::npos) << bad_rules.err;
+  EXPECT_NE(bad_rules.err.find("typo.yaml: line 4: unknown key 'elementz'"), std::string::npos)
+      << bad_rules.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "typo"));
 
   // A skill twice: refused before any work, naming it.
@@ -1030,7 +1036,8 @@ TEST(Cli, CompareTwoJumpsOfTheSampleWritesTheVideo) {
 TEST(Cli, SynchroOfTheSampleWithItself) {
   const auto out = acro::testing::TempDir() / "synchro_sample";
   std::filesystem::remove_all(out);
-  const std::string trial = Quote(RepoFile("samples/trials/trampoline_routine/trampoline_routine.c3d"));
+  const std::string trial =
+      Quote(RepoFile("samples/trials/trampoline_routine/trampoline_routine.c3d"));
   const std::string athlete = Quote(RepoFile("samples/athletes/sample_athlete.yaml"));
   const ProcessResult run = Execute(std::string(ACROLAB_EXE) + " synchro " + trial + " " + trial +
                                     " --athlete " + athlete + " -o " + Quote(out));
@@ -1046,8 +1053,9 @@ TEST(Cli, SynchroOfTheSampleWithItself) {
   EXPECT_EQ(j["a"]["elements"].size(), 5u);
 
   const auto rules = acro::testing::TempDir() / "synchro_typo.yaml";
-  std::ofstream(rules) << "name: club\nsource: our club\nsynchronisation:\n  points_per_element: 2\n"
-                          "  source: ours\n";
+  std::ofstream(rules)
+      << "name: club\nsource: our club\nsynchronisation:\n  points_per_element: 2\n"
+         "  source: ours\n";
   const auto out2 = acro::testing::TempDir() / "synchro_typo";
   std::filesystem::remove_all(out2);
   const ProcessResult bad = Execute(std::string(ACROLAB_EXE) + " synchro " + trial + " " + trial +

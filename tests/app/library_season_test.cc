@@ -43,7 +43,8 @@ using acro::library::Library;
 // The full season (3 × 40 × 5 = 600 routines, about 11 minutes on two cores) is a soak test, run
 // with ACRO_LONG_TESTS=1 (docs/testing.md); the default run keeps its shape on 3 × 12 × 2 = 72.
 constexpr int kAthletes = 3, kSkills = 3;
-const int kSessions = acro::testing::LongTests() ? 40 : 12, kRoutines = acro::testing::LongTests() ? 5 : 2;
+const int kSessions = acro::testing::LongTests() ? 40 : 12,
+          kRoutines = acro::testing::LongTests() ? 5 : 2;
 const int kTrials = kAthletes * kSessions * kRoutines;
 
 std::string ReadText(const fs::path& p) {
@@ -321,31 +322,47 @@ TEST(LibrarySeason, BatchKilledHalfWayAndRestartedStoresEveryTrialOnce) {
   EXPECT_NEAR(t.sessions.back().median / t.sessions.front().median, 1.08 / 0.92, 0.01);
   for (const acro::library::ProgressPoint& point : t.points)  // truncated to 0.005
     EXPECT_NEAR(std::round(point.value / 0.005) * 0.005, point.value, 1e-9) << point.value;
-  const acro::library::Progress h = routine_progress(acro::library::ProgressMetric::kRoutineDisplacement);
+  const acro::library::Progress h =
+      routine_progress(acro::library::ProgressMetric::kRoutineDisplacement);
   ASSERT_EQ(h.points.size(), size_t(kSessions * kRoutines));
   EXPECT_DOUBLE_EQ(h.sessions.front().median, 2.0);  // both elements in zone A
   EXPECT_LT(h.sessions.back().median, 2.0);
   const acro::library::Progress faults = routine_progress(acro::library::ProgressMetric::kFaults);
   ASSERT_FALSE(faults.fault_counts.empty());
   EXPECT_EQ(faults.fault_counts.front().first, "knees_bent");
-  const int bent_routines = kSessions / 3 * kRoutines + (kSessions * 2 / 3 - kSessions / 3) * ((kRoutines + 1) / 2);
+  const int bent_routines =
+      kSessions / 3 * kRoutines + (kSessions * 2 / 3 - kSessions / 3) * ((kRoutines + 1) / 2);
   EXPECT_EQ(faults.fault_counts.front().second, bent_routines);
   EXPECT_EQ(faults.elements, 2 * kSessions * kRoutines);
   EXPECT_EQ(faults.sessions.front().most_frequent_fault, "knees_bent");
   EXPECT_EQ(faults.sessions.front().most_frequent_count, kRoutines);
   EXPECT_EQ(faults.sessions.back().faults_reported, 0);
   std::printf("Bea's routines: T %.3f → %.3f, H %.2f → %.2f, %s on %d of %d elements\n",
-              t.sessions.front().median, t.sessions.back().median, h.sessions.front().median,
-              h.sessions.back().median, faults.fault_counts.front().first.c_str(),
-              faults.fault_counts.front().second, faults.elements);
+              t.sessions.front().median,
+              t.sessions.back().median,
+              h.sessions.front().median,
+              h.sessions.back().median,
+              faults.fault_counts.front().first.c_str(),
+              faults.fault_counts.front().second,
+              faults.elements);
   for (const char* metric : {"T", "H", "faults"}) {
-    const pid_t page = Start({"library", "progress", "--athlete", "Bea Season", "--metric", metric,
-                              "--library", library.string(), "-o", (root / (std::string("progress_") + metric)).string()},
-                             root, root / "tmp");
+    const pid_t page = Start({"library",
+                              "progress",
+                              "--athlete",
+                              "Bea Season",
+                              "--metric",
+                              metric,
+                              "--library",
+                              library.string(),
+                              "-o",
+                              (root / (std::string("progress_") + metric)).string()},
+                             root,
+                             root / "tmp");
     ASSERT_EQ(Wait(page), 0) << ReadText(root / "stderr.txt");
     const std::string html = ReadText(root / (std::string("progress_") + metric) / "progress.html");
     EXPECT_NE(html.find("most frequent fault <b>knees_bent</b>"), std::string::npos) << metric;
-    EXPECT_TRUE(fs::exists(root / (std::string("progress_") + metric) / "progress_faults.png")) << metric;
+    EXPECT_TRUE(fs::exists(root / (std::string("progress_") + metric) / "progress_faults.png"))
+        << metric;
   }
   const pid_t chart = Start({"library",
                              "progress",

@@ -41,6 +41,12 @@ void Both(
 
 }  // namespace
 
+double PostureBlend(double u) {
+  double s = 0, ds = 0, dds = 0;
+  SmoothStep(u, &s, &ds, &dds);
+  return s;
+}
+
 const char* PostureName(Posture posture) {
   switch (posture) {
     case Posture::kTakeoff:

@@ -82,7 +82,7 @@ RoutineSkillPlan PlanOf(const SkillFromCodeResult& d) {
   const fig::FigSkill& c = d.code;
   p.direction = c.direction == fig::SomersaultDirection::kForward    ? 1
                 : c.direction == fig::SomersaultDirection::kBackward ? -1
-                                                                : 0;
+                                                                     : 0;
   p.nominal_rad = 2 * kPi * (c.quarter_somersaults / 4);
   // The way the design twists (its option: the athlete's left or right, positive to the left).
   p.twist_halves = (d.air_twist_rad < 0 ? -1 : 1) * c.total_half_twists();
@@ -246,9 +246,10 @@ std::vector<fig::PerformedFlight> DesignedFlights(const RoutineDesignResult& res
   for (size_t i = 0; i < result.skills.size(); ++i) {
     fig::PerformedFlight f;
     f.skill = result.skills[i].code;
-    f.time_of_flight_s = i < result.simulation.flights.size()
-                             ? result.simulation.flights[i].landing_s - result.simulation.flights[i].takeoff_s
-                             : result.skills[i].flight_time_s;
+    f.time_of_flight_s =
+        i < result.simulation.flights.size()
+            ? result.simulation.flights[i].landing_s - result.simulation.flights[i].takeoff_s
+            : result.skills[i].flight_time_s;
     flights.push_back(std::move(f));
   }
   return flights;

@@ -37,7 +37,8 @@ void SetJoint(const YamlNode& node, std::string_view segment, bool mirror, Eigen
       // A joint turns less than a turn from the reference pose (the widest human ranges are
       // about 180°); beyond ±360° the number is a mistake, never a pose.
       if (std::abs(deg[k]) > 360.0)
-        node.Fail("joint " + std::string(segment) + ": " + FormatFixed(deg[k], 1) + "° is outside ±360°");
+        node.Fail("joint " + std::string(segment) + ": " + FormatFixed(deg[k], 1) +
+                  "° is outside ±360°");
       const bool flip = mirror && j.axis_sequence[k] != 'y';
       q[StandardJointDofIndex(segment, static_cast<int>(k))] =
           (flip ? -deg[k] : deg[k]) * kDegToRad;
@@ -132,7 +133,8 @@ struct Tolerances {
 };
 
 bool TolerancesInRange(double position_m, double angle_rad) {
-  return position_m >= 0.0 && position_m <= 1.0 && angle_rad >= 0.0 && angle_rad <= std::numbers::pi;
+  return position_m >= 0.0 && position_m <= 1.0 && angle_rad >= 0.0 &&
+         angle_rad <= std::numbers::pi;
 }
 
 // The skill's default tolerances (the file's, or 5 cm and 5°).
@@ -183,7 +185,8 @@ SkillKeyframe ReadKeyframe(const YamlNode& item, const Tolerances& defaults) {
   k.tolerance_position_m = defaults.position_m;
   k.tolerance_angle_rad = defaults.angle_rad;
   if (const YamlNode* n = item.Find("tolerance_position_m")) k.tolerance_position_m = n->AsDouble();
-  if (const YamlNode* n = item.Find("tolerance_angle_deg")) k.tolerance_angle_rad = n->AsDouble() * kDegToRad;
+  if (const YamlNode* n = item.Find("tolerance_angle_deg"))
+    k.tolerance_angle_rad = n->AsDouble() * kDegToRad;
   if (!TolerancesInRange(k.tolerance_position_m, k.tolerance_angle_rad))
     item.Fail("tolerances must be within 0–1 m and 0–180°");
   return k;
@@ -274,7 +277,8 @@ Skill SkillFromYaml(const YamlNode& root, const std::filesystem::path& base_dir)
   if (keyframes.items().size() > kMaxKeyframes)
     keyframes.Fail(std::to_string(keyframes.items().size()) + " keyframes; at most " +
                    std::to_string(kMaxKeyframes) + " (a skill has 5–15)");
-  for (const YamlNode& item : keyframes.items()) skill.keyframes.push_back(ReadKeyframe(item, tolerances));
+  for (const YamlNode& item : keyframes.items())
+    skill.keyframes.push_back(ReadKeyframe(item, tolerances));
   CheckKeyframeTimes(skill);
   CheckKeyframeSteps(skill);
   return skill;

@@ -89,7 +89,7 @@ Plan MakePlan(const fig::FigSkill& code, double T) {
   plan.somersaults = n;
   plan.direction = code.direction == fig::SomersaultDirection::kForward    ? 1
                    : code.direction == fig::SomersaultDirection::kBackward ? -1
-                                                                      : 0;
+                                                                           : 0;
   // The twist angle is about the body's long axis (CalcSomersaultTiltTwist, as the analysis counts
   // it): positive is the athlete's left. Forward skills twist left, backward ones right — not one
   // way in every skill as an athlete does: a designer option for that was tried and left out
@@ -105,7 +105,7 @@ Plan MakePlan(const fig::FigSkill& code, double T) {
   }
   const Posture shape = code.shape == fig::SkillShape::kTuck   ? Posture::kTuck
                         : code.shape == fig::SkillShape::kPike ? Posture::kPike
-                                                          : Posture::kStraight;
+                                                               : Posture::kStraight;
   std::vector<Segment>& s = plan.segments;
   if (n == 0) {
     // Jumps: the shape (or straight, or twisting) in the middle of the flight; ends by time.
@@ -721,7 +721,11 @@ void CheckDesignable(const fig::FigSkill& code, const std::string& where) {
 
 // The flight as the analysis would count it: somersault, twist and its direction, half twists per
 // somersault, tilt, the time left to prepare the landing.
-void DescribeFlight(const fig::FigSkill& code, const Plan& plan, const Flight& flight, const VectorXd& nu, double T,
+void DescribeFlight(const fig::FigSkill& code,
+                    const Plan& plan,
+                    const Flight& flight,
+                    const VectorXd& nu,
+                    double T,
                     SkillFromCodeResult* out) {
   SkillFromCodeResult& result = *out;
   // The flight as the analysis would count it.
@@ -785,8 +789,13 @@ void CheckFeasible(const SkillFromCodeOptions& options, double T, SkillFromCodeR
 }
 
 // The keyframes: samples of the flight.
-void MakeKeyframes(const fig::FigSkill& code, const Plan& plan, const Flight& flight, double T, double g,
-                   const std::filesystem::path& athlete_path, const AthleteProfile& athlete,
+void MakeKeyframes(const fig::FigSkill& code,
+                   const Plan& plan,
+                   const Flight& flight,
+                   double T,
+                   double g,
+                   const std::filesystem::path& athlete_path,
+                   const AthleteProfile& athlete,
                    SkillFromCodeResult* out) {
   Skill& skill = out->skill;
   skill.fig_code = fig::FormatFigCode(code);

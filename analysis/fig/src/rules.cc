@@ -251,10 +251,12 @@ RoutineRules RulesFromYaml(const YamlNode& root, const std::string& origin) {
   if (const YamlNode* sy = root.Find("synchronisation")) {
     if (!sy->IsMap()) sy->Fail("a map (element_points, points_lost_per_s, tolerance_s, source)");
     sy->RequireKnownKeys({"element_points", "points_lost_per_s", "tolerance_s", "source"});
-    if (const YamlNode* n = sy->Find("element_points")) r.synchro.element_points = ReadNumber(*n, 0.001, 10.0);
+    if (const YamlNode* n = sy->Find("element_points"))
+      r.synchro.element_points = ReadNumber(*n, 0.001, 10.0);
     if (const YamlNode* n = sy->Find("points_lost_per_s"))
       r.synchro.points_lost_per_s = ReadNumber(*n, 0.0, 1000.0);
-    if (const YamlNode* n = sy->Find("tolerance_s")) r.synchro.tolerance_s = ReadNumber(*n, 0.0, 1.0);
+    if (const YamlNode* n = sy->Find("tolerance_s"))
+      r.synchro.tolerance_s = ReadNumber(*n, 0.0, 1.0);
     r.synchro.source = sy->At("source").AsString();
     if (r.synchro.source.empty()) sy->At("source").Fail("say where the conversion comes from");
   }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <limits>
 #include <map>
 
 #include <fmt/format.h>
@@ -61,6 +62,13 @@ std::vector<int> MatchRequirements(const std::vector<ElementRequirement>& reqs,
 }
 
 }  // namespace
+
+double MeasuredFault::ThresholdRatio() const {
+  if (!std::isfinite(threshold) || threshold <= 0 || !std::isfinite(value))
+    return std::numeric_limits<double>::quiet_NaN();
+  if (!smaller_is_worse) return value / threshold;
+  return value > 0 ? threshold / value : std::numeric_limits<double>::infinity();
+}
 
 std::vector<PerformedFlight> PlannedFlights(std::string_view codes) {
   std::vector<PerformedFlight> out;

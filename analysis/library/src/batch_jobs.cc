@@ -64,7 +64,8 @@ std::string OptionValue(const std::vector<std::string>& words, const std::string
   return {};
 }
 
-std::vector<BatchJob> ReadBatchJobs(const std::filesystem::path& source, const BatchDefaults& defaults) {
+std::vector<BatchJob> ReadBatchJobs(const std::filesystem::path& source,
+                                    const BatchDefaults& defaults) {
   std::vector<BatchJob> jobs;
   std::error_code ec;
   if (std::filesystem::is_directory(source, ec)) {

@@ -39,9 +39,11 @@ struct BusyWait {
 int WaitWhileLocked(void* data, int count) {
   const BusyWait* wait = static_cast<const BusyWait*>(data);
   if (count == 0 && LockNotice())
-    LockNotice()(fmt::format("{}: locked by another process (a batch, a window or another add "
-                             "writing to it); waiting up to {:g} s",
-                             wait->file, wait->timeout_ms / 1000.0));
+    LockNotice()(
+        fmt::format("{}: locked by another process (a batch, a window or another add "
+                    "writing to it); waiting up to {:g} s",
+                    wait->file,
+                    wait->timeout_ms / 1000.0));
   if (count * 50 >= wait->timeout_ms) return 0;
   std::this_thread::sleep_for(std::chrono::milliseconds(50));
   return 1;
@@ -62,12 +64,12 @@ thread_local int last_wait_ms = 30000;
 // SQLite's message, or what a lock still held after the wait means.
 std::string SqliteMessage(sqlite3* db, const char* error, int timeout_ms = last_wait_ms) {
   if ((sqlite3_extended_errcode(db) & 0xff) == SQLITE_BUSY)
-    return fmt::format("is locked by another process, still after {:g} s (ACROLAB_LIBRARY_WAIT_S "
-                       "sets the wait)",
-                       timeout_ms / 1000.0);
+    return fmt::format(
+        "is locked by another process, still after {:g} s (ACROLAB_LIBRARY_WAIT_S "
+        "sets the wait)",
+        timeout_ms / 1000.0);
   return error ? error : sqlite3_errmsg(db);
 }
-
 
 using Json = nlohmann::json;
 
@@ -835,7 +837,8 @@ std::vector<JumpRow> Library::QueryJumps(const JumpQuery& q) const {
       "SELECT a.name, s.date, t.id, t.path, j.jump_index, j.partial, j.fig_code, j.skill_name, "
       "j.takeoff_s, j.time_of_flight_s, j.displacement_m, j.apex_above_bed_m, j.difficulty, "
       "j.verdict, j.verdict_class, j.cause, j.landing_x_m, j.landing_y_m, j.landing_in_zone_a, "
-      "j.element, j.hd_deduction, j.faults FROM jumps j JOIN trials t ON t.id = j.trial_id JOIN sessions s ON s.id = t.session_id "
+      "j.element, j.hd_deduction, j.faults FROM jumps j JOIN trials t ON t.id = j.trial_id JOIN "
+      "sessions s ON s.id = t.session_id "
       "JOIN athletes a ON a.id = s.athlete_id WHERE 1";
   // Each filter present adds its condition and its parameter, in order.
   std::vector<std::function<void(Statement&, int)>> binds;
@@ -1011,11 +1014,12 @@ std::vector<JumpRecord> ParseJumpsJson(const std::string& json, const std::strin
     // The score sheet's view of this flight (jumps.json of Acrolab 0.3 and later).
     if (const auto sc = o.find("score"); sc != o.end() && sc->is_object()) {
       if (const auto e = sc->find("element"); e != sc->end() && e->is_number_integer() &&
-                                              e->get<long long>() >= 0 && e->get<long long>() <= 1000)
+                                              e->get<long long>() >= 0 &&
+                                              e->get<long long>() <= 1000)
         j.element = int(e->get<long long>());
       if (const auto l = sc->find("landing"); l != sc->end() && l->is_object())
-        if (const auto d = l->find("deduction"); d != l->end() && d->is_number() &&
-                                                 std::isfinite(d->get<double>()))
+        if (const auto d = l->find("deduction");
+            d != l->end() && d->is_number() && std::isfinite(d->get<double>()))
           j.hd_deduction = d->get<double>();
       if (const auto ex = sc->find("execution"); ex != sc->end() && ex->is_array())
         for (const Json& f : *ex)
@@ -1023,7 +1027,9 @@ std::vector<JumpRecord> ParseJumpsJson(const std::string& json, const std::strin
               f["fault"].is_string()) {
             std::string key = f["fault"].get<std::string>();
             if (key.empty() || key.size() > 64 || key.find_first_of(" \t\r\n") != std::string::npos)
-              throw InputError(source, where + ": score.execution", "a fault key is 1 to 64 characters, no spaces");
+              throw InputError(source,
+                               where + ": score.execution",
+                               "a fault key is 1 to 64 characters, no spaces");
             j.faults.push_back(std::move(key));
           }
     }
@@ -1057,27 +1063,28 @@ std::string FormatJumpRowsCsv(const std::vector<JumpRow>& rows) {
       "landing_in_zone_a,element,hd_deduction,faults\n";
   for (const JumpRow& r : rows) {
     const JumpRecord& j = r.jump;
-    out += fmt::format("{},{},{},{},{},{},{},{:.4f},{:.4f},{:.4f},{:.4f},{:.1f},{},{},{},{},{},{},{},{}\n",
-                       quoted(r.athlete),
-                       r.session_date,
-                       quoted(r.trial_path),
-                       j.index,
-                       quoted(j.fig_code),
-                       quoted(j.skill_name),
-                       j.partial ? 1 : 0,
-                       j.takeoff_s,
-                       j.time_of_flight_s,
-                       j.displacement_m,
-                       j.apex_above_bed_m,
-                       j.difficulty,
-                       quoted(j.verdict_class),
-                       quoted(j.cause),
-                       optional(j.landing_x_m),
-                       optional(j.landing_y_m),
-                       j.landing_in_zone_a ? (*j.landing_in_zone_a ? "1" : "0") : "",
-                       j.element,
-                       j.hd_deduction ? fmt::format("{:.1f}", *j.hd_deduction) : std::string(),
-                       quoted(JoinFaults(j.faults)));
+    out += fmt::format(
+        "{},{},{},{},{},{},{},{:.4f},{:.4f},{:.4f},{:.4f},{:.1f},{},{},{},{},{},{},{},{}\n",
+        quoted(r.athlete),
+        r.session_date,
+        quoted(r.trial_path),
+        j.index,
+        quoted(j.fig_code),
+        quoted(j.skill_name),
+        j.partial ? 1 : 0,
+        j.takeoff_s,
+        j.time_of_flight_s,
+        j.displacement_m,
+        j.apex_above_bed_m,
+        j.difficulty,
+        quoted(j.verdict_class),
+        quoted(j.cause),
+        optional(j.landing_x_m),
+        optional(j.landing_y_m),
+        j.landing_in_zone_a ? (*j.landing_in_zone_a ? "1" : "0") : "",
+        j.element,
+        j.hd_deduction ? fmt::format("{:.1f}", *j.hd_deduction) : std::string(),
+        quoted(JoinFaults(j.faults)));
   }
   return out;
 }

@@ -163,7 +163,8 @@ MarkerSet ChooseMarkerSet(const capture::Trial& trial,
         trial.source.path,
         "POINT:LABELS",
         "marker set " + markerset.name +
-            (markerset.source.rfind("builtin:", 0) == 0 ? std::string() : " (" + markerset.source + ")") +
+            (markerset.source.rfind("builtin:", 0) == 0 ? std::string()
+                                                        : " (" + markerset.source + ")") +
             " matches fewer than 3 labels (" + match->Report() + ")");
   return markerset;
 }

@@ -320,7 +320,8 @@ IntrinsicCalibration CalibrateIntrinsics(const std::vector<std::filesystem::path
     try {
       rms = cv::calibrateCamera(object, image, size, K, dist, rvecs, tvecs, flags);
     } catch (const cv::Exception& e) {  // its assertion text, as the images' fault
-      throw InputError(size_source.empty() ? "calibration" : size_source, "",
+      throw InputError(size_source.empty() ? "calibration" : size_source,
+                       "",
                        "no camera fits the board's corners (OpenCV: " + e.err + ")");
     }
     // Per-view RMS; the worst view above the threshold is rejected and the rest recalibrated.
@@ -418,7 +419,8 @@ std::vector<NamedPoint3> FigTrampolinePoints() {
   for (int k = 0; k < 4; ++k)
     points.push_back({fmt::format("FRAME_C{}", k + 1), {sx[k] * fx, sy[k] * fy, 0.0}});
   for (int k = 0; k < 4; ++k) {
-    points.push_back({fmt::format("FLOOR_C{}", k + 1), {sx[k] * fx, sy[k] * fy, -fig::kBedHeight_m}});
+    points.push_back(
+        {fmt::format("FLOOR_C{}", k + 1), {sx[k] * fx, sy[k] * fy, -fig::kBedHeight_m}});
   }
   return points;
 }
@@ -475,7 +477,8 @@ ExtrinsicCalibration CalibrateExtrinsics(const Camera& intrinsics,
   for (const cv::Point3d& a : object)
     for (const cv::Point3d& b : object) spread = std::max(spread, cv::norm(a - b));
   if (!(spread > 1e-3))
-    throw InputError("", "points", fmt::format("the {} 3D points coincide (all within 1 mm)", object.size()));
+    throw InputError(
+        "", "points", fmt::format("the {} 3D points coincide (all within 1 mm)", object.size()));
   cv::Mat rvec, tvec;
   try {
     if (!cv::solvePnP(object, image, K, dist, rvec, tvec, false, cv::SOLVEPNP_SQPNP))

@@ -67,7 +67,8 @@ bool Camera::IsValid(std::string* why) const {
   };
   if (width_px <= 0 || height_px <= 0)
     return fail(fmt::format("size {} x {} px is not positive", width_px, height_px));
-  if (name.size() > 200) return fail(fmt::format("a camera name of {} bytes (at most 200)", name.size()));
+  if (name.size() > 200)
+    return fail(fmt::format("a camera name of {} bytes (at most 200)", name.size()));
   for (const char c : name)
     if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f)
       return fail("the camera name holds a control character");
@@ -78,30 +79,43 @@ bool Camera::IsValid(std::string* why) const {
   // 0.6° (every lens from a fisheye's centre to a telephoto); the principal point lies within an
   // image side of the image.
   if (K(2, 0) != 0 || K(2, 1) != 0 || std::abs(K(2, 2) - 1) > 1e-9 || K(1, 0) != 0)
-    return fail(fmt::format("the matrix's last row is ({:g}, {:g}, {:g}) and its (1, 0) entry {:g}: "
-                            "a camera matrix has (0, 0, 1) and 0",
-                            K(2, 0), K(2, 1), K(2, 2), K(1, 0)));
+    return fail(
+        fmt::format("the matrix's last row is ({:g}, {:g}, {:g}) and its (1, 0) entry {:g}: "
+                    "a camera matrix has (0, 0, 1) and 0",
+                    K(2, 0),
+                    K(2, 1),
+                    K(2, 2),
+                    K(1, 0)));
   const double side = std::max(width_px, height_px);
   for (const double f : {K(0, 0), K(1, 1)})
     if (!(f >= 0.05 * side && f <= 100 * side))
-      return fail(fmt::format("focal length {:g} px is outside {:g} … {:g} px (0.05 to 100 times the "
-                              "image's {} px side)",
-                              f, 0.05 * side, 100 * side, side));
+      return fail(
+          fmt::format("focal length {:g} px is outside {:g} … {:g} px (0.05 to 100 times the "
+                      "image's {} px side)",
+                      f,
+                      0.05 * side,
+                      100 * side,
+                      side));
   if (std::abs(K(0, 1)) > K(0, 0))
     return fail(fmt::format("skew {:g} exceeds the focal length {:g}", K(0, 1), K(0, 0)));
   if (!(K(0, 2) >= -width_px && K(0, 2) <= 2.0 * width_px && K(1, 2) >= -height_px &&
         K(1, 2) <= 2.0 * height_px))
-    return fail(fmt::format("principal point ({:g}, {:g}) px is more than an image side outside "
-                            "the {} x {} image",
-                            K(0, 2), K(1, 2), width_px, height_px));
+    return fail(
+        fmt::format("principal point ({:g}, {:g}) px is more than an image side outside "
+                    "the {} x {} image",
+                    K(0, 2),
+                    K(1, 2),
+                    width_px,
+                    height_px));
   if (!R_KW.allFinite() || (R_KW * R_KW.transpose() - Eigen::Matrix3d::Identity()).norm() > 1e-6 ||
       std::abs(R_KW.determinant() - 1.0) > 1e-6)
     return fail("the rotation is not orthonormal with determinant +1");
   if (!t_KW.allFinite()) return fail("the translation is not finite");
   if (t_KW.norm() > 1e4)
-    return fail(fmt::format("the camera is {:.3g} m from the origin (a hall is not 10 km wide; "
-                            "translations are in metres)",
-                            t_KW.norm()));
+    return fail(
+        fmt::format("the camera is {:.3g} m from the origin (a hall is not 10 km wide; "
+                    "translations are in metres)",
+                    t_KW.norm()));
   for (double k : distortion)
     if (!std::isfinite(k)) return fail("a distortion coefficient is not finite");
   for (double k : distortion)
@@ -113,8 +127,8 @@ bool Camera::IsValid(std::string* why) const {
   return true;
 }
 
-Camera FitCameraToVideo(const Camera& camera, int width, int height, const std::string& video,
-                        std::string* note) {
+Camera FitCameraToVideo(
+    const Camera& camera, int width, int height, const std::string& video, std::string* note) {
   Camera fitted = camera;
   fitted.width_px = width;
   fitted.height_px = height;
@@ -122,13 +136,19 @@ Camera FitCameraToVideo(const Camera& camera, int width, int height, const std::
     return fitted;
   const double sx = double(width) / camera.width_px, sy = double(height) / camera.height_px;
   if (width <= 0 || height <= 0 || std::abs(sx / sy - 1.0) > 0.01) {
-    throw InputError(video, "",
-                     fmt::format("is {} x {} px, camera {} was calibrated at {} x {}: neither that "
-                                 "size nor a scaled copy of it (aspect {:.3f} against {:.3f}); give "
-                                 "the calibration of this video",
-                                 width, height, camera.name, camera.width_px, camera.height_px,
-                                 double(width) / std::max(1, height),
-                                 double(camera.width_px) / camera.height_px));
+    throw InputError(
+        video,
+        "",
+        fmt::format("is {} x {} px, camera {} was calibrated at {} x {}: neither that "
+                    "size nor a scaled copy of it (aspect {:.3f} against {:.3f}); give "
+                    "the calibration of this video",
+                    width,
+                    height,
+                    camera.name,
+                    camera.width_px,
+                    camera.height_px,
+                    double(width) / std::max(1, height),
+                    double(camera.width_px) / camera.height_px));
   }
   // Pixel centres: x_new + ½ = s (x_old + ½).
   fitted.K.row(0) *= sx;
@@ -136,9 +156,16 @@ Camera FitCameraToVideo(const Camera& camera, int width, int height, const std::
   fitted.K(0, 2) = (camera.K(0, 2) + 0.5) * sx - 0.5;
   fitted.K(1, 2) = (camera.K(1, 2) + 0.5) * sy - 0.5;
   if (note)
-    *note = fmt::format("{} is {} x {} px, camera {} was calibrated at {} x {}: the camera is "
-                        "scaled by {:.4g} to it",
-                        video, width, height, camera.name, camera.width_px, camera.height_px, sx);
+    *note = fmt::format(
+        "{} is {} x {} px, camera {} was calibrated at {} x {}: the camera is "
+        "scaled by {:.4g} to it",
+        video,
+        width,
+        height,
+        camera.name,
+        camera.width_px,
+        camera.height_px,
+        sx);
   return fitted;
 }
 
@@ -192,7 +219,8 @@ int ImageSide(double v, const std::string& file, const std::string& where, const
     throw InputError(
         file, where, fmt::format("{}: {} px is not an image size (1–100000)", what, v));
   if (v != std::floor(v))
-    throw InputError(file, where, fmt::format("{}: {} px is not a whole number of pixels", what, v));
+    throw InputError(
+        file, where, fmt::format("{}: {} px is not a whole number of pixels", what, v));
   return static_cast<int>(std::lround(v));
 }
 
@@ -201,8 +229,9 @@ int ImageSide(double v, const std::string& file, const std::string& where, const
 std::vector<Camera> ReadPose2SimToml(const std::filesystem::path& path) {
   const std::string file = path.string();
   const std::vector<std::uint8_t> bytes = ReadFileBytes(path, std::int64_t(16) << 20);
-  DemandNestingAtMost(
-      std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), 64, path.string());
+  DemandNestingAtMost(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()),
+                      64,
+                      path.string());
   toml::table root;
   try {
     root = toml::parse(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()),
@@ -250,8 +279,9 @@ std::vector<Camera> ReadPose2SimToml(const std::filesystem::path& path) {
 std::vector<Camera> ReadQualisysQca(const std::filesystem::path& path) {
   const std::string file = path.string();
   const std::vector<std::uint8_t> bytes = ReadFileBytes(path, std::int64_t(16) << 20);
-  DemandNestingAtMost(
-      std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()), 64, path.string());
+  DemandNestingAtMost(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()),
+                      64,
+                      path.string());
   pugi::xml_document doc;
   const pugi::xml_parse_result parsed = doc.load_buffer(bytes.data(), bytes.size());
   if (!parsed) {
@@ -275,7 +305,8 @@ std::vector<Camera> ReadQualisysQca(const std::filesystem::path& path) {
     const std::string where = "camera '" + c.name + "'";
     // QTM's flag of a camera in use: read although unused here, so that a damaged one is said.
     if (const pugi::xml_attribute active = cam.attribute("active");
-        active && std::string_view(active.value()) != "0" && std::string_view(active.value()) != "1")
+        active && std::string_view(active.value()) != "0" &&
+        std::string_view(active.value()) != "1")
       throw InputError(file, where, fmt::format("active: '{}' is not 0 or 1", active.value()));
     const pugi::xml_node transform = cam.child("transform");
     const pugi::xml_node intrinsic = cam.child("intrinsic");

@@ -25,15 +25,21 @@ VideoSync SyncFromEvent(double trial_time_s, double video_time_s, double rate) {
   return {video_time_s - rate * trial_time_s, rate};
 }
 
-void DemandTrialInsideVideo(const VideoSync& sync, double trial_duration_s,
-                            double video_duration_s, const std::string& video) {
+void DemandTrialInsideVideo(const VideoSync& sync,
+                            double trial_duration_s,
+                            double video_duration_s,
+                            const std::string& video) {
   const double first = sync.VideoTime(0.0), last = sync.VideoTime(trial_duration_s);
   if (std::isfinite(first) && std::isfinite(last) && last >= 0.0 && first <= video_duration_s)
     return;
-  throw InputError(video, "sync",
-                   fmt::format("puts the trial at video time {:.6g} … {:.6g} s, outside the video's "
-                               "0 … {:.3f} s (check --offset-s or --event)",
-                               first, last, video_duration_s));
+  throw InputError(
+      video,
+      "sync",
+      fmt::format("puts the trial at video time {:.6g} … {:.6g} s, outside the video's "
+                  "0 … {:.3f} s (check --offset-s or --event)",
+                  first,
+                  last,
+                  video_duration_s));
 }
 
 bool AutoSyncOptions::IsValid(std::string* why) const {
@@ -43,9 +49,10 @@ bool AutoSyncOptions::IsValid(std::string* why) const {
   }
   if (!(max_offset_s > min_offset_s) || !std::isfinite(min_offset_s) ||
       !std::isfinite(max_offset_s) || max_offset_s - min_offset_s > 3600.0) {
-    *why = fmt::format("the offsets searched (--search-s), {} to {} s, are not an interval of at most an hour",
-                       min_offset_s,
-                       max_offset_s);
+    *why = fmt::format(
+        "the offsets searched (--search-s), {} to {} s, are not an interval of at most an hour",
+        min_offset_s,
+        max_offset_s);
     return false;
   }
   if (!(max_error_px > 0.0) || analysis_width_px < 32 || analysis_width_px > 1024 ||
@@ -318,8 +325,7 @@ VideoMotion MeasureVideoMotion(capture::VideoReader& video, const AutoSyncOption
     }
     previous.swap(grey);
     grey.resize(previous.size());
-    if (options.progress && !options.progress(k + 1, n))
-      throw Cancelled();
+    if (options.progress && !options.progress(k + 1, n)) throw Cancelled();
   }
   VideoMotion out;
   out.n = n;
@@ -338,8 +344,10 @@ struct TrialSample {
   double speed = 0.0;
 };
 
-std::vector<TrialSample> ProjectTrialMotion(const capture::Trial& trial, const Camera& camera,
-                                            const AutoSyncOptions& options, const VideoMotion& motion) {
+std::vector<TrialSample> ProjectTrialMotion(const capture::Trial& trial,
+                                            const Camera& camera,
+                                            const AutoSyncOptions& options,
+                                            const VideoMotion& motion) {
   const int factor = motion.factor, w = motion.w, h = motion.h;
   std::vector<TrialSample> samples(static_cast<size_t>(trial.num_frames));
   std::vector<std::optional<Eigen::Vector2d>> uv(static_cast<size_t>(trial.num_points())), next;

@@ -287,8 +287,10 @@ TEST(TrialAnalysis, InjectedExecutionFaultsAreFoundWhereTheyAre) {
       {"knees_bent", {{"r_knee_flexion", 20}, {"l_knee_flexion", 20}}, 20, 5},
       {"arms_bent", {{"r_elbow_flexion", -60}, {"l_elbow_flexion", -60}}, 60, 5},
       {"arms_out", {{"r_shoulder_abduction", 45}, {"l_shoulder_abduction", -45}}, 45, 5},
-      {"legs_apart", {{"r_hip_abduction", -a_deg}, {"l_hip_abduction", a_deg}},  // the model's abduction outwards
-       2 * leg * std::sin(a_deg * std::numbers::pi / 180), 0.03},
+      {"legs_apart",
+       {{"r_hip_abduction", -a_deg}, {"l_hip_abduction", a_deg}},  // the model's abduction outwards
+       2 * leg * std::sin(a_deg * std::numbers::pi / 180),
+       0.03},
       {"body_bent", {{"r_hip_flexion", -40}, {"l_hip_flexion", -40}}, 40, 5},
   };
   for (const Injection& inj : injections) {
@@ -297,9 +299,11 @@ TEST(TrialAnalysis, InjectedExecutionFaultsAreFoundWhereTheyAre) {
     Motion& m = a.reconstruction.motion;
     const Flight& f = a.jumps[target].flight;
     for (int k = f.takeoff_frame; k <= f.landing_frame; ++k)
-      for (const auto& [name, deg] : inj.set_deg) m.q(column(name), k) = deg * std::numbers::pi / 180;
+      for (const auto& [name, deg] : inj.set_deg)
+        m.q(column(name), k) = deg * std::numbers::pi / 180;
     for (size_t j = 0; j < a.jumps.size(); ++j) {
-      const std::vector<fig::MeasuredFault> faults = MeasureExecution(a, j, fig::ExecutionRules::Default(), {});
+      const std::vector<fig::MeasuredFault> faults =
+          MeasureExecution(a, j, fig::ExecutionRules::Default(), {});
       bool found = false;
       for (const fig::MeasuredFault& mf : faults) {
         if (j == target && mf.fault == inj.fault) {

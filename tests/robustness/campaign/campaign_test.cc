@@ -44,8 +44,8 @@
 
 #include <fmt/format.h>
 #include <gtest/gtest.h>
-#include <nlohmann/json.hpp>
 #include <sqlite3.h>
+#include <nlohmann/json.hpp>
 
 #include "mutations.h"
 #include "refdata.h"
@@ -100,8 +100,12 @@ long PeakKb(pid_t pid, const std::string& name) {
 
 // Runs argv[0] with the arguments in `dir`, stdin and stdout from and to nothing, stderr kept;
 // killed (the whole process group) after kTimeout_s; `send` sent after `send_after_s` when set.
-Run Spawn(const std::vector<std::string>& argv, const fs::path& dir, const fs::path& err_file,
-          const std::vector<std::string>& env, int send = 0, double send_after_s = 0) {
+Run Spawn(const std::vector<std::string>& argv,
+          const fs::path& dir,
+          const fs::path& err_file,
+          const std::vector<std::string>& env,
+          int send = 0,
+          double send_after_s = 0) {
   const fs::path out_file = fs::path(err_file).replace_extension(".out");
   const std::string image = fs::path(argv[0]).filename().string();
   std::vector<std::string> environment;
@@ -112,7 +116,8 @@ Run Spawn(const std::vector<std::string>& argv, const fs::path& dir, const fs::p
   args.push_back(nullptr);
   for (const std::string& e : environment) envp.push_back(const_cast<char*>(e.c_str()));
   envp.push_back(nullptr);
-  const std::string dir_text = dir.string(), err_text = err_file.string(), out_text = out_file.string();
+  const std::string dir_text = dir.string(), err_text = err_file.string(),
+                    out_text = out_file.string();
   const auto start = std::chrono::steady_clock::now();
   const pid_t pid = ::fork();
   if (pid == 0) {
@@ -140,7 +145,8 @@ Run Spawn(const std::vector<std::string>& argv, const fs::path& dir, const fs::p
   for (;;) {
     peak_kb = std::max(peak_kb, PeakKb(pid, image));
     const pid_t done = ::wait4(pid, &raw, WNOHANG, &usage);
-    const double t = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+    const double t =
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (done == pid) {
       run.seconds = t;
       break;
@@ -178,26 +184,33 @@ using acro::testing::LastLine;
 // ---- The surfaces: a reader, the good file it is given, and the commands that read it.
 
 struct Surface {
-  std::string name;                             // "c3d"
-  std::string file;                             // the input's name in the case directory
+  std::string name;  // "c3d"
+  std::string file;  // the input's name in the case directory
   Format format;
   std::vector<std::vector<std::string>> commands;  // acrolab's words; {F} the input, {S} the seeds
   std::vector<Defect> defects;
-  int variants = 30;                            // per defect class
+  int variants = 30;  // per defect class
   // Set after construction:
-  std::vector<std::string> culprits = {};       // a refusal names one of these (default: file)
-  bool library_output = false;                  // the command writes into lib.sqlite
-  std::string models_file = {};                 // the input is this file of the pose models
-  std::string dir = {};                         // the input sits in this folder (detections)
-  bool reader_helper = false;                   // read by acro_campaign_reader, not acrolab
+  std::vector<std::string> culprits = {};  // a refusal names one of these (default: file)
+  bool library_output = false;             // the command writes into lib.sqlite
+  std::string models_file = {};            // the input is this file of the pose models
+  std::string dir = {};                    // the input sits in this folder (detections)
+  bool reader_helper = false;              // read by acro_campaign_reader, not acrolab
 };
 
-const std::vector<Defect> kAllFileDefects = {
-    Defect::kTruncation, Defect::kBitFlip, Defect::kCounts,   Defect::kNonFinite,
-    Defect::kAbsurd,     Defect::kUnits,   Defect::kNames,    Defect::kEncoding,
-    Defect::kSpecial,    Defect::kNesting, Defect::kHugeLine};
-const std::vector<Defect> kBinaryDefects = {Defect::kTruncation, Defect::kBitFlip, Defect::kCounts,
-                                            Defect::kSpecial, Defect::kHugeLine};
+const std::vector<Defect> kAllFileDefects = {Defect::kTruncation,
+                                             Defect::kBitFlip,
+                                             Defect::kCounts,
+                                             Defect::kNonFinite,
+                                             Defect::kAbsurd,
+                                             Defect::kUnits,
+                                             Defect::kNames,
+                                             Defect::kEncoding,
+                                             Defect::kSpecial,
+                                             Defect::kNesting,
+                                             Defect::kHugeLine};
+const std::vector<Defect> kBinaryDefects = {
+    Defect::kTruncation, Defect::kBitFlip, Defect::kCounts, Defect::kSpecial, Defect::kHugeLine};
 
 struct Case {
   int index = 0;
@@ -206,9 +219,10 @@ struct Case {
   int variant = 0;
   int command = 0;
   std::string what;
-  std::uint64_t salt = 0;  // the mutation is made again from (surface, defect, variant, salt) when run
-  Mutation mutation;       // filled only while the case runs (the campaign's own memory stays small:
-                           // a child's peak RSS counts its parent's from before exec)
+  std::uint64_t salt =
+      0;              // the mutation is made again from (surface, defect, variant, salt) when run
+  Mutation mutation;  // filled only while the case runs (the campaign's own memory stays small:
+                      // a child's peak RSS counts its parent's from before exec)
   // Option, output, signal and full-disk cases: the words themselves.
   std::vector<std::string> words;
   std::vector<std::string> culprits;
@@ -232,7 +246,8 @@ struct Verdict {
 
 class Campaign {
  public:
-  Campaign(fs::path scratch, fs::path seeds) : scratch_(std::move(scratch)), seeds_(std::move(seeds)) {}
+  Campaign(fs::path scratch, fs::path seeds)
+      : scratch_(std::move(scratch)), seeds_(std::move(seeds)) {}
 
   void MakeSeeds();
   void MakeSurfaces();
@@ -246,10 +261,18 @@ class Campaign {
   void UnmountSmallFilesystem();
 
  private:
-  std::vector<std::string> Words(const std::vector<std::string>& words, const fs::path& input) const;
-  Verdict Judge(const Case& c, const Run& run, const fs::path& dir, const std::set<std::string>& inputs,
-                std::size_t input_bytes, int library_trials_before) const;
-  void PlaceInput(const Case& c, const fs::path& dir, std::set<std::string>* inputs, std::size_t* bytes) const;
+  std::vector<std::string> Words(const std::vector<std::string>& words,
+                                 const fs::path& input) const;
+  Verdict Judge(const Case& c,
+                const Run& run,
+                const fs::path& dir,
+                const std::set<std::string>& inputs,
+                std::size_t input_bytes,
+                int library_trials_before) const;
+  void PlaceInput(const Case& c,
+                  const fs::path& dir,
+                  std::set<std::string>* inputs,
+                  std::size_t* bytes) const;
 
   fs::path scratch_, seeds_;
   fs::path small_fs_;
@@ -257,14 +280,17 @@ class Campaign {
   std::map<std::string, Baseline> baselines_;
 };
 
-fs::path Exe() { return fs::path(ACROLAB_EXE); }
+fs::path Exe() {
+  return fs::path(ACROLAB_EXE);
+}
 
 // Runs acrolab once to make a seed; the campaign cannot start without its seeds.
 void MakeWith(const std::vector<std::string>& words, const fs::path& dir) {
   std::vector<std::string> argv = {Exe().string()};
   argv.insert(argv.end(), words.begin(), words.end());
   const Run run = Spawn(argv, dir, dir / "seed_stderr.txt", {});
-  if (run.status != 0) throw std::runtime_error("making a seed failed: " + words[0] + ": " + run.err);
+  if (run.status != 0)
+    throw std::runtime_error("making a seed failed: " + words[0] + ": " + run.err);
   fs::remove(dir / "seed_stderr.txt");
 }
 
@@ -286,47 +312,70 @@ void Campaign::MakeSeeds() {
                 seeds_ / "markerset.yaml");
   // An age group's rules with every section a club edits: requirements, zones, execution steps and
   // the synchronisation's conversion.
-  WriteBytes(seeds_ / "rules.yaml",
-             ReadBytes(acro::testing::SourceDir() / "rules/fig-wagc-13-16-first-routine.yaml") +
-                 "execution:\n  knees_bent: [[10, 0.1], [30, 0.2]]\n  late_opening: [[0.25, 0.1], [0.12, 0.2]]\n"
-                 "synchronisation:\n  element_points: 2.0\n  points_lost_per_s: 8\n  tolerance_s: 0.002\n"
-                 "  source: a club's reading\n");
+  WriteBytes(
+      seeds_ / "rules.yaml",
+      ReadBytes(acro::testing::SourceDir() / "rules/fig-wagc-13-16-first-routine.yaml") +
+          "execution:\n  knees_bent: [[10, 0.1], [30, 0.2]]\n  late_opening: [[0.25, 0.1], [0.12, "
+          "0.2]]\n"
+          "synchronisation:\n  element_points: 2.0\n  points_lost_per_s: 8\n  tolerance_s: 0.002\n"
+          "  source: a club's reading\n");
   MakeWith({"convert", "trial.c3d", "trial.trc"}, seeds_);
   MakeWith({"convert", "trial.c3d", "trial.csv"}, seeds_);
-  MakeWith({"reconstruct", "trial.c3d", "--athlete", "athlete.yaml", "--quiet", "-o", "rec"}, seeds_);
+  MakeWith({"reconstruct", "trial.c3d", "--athlete", "athlete.yaml", "--quiet", "-o", "rec"},
+           seeds_);
   fs::copy_file(seeds_ / "rec/trial.mot", seeds_ / "angles.mot");
-  MakeWith({"library", "add", "--library", "library.sqlite", "--athlete", "athlete.yaml", "trial.c3d", "--quiet"}, seeds_);
-  WriteBytes(seeds_ / "routine.yaml", "name: campaign\nathlete: " + (seeds_ / "athlete.yaml").string() +
-                                          "\nskills:\n  - 40o\n  - code: 40<\n    flight_time_s: 1.5\n");
-  WriteBytes(seeds_ / "jobs.txt", "trial.c3d --athlete athlete.yaml --session 2026-01-02 --notes 'first day'\n"
-                                  "# a comment\ntrial.trc --athlete athlete.yaml --place hall\n");
+  MakeWith({"library",
+            "add",
+            "--library",
+            "library.sqlite",
+            "--athlete",
+            "athlete.yaml",
+            "trial.c3d",
+            "--quiet"},
+           seeds_);
+  WriteBytes(seeds_ / "routine.yaml",
+             "name: campaign\nathlete: " + (seeds_ / "athlete.yaml").string() +
+                 "\nskills:\n  - 40o\n  - code: 40<\n    flight_time_s: 1.5\n");
+  WriteBytes(seeds_ / "jobs.txt",
+             "trial.c3d --athlete athlete.yaml --session 2026-01-02 --notes 'first day'\n"
+             "# a comment\ntrial.trc --athlete athlete.yaml --place hall\n");
   // The side camera in the other calibration formats, the same numbers.
-  WriteBytes(seeds_ / "calib.yml",
-             "%YAML:1.0\n---\nimage_width: 1920\nimage_height: 1080\ncamera_matrix: !!opencv-matrix\n"
-             "   rows: 3\n   cols: 3\n   dt: d\n   data: [ 1482., 0., 968.4, 0., 1478.5, 536.1, 0., 0., 1. ]\n"
-             "distortion_coefficients: !!opencv-matrix\n   rows: 1\n   cols: 4\n   dt: d\n"
-             "   data: [ -0.062, 0.018, 0.0004, -0.0003 ]\n"
-             "rvec: !!opencv-matrix\n   rows: 3\n   cols: 1\n   dt: d\n   data: [ 1.5707963267948966, 0., 0. ]\n"
-             "tvec: !!opencv-matrix\n   rows: 3\n   cols: 1\n   dt: d\n   data: [ -0.4, 3.4, 9.7 ]\n");
+  WriteBytes(
+      seeds_ / "calib.yml",
+      "%YAML:1.0\n---\nimage_width: 1920\nimage_height: 1080\ncamera_matrix: !!opencv-matrix\n"
+      "   rows: 3\n   cols: 3\n   dt: d\n   data: [ 1482., 0., 968.4, 0., 1478.5, 536.1, 0., 0., "
+      "1. ]\n"
+      "distortion_coefficients: !!opencv-matrix\n   rows: 1\n   cols: 4\n   dt: d\n"
+      "   data: [ -0.062, 0.018, 0.0004, -0.0003 ]\n"
+      "rvec: !!opencv-matrix\n   rows: 3\n   cols: 1\n   dt: d\n   data: [ 1.5707963267948966, 0., "
+      "0. ]\n"
+      "tvec: !!opencv-matrix\n   rows: 3\n   cols: 1\n   dt: d\n   data: [ -0.4, 3.4, 9.7 ]\n");
   WriteBytes(seeds_ / "calib.json",
-             "{\n\"image_width\": 1920,\n\"image_height\": 1080,\n\"camera_matrix\": {\"type_id\": \"opencv-matrix\", "
-             "\"rows\": 3, \"cols\": 3, \"dt\": \"d\", \"data\": [1482.0, 0.0, 968.4, 0.0, 1478.5, 536.1, 0.0, 0.0, 1.0]},\n"
-             "\"distortion_coefficients\": {\"type_id\": \"opencv-matrix\", \"rows\": 1, \"cols\": 4, \"dt\": \"d\", "
+             "{\n\"image_width\": 1920,\n\"image_height\": 1080,\n\"camera_matrix\": {\"type_id\": "
+             "\"opencv-matrix\", "
+             "\"rows\": 3, \"cols\": 3, \"dt\": \"d\", \"data\": [1482.0, 0.0, 968.4, 0.0, 1478.5, "
+             "536.1, 0.0, 0.0, 1.0]},\n"
+             "\"distortion_coefficients\": {\"type_id\": \"opencv-matrix\", \"rows\": 1, \"cols\": "
+             "4, \"dt\": \"d\", "
              "\"data\": [-0.062, 0.018, 0.0004, -0.0003]},\n"
-             "\"rvec\": {\"type_id\": \"opencv-matrix\", \"rows\": 3, \"cols\": 1, \"dt\": \"d\", \"data\": [1.5707963267948966, 0.0, 0.0]},\n"
-             "\"tvec\": {\"type_id\": \"opencv-matrix\", \"rows\": 3, \"cols\": 1, \"dt\": \"d\", \"data\": [-0.4, 3.4, 9.7]}\n}\n");
+             "\"rvec\": {\"type_id\": \"opencv-matrix\", \"rows\": 3, \"cols\": 1, \"dt\": \"d\", "
+             "\"data\": [1.5707963267948966, 0.0, 0.0]},\n"
+             "\"tvec\": {\"type_id\": \"opencv-matrix\", \"rows\": 3, \"cols\": 1, \"dt\": \"d\", "
+             "\"data\": [-0.4, 3.4, 9.7]}\n}\n");
   // Qualisys: rotation rows r11…r33 of the camera in the lab (its axes x right, y up, z back),
   // position in mm, intrinsics in 1/64 px (docs/formats/calibration-qca.md).
-  WriteBytes(seeds_ / "calib.qca",
-             "<?xml version=\"1.0\"?>\n<calibration>\n <cameras>\n"
-             "  <camera active=\"1\" serial=\"side\" model=\"Miqus\">\n"
-             "   <fov_video left=\"0\" top=\"0\" right=\"1919\" bottom=\"1079\"/>\n"
-             "   <transform x=\"400\" y=\"-9700\" z=\"3400\" r11=\"1\" r12=\"0\" r13=\"0\" r21=\"0\" r22=\"0\" "
-             "r23=\"-1\" r31=\"0\" r32=\"1\" r33=\"0\"/>\n"
-             "   <intrinsic focalLengthU=\"94848\" focalLengthV=\"94624\" centerPointU=\"61977.6\" "
-             "centerPointV=\"34310.4\" radialDistortion1=\"-0.062\" radialDistortion2=\"0.018\" "
-             "radialDistortion3=\"0\" tangentalDistortion1=\"0.0004\" tangentalDistortion2=\"-0.0003\"/>\n"
-             "  </camera>\n </cameras>\n</calibration>\n");
+  WriteBytes(
+      seeds_ / "calib.qca",
+      "<?xml version=\"1.0\"?>\n<calibration>\n <cameras>\n"
+      "  <camera active=\"1\" serial=\"side\" model=\"Miqus\">\n"
+      "   <fov_video left=\"0\" top=\"0\" right=\"1919\" bottom=\"1079\"/>\n"
+      "   <transform x=\"400\" y=\"-9700\" z=\"3400\" r11=\"1\" r12=\"0\" r13=\"0\" r21=\"0\" "
+      "r22=\"0\" "
+      "r23=\"-1\" r31=\"0\" r32=\"1\" r33=\"0\"/>\n"
+      "   <intrinsic focalLengthU=\"94848\" focalLengthV=\"94624\" centerPointU=\"61977.6\" "
+      "centerPointV=\"34310.4\" radialDistortion1=\"-0.062\" radialDistortion2=\"0.018\" "
+      "radialDistortion3=\"0\" tangentalDistortion1=\"0.0004\" tangentalDistortion2=\"-0.0003\"/>\n"
+      "  </camera>\n </cameras>\n</calibration>\n");
   // OpenPose JSON detections of three frames (BODY_25B, one person).
   fs::create_directories(seeds_ / "det");
   for (int f = 0; f < 3; ++f) {
@@ -347,45 +396,157 @@ void Campaign::MakeSurfaces() {
   const std::string S = seeds_.string() + "/";
   auto text_defects = kAllFileDefects;
   surfaces_ = {
-      {"c3d", "jump.c3d", Format::kC3d, {{"info", "{F}"}, {"convert", "{F}", "out.trc"}}, kAllFileDefects, 44},
-      {"trc", "jump.trc", Format::kText, {{"info", "{F}"}, {"convert", "{F}", "out.c3d"}}, text_defects, 44},
-      {"csv", "jump.csv", Format::kText, {{"info", "{F}"}, {"convert", "{F}", "out.trc"}}, text_defects, 34},
+      {"c3d",
+       "jump.c3d",
+       Format::kC3d,
+       {{"info", "{F}"}, {"convert", "{F}", "out.trc"}},
+       kAllFileDefects,
+       44},
+      {"trc",
+       "jump.trc",
+       Format::kText,
+       {{"info", "{F}"}, {"convert", "{F}", "out.c3d"}},
+       text_defects,
+       44},
+      {"csv",
+       "jump.csv",
+       Format::kText,
+       {{"info", "{F}"}, {"convert", "{F}", "out.trc"}},
+       text_defects,
+       34},
       {"storage", "angles.mot", Format::kText, {{"storage", "{F}"}}, text_defects, 28},
-      {"athlete", "athlete.yaml", Format::kText, {{"body", "--profile", "{F}", "--json"}}, text_defects, 34},
-      {"yeadon", "yeadon.yaml", Format::kText, {{"body", "--profile", "{F}", "--json"}}, text_defects, 28},
-      {"skill", "skill.yaml", Format::kText, {{"optimize", "{F}", "-o", "out", "--model", "2", "--intervals", "10"}},
-       text_defects, 28},
-      {"routine", "routine.yaml", Format::kText, {{"routine", "{F}", "-o", "out"}}, text_defects, 23},
-      {"markerset", "markers.yaml", Format::kText,
-       {{"reconstruct", S + "trial.c3d", "--markerset", "{F}", "--athlete", S + "athlete.yaml", "--quiet", "-o", "out"}},
-       text_defects, 16},
-      {"toml", "calib.toml", Format::kText, {{"project", S + "trial.c3d", "--calib", "{F}", "--csv", "out.csv"}},
-       text_defects, 34},
-      {"opencv-yml", "calib.yml", Format::kText, {{"project", S + "trial.c3d", "--calib", "{F}", "--csv", "out.csv"}},
-       text_defects, 34},
-      {"opencv-json", "calib.json", Format::kJson, {{"project", S + "trial.c3d", "--calib", "{F}", "--csv", "out.csv"}},
-       text_defects, 28},
-      {"qca", "calib.qca", Format::kXml, {{"project", S + "trial.c3d", "--calib", "{F}", "--csv", "out.csv"}},
-       text_defects, 28},
-      {"detections", "side_000000000001_keypoints.json", Format::kJson,
-       {{"overlay", "--detections", "det", "--video", S + "video.mp4", "--frames", "0:2", "-o", "out.mp4"}},
-       text_defects, 23},
-      {"video", "clip.mp4", Format::kMp4, {{"video", "info", "{F}"}, {"video", "frame", "{F}", "--frame", "5", "-o", "f.png"}},
-       kBinaryDefects, 48},
-      {"library", "lib.sqlite", Format::kSqlite,
+      {"athlete",
+       "athlete.yaml",
+       Format::kText,
+       {{"body", "--profile", "{F}", "--json"}},
+       text_defects,
+       34},
+      {"yeadon",
+       "yeadon.yaml",
+       Format::kText,
+       {{"body", "--profile", "{F}", "--json"}},
+       text_defects,
+       28},
+      {"skill",
+       "skill.yaml",
+       Format::kText,
+       {{"optimize", "{F}", "-o", "out", "--model", "2", "--intervals", "10"}},
+       text_defects,
+       28},
+      {"routine",
+       "routine.yaml",
+       Format::kText,
+       {{"routine", "{F}", "-o", "out"}},
+       text_defects,
+       23},
+      {"markerset",
+       "markers.yaml",
+       Format::kText,
+       {{"reconstruct",
+         S + "trial.c3d",
+         "--markerset",
+         "{F}",
+         "--athlete",
+         S + "athlete.yaml",
+         "--quiet",
+         "-o",
+         "out"}},
+       text_defects,
+       16},
+      {"toml",
+       "calib.toml",
+       Format::kText,
+       {{"project", S + "trial.c3d", "--calib", "{F}", "--csv", "out.csv"}},
+       text_defects,
+       34},
+      {"opencv-yml",
+       "calib.yml",
+       Format::kText,
+       {{"project", S + "trial.c3d", "--calib", "{F}", "--csv", "out.csv"}},
+       text_defects,
+       34},
+      {"opencv-json",
+       "calib.json",
+       Format::kJson,
+       {{"project", S + "trial.c3d", "--calib", "{F}", "--csv", "out.csv"}},
+       text_defects,
+       28},
+      {"qca",
+       "calib.qca",
+       Format::kXml,
+       {{"project", S + "trial.c3d", "--calib", "{F}", "--csv", "out.csv"}},
+       text_defects,
+       28},
+      {"detections",
+       "side_000000000001_keypoints.json",
+       Format::kJson,
+       {{"overlay",
+         "--detections",
+         "det",
+         "--video",
+         S + "video.mp4",
+         "--frames",
+         "0:2",
+         "-o",
+         "out.mp4"}},
+       text_defects,
+       23},
+      {"video",
+       "clip.mp4",
+       Format::kMp4,
+       {{"video", "info", "{F}"}, {"video", "frame", "{F}", "--frame", "5", "-o", "f.png"}},
+       kBinaryDefects,
+       48},
+      {"library",
+       "lib.sqlite",
+       Format::kSqlite,
        {{"library", "list", "--library", "{F}"},
-        {"library", "add", "--library", "{F}", "--athlete", S + "athlete.yaml", S + "trial.trc", "--quiet"}},
-       kBinaryDefects, 36},
-      {"batch", "jobs.txt", Format::kText, {{"batch", "{F}", "--library", "lib.sqlite", "--print-jobs"}}, text_defects, 23},
-      {"rules", "rules.yaml", Format::kText,
-       {{"synchro", S + "trial.c3d", S + "trial.c3d", "--athlete", S + "athlete.yaml", "--rules", "{F}", "-o", "out"}},
-       text_defects, 16},
-      {"pose-model", "pose_landmark_lite.onnx", Format::kBinary,
+        {"library",
+         "add",
+         "--library",
+         "{F}",
+         "--athlete",
+         S + "athlete.yaml",
+         S + "trial.trc",
+         "--quiet"}},
+       kBinaryDefects,
+       36},
+      {"batch",
+       "jobs.txt",
+       Format::kText,
+       {{"batch", "{F}", "--library", "lib.sqlite", "--print-jobs"}},
+       text_defects,
+       23},
+      {"rules",
+       "rules.yaml",
+       Format::kText,
+       {{"synchro",
+         S + "trial.c3d",
+         S + "trial.c3d",
+         "--athlete",
+         S + "athlete.yaml",
+         "--rules",
+         "{F}",
+         "-o",
+         "out"}},
+       text_defects,
+       16},
+      {"pose-model",
+       "pose_landmark_lite.onnx",
+       Format::kBinary,
        {{"detect", S + "video.mp4", "--model", "lite", "--frames", "0:1", "-o", "out", "--quiet"}},
-       {Defect::kTruncation, Defect::kBitFlip, Defect::kSpecial, Defect::kHugeLine}, 8},
-      {"pose-manifest", "MANIFEST", Format::kText,
+       {Defect::kTruncation, Defect::kBitFlip, Defect::kSpecial, Defect::kHugeLine},
+       8},
+      {"pose-manifest",
+       "MANIFEST",
+       Format::kText,
        {{"detect", S + "video.mp4", "--model", "lite", "--frames", "0:1", "-o", "out", "--quiet"}},
-       {Defect::kTruncation, Defect::kBitFlip, Defect::kNames, Defect::kEncoding, Defect::kSpecial, Defect::kHugeLine},
+       {Defect::kTruncation,
+        Defect::kBitFlip,
+        Defect::kNames,
+        Defect::kEncoding,
+        Defect::kSpecial,
+        Defect::kHugeLine},
        6},
   };
   for (Surface& s : surfaces_) {
@@ -400,18 +561,36 @@ void Campaign::MakeSurfaces() {
     }
   }
   for (Surface& s : surfaces_)
-    if (s.name == "c3d") s.commands.push_back({"library", "add", "--library", "lib.sqlite", "--athlete",
-                                               S + "athlete.yaml", "{F}", "--quiet"});
+    if (s.name == "c3d")
+      s.commands.push_back({"library",
+                            "add",
+                            "--library",
+                            "lib.sqlite",
+                            "--athlete",
+                            S + "athlete.yaml",
+                            "{F}",
+                            "--quiet"});
 }
 
 std::string SeedFor(const Surface& s, const fs::path& seeds) {
   static const std::map<std::string, std::string> files = {
-      {"c3d", "trial.c3d"},       {"trc", "trial.trc"},          {"csv", "trial.csv"},
-      {"storage", "angles.mot"},  {"athlete", "athlete.yaml"},   {"yeadon", "yeadon.yaml"},
-      {"skill", "skill.yaml"},    {"routine", "routine.yaml"},   {"markerset", "markerset.yaml"},
-      {"toml", "calib.toml"},     {"opencv-yml", "calib.yml"},   {"opencv-json", "calib.json"},
-      {"qca", "calib.qca"},       {"detections", "det/side_000000000001_keypoints.json"},
-      {"video", "video.mp4"},     {"library", "library.sqlite"}, {"batch", "jobs.txt"},
+      {"c3d", "trial.c3d"},
+      {"trc", "trial.trc"},
+      {"csv", "trial.csv"},
+      {"storage", "angles.mot"},
+      {"athlete", "athlete.yaml"},
+      {"yeadon", "yeadon.yaml"},
+      {"skill", "skill.yaml"},
+      {"routine", "routine.yaml"},
+      {"markerset", "markerset.yaml"},
+      {"toml", "calib.toml"},
+      {"opencv-yml", "calib.yml"},
+      {"opencv-json", "calib.json"},
+      {"qca", "calib.qca"},
+      {"detections", "det/side_000000000001_keypoints.json"},
+      {"video", "video.mp4"},
+      {"library", "library.sqlite"},
+      {"batch", "jobs.txt"},
       {"rules", "rules.yaml"}};
   if (!s.models_file.empty()) {
     // The installed models (scripts/install-models.sh).
@@ -432,7 +611,8 @@ fs::path InstalledModels() {
     root = fs::path(std::getenv("HOME") ? std::getenv("HOME") : ".") / ".cache/acrolab/models";
   }
   std::error_code ec;
-  for (auto it = fs::directory_iterator(root, ec); !ec && it != fs::directory_iterator(); it.increment(ec))
+  for (auto it = fs::directory_iterator(root, ec); !ec && it != fs::directory_iterator();
+       it.increment(ec))
     if (it->path().filename().string().rfind("mediapipe-pose-", 0) == 0) return it->path();
   return {};
 }
@@ -486,42 +666,192 @@ std::vector<Case> Campaign::Generate() {
     std::string option;
   };
   const std::vector<Option> options = {
-      {{"reconstruct", S + "trial.c3d", "--athlete", S + "athlete.yaml", "--quiet", "-o", "out", "--cutoff", "{V}"}, "--cutoff"},
-      {{"reconstruct", S + "trial.c3d", "--athlete", S + "athlete.yaml", "--quiet", "-o", "out", "--max-gap", "{V}"}, "--max-gap"},
-      {{"reconstruct", S + "trial.c3d", "--athlete", S + "athlete.yaml", "--quiet", "-o", "out", "--window", "{V}"}, "--window"},
-      {{"reconstruct", S + "trial.c3d", "--height", "{V}", "--mass", "60", "--sex", "f", "--quiet", "-o", "out"}, "--height"},
+      {{"reconstruct",
+        S + "trial.c3d",
+        "--athlete",
+        S + "athlete.yaml",
+        "--quiet",
+        "-o",
+        "out",
+        "--cutoff",
+        "{V}"},
+       "--cutoff"},
+      {{"reconstruct",
+        S + "trial.c3d",
+        "--athlete",
+        S + "athlete.yaml",
+        "--quiet",
+        "-o",
+        "out",
+        "--max-gap",
+        "{V}"},
+       "--max-gap"},
+      {{"reconstruct",
+        S + "trial.c3d",
+        "--athlete",
+        S + "athlete.yaml",
+        "--quiet",
+        "-o",
+        "out",
+        "--window",
+        "{V}"},
+       "--window"},
+      {{"reconstruct",
+        S + "trial.c3d",
+        "--height",
+        "{V}",
+        "--mass",
+        "60",
+        "--sex",
+        "f",
+        "--quiet",
+        "-o",
+        "out"},
+       "--height"},
       {{"body", "--height", "1.7", "--mass", "{V}", "--sex", "m"}, "--mass"},
       {{"body", "--profile", S + "athlete.yaml", "--pose", "{V}"}, "--pose"},
-      {{"project", S + "trial.c3d", "--calib", S + "calib.toml", "--video", S + "video.mp4", "--offset-s", "{V}", "--csv", "out.csv"}, "--offset-s"},
-      {{"project", S + "trial.c3d", "--calib", S + "calib.toml", "--video", S + "video.mp4", "--event", "{V}", "--csv", "out.csv"}, "--event"},
-      {{"project", S + "trial.c3d", "--calib", S + "calib.toml", "--rate", "{V}", "--csv", "out.csv"}, "--rate"},
-      {{"project", S + "trial.c3d", "--calib", S + "calib.toml", "--axes", "{V}", "--csv", "out.csv"}, "--axes"},
-      {{"sync", S + "trial.c3d", "--calib", S + "calib.toml", "--detections", "side=" + S + "det", "--fps", "{V}"}, "--fps"},
-      {{"sync", S + "trial.c3d", "--calib", S + "calib.toml", "--video", S + "video.mp4", "--search-s", "{V}"}, "--search-s"},
+      {{"project",
+        S + "trial.c3d",
+        "--calib",
+        S + "calib.toml",
+        "--video",
+        S + "video.mp4",
+        "--offset-s",
+        "{V}",
+        "--csv",
+        "out.csv"},
+       "--offset-s"},
+      {{"project",
+        S + "trial.c3d",
+        "--calib",
+        S + "calib.toml",
+        "--video",
+        S + "video.mp4",
+        "--event",
+        "{V}",
+        "--csv",
+        "out.csv"},
+       "--event"},
+      {{"project",
+        S + "trial.c3d",
+        "--calib",
+        S + "calib.toml",
+        "--rate",
+        "{V}",
+        "--csv",
+        "out.csv"},
+       "--rate"},
+      {{"project",
+        S + "trial.c3d",
+        "--calib",
+        S + "calib.toml",
+        "--axes",
+        "{V}",
+        "--csv",
+        "out.csv"},
+       "--axes"},
+      {{"sync",
+        S + "trial.c3d",
+        "--calib",
+        S + "calib.toml",
+        "--detections",
+        "side=" + S + "det",
+        "--fps",
+        "{V}"},
+       "--fps"},
+      {{"sync",
+        S + "trial.c3d",
+        "--calib",
+        S + "calib.toml",
+        "--video",
+        S + "video.mp4",
+        "--search-s",
+        "{V}"},
+       "--search-s"},
       {{"video", "frame", S + "video.mp4", "--time", "{V}", "-o", "f.png"}, "--time"},
       {{"video", "frame", S + "video.mp4", "--frame", "{V}", "-o", "f.png"}, "--frame"},
       {{"design", "{V}", "--athlete", S + "athlete.yaml", "-o", "out", "--no-simulate"}, "CODE"},
-      {{"design", "40o", "--athlete", S + "athlete.yaml", "-o", "out", "--no-simulate", "--flight-time", "{V}"}, "--flight-time"},
+      {{"design",
+        "40o",
+        "--athlete",
+        S + "athlete.yaml",
+        "-o",
+        "out",
+        "--no-simulate",
+        "--flight-time",
+        "{V}"},
+       "--flight-time"},
       {{"routine", "--codes", "{V}", "--athlete", S + "athlete.yaml", "-o", "out"}, "--codes"},
-      {{"routine", "--codes", "40o", "--athlete", S + "athlete.yaml", "-o", "out", "--marker-noise-mm", "{V}"}, "--marker-noise-mm"},
-      {{"synchro", S + "trial.c3d", S + "trial.c3d", "--athlete", S + "athlete.yaml", "--offset-s", "{V}", "-o", "out"}, "--offset-s"},
-      {{"detect", S + "video.mp4", "--model", "lite", "--frames", "{V}", "-o", "out", "--quiet"}, "--frames"},
-      {{"overlay", "--detections", S + "det", "--video", S + "video.mp4", "--frames", "{V}", "-o", "out.mp4"}, "--frames"},
+      {{"routine",
+        "--codes",
+        "40o",
+        "--athlete",
+        S + "athlete.yaml",
+        "-o",
+        "out",
+        "--marker-noise-mm",
+        "{V}"},
+       "--marker-noise-mm"},
+      {{"synchro",
+        S + "trial.c3d",
+        S + "trial.c3d",
+        "--athlete",
+        S + "athlete.yaml",
+        "--offset-s",
+        "{V}",
+        "-o",
+        "out"},
+       "--offset-s"},
+      {{"detect", S + "video.mp4", "--model", "lite", "--frames", "{V}", "-o", "out", "--quiet"},
+       "--frames"},
+      {{"overlay",
+        "--detections",
+        S + "det",
+        "--video",
+        S + "video.mp4",
+        "--frames",
+        "{V}",
+        "-o",
+        "out.mp4"},
+       "--frames"},
       {{"optimize", S + "skill.yaml", "-o", "out", "--intervals", "{V}"}, "--intervals"},
       {{"library", "query", "--library", S + "library.sqlite", "--tof-min", "{V}"}, "--tof-min"},
       {{"library", "query", "--library", S + "library.sqlite", "--from", "{V}"}, "--from"},
-      {{"batch", S + "jobs.txt", "--library", "lib.sqlite", "--print-jobs", "--job", "{V}"}, "--job"},
+      {{"batch", S + "jobs.txt", "--library", "lib.sqlite", "--print-jobs", "--job", "{V}"},
+       "--job"},
       {{"calibrate", "intrinsics", "--board", "{V}", "-o", "out.toml", S + "video.mp4"}, "--board"},
-      {{"calibrate", "intrinsics", "--board", "checkerboard:4x7:60mm", "--video-step-s", "{V}", "-o", "out.toml", S + "video.mp4"}, "--video-step-s"},
+      {{"calibrate",
+        "intrinsics",
+        "--board",
+        "checkerboard:4x7:60mm",
+        "--video-step-s",
+        "{V}",
+        "-o",
+        "out.toml",
+        S + "video.mp4"},
+       "--video-step-s"},
   };
-  const std::vector<std::string> values = {"nan", "inf", "-inf", "-1", "0", "1e300", "-1e300", "abc", "",
-                                           std::string(400, '9'), "1:0", "0:1e9", "\x1b[31mred", "1e-320"};
+  const std::vector<std::string> values = {"nan",
+                                           "inf",
+                                           "-inf",
+                                           "-1",
+                                           "0",
+                                           "1e300",
+                                           "-1e300",
+                                           "abc",
+                                           "",
+                                           std::string(400, '9'),
+                                           "1:0",
+                                           "0:1e9",
+                                           "\x1b[31mred",
+                                           "1e-320"};
   for (const Option& o : options) {
     for (size_t k = 0; k < values.size(); ++k) {
       Case c;
       c.defect = Defect::kOption;
       c.variant = static_cast<int>(k);
-      c.what = fmt::format("{} '{}'", o.option, values[k].size() > 20 ? values[k].substr(0, 6) + "…" : values[k]);
+      c.what = fmt::format(
+          "{} '{}'", o.option, values[k].size() > 20 ? values[k].substr(0, 6) + "…" : values[k]);
       for (const std::string& w : o.command) c.words.push_back(w == "{V}" ? values[k] : w);
       c.culprits = {o.option, "'" + values[k].substr(0, 6)};
       if (o.option == "CODE" || o.option == "--codes") c.culprits.push_back(values[k].substr(0, 3));
@@ -534,7 +864,15 @@ std::vector<Case> Campaign::Generate() {
       {"project", S + "trial.c3d", "--calib", S + "calib.toml", "--csv", "{O}.csv"},
       {"video", "frame", S + "video.mp4", "--frame", "3", "-o", "{O}.png"},
       {"reconstruct", S + "trial.c3d", "--athlete", S + "athlete.yaml", "--quiet", "-o", "{O}"},
-      {"overlay", "--detections", S + "det", "--video", S + "video.mp4", "--frames", "0:2", "-o", "{O}.mp4"},
+      {"overlay",
+       "--detections",
+       S + "det",
+       "--video",
+       S + "video.mp4",
+       "--frames",
+       "0:2",
+       "-o",
+       "{O}.mp4"},
       {"routine", "--codes", "40o", "--athlete", S + "athlete.yaml", "-o", "{O}"},
       {"body", "--profile", S + "athlete.yaml", "--mesh", "{O}.obj"},
       {"library", "export", "--library", S + "library.sqlite", "-o", "{O}.csv"},
@@ -563,7 +901,8 @@ std::vector<Case> Campaign::Generate() {
       c.defect = Defect::kFullDisk;
       c.what = w[0] + " to a full filesystem";
       for (std::string word : w) {
-        if (size_t at = word.find("{O}"); at != std::string::npos) word.replace(at, 3, (small_fs_ / "out").string());
+        if (size_t at = word.find("{O}"); at != std::string::npos)
+          word.replace(at, 3, (small_fs_ / "out").string());
         c.words.push_back(word);
       }
       c.full_disk = true;
@@ -583,14 +922,18 @@ std::vector<Case> Campaign::Generate() {
     }
     c.signal = k % 2 ? SIGTERM : SIGINT;
     c.signal_after_s = 0.05 + static_cast<double>(rng() % 1000) / 1000.0;
-    c.what = fmt::format("{} interrupted by {} after {:.3f} s", w[0], k % 2 ? "SIGTERM" : "SIGINT", c.signal_after_s);
+    c.what = fmt::format("{} interrupted by {} after {:.3f} s",
+                         w[0],
+                         k % 2 ? "SIGTERM" : "SIGINT",
+                         c.signal_after_s);
     cases.push_back(std::move(c));
   }
   for (size_t i = 0; i < cases.size(); ++i) cases[i].index = static_cast<int>(i);
   return cases;
 }
 
-std::vector<std::string> Campaign::Words(const std::vector<std::string>& words, const fs::path& input) const {
+std::vector<std::string> Campaign::Words(const std::vector<std::string>& words,
+                                         const fs::path& input) const {
   std::vector<std::string> out;
   for (std::string w : words) {
     if (w == "{F}") w = input.string();
@@ -599,7 +942,9 @@ std::vector<std::string> Campaign::Words(const std::vector<std::string>& words, 
   return out;
 }
 
-void Campaign::PlaceInput(const Case& c, const fs::path& dir, std::set<std::string>* inputs,
+void Campaign::PlaceInput(const Case& c,
+                          const fs::path& dir,
+                          std::set<std::string>* inputs,
                           std::size_t* bytes) const {
   const Surface& s = *c.surface;
   fs::path target;
@@ -607,7 +952,8 @@ void Campaign::PlaceInput(const Case& c, const fs::path& dir, std::set<std::stri
     const fs::path models = dir / "models" / ModelsDir().filename();
     fs::create_directories(models);
     for (const fs::directory_entry& e : fs::directory_iterator(ModelsDir()))
-      if (e.path().filename() != s.models_file) fs::create_symlink(e.path(), models / e.path().filename());
+      if (e.path().filename() != s.models_file)
+        fs::create_symlink(e.path(), models / e.path().filename());
     target = models / s.models_file;
     inputs->insert("models");
   } else if (!s.dir.empty()) {
@@ -641,7 +987,8 @@ void Campaign::PlaceInput(const Case& c, const fs::path& dir, std::set<std::stri
       fs::create_symlink("no_such_file", target);
       break;
     case Special::kZeroDevice:
-      if (::mknod(target.c_str(), S_IFCHR | 0644, makedev(1, 5)) != 0) fs::create_symlink("/dev/zero", target);
+      if (::mknod(target.c_str(), S_IFCHR | 0644, makedev(1, 5)) != 0)
+        fs::create_symlink("/dev/zero", target);
       break;
   }
   if (s.name == "c3d" && c.command == 2) {
@@ -680,15 +1027,22 @@ bool Intact(const fs::path& library) {
 
 std::string Printable(const std::string& s) {
   std::string out;
-  for (unsigned char c : s) out += (c < 0x20 || c == 0x7f) ? fmt::format("\\x{:02x}", c) : std::string(1, static_cast<char>(c));
+  for (unsigned char c : s)
+    out += (c < 0x20 || c == 0x7f) ? fmt::format("\\x{:02x}", c)
+                                   : std::string(1, static_cast<char>(c));
   return out.size() > 400 ? out.substr(0, 400) + "…" : out;
 }
 
-Verdict Campaign::Judge(const Case& c, const Run& run, const fs::path& dir, const std::set<std::string>& inputs,
-                        std::size_t input_bytes, int library_trials_before) const {
+Verdict Campaign::Judge(const Case& c,
+                        const Run& run,
+                        const fs::path& dir,
+                        const std::set<std::string>& inputs,
+                        std::size_t input_bytes,
+                        int library_trials_before) const {
   const std::string last = LastLine(run.err);
   if (run.timed_out) return {"hang", fmt::format("still running after {:.0f} s", kTimeout_s)};
-  if (run.signal != 0 && run.signal != c.signal) return {"crash", fmt::format("signal {}: {}", run.signal, Printable(last))};
+  if (run.signal != 0 && run.signal != c.signal)
+    return {"crash", fmt::format("signal {}: {}", run.signal, Printable(last))};
   const bool interrupted = c.signal != 0 && (run.status == 130 || run.status == 143);
   if (run.status == 3 || run.err.find("internal error") != std::string::npos)
     return {"internal error", Printable(last)};
@@ -701,31 +1055,43 @@ Verdict Campaign::Judge(const Case& c, const Run& run, const fs::path& dir, cons
     if (last.rfind("acrolab", 0) != 0) return {"not our line", Printable(last)};
     bool named = false;
     for (const std::string& culprit : c.culprits)
-      if (!culprit.empty() && last.find(Printable(culprit).substr(0, 40)) != std::string::npos) named = true;
+      if (!culprit.empty() && last.find(Printable(culprit).substr(0, 40)) != std::string::npos)
+        named = true;
     const auto base = baselines_.find(c.baseline_key);
     const bool as_baseline = base != baselines_.end() && base->second.last == last;
     if (!named && !as_baseline) return {"culprit not named", Printable(last)};
   }
   // Memory: within a small multiple of the good run and the input.
   if (const auto base = baselines_.find(c.baseline_key); base != baselines_.end()) {
-    const double bound_kb = 2.5 * static_cast<double>(base->second.rss_kb) + 12.0 * static_cast<double>(input_bytes) / 1024.0 + 65536.0;
+    const double bound_kb = 2.5 * static_cast<double>(base->second.rss_kb) +
+                            12.0 * static_cast<double>(input_bytes) / 1024.0 + 65536.0;
     if (static_cast<double>(run.max_rss_kb) > bound_kb)
-      return {"memory", fmt::format("{} MB > {} MB (good file {} MB, input {} MB)", run.max_rss_kb / 1024,
-                                    static_cast<long>(bound_kb / 1024), base->second.rss_kb / 1024, input_bytes >> 20)};
+      return {"memory",
+              fmt::format("{} MB > {} MB (good file {} MB, input {} MB)",
+                          run.max_rss_kb / 1024,
+                          static_cast<long>(bound_kb / 1024),
+                          base->second.rss_kb / 1024,
+                          input_bytes >> 20)};
   } else if (run.max_rss_kb > 1500 * 1024) {
     return {"memory", fmt::format("{} MB", run.max_rss_kb / 1024)};
   }
   // Silent acceptance: a declared count the content does not hold, or a number that is not finite,
   // read on without a warning (on stdout, as `info` lists them, or stderr). NaN is the trial and
   // storage formats' own notation for a missing value (TRC, CSV, OpenSim's .mot): read as a gap.
-  const bool nan_is_gap = (c.what.find("= nan") != std::string::npos || c.what.find("= NaN") != std::string::npos) &&
-                          c.surface != nullptr && (c.surface->name == "trc" || c.surface->name == "csv" || c.surface->name == "storage");
+  const bool nan_is_gap =
+      (c.what.find("= nan") != std::string::npos || c.what.find("= NaN") != std::string::npos) &&
+      c.surface != nullptr &&
+      (c.surface->name == "trc" || c.surface->name == "csv" || c.surface->name == "storage");
   const bool must_warn = c.declared_count || (c.defect == Defect::kNonFinite && !nan_is_gap);
   auto warned = [&] {
     for (const std::string* text : {&run.err, &run.out}) {
       std::string lower = *text;
-      std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char ch) { return std::tolower(ch); });
-      if (lower.find("warning") != std::string::npos && lower.find("warnings    0") == std::string::npos) return true;
+      std::transform(lower.begin(), lower.end(), lower.begin(), [](unsigned char ch) {
+        return std::tolower(ch);
+      });
+      if (lower.find("warning") != std::string::npos &&
+          lower.find("warnings    0") == std::string::npos)
+        return true;
     }
     return false;
   };
@@ -733,8 +1099,10 @@ Verdict Campaign::Judge(const Case& c, const Run& run, const fs::path& dir, cons
   // Leftovers: a temporary file anywhere; after a refusal or an interruption, anything new.
   std::vector<std::string> left;
   std::error_code ec;
-  for (auto it = fs::recursive_directory_iterator(dir, fs::directory_options::skip_permission_denied, ec);
-       !ec && it != fs::recursive_directory_iterator(); it.increment(ec)) {
+  for (auto it =
+           fs::recursive_directory_iterator(dir, fs::directory_options::skip_permission_denied, ec);
+       !ec && it != fs::recursive_directory_iterator();
+       it.increment(ec)) {
     const std::string name = it->path().filename().string();
     // Lexical: a link loop among the inputs must not be resolved to be named.
     const std::string top = it->path().lexically_relative(dir).begin()->string();
@@ -750,26 +1118,34 @@ Verdict Campaign::Judge(const Case& c, const Run& run, const fs::path& dir, cons
   }
   if (c.full_disk && fs::exists(small_fs_, ec)) {
     for (const fs::directory_entry& e : fs::directory_iterator(small_fs_, ec))
-      if (e.path().filename() != "filler" && e.path().filename() != "lost+found") left.push_back(e.path().string());
+      if (e.path().filename() != "filler" && e.path().filename() != "lost+found")
+        left.push_back(e.path().string());
   }
-  // An interrupt that comes after outputs were moved into place keeps them, whole, and says how many
+  // An interrupt that comes after outputs were moved into place keeps them, whole, and says how
+  // many
   // (", N finished kept"): those may stay; anything more is half-written.
   size_t kept = 0;
   if (const size_t at = run.err.find(" finished kept"); c.signal != 0 && at != std::string::npos) {
     size_t from = run.err.rfind(", ", at);
-    if (from != std::string::npos) kept = static_cast<size_t>(std::atoi(run.err.c_str() + from + 2));
+    if (from != std::string::npos)
+      kept = static_cast<size_t>(std::atoi(run.err.c_str() + from + 2));
   }
   size_t temporaries = 0;
   for (const std::string& name : left)
-    if (name.find(".tmp") != std::string::npos || name.find(".partial") != std::string::npos) ++temporaries;
+    if (name.find(".tmp") != std::string::npos || name.find(".partial") != std::string::npos)
+      ++temporaries;
   if (temporaries > 0 || left.size() > kept)
-    return {"half-written", fmt::format("left {} after exit {}", Printable(left.front()), run.status)};
+    return {"half-written",
+            fmt::format("left {} after exit {}", Printable(left.front()), run.status)};
   // The library: whole, and unchanged by a failure.
   const fs::path library = dir / "lib.sqlite";
   if (library_trials_before >= 0 && fs::is_regular_file(library, ec)) {
     if (!Intact(library)) return {"library damaged", "integrity_check failed"};
     if (run.status != 0 && TrialsIn(library) != library_trials_before)
-      return {"library changed", fmt::format("{} trials after a failure, {} before", TrialsIn(library), library_trials_before)};
+      return {
+          "library changed",
+          fmt::format(
+              "{} trials after a failure, {} before", TrialsIn(library), library_trials_before)};
   }
   return {};
 }
@@ -784,9 +1160,11 @@ Verdict Campaign::RunCase(const Case& c, int worker) {
   std::vector<std::string> argv, env = {"ACROLAB_LIBRARY_WAIT_S=2"};
   if (c.surface != nullptr) {
     Case made = c;
-    const std::string seed = c.surface->models_file.empty() ? SeedFor(*c.surface, seeds_)
-                                                            : ReadBytes(ModelsDir() / c.surface->models_file);
-    made.mutation = *acro::campaign::Mutate(seed, c.surface->format, c.defect, c.variant, c.salt, 16u << 20);
+    const std::string seed = c.surface->models_file.empty()
+                                 ? SeedFor(*c.surface, seeds_)
+                                 : ReadBytes(ModelsDir() / c.surface->models_file);
+    made.mutation =
+        *acro::campaign::Mutate(seed, c.surface->format, c.defect, c.variant, c.salt, 16u << 20);
     PlaceInput(made, dir, &inputs, &bytes);
     const Surface& s = *c.surface;
     const fs::path input = s.dir.empty() ? fs::path(s.file) : fs::path(s.dir);
@@ -795,7 +1173,8 @@ Verdict Campaign::RunCase(const Case& c, int worker) {
     } else {
       argv = {Exe().string()};
     }
-    for (const std::string& w : Words(s.commands[static_cast<size_t>(c.command)], s.dir.empty() ? input : fs::path()))
+    for (const std::string& w :
+         Words(s.commands[static_cast<size_t>(c.command)], s.dir.empty() ? input : fs::path()))
       argv.push_back(w);
     if (!s.models_file.empty()) env.push_back("ACRO_MODELS=" + (dir / "models").string());
     if (s.name == "library" || (s.name == "c3d" && c.command == 2)) {
@@ -807,14 +1186,17 @@ Verdict Campaign::RunCase(const Case& c, int worker) {
     WriteBytes(dir / "file.txt", "a file, not a folder\n");
     inputs.insert("file.txt");
   }
-  const int before = fs::is_regular_file(dir / "lib.sqlite", ec) && (c.surface == nullptr || c.surface->name != "library")
+  const int before = fs::is_regular_file(dir / "lib.sqlite", ec) &&
+                             (c.surface == nullptr || c.surface->name != "library")
                          ? TrialsIn(dir / "lib.sqlite")
                          : -1;
-  const Run run = Spawn(argv, dir, scratch_ / fmt::format("stderr_{}.txt", worker), env, c.signal, c.signal_after_s);
+  const Run run = Spawn(
+      argv, dir, scratch_ / fmt::format("stderr_{}.txt", worker), env, c.signal, c.signal_after_s);
   Verdict v = Judge(c, run, dir, inputs, bytes, before);
   if (c.full_disk) {
     for (const fs::directory_entry& e : fs::directory_iterator(small_fs_, ec))
-      if (e.path().filename() != "filler" && e.path().filename() != "lost+found") fs::remove_all(e.path(), ec);
+      if (e.path().filename() != "filler" && e.path().filename() != "lost+found")
+        fs::remove_all(e.path(), ec);
   }
   fs::remove_all(dir, ec);
   return v;
@@ -827,7 +1209,8 @@ void Campaign::Baselines() {
       Case c;
       c.surface = &s;
       c.command = static_cast<int>(k);
-      c.mutation.bytes = s.models_file.empty() ? SeedFor(s, seeds_) : ReadBytes(ModelsDir() / s.models_file);
+      c.mutation.bytes =
+          s.models_file.empty() ? SeedFor(s, seeds_) : ReadBytes(ModelsDir() / s.models_file);
       const fs::path dir = scratch_ / "baseline";
       std::error_code ec;
       fs::remove_all(dir, ec);
@@ -835,16 +1218,23 @@ void Campaign::Baselines() {
       std::set<std::string> inputs;
       std::size_t bytes = 0;
       PlaceInput(c, dir, &inputs, &bytes);
-      std::vector<std::string> argv = {s.reader_helper ? std::string(ACRO_CAMPAIGN_READER) : Exe().string()};
-      for (const std::string& w : Words(s.commands[k], s.dir.empty() ? fs::path(s.file) : fs::path()))
+      std::vector<std::string> argv = {s.reader_helper ? std::string(ACRO_CAMPAIGN_READER)
+                                                       : Exe().string()};
+      for (const std::string& w :
+           Words(s.commands[k], s.dir.empty() ? fs::path(s.file) : fs::path()))
         argv.push_back(w);
       std::vector<std::string> env = {"ACROLAB_LIBRARY_WAIT_S=2"};
       if (!s.models_file.empty()) env.push_back("ACRO_MODELS=" + (dir / "models").string());
       const Run run = Spawn(argv, dir, scratch_ / "baseline_stderr.txt", env);
       EXPECT_EQ(run.status, 0) << s.name << " command " << k << " on the good file: " << run.err;
-      baselines_[s.name + "/" + std::to_string(k)] = {run.status, LastLine(run.err), run.max_rss_kb};
-      std::printf("baseline %-14s %-10s exit %d, %.2f s, %ld MB\n", s.name.c_str(), s.commands[k][0].c_str(),
-                  run.status, run.seconds, run.max_rss_kb / 1024);
+      baselines_[s.name + "/" + std::to_string(k)] = {
+          run.status, LastLine(run.err), run.max_rss_kb};
+      std::printf("baseline %-14s %-10s exit %d, %.2f s, %ld MB\n",
+                  s.name.c_str(),
+                  s.commands[k][0].c_str(),
+                  run.status,
+                  run.seconds,
+                  run.max_rss_kb / 1024);
       fs::remove_all(dir, ec);
     }
   }
@@ -856,7 +1246,8 @@ void Campaign::MountSmallFilesystem() {
   const fs::path point = scratch_ / "small_fs";
   fs::create_directories(point);
   if (::mount("tmpfs", point.c_str(), "tmpfs", 0, "size=1m") != 0) {
-    std::printf("full disk: cannot mount a small tmpfs here (%s): class skipped\n", std::strerror(errno));
+    std::printf("full disk: cannot mount a small tmpfs here (%s): class skipped\n",
+                std::strerror(errno));
     return;
   }
   std::ofstream filler(point / "filler", std::ios::binary);
@@ -873,7 +1264,8 @@ void Campaign::UnmountSmallFilesystem() {
 std::vector<Case> Sample(const std::vector<Case>& all, int every) {
   std::map<std::string, std::vector<const Case*>> groups;
   for (const Case& c : all)
-    groups[(c.surface ? c.surface->name : "commands") + "/" + acro::campaign::DefectName(c.defect)].push_back(&c);
+    groups[(c.surface ? c.surface->name : "commands") + "/" + acro::campaign::DefectName(c.defect)]
+        .push_back(&c);
   std::vector<Case> out;
   for (const auto& [key, cases] : groups)
     for (size_t k = 0; k < cases.size(); k += static_cast<size_t>(every)) out.push_back(*cases[k]);
@@ -895,8 +1287,11 @@ TEST(Campaign, EveryReaderAndCommandHoldsItsPromises) {
   const char* mode = std::getenv("ACRO_CAMPAIGN");
   const bool full = mode != nullptr && std::string(mode) == "full";
   const std::vector<Case> cases = full ? all : Sample(all, 12);
-  std::printf("campaign: %zu cases generated, %zu run (%s)\n", all.size(), cases.size(),
-              full ? "ACRO_CAMPAIGN=full" : "the suite's sample: every 12th of each reader × class");
+  std::printf(
+      "campaign: %zu cases generated, %zu run (%s)\n",
+      all.size(),
+      cases.size(),
+      full ? "ACRO_CAMPAIGN=full" : "the suite's sample: every 12th of each reader × class");
 
   struct Result {
     const Case* c;
@@ -910,7 +1305,8 @@ TEST(Campaign, EveryReaderAndCommandHoldsItsPromises) {
   auto worker = [&](int id) {
     for (size_t i; (i = next++) < cases.size();) {
       const auto t0 = std::chrono::steady_clock::now();
-      results[i] = {&cases[i], campaign.RunCase(cases[i], id),
+      results[i] = {&cases[i],
+                    campaign.RunCase(cases[i], id),
                     std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count()};
       if (full && i % 250 == 0) {
         std::lock_guard<std::mutex> lock(print);
@@ -923,7 +1319,8 @@ TEST(Campaign, EveryReaderAndCommandHoldsItsPromises) {
   a.join();
   b.join();
   campaign.UnmountSmallFilesystem();
-  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
   // Counts by reader × class, and the failures.
   std::map<std::string, std::pair<int, int>> by_class, by_surface;
@@ -938,23 +1335,35 @@ TEST(Campaign, EveryReaderAndCommandHoldsItsPromises) {
     ++by_class[cls].second;
     ++by_surface[surface].second;
     ++by_kind[r.v.kind];
-    failures.push_back({{"surface", surface}, {"class", cls}, {"case", Printable(r.c->what)},
-                        {"command", r.c->surface ? r.c->surface->commands[static_cast<size_t>(r.c->command)][0] : r.c->words[0]},
-                        {"kind", r.v.kind}, {"detail", r.v.detail}});
+    failures.push_back({{"surface", surface},
+                        {"class", cls},
+                        {"case", Printable(r.c->what)},
+                        {"command",
+                         r.c->surface ? r.c->surface->commands[static_cast<size_t>(r.c->command)][0]
+                                      : r.c->words[0]},
+                        {"kind", r.v.kind},
+                        {"detail", r.v.detail}});
   }
   std::printf("\n%-16s %7s %7s\n", "class", "cases", "failed");
   for (const auto& [k, v] : by_class) std::printf("%-16s %7d %7d\n", k.c_str(), v.first, v.second);
   std::printf("\n%-16s %7s %7s\n", "reader", "cases", "failed");
-  for (const auto& [k, v] : by_surface) std::printf("%-16s %7d %7d\n", k.c_str(), v.first, v.second);
+  for (const auto& [k, v] : by_surface)
+    std::printf("%-16s %7d %7d\n", k.c_str(), v.first, v.second);
   std::printf("\n%zu cases in %.0f s (2 at a time); failures by kind:", cases.size(), seconds);
   for (const auto& [k, n] : by_kind) std::printf(" %s %d;", k.c_str(), n);
   std::printf("%s\n", by_kind.empty() ? " none" : "");
-  for (size_t k = 0; k < failures.size() && k < 60; ++k) std::printf("FAIL %s\n", failures[k].dump().c_str());
-  if (const char* report = std::getenv("ACRO_CAMPAIGN_REPORT"); report != nullptr && *report != '\0') {
-    nlohmann::json j = {{"cases_generated", all.size()}, {"cases_run", cases.size()}, {"seconds", seconds},
+  for (size_t k = 0; k < failures.size() && k < 60; ++k)
+    std::printf("FAIL %s\n", failures[k].dump().c_str());
+  if (const char* report = std::getenv("ACRO_CAMPAIGN_REPORT");
+      report != nullptr && *report != '\0') {
+    nlohmann::json j = {{"cases_generated", all.size()},
+                        {"cases_run", cases.size()},
+                        {"seconds", seconds},
                         {"failures", failures}};
-    for (const auto& [k, v] : by_class) j["by_class"][k] = {{"cases", v.first}, {"failed", v.second}};
-    for (const auto& [k, v] : by_surface) j["by_reader"][k] = {{"cases", v.first}, {"failed", v.second}};
+    for (const auto& [k, v] : by_class)
+      j["by_class"][k] = {{"cases", v.first}, {"failed", v.second}};
+    for (const auto& [k, v] : by_surface)
+      j["by_reader"][k] = {{"cases", v.first}, {"failed", v.second}};
     std::ofstream(report) << j.dump(1) << "\n";
   }
   const char* only = std::getenv("ACRO_CAMPAIGN_ONLY");

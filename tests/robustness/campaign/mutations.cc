@@ -12,10 +12,21 @@
 namespace acro::campaign {
 
 const char* DefectName(Defect d) {
-  static constexpr std::array<const char*, kDefectCount> names = {
-      "truncation", "bit flips", "counts", "non-finite", "absurd numbers",
-      "units",      "names",     "encoding", "special files", "nesting",
-      "huge lines", "options",   "outputs",  "signals",       "full disk"};
+  static constexpr std::array<const char*, kDefectCount> names = {"truncation",
+                                                                  "bit flips",
+                                                                  "counts",
+                                                                  "non-finite",
+                                                                  "absurd numbers",
+                                                                  "units",
+                                                                  "names",
+                                                                  "encoding",
+                                                                  "special files",
+                                                                  "nesting",
+                                                                  "huge lines",
+                                                                  "options",
+                                                                  "outputs",
+                                                                  "signals",
+                                                                  "full disk"};
   return names[static_cast<size_t>(d)];
 }
 
@@ -31,16 +42,15 @@ bool WordChar(char c) {
   return std::isalnum(static_cast<unsigned char>(c)) || c == '_';
 }
 
-// Numbers as a reader sees them: a token of digits, '.', exponent and sign that is not the tail of a
-// word ("X1", "K_a", "r11" are names, not numbers).
+// Numbers as a reader sees them: a token of digits, '.', exponent and sign that is not the tail of
+// a word ("X1", "K_a", "r11" are names, not numbers).
 std::vector<Span> Numbers(const std::string& s) {
   std::vector<Span> out;
   size_t i = 0;
   while (i < s.size()) {
-    const bool starts =
-        std::isdigit(static_cast<unsigned char>(s[i])) ||
-        ((s[i] == '-' || s[i] == '+' || s[i] == '.') && i + 1 < s.size() &&
-         std::isdigit(static_cast<unsigned char>(s[i + 1])));
+    const bool starts = std::isdigit(static_cast<unsigned char>(s[i])) ||
+                        ((s[i] == '-' || s[i] == '+' || s[i] == '.') && i + 1 < s.size() &&
+                         std::isdigit(static_cast<unsigned char>(s[i + 1])));
     if (!starts || (i > 0 && (WordChar(s[i - 1]) || s[i - 1] == '.'))) {
       ++i;
       continue;
@@ -153,7 +163,9 @@ std::vector<C3dParameter> C3dParameters(const std::string& b) {
   return out;
 }
 
-const C3dParameter* C3dFind(const std::vector<C3dParameter>& ps, const char* group, const char* name) {
+const C3dParameter* C3dFind(const std::vector<C3dParameter>& ps,
+                            const char* group,
+                            const char* name) {
   for (const C3dParameter& p : ps)
     if (p.group == group && p.name == name) return &p;
   return nullptr;
@@ -172,7 +184,8 @@ void PutFloat(std::string* b, size_t at, float v) {
 
 size_t C3dDataStart(const std::string& b) {
   if (b.size() < 20) return 512;
-  const unsigned block = static_cast<unsigned char>(b[16]) | (static_cast<unsigned char>(b[17]) << 8);
+  const unsigned block =
+      static_cast<unsigned char>(b[16]) | (static_cast<unsigned char>(b[17]) << 8);
   return std::max<size_t>(1, block) * 512 - 512;
 }
 
@@ -267,7 +280,8 @@ std::optional<Mutation> Counts(const std::string& s, Format f, int index, Rng& r
     static const std::array<int, 5> words = {2, 3, 4, 5, 10};  // 1-based header words
     if (target < 5) {
       Put16(&b, static_cast<size_t>(words[target] - 1) * 2, v);
-      return Mutation{fmt::format("header word {} = {}", words[target], v), b, Special::kNone, true};
+      return Mutation{
+          fmt::format("header word {} = {}", words[target], v), b, Special::kNone, true};
     }
     static const std::array<std::pair<const char*, const char*>, 4> params = {
         {{"POINT", "USED"}, {"POINT", "FRAMES"}, {"ANALOG", "USED"}, {"POINT", "LABELS"}}};
@@ -279,7 +293,8 @@ std::optional<Mutation> Counts(const std::string& s, Format f, int index, Rng& r
     } else {
       Put16(&b, p->data, v);
     }
-    return Mutation{fmt::format("{}:{} = {}", group, name, p->ndims >= 2 ? 255u : v), b, Special::kNone, true};
+    return Mutation{
+        fmt::format("{}:{} = {}", group, name, p->ndims >= 2 ? 255u : v), b, Special::kNone, true};
   }
   if (f == Format::kMp4) {
     std::vector<Box> boxes;
@@ -322,7 +337,8 @@ std::optional<Mutation> Counts(const std::string& s, Format f, int index, Rng& r
     std::string line3 = s.substr(lines[2], lines[3] - lines[2]);
     std::vector<std::string> cells;
     size_t a = 0;
-    for (size_t t; (t = line3.find('\t', a)) != std::string::npos; a = t + 1) cells.push_back(line3.substr(a, t - a));
+    for (size_t t; (t = line3.find('\t', a)) != std::string::npos; a = t + 1)
+      cells.push_back(line3.substr(a, t - a));
     cells.push_back(line3.substr(a));
     if (cells.size() < 4) return std::nullopt;
     cells[3] = "100000";
@@ -332,14 +348,16 @@ std::optional<Mutation> Counts(const std::string& s, Format f, int index, Rng& r
     std::string names = s.substr(lines[3], lines[4] - lines[3] - 1);
     for (int k = 0; k < 100000; ++k) names += fmt::format("\tM{}\t\t", k);
     return Mutation{"NumMarkers 100000 with 100000 names over the same rows",
-                    s.substr(0, lines[2]) + head + names + "\n" + s.substr(lines[4]), Special::kNone, true};
+                    s.substr(0, lines[2]) + head + names + "\n" + s.substr(lines[4]),
+                    Special::kNone,
+                    true};
   }
   std::vector<Span> ints;
   for (const Span& n : Numbers(s))
     if (s.substr(n.pos, n.len).find_first_of(".eE") == std::string::npos) ints.push_back(n);
   if (ints.empty()) return std::nullopt;
-  static const std::vector<std::string> values = {"4294967295", "2147483647", "100000000000", "-1",
-                                                  "1000000000", "65536"};
+  static const std::vector<std::string> values = {
+      "4294967295", "2147483647", "100000000000", "-1", "1000000000", "65536"};
   const Span n = Pick(ints, rng);
   const std::string& v = values[static_cast<size_t>(index) % values.size()];
   return Mutation{fmt::format("integer '{}' at byte {} = {}", s.substr(n.pos, n.len), n.pos, v),
@@ -347,33 +365,38 @@ std::optional<Mutation> Counts(const std::string& s, Format f, int index, Rng& r
 }
 
 std::optional<Mutation> Numeric(const std::string& s, Format f, Defect d, int index, Rng& rng) {
-  static const std::vector<std::string> nonfinite = {"nan", "inf", "-inf", "1e999", "NaN", "-1e400", "Infinity"};
-  static const std::vector<std::string> absurd = {"1e300", "-1e300", "1e30", "0", "-0", "1e-320",
-                                                  std::string(300, '9'), "-5", "4.9e-324"};
+  static const std::vector<std::string> nonfinite = {
+      "nan", "inf", "-inf", "1e999", "NaN", "-1e400", "Infinity"};
+  static const std::vector<std::string> absurd = {
+      "1e300", "-1e300", "1e30", "0", "-0", "1e-320", std::string(300, '9'), "-5", "4.9e-324"};
   if (f == Format::kC3d) {
     std::string b = s;
     const size_t data = C3dDataStart(s);
     if (index % 4 == 3) {  // the header's scale (words 7–8) or frame rate (words 11–12)
       const size_t at = (index % 8 == 3) ? 12 : 20;
-      const float v = d == Defect::kNonFinite ? (index % 2 ? std::numeric_limits<float>::infinity()
-                                                           : std::numeric_limits<float>::quiet_NaN())
-                                              : (index % 2 ? 1e30f : -1.0f);
+      const float v = d == Defect::kNonFinite
+                          ? (index % 2 ? std::numeric_limits<float>::infinity()
+                                       : std::numeric_limits<float>::quiet_NaN())
+                          : (index % 2 ? 1e30f : -1.0f);
       PutFloat(&b, at, v);
       return Mutation{fmt::format("header float at byte {} = {}", at, v), b};
     }
     // A coordinate (x, y or z of a point in a frame), not the residual word or an analog sample:
     // the header's counts give the float frame's layout.
-    const size_t points = static_cast<unsigned char>(s[2]) | (static_cast<unsigned char>(s[3]) << 8);
-    const size_t analog = static_cast<unsigned char>(s[4]) | (static_cast<unsigned char>(s[5]) << 8);
+    const size_t points =
+        static_cast<unsigned char>(s[2]) | (static_cast<unsigned char>(s[3]) << 8);
+    const size_t analog =
+        static_cast<unsigned char>(s[4]) | (static_cast<unsigned char>(s[5]) << 8);
     const size_t frame_bytes = points * 16 + analog * 4;
     if (points == 0 || data + frame_bytes > s.size()) return std::nullopt;
     const size_t frames = (s.size() - data) / frame_bytes;
-    const size_t at = data + (rng() % frames) * frame_bytes + (rng() % points) * 16 + 4 * (rng() % 3);
-    const std::array<float, 3> bad = d == Defect::kNonFinite
-                                         ? std::array<float, 3>{std::numeric_limits<float>::quiet_NaN(),
-                                                                std::numeric_limits<float>::infinity(),
-                                                                -std::numeric_limits<float>::infinity()}
-                                         : std::array<float, 3>{1e30f, -3e38f, 1e-40f};
+    const size_t at =
+        data + (rng() % frames) * frame_bytes + (rng() % points) * 16 + 4 * (rng() % 3);
+    const std::array<float, 3> bad =
+        d == Defect::kNonFinite ? std::array<float, 3>{std::numeric_limits<float>::quiet_NaN(),
+                                                       std::numeric_limits<float>::infinity(),
+                                                       -std::numeric_limits<float>::infinity()}
+                                : std::array<float, 3>{1e30f, -3e38f, 1e-40f};
     const float v = bad[static_cast<size_t>(index) % 3];
     PutFloat(&b, at, v);
     return Mutation{fmt::format("coordinate float at byte {} = {}", at, v), b};
@@ -384,9 +407,13 @@ std::optional<Mutation> Numeric(const std::string& s, Format f, Defect d, int in
   const Span n = Pick(numbers, rng);
   const std::vector<std::string>& values = d == Defect::kNonFinite ? nonfinite : absurd;
   const std::string& v = values[static_cast<size_t>(index) % values.size()];
-  return Mutation{fmt::format("number '{}' at byte {} = {}", s.substr(n.pos, n.len), n.pos,
-                              v.size() > 20 ? v.substr(0, 8) + "… (" + std::to_string(v.size()) + " digits)" : v),
-                  Replace(s, n, v)};
+  return Mutation{
+      fmt::format(
+          "number '{}' at byte {} = {}",
+          s.substr(n.pos, n.len),
+          n.pos,
+          v.size() > 20 ? v.substr(0, 8) + "… (" + std::to_string(v.size()) + " digits)" : v),
+      Replace(s, n, v)};
 }
 
 std::optional<Mutation> Units(const std::string& s, Format f, int index, Rng& rng) {
@@ -409,8 +436,11 @@ std::optional<Mutation> Units(const std::string& s, Format f, int index, Rng& rn
     return Mutation{"POINT:SCALE in another unit", b};
   }
   if (!IsText(f)) return std::nullopt;
-  static const std::vector<std::pair<std::string, std::string>> words = {
-      {"\tmm\t", "\tkm\t"}, {"\tm\t", "\tin\t"}, {"\tmm\t", "\tm\t"}, {"\tm\t", "\tmm\t"}, {"_m:", "_cm:"}};
+  static const std::vector<std::pair<std::string, std::string>> words = {{"\tmm\t", "\tkm\t"},
+                                                                         {"\tm\t", "\tin\t"},
+                                                                         {"\tmm\t", "\tm\t"},
+                                                                         {"\tm\t", "\tmm\t"},
+                                                                         {"_m:", "_cm:"}};
   if (index % 3 == 2)
     for (const auto& [from, to] : words)
       if (size_t at = s.find(from); at != std::string::npos)
@@ -421,8 +451,10 @@ std::optional<Mutation> Units(const std::string& s, Format f, int index, Rng& rn
   const Span n = Pick(numbers, rng);
   const double v = std::strtod(s.substr(n.pos, n.len).c_str(), nullptr);
   const double scaled = index % 2 ? v * 1000.0 : v / 1000.0;
-  return Mutation{fmt::format("number '{}' at byte {} in another unit: {:g}", s.substr(n.pos, n.len), n.pos, scaled),
-                  Replace(s, n, fmt::format("{:g}", scaled))};
+  return Mutation{
+      fmt::format(
+          "number '{}' at byte {} in another unit: {:g}", s.substr(n.pos, n.len), n.pos, scaled),
+      Replace(s, n, fmt::format("{:g}", scaled))};
 }
 
 std::optional<Mutation> Names(const std::string& s, Format f, int index, Rng& rng) {
@@ -451,19 +483,24 @@ std::optional<Mutation> Names(const std::string& s, Format f, int index, Rng& rn
       const size_t k = rng() % lines.size();
       const size_t end = k + 1 < lines.size() ? lines[k + 1] : s.size();
       const std::string line = s.substr(lines[k], end - lines[k]);
-      return Mutation{fmt::format("line {} twice", k + 1), s.substr(0, end) + line + (line.empty() || line.back() != '\n' ? "\n" : "") + s.substr(end)};
+      return Mutation{fmt::format("line {} twice", k + 1),
+                      s.substr(0, end) + line + (line.empty() || line.back() != '\n' ? "\n" : "") +
+                          s.substr(end)};
     }
     case 1: {  // a name made another's
       if (words.size() < 2) return std::nullopt;
       const size_t k = 1 + rng() % (words.size() - 1);
       const Span w = words[k];
       const std::string other = s.substr(words[k - 1].pos, words[k - 1].len);
-      return Mutation{fmt::format("name '{}' at byte {} = '{}'", s.substr(w.pos, w.len), w.pos, other), Replace(s, w, other)};
+      return Mutation{
+          fmt::format("name '{}' at byte {} = '{}'", s.substr(w.pos, w.len), w.pos, other),
+          Replace(s, w, other)};
     }
     case 2: {  // a name emptied
       if (words.empty()) return std::nullopt;
       const Span w = Pick(words, rng);
-      return Mutation{fmt::format("name '{}' at byte {} emptied", s.substr(w.pos, w.len), w.pos), Replace(s, w, "")};
+      return Mutation{fmt::format("name '{}' at byte {} emptied", s.substr(w.pos, w.len), w.pos),
+                      Replace(s, w, "")};
     }
     default: {  // a name of 10 KB
       if (words.empty()) return std::nullopt;
@@ -481,10 +518,15 @@ std::optional<Mutation> Encoding(const std::string& s, Format f, int index, Rng&
     const C3dParameter* labels = C3dFind(ps, "POINT", "LABELS");
     if (labels == nullptr || labels->ndims != 2) return std::nullopt;
     std::string b = s;
-    static const std::array<std::string, 3> inserts = {escape.substr(0, 5), "\xe9\xe9", std::string("A\0B", 3)};
+    static const std::array<std::string, 3> inserts = {
+        escape.substr(0, 5), "\xe9\xe9", std::string("A\0B", 3)};
     const std::string& v = inserts[static_cast<size_t>(index) % inserts.size()];
     b.replace(labels->data, v.size(), v);
-    return Mutation{fmt::format("label 1 starts with bytes {}", index % 3 == 0 ? "ESC[31m" : index % 3 == 1 ? "E9 E9" : "A NUL B"), b};
+    return Mutation{fmt::format("label 1 starts with bytes {}",
+                                index % 3 == 0   ? "ESC[31m"
+                                : index % 3 == 1 ? "E9 E9"
+                                                 : "A NUL B"),
+                    b};
   }
   if (!IsText(f) || s.empty()) return std::nullopt;
   const std::vector<Span> words = Words(s);
@@ -501,22 +543,27 @@ std::optional<Mutation> Encoding(const std::string& s, Format f, int index, Rng&
     case 1:
       return Mutation{"a UTF-8 byte-order mark", "\xef\xbb\xbf" + s};
     case 2:
-      return Mutation{fmt::format("Latin-1 byte E9 at byte {}", in_word), s.substr(0, in_word) + "\xe9" + s.substr(in_word)};
+      return Mutation{fmt::format("Latin-1 byte E9 at byte {}", in_word),
+                      s.substr(0, in_word) + "\xe9" + s.substr(in_word)};
     case 3: {
       const size_t at = rng() % s.size();
-      return Mutation{fmt::format("a NUL byte at byte {}", at), s.substr(0, at) + std::string(1, '\0') + s.substr(at)};
+      return Mutation{fmt::format("a NUL byte at byte {}", at),
+                      s.substr(0, at) + std::string(1, '\0') + s.substr(at)};
     }
     case 4:
-      return Mutation{fmt::format("terminal escapes at byte {}", in_word), s.substr(0, in_word) + escape + s.substr(in_word)};
+      return Mutation{fmt::format("terminal escapes at byte {}", in_word),
+                      s.substr(0, in_word) + escape + s.substr(in_word)};
     case 5:
-      return Mutation{fmt::format("invalid UTF-8 (C3 28) at byte {}", in_word), s.substr(0, in_word) + "\xc3\x28" + s.substr(in_word)};
+      return Mutation{fmt::format("invalid UTF-8 (C3 28) at byte {}", in_word),
+                      s.substr(0, in_word) + "\xc3\x28" + s.substr(in_word)};
     case 6: {
       std::string cr = s;
       std::replace(cr.begin(), cr.end(), '\n', '\r');
       return Mutation{"CR line ends (classic Mac)", cr};
     }
     default:
-      return Mutation{fmt::format("DEL and backspace at byte {}", in_word), s.substr(0, in_word) + "\x7f\x08\x08" + s.substr(in_word)};
+      return Mutation{fmt::format("DEL and backspace at byte {}", in_word),
+                      s.substr(0, in_word) + "\x7f\x08\x08" + s.substr(in_word)};
   }
 }
 
@@ -525,9 +572,11 @@ std::optional<Mutation> Nesting(const std::string& s, Format f, int index, Rng& 
   if (f == Format::kXml) {
     std::string open;
     for (int k = 0; k < kDepth; ++k) open += "<a>";
-    const size_t at = s.find('>', s.find("<", s.find("?>") == std::string::npos ? 0 : s.find("?>") + 2));
+    const size_t at =
+        s.find('>', s.find("<", s.find("?>") == std::string::npos ? 0 : s.find("?>") + 2));
     const size_t pos = at == std::string::npos ? s.size() : at + 1;
-    return Mutation{fmt::format("{} elements deep at byte {}", kDepth, pos), s.substr(0, pos) + open + s.substr(pos)};
+    return Mutation{fmt::format("{} elements deep at byte {}", kDepth, pos),
+                    s.substr(0, pos) + open + s.substr(pos)};
   }
   if (!IsText(f)) return std::nullopt;
   const std::vector<Span> numbers = Numbers(s);
@@ -537,13 +586,15 @@ std::optional<Mutation> Nesting(const std::string& s, Format f, int index, Rng& 
   std::string deep;
   deep.reserve(kDepth * b.size());
   for (int k = 0; k < kDepth; ++k) deep += b;
-  return Mutation{fmt::format("{} × '{}' at byte {}", kDepth, b, at), s.substr(0, at) + deep + s.substr(at)};
+  return Mutation{fmt::format("{} × '{}' at byte {}", kDepth, b, at),
+                  s.substr(0, at) + deep + s.substr(at)};
 }
 
 std::optional<Mutation> HugeLine(const std::string& s, Format f, int index, Rng& rng, size_t huge) {
   if (!IsText(f)) {
-    return Mutation{fmt::format("{} MB of {} appended", huge >> 20, index % 2 ? "FF" : "zero bytes"),
-                    s + std::string(huge, index % 2 ? '\xff' : '\0')};
+    return Mutation{
+        fmt::format("{} MB of {} appended", huge >> 20, index % 2 ? "FF" : "zero bytes"),
+        s + std::string(huge, index % 2 ? '\xff' : '\0')};
   }
   const std::vector<size_t> lines = LineStarts(s);
   const size_t line = lines[rng() % lines.size()];
@@ -555,24 +606,32 @@ std::optional<Mutation> HugeLine(const std::string& s, Format f, int index, Rng&
       const std::vector<Span> numbers = Numbers(s);
       if (numbers.empty()) return std::nullopt;
       const Span n = Pick(numbers, rng);
-      return Mutation{fmt::format("a number of {} MB of digits at byte {}", huge >> 20, n.pos), Replace(s, n, std::string(huge, '7'))};
+      return Mutation{fmt::format("a number of {} MB of digits at byte {}", huge >> 20, n.pos),
+                      Replace(s, n, std::string(huge, '7'))};
     }
     case 2: {
       const std::vector<Span> words = Words(s);
       if (words.empty()) return std::nullopt;
       const Span w = Pick(words, rng);
-      return Mutation{fmt::format("a name of {} MB at byte {}", huge >> 20, w.pos), Replace(s, w, std::string(huge, 'n'))};
+      return Mutation{fmt::format("a name of {} MB at byte {}", huge >> 20, w.pos),
+                      Replace(s, w, std::string(huge, 'n'))};
     }
     default:
-      return Mutation{fmt::format("{} MB with no line end appended", huge >> 20), s + std::string(huge, 'z')};
+      return Mutation{fmt::format("{} MB with no line end appended", huge >> 20),
+                      s + std::string(huge, 'z')};
   }
 }
 
 }  // namespace
 
-std::optional<Mutation> Mutate(const std::string& seed, Format format, Defect defect, int index,
-                               std::uint64_t salt, size_t huge_bytes) {
-  Rng rng(salt * 1000003u + static_cast<std::uint64_t>(defect) * 7919u + static_cast<std::uint64_t>(index));
+std::optional<Mutation> Mutate(const std::string& seed,
+                               Format format,
+                               Defect defect,
+                               int index,
+                               std::uint64_t salt,
+                               size_t huge_bytes) {
+  Rng rng(salt * 1000003u + static_cast<std::uint64_t>(defect) * 7919u +
+          static_cast<std::uint64_t>(index));
   switch (defect) {
     case Defect::kTruncation:
       return Truncation(seed, format, index, rng);
@@ -590,13 +649,14 @@ std::optional<Mutation> Mutate(const std::string& seed, Format format, Defect de
     case Defect::kEncoding:
       return Encoding(seed, format, index, rng);
     case Defect::kSpecial: {
-      static const std::array<std::pair<Special, const char*>, 7> kinds = {{{Special::kDirectory, "a directory"},
-                                                                          {Special::kFifo, "a FIFO nobody writes"},
-                                                                          {Special::kLinkLoop, "a link loop"},
-                                                                          {Special::kDanglingLink, "a dangling link"},
-                                                                          {Special::kEmpty, "an empty file"},
-                                                                          {Special::kZeroDevice, "the zero device"},
-                                                                          {Special::kOneByte, "one byte"}}};
+      static const std::array<std::pair<Special, const char*>, 7> kinds = {
+          {{Special::kDirectory, "a directory"},
+           {Special::kFifo, "a FIFO nobody writes"},
+           {Special::kLinkLoop, "a link loop"},
+           {Special::kDanglingLink, "a dangling link"},
+           {Special::kEmpty, "an empty file"},
+           {Special::kZeroDevice, "the zero device"},
+           {Special::kOneByte, "one byte"}}};
       if (index >= static_cast<int>(kinds.size())) return std::nullopt;
       const auto& [kind, what] = kinds[static_cast<size_t>(index)];
       return Mutation{what, kind == Special::kOneByte ? seed.substr(0, 1) : std::string(), kind};

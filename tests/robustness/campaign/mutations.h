@@ -37,7 +37,16 @@ const char* DefectName(Defect d);
 enum class Format { kText, kXml, kJson, kC3d, kMp4, kSqlite, kBinary };
 
 /// The kind of special file a kSpecial variant puts in place of the input.
-enum class Special { kNone, kDirectory, kFifo, kLinkLoop, kDanglingLink, kEmpty, kZeroDevice, kOneByte };
+enum class Special {
+  kNone,
+  kDirectory,
+  kFifo,
+  kLinkLoop,
+  kDanglingLink,
+  kEmpty,
+  kZeroDevice,
+  kOneByte
+};
 
 struct Mutation {
   std::string what;  ///< a few words: "truncated at line 12 (byte 300)"
@@ -49,7 +58,11 @@ struct Mutation {
 
 /// The variant `index` of `defect` on `seed`; nothing when the class has no such variant for this
 /// format (e.g. nesting in a video). `huge_bytes` sizes kHugeLine.
-std::optional<Mutation> Mutate(const std::string& seed, Format format, Defect defect, int index,
-                               std::uint64_t salt, std::size_t huge_bytes = 16u << 20);
+std::optional<Mutation> Mutate(const std::string& seed,
+                               Format format,
+                               Defect defect,
+                               int index,
+                               std::uint64_t salt,
+                               std::size_t huge_bytes = 16u << 20);
 
 }  // namespace acro::campaign

@@ -65,7 +65,8 @@ TEST(AnalysisReport, FiguresShowThePhasesTheJudgedResidualsAndTheChosenJoint) {
   }
   size_t measured = 0;
   for (const auto& e : a.score.elements)
-    for (const auto& f : e.faults) measured += std::isfinite(f.threshold) && f.threshold > 0 ? 1 : 0;
+    for (const auto& f : e.faults)
+      measured += std::isfinite(f.threshold) && f.threshold > 0 ? 1 : 0;
   EXPECT_EQ(points, measured);
   for (size_t k = 0; k + 1 < figures.size(); ++k) {
     const ReportFigure& f = figures[k];

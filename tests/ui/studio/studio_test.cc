@@ -40,9 +40,9 @@
 #include "image_view.h"
 #include "library_window.h"
 #include "plot_view.h"
-#include "routine_plan_window.h"
 #include "pose_model_cache.h"
 #include "refdata.h"
+#include "routine_plan_window.h"
 #include "skill_window.h"
 #include "timeline.h"
 
@@ -808,13 +808,15 @@ TEST(Studio, RoutinePlannerSaysDAndWhatTheRoutineMisses) {
   for (const fig::ScoredElement& e : plan->score().elements) sum += e.difficulty.total();
   EXPECT_NEAR(plan->score().difficulty, sum, 1e-9);
   EXPECT_NE(plan->summary().find("<b>Valid</b>"), std::string::npos) << plan->summary();
-  EXPECT_NE(plan->summary().find(fmt::format("<b>D {:.1f}</b>", sum)), std::string::npos) << plan->summary();
+  EXPECT_NE(plan->summary().find(fmt::format("<b>D {:.1f}</b>", sum)), std::string::npos)
+      << plan->summary();
   Shot("studio_routine_plan");
   // A repeated element: its DD struck and said; the routine still ten elements.
   ASSERT_TRUE(plan->SetCodes("822/ 813< 800< 821/ 44/ 43/ 803< 42/ 41< 822/"));
   EXPECT_TRUE(plan->table()->item(9, 4)->text().startsWith("no: "));
   // An age group's first routine: its missing requirement named.
-  ASSERT_TRUE(plan->SetRules((acro::testing::SourceDir() / "rules/fig-wagc-13-16-first-routine.yaml").string()));
+  ASSERT_TRUE(plan->SetRules(
+      (acro::testing::SourceDir() / "rules/fig-wagc-13-16-first-routine.yaml").string()));
   EXPECT_NE(plan->summary().find("requirement missing"), std::string::npos) << plan->summary();
   EXPECT_NE(plan->summary().find("Not valid"), std::string::npos);
   // Short: interrupted. A typo: said, with the code.

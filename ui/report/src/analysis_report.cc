@@ -269,7 +269,7 @@ void AddExecutionFigure(const analysis::TrialAnalysis& a, std::vector<ReportFigu
   std::vector<std::string> faults;  // in the order first measured
   for (const fig::ScoredElement& e : s.elements)
     for (const fig::MeasuredFault& f : e.faults)
-      if (std::isfinite(f.threshold) && f.threshold > 0 &&
+      if (!std::isnan(f.ThresholdRatio()) &&
           std::find(faults.begin(), faults.end(), f.fault) == faults.end())
         faults.push_back(f.fault);
   if (faults.empty()) return;
@@ -295,9 +295,8 @@ void AddExecutionFigure(const analysis::TrialAnalysis& a, std::vector<ReportFigu
     series.color = kColors[k % std::size(kColors)];
     for (const fig::ScoredElement& e : s.elements)
       for (const fig::MeasuredFault& f : e.faults) {
-        if (f.fault != faults[k] || !std::isfinite(f.threshold) || f.threshold <= 0) continue;
-        const double ratio = f.smaller_is_worse ? (f.value > 0 ? f.threshold / f.value : 10.0)
-                                                : f.value / f.threshold;
+        const double ratio = f.ThresholdRatio();
+        if (f.fault != faults[k] || std::isnan(ratio)) continue;
         series.x.push_back(e.element + 0.06 * (double(k) - 0.5 * double(faults.size() - 1)));
         series.y.push_back(std::clamp(ratio, -0.5, 10.0));
         top = std::max(top, std::min(ratio, 10.0) + 0.2);

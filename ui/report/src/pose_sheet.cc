@@ -5,8 +5,8 @@
 #include <algorithm>
 #include <cmath>
 
-#include <Eigen/Geometry>
 #include <fmt/format.h>
+#include <Eigen/Geometry>
 
 #include "acro/base/input_error.h"
 #include "acro/report/image.h"
@@ -28,7 +28,8 @@ void SideColour(cairo_t* cr, int side) {
 bool PersonBox(const capture::DetectedPerson& p, double min_confidence, Eigen::AlignedBox2d* box) {
   Eigen::AlignedBox2d b;
   for (int k = 0; k < p.cols(); ++k)
-    if (p(2, k) >= min_confidence && p.col(k).allFinite()) b.extend(Eigen::Vector2d(p(0, k), p(1, k)));
+    if (p(2, k) >= min_confidence && p.col(k).allFinite())
+      b.extend(Eigen::Vector2d(p(0, k), p(1, k)));
   if (b.isEmpty()) return false;
   const double margin = 0.2 * b.sizes().maxCoeff() + 10.0;
   b.extend(b.min() - Eigen::Vector2d::Constant(margin));
@@ -39,19 +40,28 @@ bool PersonBox(const capture::DetectedPerson& p, double min_confidence, Eigen::A
 
 }  // namespace
 
-void DrawSkeleton(int width, int height, const capture::DetectedPerson& person,
-                  const std::vector<std::pair<int, int>>& edges, const std::vector<int>& side,
-                  double min_confidence, std::vector<std::uint8_t>* rgb) {
+void DrawSkeleton(int width,
+                  int height,
+                  const capture::DetectedPerson& person,
+                  const std::vector<std::pair<int, int>>& edges,
+                  const std::vector<int>& side,
+                  double min_confidence,
+                  std::vector<std::uint8_t>* rgb) {
   cairo_surface_t* surface = internal::SurfaceFromRgb(width, height, *rgb);
   cairo_t* cr = cairo_create(surface);
   Eigen::AlignedBox2d box;
   const double scale = PersonBox(person, min_confidence, &box) ? box.sizes().maxCoeff() : 200.0;
   const double line = std::clamp(scale / 120.0, 1.5, 8.0);
   cairo_set_line_cap(cr, CAIRO_LINE_CAP_ROUND);
-  auto ok = [&](int k) { return k < person.cols() && person(2, k) >= min_confidence && person.col(k).allFinite(); };
+  auto ok = [&](int k) {
+    return k < person.cols() && person(2, k) >= min_confidence && person.col(k).allFinite();
+  };
   for (const auto& [a, b] : edges) {
     if (!ok(a) || !ok(b)) continue;
-    const int s = (a < static_cast<int>(side.size()) && b < static_cast<int>(side.size()) && side[a] == side[b]) ? side[a] : 0;
+    const int s = (a < static_cast<int>(side.size()) && b < static_cast<int>(side.size()) &&
+                   side[a] == side[b])
+                      ? side[a]
+                      : 0;
     cairo_set_line_width(cr, line + 2.0);
     cairo_set_source_rgb(cr, 0.05, 0.05, 0.05);
     cairo_move_to(cr, person(0, a), person(1, a));
@@ -79,12 +89,17 @@ void DrawSkeleton(int width, int height, const capture::DetectedPerson& person,
   cairo_surface_destroy(surface);
 }
 
-void WritePoseContactSheet(capture::VideoReader& video, const std::vector<int>& frame_indices,
+void WritePoseContactSheet(capture::VideoReader& video,
+                           const std::vector<int>& frame_indices,
                            const std::vector<capture::DetectedPerson>& people,
-                           const std::vector<std::pair<int, int>>& edges, const std::vector<int>& side,
-                           const std::filesystem::path& path, const ContactSheetOptions& options) {
-  if (frame_indices.size() != people.size() || frame_indices.empty() || options.columns < 1 || options.cell_px < 16)
-    throw InputError(path.string(), "", "a contact sheet needs one person per frame and at least one frame");
+                           const std::vector<std::pair<int, int>>& edges,
+                           const std::vector<int>& side,
+                           const std::filesystem::path& path,
+                           const ContactSheetOptions& options) {
+  if (frame_indices.size() != people.size() || frame_indices.empty() || options.columns < 1 ||
+      options.cell_px < 16)
+    throw InputError(
+        path.string(), "", "a contact sheet needs one person per frame and at least one frame");
   const int w = video.info().width, h = video.info().height;
   // The common crop: every person's box together, made square.
   Eigen::AlignedBox2d common;
@@ -96,7 +111,8 @@ void WritePoseContactSheet(capture::VideoReader& video, const std::vector<int>& 
       sides.push_back(b.sizes().maxCoeff());
     }
   }
-  if (common.isEmpty()) common = Eigen::AlignedBox2d(Eigen::Vector2d::Zero(), Eigen::Vector2d(w, h));
+  if (common.isEmpty())
+    common = Eigen::AlignedBox2d(Eigen::Vector2d::Zero(), Eigen::Vector2d(w, h));
   // A path much longer than the person (a whole routine) would leave the person tiny: then each
   // frame is cropped around its own person.
   bool per_frame = !options.common_crop;
@@ -106,14 +122,16 @@ void WritePoseContactSheet(capture::VideoReader& video, const std::vector<int>& 
   }
 
   const int n = static_cast<int>(frame_indices.size());
-  const int cols = std::min(options.columns, n), rows = (n + cols - 1) / cols, cell = options.cell_px;
+  const int cols = std::min(options.columns, n), rows = (n + cols - 1) / cols,
+            cell = options.cell_px;
   cairo_surface_t* sheet = cairo_image_surface_create(CAIRO_FORMAT_RGB24, cols * cell, rows * cell);
   cairo_t* cr = cairo_create(sheet);
   cairo_set_source_rgb(cr, 0.1, 0.1, 0.1);
   cairo_paint(cr);
   for (int k = 0; k < n; ++k) {
     capture::VideoFrame frame = video.Frame(frame_indices[k]);
-    DrawSkeleton(frame.width, frame.height, people[k], edges, side, options.min_confidence, &frame.pixels);
+    DrawSkeleton(
+        frame.width, frame.height, people[k], edges, side, options.min_confidence, &frame.pixels);
     Eigen::AlignedBox2d box = common;
     if (per_frame && !PersonBox(people[k], options.min_confidence, &box)) box = common;
     const double side_px = box.sizes().maxCoeff();
@@ -143,15 +161,24 @@ void WritePoseContactSheet(capture::VideoReader& video, const std::vector<int>& 
   WriteRgbPng(sw, sh, rgb, path);
 }
 
-int WriteDetectionOverlay(capture::VideoReader& video, const std::vector<std::vector<capture::DetectedPerson>>& people,
-                          const std::vector<std::pair<int, int>>& edges, const std::vector<int>& side,
-                          const std::filesystem::path& output, const Progress& progress, double min_confidence,
-                          int first_frame, int last_frame) {
+int WriteDetectionOverlay(capture::VideoReader& video,
+                          const std::vector<std::vector<capture::DetectedPerson>>& people,
+                          const std::vector<std::pair<int, int>>& edges,
+                          const std::vector<int>& side,
+                          const std::filesystem::path& output,
+                          const Progress& progress,
+                          double min_confidence,
+                          int first_frame,
+                          int last_frame) {
   const capture::VideoInfo& info = video.info();
   if (info.num_frames > 0 && first_frame >= info.num_frames)
-    throw InputError(info.path, "--frames",
-                     fmt::format("frame {} is beyond the video's {} frames", first_frame, info.num_frames));
-  const int end = last_frame < 0 || (info.num_frames > 0 && last_frame >= info.num_frames) ? info.num_frames - 1 : last_frame;
+    throw InputError(
+        info.path,
+        "--frames",
+        fmt::format("frame {} is beyond the video's {} frames", first_frame, info.num_frames));
+  const int end = last_frame < 0 || (info.num_frames > 0 && last_frame >= info.num_frames)
+                      ? info.num_frames - 1
+                      : last_frame;
   const int total = std::max(0, end - first_frame + 1);
   capture::VideoWriterOptions options;
   options.fps = info.average_fps > 0 ? info.average_fps : 30.0;

@@ -266,11 +266,10 @@ QWidget* MainWindow::BuildScorePanel() {
 
 namespace {
 
-// How serious a measurement is: its worst value over its rule's first threshold (the opening's
-// inverted, smaller being worse); 0 without a threshold.
+// How serious a measurement is (fig::MeasuredFault::ThresholdRatio); 0 without a threshold.
 double Severity(const fig::MeasuredFault& f) {
-  if (!std::isfinite(f.threshold) || f.threshold <= 0 || !std::isfinite(f.value)) return 0.0;
-  return f.smaller_is_worse ? (f.value > 0 ? f.threshold / f.value : 1e9) : f.value / f.threshold;
+  const double r = f.ThresholdRatio();
+  return std::isnan(r) ? 0.0 : r;
 }
 
 // The element's most serious measurement: a reported fault first, then the nearest to its rule.

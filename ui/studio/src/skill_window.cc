@@ -294,8 +294,7 @@ bool SkillWindow::EditPose(int keyframe, int row, double degrees) {
   try {
     const std::filesystem::path dir = std::filesystem::path(skill_->source).parent_path();
     analysis::SkillFromYaml(
-        ParseYaml(analysis::FormatSkillYaml(edited, dir), skill_->source + " (edited)"),
-        dir);
+        ParseYaml(analysis::FormatSkillYaml(edited, dir), skill_->source + " (edited)"), dir);
   } catch (const std::exception& e) {
     ShowError(e.what());
     ShowPose(keyframe);

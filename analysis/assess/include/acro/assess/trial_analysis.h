@@ -24,8 +24,8 @@
 #include "acro/capture/trial.h"
 #include "acro/fig/rules.h"
 #include "acro/fig/score_sheet.h"
-#include "acro/fig/synchro.h"
 #include "acro/fig/skill.h"
+#include "acro/fig/synchro.h"
 #include "acro/fig/trampoline.h"
 #include "acro/reconstruct/phases.h"
 #include "acro/reconstruct/reconstruction.h"
@@ -174,11 +174,14 @@ TrialAnalysis AnalyzeTrial(const capture::Trial& trial,
                            const TrialAnalysisOptions& options = {});
 
 /// The flights of an analysis as the score sheet reads them: skill, positions, time of flight and,
-/// with a bed, the landing's zone by `zones` (a margin within `landing_uncertainty_m` a close call).
-std::vector<fig::PerformedFlight> PerformedFlights(const TrialAnalysis& analysis, const fig::HdZones& zones,
+/// with a bed, the landing's zone by `zones` (a margin within `landing_uncertainty_m` a close
+/// call).
+std::vector<fig::PerformedFlight> PerformedFlights(const TrialAnalysis& analysis,
+                                                   const fig::HdZones& zones,
                                                    double landing_uncertainty_m);
 /// The score sheet of an analysis by `rules` (AnalyzeTrial fills TrialAnalysis::score with it).
-fig::RoutineScore ScoreTrial(const TrialAnalysis& analysis, const fig::RoutineRules& rules,
+fig::RoutineScore ScoreTrial(const TrialAnalysis& analysis,
+                             const fig::RoutineRules& rules,
                              double landing_uncertainty_m);
 /// The score sheet as JSON (score.json; docs/cli.md).
 std::string FormatScoreJson(const fig::RoutineScore& score);

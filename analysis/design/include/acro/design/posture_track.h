@@ -32,6 +32,10 @@ const char* PostureName(Posture posture);
 /// turn the trunk the same way about its front–back axis.
 Eigen::VectorXd PostureJoints(Posture posture, double aerial_twist_action_rad = 0.0);
 
+/// The track's blend between two postures: S(u) = u⁴(35 − 84u + 70u² − 20u³), u clamped to [0, 1]
+/// (the fraction of the way from one posture to the next).
+double PostureBlend(double u);
+
 class PostureTrack {
  public:
   /// Appends a posture (joint angles, rad) at `time_s`; times must not decrease.

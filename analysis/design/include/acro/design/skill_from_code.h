@@ -73,8 +73,9 @@ struct SkillFromCodeResult {
   /// from the end of the last twist or opening to the landing (s), and the shooting's largest
   /// residual (rad).
   double air_somersault_rad = 0.0;
-  double air_twist_rad = 0.0;                              ///< positive to the athlete's left
-  fig::TwistDirection twist_direction = fig::TwistDirection::kNone;  ///< of air_twist_rad; none without twist
+  double air_twist_rad = 0.0;  ///< positive to the athlete's left
+  fig::TwistDirection twist_direction =
+      fig::TwistDirection::kNone;  ///< of air_twist_rad; none without twist
   std::vector<double> half_twists_per_somersault;
   double max_tilt_rad = 0.0;
   double landing_tilt_rad = 0.0;

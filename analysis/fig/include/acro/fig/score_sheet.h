@@ -30,7 +30,12 @@ struct MeasuredFault {
   /// whether smaller values are worse (the opening's time before landing).
   double threshold = std::numeric_limits<double>::quiet_NaN();
   bool smaller_is_worse = false;
-  double time_s = 0;       ///< where it is worst (trial time)
+  /// How far it is toward a deduction: the value over the first threshold (1 where the first
+  /// deduction begins; the threshold over the value when smaller is worse, +inf for a value at or
+  /// below 0 then); NaN without a threshold or a finite value. One axis for degrees, metres and
+  /// seconds (the report's execution chart, the studio's worst measurement).
+  double ThresholdRatio() const;
+  double time_s = 0;  ///< where it is worst (trial time)
   int frame = -1;
   /// Past the rules' first threshold by more than the uncertainty: a fault, whatever the noise.
   bool reported = false;

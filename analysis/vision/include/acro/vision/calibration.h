@@ -93,7 +93,6 @@ struct NamedPoint2 {
 /// acro::InputError naming the file and line.
 std::vector<NamedPoint3> ReadPoints3dCsv(const std::filesystem::path& path);
 
-
 /// The FIG trampoline's corners in the trampoline's own frame (origin at the centre of the bed at
 /// rest, x along its length, z up, metres): the bed's BED_C1 (+x, +y), BED_C2 (−x, +y), BED_C3
 /// (−x, −y), BED_C4 (+x, −y) at 4.28 m × 2.14 m, the frame's outer corners FRAME_C1…C4 (same order)

@@ -20,9 +20,13 @@ namespace acro::ui {
 /// line — the person's left side blue, the right side orange, the middle white, by `side` (−1
 /// right, +1 left, 0 middle, per keypoint) — and each such keypoint as a dot whose grey shows its
 /// confidence.
-void DrawSkeleton(int width, int height, const capture::DetectedPerson& person,
-                  const std::vector<std::pair<int, int>>& edges, const std::vector<int>& side,
-                  double min_confidence, std::vector<std::uint8_t>* rgb);
+void DrawSkeleton(int width,
+                  int height,
+                  const capture::DetectedPerson& person,
+                  const std::vector<std::pair<int, int>>& edges,
+                  const std::vector<int>& side,
+                  double min_confidence,
+                  std::vector<std::uint8_t>* rgb);
 
 struct ContactSheetOptions {
   int columns = 6;
@@ -36,10 +40,13 @@ struct ContactSheetOptions {
 /// A PNG of the frames `frame_indices` of `video` with `people[k]` (the person of frame
 /// frame_indices[k]; an all-zero confidence for none) drawn over each, written atomically.
 /// Throws acro::InputError for a video or file that cannot be read or written.
-void WritePoseContactSheet(capture::VideoReader& video, const std::vector<int>& frame_indices,
+void WritePoseContactSheet(capture::VideoReader& video,
+                           const std::vector<int>& frame_indices,
                            const std::vector<capture::DetectedPerson>& people,
-                           const std::vector<std::pair<int, int>>& edges, const std::vector<int>& side,
-                           const std::filesystem::path& path, const ContactSheetOptions& options = {});
+                           const std::vector<std::pair<int, int>>& edges,
+                           const std::vector<int>& side,
+                           const std::filesystem::path& path,
+                           const ContactSheetOptions& options = {});
 
 /// The video with each frame's people drawn (`people[k]`: those of frame k; a frame beyond the
 /// list, or without people, is written as it is) into `output`, an .mp4 (H.264 at the video's
@@ -47,9 +54,14 @@ void WritePoseContactSheet(capture::VideoReader& video, const std::vector<int>& 
 /// nothing left behind). Only the video frames first_frame … last_frame (0-based, inclusive;
 /// last_frame −1: to the end) are written; a first frame beyond the video is acro::InputError.
 /// Returns the frames written.
-int WriteDetectionOverlay(capture::VideoReader& video, const std::vector<std::vector<capture::DetectedPerson>>& people,
-                          const std::vector<std::pair<int, int>>& edges, const std::vector<int>& side,
-                          const std::filesystem::path& output, const Progress& progress = {},
-                          double min_confidence = 0.2, int first_frame = 0, int last_frame = -1);
+int WriteDetectionOverlay(capture::VideoReader& video,
+                          const std::vector<std::vector<capture::DetectedPerson>>& people,
+                          const std::vector<std::pair<int, int>>& edges,
+                          const std::vector<int>& side,
+                          const std::filesystem::path& output,
+                          const Progress& progress = {},
+                          double min_confidence = 0.2,
+                          int first_frame = 0,
+                          int last_frame = -1);
 
 }  // namespace acro::ui
