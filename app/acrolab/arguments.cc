@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <memory>
 
 #include <fmt/format.h>
@@ -19,8 +20,11 @@
 
 namespace acro::app {
 
-void TrialArguments::Declare(CLI::App* command, analysis::ReconstructionOptions* options) {
-  command->add_option("TRIAL", trial_path, "markers or keypoints: C3D, TRC or CSV")->required();
+void TrialArguments::Declare(CLI::App* command, analysis::ReconstructionOptions* options,
+                             bool trial_required) {
+  CLI::Option* trial =
+      command->add_option("TRIAL", trial_path, "markers or keypoints: C3D, TRC or CSV");
+  if (trial_required) trial->required();
   command->add_option("-o,--output", out_dir, "output folder (created)")->required();
   command->add_option(
       "--static", static_path, "static trial for scaling (otherwise a window of the motion)");
@@ -153,6 +157,73 @@ pipeline::TrialInput OpenTrialFor(const std::string& command,
   for (const std::string& w : lines)
     std::fprintf(stderr, "acrolab %s: warning: %s\n", command.c_str(), w.c_str());
   return input;
+}
+
+void ViewsArguments::Declare(CLI::App* command) {
+  command->add_option("--detections", detections,
+                      "CAM=PATH, one per camera (at least two): a camera of --calib and its 2D "
+                      "keypoints — a folder of OpenPose JSON, a CSV or a Sports2D TRC; instead of "
+                      "TRIAL (docs/markerless.md)");
+  command->add_option("--calib", calibration, "with --detections: the cameras' calibration");
+  command->add_option("--keypoints", keypoints,
+                      "with --detections: the JSON files' keypoint set: body25b (default), body25, "
+                      "coco17, halpe26");
+  command->add_option("--rate", rate_hz,
+                      "with --detections: the videos' frame rate (Hz); JSON files carry no time")
+      ->check(CLI::PositiveNumber);
+  command->add_option("--offset", offsets,
+                      "with --detections: CAM=FRAMES, where that camera's frame 0 falls on the first "
+                      "camera's time line (repeated); the others are found from the detections");
+  command->add_flag("--no-sync", no_sync,
+                    "with --detections: take the cameras as started together (offsets 0 unless "
+                    "--offset)");
+}
+
+pipeline::ViewsRequest ViewsArguments::Request(const TrialArguments& trial) const {
+  if (!trial.trial_path.empty())
+    throw UsageError{"give TRIAL or --detections (several cameras' keypoints), not both"};
+  if (calibration.empty()) throw UsageError{"--detections needs --calib (the cameras' calibration)"};
+  if (!(rate_hz > 0)) throw UsageError{"--detections needs --rate (the videos' frame rate, Hz)"};
+  if (!trial.static_path.empty()) throw UsageError{"--static goes with TRIAL, not --detections"};
+  pipeline::ViewsRequest r;
+  for (const std::string& d : detections) r.cameras.push_back(pipeline::ParseCameraSource(d));
+  for (const std::string& o : offsets) {
+    const size_t eq = o.find('=');
+    char* end = nullptr;
+    const std::string number = eq == std::string::npos ? "" : o.substr(eq + 1);
+    const double frames = std::strtod(number.c_str(), &end);
+    if (eq == std::string::npos || number.empty() || *end != '\0' || !std::isfinite(frames) ||
+        std::abs(frames) > 1e7)
+      throw UsageError{"--offset: expected CAM=FRAMES (a number of frames), got '" + o + "'"};
+    const std::string camera = o.substr(0, eq);
+    bool matched = false;
+    for (pipeline::CameraSource& c : r.cameras)
+      if (c.camera == camera) {
+        c.offset_frames = frames;
+        matched = true;
+      }
+    if (!matched) throw UsageError{"--offset: camera '" + camera + "' has no --detections"};
+  }
+  r.calibration = calibration;
+  r.keypoint_set = keypoints;
+  r.rate_hz = rate_hz;
+  r.sync = !no_sync;
+  r.up = trial.up;
+  r.athlete.profile = trial.athlete_path;
+  r.athlete.height_m = trial.height_m;
+  r.athlete.mass_kg = trial.mass_kg;
+  r.athlete.sex = trial.sex == "f" ? analysis::Sex::kFemale : analysis::Sex::kMale;
+  return r;
+}
+
+pipeline::ViewsInput OpenViewsFor(const std::string& command, const pipeline::ViewsRequest& request,
+                                  bool quiet) {
+  pipeline::ViewsInput views = pipeline::OpenViews(request, MakeStepProgress(quiet));
+  std::vector<std::string> lines = views.input.warnings;
+  if (!views.input.athlete.warning.empty()) lines.push_back(views.input.athlete.warning);
+  for (const std::string& w : lines)
+    std::fprintf(stderr, "acrolab %s: warning: %s\n", command.c_str(), w.c_str());
+  return views;
 }
 
 pipeline::VideoRequest VideoArguments::Request() const {

@@ -20,6 +20,7 @@
 #include "acro/design/skill_optimization.h"
 #include "acro/pipeline/trial_input.h"
 #include "acro/pipeline/video_input.h"
+#include "acro/pipeline/views_input.h"
 #include "acro/reconstruct/reconstruction.h"
 #include "acro/report/skill_report.h"
 #include "acro/vision/camera.h"
@@ -79,7 +80,8 @@ struct TrialArguments {
   bool quiet = false;
   /// Declares these options on `command`; those of the reconstruction write into `options`
   /// (which must outlive the parse).
-  void Declare(CLI::App* command, analysis::ReconstructionOptions* options);
+  void Declare(CLI::App* command, analysis::ReconstructionOptions* options,
+               bool trial_required = true);
   /// What the pipeline opens (TRIAL, --static, --up, the athlete or the default body's numbers).
   pipeline::TrialRequest Request() const;
 };
@@ -89,6 +91,25 @@ struct TrialArguments {
 pipeline::TrialInput OpenTrialFor(const std::string& command,
                                   const pipeline::TrialRequest& request,
                                   bool uses_athlete = true);
+
+/// Several cameras' 2D keypoints instead of a trial (docs/markerless.md): --detections CAM=PATH
+/// (repeated), --calib, --keypoints, --rate, --offset CAM=FRAMES (repeated; the others are synced
+/// from the detections unless --no-sync).
+struct ViewsArguments {
+  std::vector<std::string> detections, offsets;
+  std::string calibration, keypoints = "body25b";
+  double rate_hz = 0;
+  bool no_sync = false;
+  void Declare(CLI::App* command);
+  bool given() const { return !detections.empty(); }
+  /// The pipeline's request, with the trial's --up and athlete (UsageError for options that do not
+  /// go together).
+  pipeline::ViewsRequest Request(const TrialArguments& trial) const;
+};
+
+/// pipeline::OpenViews with a progress bar unless `quiet`, its warnings on stderr.
+pipeline::ViewsInput OpenViewsFor(const std::string& command, const pipeline::ViewsRequest& request,
+                                  bool quiet);
 
 /// Throws UsageError with `why` when `options.IsValid` fails (the reason reaches the user).
 template <typename Options>

@@ -4,6 +4,8 @@
 #include <optional>
 #include <sstream>
 
+#include <fmt/format.h>
+
 #include "acro/athlete/athlete_profile.h"
 #include "acro/athlete/de_leva.h"
 #include "acro/base/file_io.h"
@@ -18,6 +20,7 @@ namespace {
 
 struct ReconstructArguments {
   TrialArguments common;
+  ViewsArguments views;
   analysis::ReconstructionOptions options;
 };
 
@@ -38,16 +41,29 @@ int RunReconstruct(ReconstructArguments& args) {
   DemandValidCommandLine(options);
   CheckOutputDirectory(common.out_dir);  // before any work: a bad -o costs nothing
 
-  // Inputs: trial, static trial, athlete — opened as every door opens them (the pipeline).
-  pipeline::TrialRequest request = common.Request();
-  request.min_frames = 1;  // joint angles of a single pose are still joint angles
-  request.use = "the reconstruction";
-  const pipeline::TrialInput input = OpenTrialFor("reconstruct", request);
+  // Inputs: a trial, or several cameras' keypoints triangulated — opened as every door opens
+  // them (the pipeline).
+  std::optional<pipeline::ViewsInput> views;
+  pipeline::TrialInput input;
+  if (args.views.given()) {
+    pipeline::ViewsRequest request = args.views.Request(common);
+    request.min_frames = 1;
+    request.use = "the reconstruction";
+    views = OpenViewsFor("reconstruct", request, common.quiet);
+    input = std::move(views->input);
+  } else {
+    if (common.trial_path.empty())
+      throw UsageError{"give TRIAL (markers or keypoints) or --detections CAM=PATH… --calib C"};
+    pipeline::TrialRequest request = common.Request();
+    request.min_frames = 1;  // joint angles of a single pose are still joint angles
+    request.use = "the reconstruction";
+    input = OpenTrialFor("reconstruct", request);
+  }
   const capture::Trial& trial = input.trial;
   const std::optional<capture::Trial>& static_trial = input.static_trial;
   CheckCutoffBelowNyquist(options, trial);
   const analysis::AthleteBody& body = input.athlete.body;
-  const std::string& trial_path = common.trial_path;
+  const std::string trial_path = views ? "triangulated" : common.trial_path;
   const std::string& out_dir = common.out_dir;
 
   // Reconstruction with a progress bar on stderr.
@@ -59,6 +75,23 @@ int RunReconstruct(ReconstructArguments& args) {
   const std::string stem = std::filesystem::path(trial_path).stem().string();
   OutputTransaction outputs(out_dir);  // moved into place when all are complete
   const std::filesystem::path& dir = outputs.staging();
+  if (views) {
+    // The triangulated keypoints as a Pose2Sim user expects them, and how they were made.
+    capture::WriteTrial(trial, dir / (stem + ".trc"));
+    std::string text = views->triangulation.BriefReport();
+    for (size_t v = 0; v < views->offsets.size(); ++v)
+      text += fmt::format("  {}: offset {:.2f} frames ({}){}\n",
+                          views->offsets[v].camera,
+                          views->offsets[v].offset_frames,
+                          views->offset_origin[v],
+                          views->offset_origin[v] == "found"
+                              ? fmt::format(", epipolar distance {:.1f} px, next best {:.1f} px",
+                                            views->offsets[v].cost_px,
+                                            views->offsets[v].runner_up_cost_px)
+                              : "");
+    WriteFileAtomically(dir / (stem + "_triangulation.txt"), text);
+    std::fputs(text.c_str(), stdout);
+  }
   analysis::WriteMotionMot(result.motion, dir / (stem + ".mot"));
   analysis::WriteMotionCsv(result.motion, dir / (stem + "_angles.csv"));
   analysis::WriteMotionC3d(result, trial, dir / (stem + "_model.c3d"));
@@ -71,10 +104,15 @@ int RunReconstruct(ReconstructArguments& args) {
   WriteFileAtomically(dir / (stem + "_summary.txt"), summary);
   outputs.Commit();
   std::fputs(summary.c_str(), stdout);
-  std::fprintf(stdout,
-               "wrote %s/%s{.mot,_angles.csv,_model.c3d,_residuals.csv,_summary.txt}\n",
-               out_dir.c_str(),
-               stem.c_str());
+  std::fprintf(
+      stdout,
+      views
+          ? "wrote "
+            "%s/"
+            "%s{.trc,_triangulation.txt,.mot,_angles.csv,_model.c3d,_residuals.csv,_summary.txt}\n"
+          : "wrote %s/%s{.mot,_angles.csv,_model.c3d,_residuals.csv,_summary.txt}\n",
+      out_dir.c_str(),
+      stem.c_str());
   return 0;
 }
 
@@ -84,12 +122,15 @@ void AddReconstructCommand(CLI::App& app, CommandRunner* run) {
   auto args = std::make_shared<ReconstructArguments>();
   CLI::App* command = app.add_subcommand(
       "reconstruct",
-      "Markers or video keypoints (C3D, TRC, CSV) to the athlete's joint angles: marker set "
+      "Markers or video keypoints (C3D, TRC, CSV) — or several calibrated cameras' 2D keypoints "
+      "(--detections, triangulated; writes DIR/triangulated.trc too) — to the athlete's joint "
+      "angles: marker set "
       "detection, gap filling, zero-lag low-pass filter, scaling, per-frame inverse kinematics. "
       "Writes DIR/<trial>.mot (OpenSim, degrees), <trial>_angles.csv, <trial>_model.c3d "
       "(processed markers and joint angles as Vicon-style angle points), <trial>_residuals.csv "
       "and <trial>_summary.txt; prints the summary. docs/reconstruction.md.");
-  args->common.Declare(command, &args->options);
+  args->common.Declare(command, &args->options, /*trial_required=*/false);
+  args->views.Declare(command);
   command
       ->add_option("--order", args->options.filter_order, "Butterworth order per pass (default 2)")
       ->check(CLI::Range(1, 8));

@@ -443,6 +443,74 @@ TEST(Cli, ProjectCsvLandsOnTheDetectionsAsExpected) {
   }
 }
 
+// `reconstruct --detections`: Pose2Sim's four cameras' OpenPose detections to the 3D keypoints
+// (within 10 mm median of Pose2Sim's own TRC, distortion modelled) and the joint angles; and the
+// mistakes a user makes with several cameras, one line each, nothing written.
+TEST(Cli, ReconstructFromSeveralCamerasDetections) {
+  const auto root = acro::testing::RefdataFile("pose2sim-demo");
+  const auto theirs_path = root / "balancing-trial/pose-3d/S00_P00_T01_BalancingTrial_0-100.trc";
+  ACRO_REQUIRE_REFDATA_FILE(theirs_path);
+  const auto calib = root / "calibration/Calib_qualisys.toml";
+  auto source = [&](int c) {
+    return " --detections cam_0" + std::to_string(c) + "=" +
+           Quote(root / "balancing-trial/pose" / ("cam0" + std::to_string(c) + "_json"));
+  };
+  const std::string four = source(1) + source(2) + source(3) + source(4);
+  const auto out = acro::testing::ScratchDir("reconstruct_views");
+  const ProcessResult run = Execute(std::string(ACROLAB_EXE) + " reconstruct" + four + " --calib " +
+                                    Quote(calib) + " --rate 60 --quiet -o " + Quote(out / "a"));
+  ASSERT_EQ(run.status, 0) << run.err;
+  // The balancing trial hardly moves: the offsets cannot be told, and the user is told so.
+  EXPECT_NE(run.err.find("do not tell its offset"), std::string::npos) << run.err;
+  for (const char* f : {"triangulated.trc", "triangulated_triangulation.txt", "triangulated.mot",
+                        "triangulated_angles.csv", "triangulated_summary.txt"})
+    EXPECT_TRUE(std::filesystem::exists(out / "a" / f)) << f;
+  const acro::capture::Trial ours = acro::capture::ReadTrial(out / "a/triangulated.trc");
+  const acro::capture::Trial theirs = acro::capture::ReadTrial(theirs_path);
+  ASSERT_EQ(ours.num_frames, 100);
+  std::vector<double> d;
+  for (int j = 0; j < theirs.num_points(); ++j) {
+    int o = -1;
+    for (int i = 0; i < ours.num_points(); ++i)
+      if (ours.points[i].label == theirs.points[j].label) o = i;
+    ASSERT_GE(o, 0) << theirs.points[j].label;
+    for (int k = 0; k < 100; ++k) {
+      if (!theirs.valid(k, j) || !ours.valid(k, o)) continue;
+      const Eigen::Vector3d p = theirs.position(k, j);
+      d.push_back((ours.position(k, o) - Eigen::Vector3d(p.z(), p.x(), p.y())).norm());
+    }
+  }
+  ASSERT_GT(d.size(), 1500u);
+  std::nth_element(d.begin(), d.begin() + static_cast<long>(d.size() / 2), d.end());
+  EXPECT_LT(d[d.size() / 2], 0.010);
+
+  const std::string exe = std::string(ACROLAB_EXE) + " reconstruct";
+  struct Case {
+    std::string args, message;
+  };
+  const std::vector<Case> cases = {
+      {source(1) + " --detections cam_09=" + Quote(root / "balancing-trial/pose/cam02_json") +
+           " --calib " + Quote(calib) + " --rate 60",
+       "cam_09"},
+      {source(1) + source(1) + " --calib " + Quote(calib) + " --rate 60", "given twice"},
+      {source(1) + " --calib " + Quote(calib) + " --rate 60", "at least 2"},
+      {four + " --calib " + Quote(calib), "--rate"},
+      {four + " --rate 60", "--calib"},
+      {four + " --calib " + Quote(calib) + " --rate 60 --keypoints coco17", "cam01"},
+      {four + " --calib " + Quote(calib) + " --rate 60 --offset cam_07=3", "cam_07"},
+      {four + " --calib " + Quote(calib) + " --rate 60 --offset cam_02=x", "CAM=FRAMES"},
+      {" --detections cam_01 --calib " + Quote(calib) + " --rate 60", "CAMERA=PATH"},
+  };
+  for (const Case& c : cases) {
+    const auto dir = out / "bad";
+    const ProcessResult bad = Execute(exe + c.args + " --quiet -o " + Quote(dir));
+    EXPECT_TRUE(bad.status == 1 || bad.status == 2) << c.args << "\n" << bad.err;  // input, usage
+    EXPECT_NE(bad.err.find(c.message), std::string::npos) << c.args << "\n" << bad.err;
+    EXPECT_EQ(std::count(bad.err.begin(), bad.err.end(), '\n'), 1) << bad.err;
+    EXPECT_FALSE(std::filesystem::exists(dir)) << c.args;
+  }
+}
+
 // `calibrate intrinsics` on one phone's photos: the photo without a board is named and skipped,
 // the reprojection error printed, and the camera written where `project` reads it.
 TEST(Cli, CalibrateIntrinsicsReportsEachPhotoAndWritesTheCamera) {

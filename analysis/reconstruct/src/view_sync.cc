@@ -124,6 +124,8 @@ bool ViewSyncOptions::IsValid(std::string* why) const {
     return fail(fmt::format("maximum offset {:g} s is outside 0 … 3600 s", max_offset_s));
   if (!(min_confidence >= 0 && min_confidence <= 1))
     return fail(fmt::format("minimum confidence {:g} is outside 0 … 1", min_confidence));
+  if (!(min_distinctness >= 1 && min_distinctness <= 100))
+    return fail(fmt::format("distinctness {:g} is outside 1 … 100", min_distinctness));
   if (!(max_distance_px > 0 && max_distance_px <= 1000))
     return fail(fmt::format("distance cap {:g} px is outside (0, 1000]", max_distance_px));
   return true;
@@ -233,7 +235,12 @@ std::vector<ViewOffset> SyncViews(const std::vector<CameraView>& views,
     int pairs = 0;
     const double cost =
         Cost(ref, other, E, f0, f1, ratio, offset, frames, options.max_distance_px, true, &pairs);
-    result[v] = {c1.name, offset, cost, runner_up, pairs};
+    result[v] = {c1.name,
+                 offset,
+                 cost,
+                 runner_up,
+                 pairs,
+                 !std::isfinite(runner_up) || runner_up >= options.min_distinctness * cost};
   }
   progress.ReportOrThrow(
       "sync", static_cast<int>(views.size()) - 1, static_cast<int>(views.size()) - 1);

@@ -90,6 +90,7 @@ TEST(ViewSync, FindsEachCamerasOffsetToATenthOfAFrame) {
     EXPECT_NEAR(offsets[c].offset_frames, expected, 1.0 / 3.0) << offsets[c].camera;
     if (c > 0) {
       EXPECT_GT(offsets[c].runner_up_cost_px, 2 * offsets[c].cost_px) << offsets[c].camera;
+      EXPECT_TRUE(offsets[c].distinct) << offsets[c].camera;
     }
   }
   // On the first camera's time line, the triangulation is the truth again (1.5 px noise).

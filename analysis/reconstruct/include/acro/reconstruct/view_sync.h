@@ -23,6 +23,8 @@ struct ViewSyncOptions {
   /// Epipolar distances beyond this count as this much (px): a wrong person or a wild keypoint
   /// does not decide.
   double max_distance_px = 30.0;
+  /// See ViewOffset::distinct.
+  double min_distinctness = 1.5;
   bool IsValid(std::string* why) const;
 };
 
@@ -36,6 +38,10 @@ struct ViewOffset {
   double cost_px = 0.0;
   double runner_up_cost_px = 0.0;
   int pairs = 0;  ///< keypoint pairs compared at the offset found
+  /// The minimum stands out: the runner-up costs at least ViewSyncOptions::min_distinctness
+  /// times as much. A take with too little motion (someone standing still) leaves it flat, and
+  /// the offset found then means little.
+  bool distinct = false;
 };
 
 /// The offset of every view against the first (views[0].camera's time line), each view's frames

@@ -1,0 +1,73 @@
+#pragma once
+
+/// \file
+/// The input of a door that starts from several calibrated cameras' 2D keypoints instead of a
+/// motion-capture file (docs/markerless.md): each camera's detections read (OpenPose JSON folders,
+/// CSV, Sports2D TRC), the cameras put on one time line (offsets given, or found from the
+/// detections), the keypoints triangulated, and the result opened as every trial is — upright,
+/// with its provenance and its athlete — so that reconstruct, assess and report run on it
+/// unchanged.
+
+#include <filesystem>
+#include <limits>
+#include <string>
+#include <vector>
+
+#include "acro/base/progress.h"
+#include "acro/pipeline/trial_input.h"
+#include "acro/reconstruct/triangulation.h"
+#include "acro/reconstruct/view_sync.h"
+
+namespace acro::pipeline {
+
+struct CameraSource {
+  std::string camera;                ///< its name in the calibration
+  std::filesystem::path detections;  ///< a folder of OpenPose JSON, a CSV or a 2D TRC
+  /// Its frame rate (Hz); 0: ViewsRequest::rate_hz.
+  double rate_hz = 0;
+  /// Where its frame 0 falls on the first camera's time line, in the first camera's frames; NaN:
+  /// found from the detections (ViewsRequest::sync) or 0.
+  double offset_frames = std::numeric_limits<double>::quiet_NaN();
+};
+
+struct ViewsRequest {
+  std::vector<CameraSource> cameras;  ///< the first is the time line's reference
+  std::filesystem::path calibration;
+  /// The keypoint set of JSON detections (capture::KeypointSetNames); CSV and TRC name theirs.
+  std::string keypoint_set = "body25b";
+  /// The detections' frame rate (Hz), for the cameras that do not give their own: JSON files carry
+  /// no time. Required (> 0).
+  double rate_hz = 0;
+  /// Offsets not given are found from the detections (analysis::SyncViews); false: taken as 0.
+  bool sync = true;
+  analysis::ViewSyncOptions sync_options;
+  analysis::TriangulationOptions triangulation;
+  /// The calibration's up axis, as TrialRequest::up.
+  std::string up = "auto";
+  AthleteChoice athlete;
+  int min_frames = 2;
+  std::string use = "the analysis";
+};
+
+struct ViewsInput {
+  /// The triangulated keypoints as a trial (path: the first camera's detections; sha256 over the
+  /// calibration's and every detection file's bytes), upright, with the athlete.
+  TrialInput input;
+  analysis::Triangulation triangulation;
+  std::vector<analysis::ViewOffset> offsets;  ///< per camera, as used (found or given)
+  /// Per camera, where its offset comes from: "the time line" (the first camera), "found" (from
+  /// the detections), "given", or "assumed" (0: not found, or --no-sync).
+  std::vector<std::string> offset_origin;
+};
+
+/// Reads, syncs and triangulates. Throws acro::InputError naming the file, camera or option at
+/// fault: a camera missing from the calibration (naming those there are), two sources for one
+/// camera, fewer than two cameras, detections whose keypoints differ from the set or from the
+/// other cameras', no rate; a camera that sees nobody is a warning and the others are used.
+/// `progress` as acro::Progress ("sync", "triangulate").
+ViewsInput OpenViews(const ViewsRequest& request, const Progress& progress = {});
+
+/// "CAM=PATH" as `--detections` takes it. Throws acro::InputError (where "--detections").
+CameraSource ParseCameraSource(const std::string& text);
+
+}  // namespace acro::pipeline

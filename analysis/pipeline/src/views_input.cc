@@ -1,0 +1,192 @@
+#include "acro/pipeline/views_input.h"
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+#include <fmt/format.h>
+
+#include "acro/base/content_hash.h"
+#include "acro/base/input_error.h"
+#include "acro/capture/detections.h"
+#include "acro/vision/camera.h"
+
+namespace acro::pipeline {
+
+namespace {
+
+// The provenance of a detections source: its file's hash, or a folder's names and files' hashes.
+std::string HashOfSource(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_directory(path, ec)) return Sha256OfFile(path);
+  std::vector<std::filesystem::path> files;
+  for (const auto& entry : std::filesystem::directory_iterator(path, ec))
+    if (entry.is_regular_file(ec) && entry.path().extension() == ".json")
+      files.push_back(entry.path());
+  std::sort(files.begin(), files.end());
+  std::string text;
+  for (const auto& f : files) text += f.filename().string() + " " + Sha256OfFile(f) + "\n";
+  return Sha256Hex(text);
+}
+
+// The detections with `names`' order: keypoints the file lacks are absent (confidence 0).
+capture::KeypointDetections AlignedTo(const capture::KeypointDetections& d,
+                                      const std::vector<std::string>& names,
+                                      std::vector<std::string>* warnings,
+                                      const std::string& camera) {
+  if (d.names == names) return d;
+  std::vector<int> from(names.size(), -1);
+  int shared = 0;
+  for (size_t i = 0; i < names.size(); ++i) {
+    const auto it = std::find(d.names.begin(), d.names.end(), names[i]);
+    if (it != d.names.end()) {
+      from[i] = static_cast<int>(it - d.names.begin());
+      ++shared;
+    }
+  }
+  if (shared < static_cast<int>(names.size()) || d.names.size() != names.size())
+    warnings->push_back(
+        fmt::format("camera {}: {} of its {} keypoints are among the first camera's {}",
+                    camera,
+                    shared,
+                    d.names.size(),
+                    names.size()));
+  capture::KeypointDetections out;
+  out.source = d.source;
+  out.names = names;
+  out.warnings = d.warnings;
+  out.frames.resize(d.frames.size());
+  for (size_t k = 0; k < d.frames.size(); ++k)
+    for (const capture::DetectedPerson& p : d.frames[k]) {
+      capture::DetectedPerson q =
+          capture::DetectedPerson::Zero(3, static_cast<Eigen::Index>(names.size()));
+      for (size_t i = 0; i < names.size(); ++i)
+        if (from[i] >= 0) q.col(static_cast<Eigen::Index>(i)) = p.col(from[i]);
+      out.frames[k].push_back(q);
+    }
+  return out;
+}
+
+}  // namespace
+
+CameraSource ParseCameraSource(const std::string& text) {
+  const size_t eq = text.find('=');
+  if (eq == std::string::npos || eq == 0 || eq + 1 == text.size())
+    throw InputError(
+        "",
+        "--detections",
+        "expected CAMERA=PATH (a camera of the calibration and its detections), got '" + text +
+            "'");
+  CameraSource s;
+  s.camera = text.substr(0, eq);
+  s.detections = text.substr(eq + 1);
+  return s;
+}
+
+ViewsInput OpenViews(const ViewsRequest& request, const Progress& progress) {
+  if (request.cameras.size() < 2)
+    throw InputError(
+        "",
+        "--detections",
+        fmt::format("{} camera{} given: the 3D athlete needs at least 2 calibrated views",
+                    request.cameras.size(),
+                    request.cameras.size() == 1 ? "" : "s"));
+  if (!(request.rate_hz > 0 && request.rate_hz <= 10000))
+    for (const CameraSource& s : request.cameras)
+      if (!(s.rate_hz > 0))
+        throw InputError(
+            "",
+            "--rate",
+            fmt::format("the detections' frame rate is needed (their files carry no time), "
+                        "got {:g}: give the videos' rate in Hz",
+                        request.rate_hz));
+  const std::vector<vision::Camera> calibrated = vision::ReadCameras(request.calibration);
+  ViewsInput out;
+  std::vector<std::string>& warnings = out.input.warnings;
+  std::set<std::string> seen;
+  std::vector<analysis::CameraView> views;
+  std::vector<double> rates;
+  std::string provenance = Sha256OfFile(request.calibration) + "\n";
+  for (const CameraSource& s : request.cameras) {
+    if (!seen.insert(s.camera).second)
+      throw InputError(
+          s.detections.string(), "--detections", "camera '" + s.camera + "' is given twice");
+    analysis::CameraView view;
+    view.camera = vision::FindCamera(calibrated, s.camera, request.calibration.string());
+    view.detections = capture::ReadDetections(s.detections, request.keypoint_set);
+    for (const std::string& w : view.detections.warnings) warnings.push_back(s.camera + ": " + w);
+    if (!views.empty())
+      view.detections = AlignedTo(view.detections, views[0].detections.names, &warnings, s.camera);
+    provenance += s.camera + " " + HashOfSource(s.detections) + "\n";
+    rates.push_back(s.rate_hz > 0 ? s.rate_hz : request.rate_hz);
+    if (!(rates.back() > 0 && rates.back() <= 10000))
+      throw InputError(
+          s.detections.string(),
+          "rate",
+          fmt::format(
+              "camera {}: frame rate {:g} Hz is outside (0, 10000]", s.camera, rates.back()));
+    views.push_back(std::move(view));
+  }
+
+  // One time line: offsets given, found, or 0.
+  out.offsets.resize(views.size());
+  out.offset_origin.assign(views.size(), "assumed");
+  out.offset_origin[0] = "the time line";
+  bool any_unknown = false;
+  for (size_t v = 1; v < views.size(); ++v)
+    any_unknown |= std::isnan(request.cameras[v].offset_frames);
+  std::vector<analysis::ViewOffset> found;
+  if (any_unknown && request.sync)
+    found = analysis::SyncViews(views, rates, request.sync_options, progress);
+  for (size_t v = 0; v < views.size(); ++v) {
+    out.offsets[v].camera = views[v].camera.name;
+    const double given = request.cameras[v].offset_frames;
+    if (v == 0) {
+      out.offsets[v].offset_frames = 0;
+    } else if (!std::isnan(given)) {
+      out.offsets[v].offset_frames = given;
+      out.offset_origin[v] = "given";
+    } else if (!found.empty() && found[v].distinct) {
+      out.offsets[v] = found[v];
+      out.offset_origin[v] = "found";
+    } else if (!found.empty()) {
+      warnings.push_back(fmt::format(
+          "camera {}: its detections do not tell its offset (epipolar distance {:.1f} px at "
+          "{:.2f} frames, {:.1f} px two frames or more away: too little motion); taken as started "
+          "with camera {} — give --offset {}=FRAMES if it was not",
+          views[v].camera.name,
+          found[v].cost_px,
+          found[v].offset_frames,
+          found[v].runner_up_cost_px,
+          views[0].camera.name,
+          views[v].camera.name));
+    }
+  }
+  // The time line starts with the earliest camera and ends with the last.
+  double start = 0, end = 0;
+  for (size_t v = 0; v < views.size(); ++v) {
+    const double o = out.offsets[v].offset_frames;
+    start = std::min(start, o);
+    end = std::max(end, o + views[v].detections.num_frames() * rates[0] / rates[v]);
+  }
+  const int num_frames = static_cast<int>(std::ceil(end - start - 1e-9));
+  for (size_t v = 0; v < views.size(); ++v)
+    views[v].detections = analysis::ResampleDetections(
+        views[v].detections, rates[v], rates[0], out.offsets[v].offset_frames - start, num_frames);
+
+  out.triangulation = analysis::TriangulateKeypoints(views, request.triangulation, progress);
+  for (const std::string& w : out.triangulation.warnings) warnings.push_back(w);
+  TrialInput& in = out.input;
+  in.path = request.cameras[0].detections;
+  in.sha256 = Sha256Hex(provenance);
+  in.trial = out.triangulation.ToTrial(
+      rates[0],
+      fmt::format("{} cameras' detections ({})", views.size(), request.calibration.string()));
+  capture::DemandUsableContent(in.trial, in.path.string(), request.min_frames, request.use);
+  const std::string turned = analysis::OrientTrialUp(&in.trial, request.up, &in.up);
+  if (!turned.empty()) warnings.push_back(turned);
+  in.athlete = MakeAthlete(request.athlete);
+  return out;
+}
+
+}  // namespace acro::pipeline
