@@ -6,8 +6,12 @@
 // springs and legs), with motion blur (three renders over a 1/60 s shutter) and sensor noise, and
 // an offset between the mocap and the video start that `acrolab sync` must find
 // (video_truth.json). 1920 × 1080, 30 fps, H.264.
+// With --views, the multi-camera sample instead (docs/markerless.md): three phones around the bed
+// (end_camera.mp4, corner_camera.mp4, far_camera.mp4), each started at its own moment, and
+// views.toml (the side camera and the phones) with views_truth.json (each video's first sample).
 //
 // usage: make_sample_video ATHLETE.yaml OUT_DIR [--frame K OUT.png]   (--frame: that frame only)
+//        make_sample_video ATHLETE.yaml OUT_DIR --views [CAMERA K OUT.png]
 // (from the repository root: build/bin/make_sample_video samples/athletes/sample_athlete.yaml
 //  samples/trials/trampoline_routine)
 
@@ -89,14 +93,18 @@ acro::vision::Camera SideCamera(const Eigen::Vector3d& bed_centre) {
 // hair over the top and back, two eyes and a mouth on the front. The mesh's triangles are split
 // into one mesh per colour; every mesh keeps all the vertices, so each is posed by the same
 // vertex update. Directions in H: x anterior, y left, z up (docs/notation.md).
-std::vector<SceneMesh> DressedAthlete(const acro::analysis::BodyMesh& mesh, const SceneMesh& posed) {
+std::vector<SceneMesh> DressedAthlete(const acro::analysis::BodyMesh& mesh,
+                                      const SceneMesh& posed) {
   struct Group {
     const char* name;
     Rgba colour;
   };
-  const std::vector<Group> groups = {{"skin", {0.86f, 0.62f, 0.5f, 1}},    {"leotard", {0.55f, 0.08f, 0.32f, 1}},
-                                     {"socks", {0.93f, 0.93f, 0.9f, 1}},    {"hair", {0.22f, 0.13f, 0.07f, 1}},
-                                     {"eyes", {0.06f, 0.05f, 0.05f, 1}},    {"mouth", {0.55f, 0.18f, 0.18f, 1}}};
+  const std::vector<Group> groups = {{"skin", {0.86f, 0.62f, 0.5f, 1}},
+                                     {"leotard", {0.55f, 0.08f, 0.32f, 1}},
+                                     {"socks", {0.93f, 0.93f, 0.9f, 1}},
+                                     {"hair", {0.22f, 0.13f, 0.07f, 1}},
+                                     {"eyes", {0.06f, 0.05f, 0.05f, 1}},
+                                     {"mouth", {0.55f, 0.18f, 0.18f, 1}}};
   constexpr int kPelvis = 0, kThorax = 1, kHead = 2, kRightFoot = 11, kLeftFoot = 14;
   // The head's centre and size in H, from its vertices.
   Eigen::Vector3d lo = Eigen::Vector3d::Constant(1e9), hi = -lo;
@@ -107,7 +115,8 @@ std::vector<SceneMesh> DressedAthlete(const acro::analysis::BodyMesh& mesh, cons
         hi = hi.cwiseMax(mesh.vertices_H.col(mesh.triangles(k, t)));
       }
   // The face's centre: the upper part of the head's ellipsoid (its lower part is the neck).
-  const Eigen::Vector3d centre(0.5 * (lo.x() + hi.x()), 0.5 * (lo.y() + hi.y()), lo.z() + 0.62 * (hi.z() - lo.z()));
+  const Eigen::Vector3d centre(
+      0.5 * (lo.x() + hi.x()), 0.5 * (lo.y() + hi.y()), lo.z() + 0.62 * (hi.z() - lo.z()));
   const auto angle = [](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
     return std::acos(std::clamp(a.normalized().dot(b.normalized()), -1.0, 1.0));
   };
@@ -118,14 +127,17 @@ std::vector<SceneMesh> DressedAthlete(const acro::analysis::BodyMesh& mesh, cons
     if (segment == kPelvis || segment == kThorax) group = 1;
     if (segment == kRightFoot || segment == kLeftFoot) group = 2;
     if (segment == kHead) {
-      const Eigen::Vector3d p = (mesh.vertices_H.col(mesh.triangles(0, t)) + mesh.vertices_H.col(mesh.triangles(1, t)) +
-                                 mesh.vertices_H.col(mesh.triangles(2, t))) / 3.0;
+      const Eigen::Vector3d p =
+          (mesh.vertices_H.col(mesh.triangles(0, t)) + mesh.vertices_H.col(mesh.triangles(1, t)) +
+           mesh.vertices_H.col(mesh.triangles(2, t))) /
+          3.0;
       const Eigen::Vector3d d = p - centre;
       if (angle(d, {1, 0.36, 0.22}) < 0.16 || angle(d, {1, -0.36, 0.22}) < 0.16)
         group = 4;
       else if (angle(d, {1, 0, -0.38}) < 0.2 && std::abs(d.normalized().y()) < 0.2)
         group = 5;
-      else if (d.normalized().z() > 0.45 || (d.normalized().x() < 0.05 && d.normalized().z() > -0.35))
+      else if (d.normalized().z() > 0.45 ||
+               (d.normalized().x() < 0.05 && d.normalized().z() > -0.35))
         group = 3;
     }
     members[group].push_back(t);
@@ -138,7 +150,8 @@ std::vector<SceneMesh> DressedAthlete(const acro::analysis::BodyMesh& mesh, cons
     m.colour = groups[g].colour;
     m.vertices_W = posed.vertices_W;
     m.triangles.resize(3, static_cast<Eigen::Index>(members[g].size()));
-    for (std::size_t k = 0; k < members[g].size(); ++k) m.triangles.col(static_cast<Eigen::Index>(k)) = mesh.triangles.col(members[g][k]);
+    for (std::size_t k = 0; k < members[g].size(); ++k)
+      m.triangles.col(static_cast<Eigen::Index>(k)) = mesh.triangles.col(members[g][k]);
     out.push_back(std::move(m));
   }
   return out;
@@ -160,8 +173,7 @@ static void AddGym(const Eigen::Vector3d& bed, acro::ui::SceneRenderer& renderer
                        "end mat"));
   acro::analysis::BedGeometry geometry;
   geometry.centre_W = bed;
-  const acro::analysis::TrampolineScene trampoline =
-      acro::analysis::MakeTrampolineScene(geometry);
+  const acro::analysis::TrampolineScene trampoline = acro::analysis::MakeTrampolineScene(geometry);
   SceneMesh bed_mesh = trampoline.bed;
   bed_mesh.colour = {0.08f, 0.08f, 0.1f, 1};
   renderer.AddMesh(bed_mesh);
@@ -175,10 +187,110 @@ static void AddGym(const Eigen::Vector3d& bed, acro::ui::SceneRenderer& renderer
   }
 }
 
+// Renders the routine through `camera` from trial sample `first_sample` on, every 4th sample (30
+// fps), to `out` (or, with preview_frame ≥ 0, that frame only to `preview_png`). Returns the
+// number of frames (−1: the preview frame is not in the video).
+static int RenderCamera(const acro::samples::SampleRoutine& routine,
+                        acro::analysis::AthleteScene& athlete_scene,
+                        const acro::analysis::BodyMesh& body_mesh_H,
+                        const acro::vision::Camera& camera,
+                        int first_sample,
+                        const std::filesystem::path& out,
+                        int preview_frame,
+                        const std::string& preview_png) {
+  const bool preview = preview_frame >= 0;
+  const Eigen::Vector3d bed = routine.options.bed_centre_m;
+  const acro::ui::CameraComposite composite(camera);
+  const acro::vision::Camera& pinhole = composite.render_camera();
+  acro::ui::SceneRenderer renderer(pinhole.width_px, pinhole.height_px, 8);
+  renderer.LookThrough(pinhole);
+  renderer.SetBackground({0.55f, 0.6f, 0.68f, 1.0f});  // the hall beyond the walls
+  // Ceiling lights slanting down, and a dimmer light from the camera.
+  renderer.SetSceneLights({{0.3, 0.5, -1}, {-0.4, 0.2, -1}, {0.0, -0.4, -1}}, 0.45, 0.5);
+
+  AddGym(bed, renderer);
+
+  acro::analysis::AthletePose pose;
+  athlete_scene.Pose(0, &pose);
+  std::vector<int> body_ids;
+  for (const SceneMesh& part : DressedAthlete(body_mesh_H, pose.mesh))
+    body_ids.push_back(renderer.AddMesh(part));
+
+  acro::capture::VideoWriterOptions w;
+  w.fps = kFps;
+  w.crf = 26;
+  w.preset = "slow";
+  std::optional<acro::capture::VideoWriter> writer;
+  if (!preview) writer.emplace(out, camera.width_px, camera.height_px, w);
+  const double rate = routine.trial.point_rate_hz;
+  const int step = static_cast<int>(std::lround(rate / kFps));
+  std::vector<double> sum(size_t(camera.width_px) * camera.height_px * 3);
+  std::vector<std::uint8_t> rgb(sum.size());
+  acro::ui::RenderImage render;
+  std::uint64_t seed = 20261202;
+  const auto gaussian = [&seed]() {
+    // Box–Muller on a 64-bit LCG (Knuth's MMIX constants): the same video on every run.
+    const auto uniform = [&seed]() {
+      seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
+      return (double((seed >> 11) & ((1ULL << 53) - 1)) + 0.5) / double(1ULL << 53);
+    };
+    return std::sqrt(-2 * std::log(uniform())) * std::cos(2 * M_PI * uniform());
+  };
+  int frames = 0;
+  for (int s = first_sample; s + 1 < routine.trial.num_frames; s += step, ++frames) {
+    if (preview && frames != preview_frame) continue;
+    // A 1/60 s shutter: the samples before, at and after the frame's, weighted ¼ ½ ¼.
+    std::fill(sum.begin(), sum.end(), 0.0);
+    for (const auto& [ds, weight] : {std::pair{-1, 0.25}, {0, 0.5}, {1, 0.25}}) {
+      athlete_scene.Pose(std::max(0, s + ds), &pose);
+      for (int id : body_ids) renderer.UpdateMesh(id, pose.mesh.vertices_W);
+      renderer.Render(&render);
+      std::fill(rgb.begin(), rgb.end(), 0);
+      composite.Composite(render, &rgb);
+      for (size_t k = 0; k < rgb.size(); ++k) sum[k] += weight * rgb[k];
+    }
+    // Sensor noise: Gaussian, 2.5 levels.
+    for (size_t k = 0; k < rgb.size(); ++k)
+      rgb[k] =
+          static_cast<std::uint8_t>(std::clamp(std::lround(sum[k] + 2.5 * gaussian()), 0L, 255L));
+    if (preview) {
+      const std::vector<std::uint8_t> png =
+          acro::capture::EncodeRgbPng(camera.width_px, camera.height_px, rgb);
+      acro::WriteFileAtomically(preview_png, std::string(png.begin(), png.end()));
+      std::printf("wrote %s (frame %d, sample %d)\n", preview_png.c_str(), frames, s);
+      return frames;
+    }
+    writer->Write(rgb);
+  }
+  if (preview) return -1;
+  writer->Finish();
+  return frames;
+}
+
+// A phone on a tripod at `centre` looking at `target` (x right, y down in the image, the image's
+// x axis level): 1920 × 1080, a wider lens than the side camera's, its own distortion.
+static acro::vision::Camera Phone(const std::string& name,
+                                  const Eigen::Vector3d& centre,
+                                  const Eigen::Vector3d& target,
+                                  double f,
+                                  double k1) {
+  acro::vision::Camera c;
+  c.name = name;
+  c.width_px = 1920;
+  c.height_px = 1080;
+  c.K << f, 0.0, 958.0 + 6.0 * k1, 0.0, f * 1.0015, 541.5, 0.0, 0.0, 1.0;
+  c.distortion = {k1, 0.03, 0.0002, -0.0002};
+  acro::vision::AimCamera(&c, centre, target);
+  return c;
+}
+
 int main(int argc, char** argv) {
   const bool preview = argc == 6 && std::string(argv[3]) == "--frame";
-  if (argc != 3 && !preview) {
-    std::fprintf(stderr, "usage: make_sample_video ATHLETE.yaml OUT_DIR [--frame K OUT.png]\n");
+  const bool views = argc >= 4 && std::string(argv[3]) == "--views";
+  if (argc != 3 && !preview && !(views && (argc == 4 || argc == 7))) {
+    std::fprintf(stderr,
+                 "usage: make_sample_video ATHLETE.yaml OUT_DIR [--frame K OUT.png]\n"
+                 "       make_sample_video ATHLETE.yaml OUT_DIR --views [CAMERA K OUT.png]\n");
     return 2;
   }
   const std::filesystem::path athlete = argv[1];
@@ -195,78 +307,96 @@ int main(int argc, char** argv) {
 
     const Eigen::Vector3d bed = routine.options.bed_centre_m;
     const acro::vision::Camera camera = SideCamera(bed);
-    std::filesystem::create_directories(dir);
-    acro::vision::WritePose2SimToml({camera}, dir / "side_camera.toml");
-
-    const acro::ui::XDisplay display;
-    const acro::ui::CameraComposite composite(camera);
-    const acro::vision::Camera& pinhole = composite.render_camera();
-    acro::ui::SceneRenderer renderer(pinhole.width_px, pinhole.height_px, 8);
-    renderer.LookThrough(pinhole);
-    renderer.SetBackground({0.55f, 0.6f, 0.68f, 1.0f});  // the hall beyond the walls
-    // Ceiling lights slanting down, and a dimmer light from the camera.
-    renderer.SetSceneLights({{0.3, 0.5, -1}, {-0.4, 0.2, -1}, {0.0, -0.4, -1}}, 0.45, 0.5);
-
-    AddGym(bed, renderer);
-
-    acro::analysis::AthletePose pose;
-    athlete_scene.Pose(0, &pose);
-    std::vector<int> body_ids;
-    for (const SceneMesh& part : DressedAthlete(body_mesh_H, pose.mesh)) body_ids.push_back(renderer.AddMesh(part));
-
-    acro::capture::VideoWriterOptions w;
-    w.fps = kFps;
-    w.crf = 26;
-    w.preset = "slow";
-    std::optional<acro::capture::VideoWriter> writer;
-    if (!preview) writer.emplace(dir / "side_camera.mp4", camera.width_px, camera.height_px, w);
     const double rate = routine.trial.point_rate_hz;
     const int first_sample = static_cast<int>(std::lround(-kOffsetS * rate));
     const int step = static_cast<int>(std::lround(rate / kFps));
-    std::vector<double> sum(size_t(camera.width_px) * camera.height_px * 3);
-    std::vector<std::uint8_t> rgb(sum.size());
-    acro::ui::RenderImage render;
-    std::uint64_t seed = 20261202;
-    const auto gaussian = [&seed]() {
-      // Box–Muller on a 64-bit LCG (Knuth's MMIX constants): the same video on every run.
-      const auto uniform = [&seed]() {
-        seed = seed * 6364136223846793005ULL + 1442695040888963407ULL;
-        return (double((seed >> 11) & ((1ULL << 53) - 1)) + 0.5) / double(1ULL << 53);
+    std::filesystem::create_directories(dir);
+    const acro::ui::XDisplay display;
+
+    if (views) {
+      // Three phones around the bed as a hall would place them, each started by hand at its own
+      // moment (a fraction of a frame apart too): at the bed's end, at a corner, high on the
+      // far side. With the side camera, the multi-camera sample (docs/markerless.md).
+      const Eigen::Vector3d look = bed + Eigen::Vector3d(0, 0, 2.6);
+      struct View {
+        acro::vision::Camera camera;
+        int first_sample;
       };
-      return std::sqrt(-2 * std::log(uniform())) * std::cos(2 * M_PI * uniform());
-    };
-    int frames = 0;
-    for (int s = first_sample; s + 1 < routine.trial.num_frames; s += step, ++frames) {
-      if (preview && frames != std::stoi(argv[4])) continue;
-      // A 1/60 s shutter: the samples before, at and after the frame's, weighted ¼ ½ ¼.
-      std::fill(sum.begin(), sum.end(), 0.0);
-      for (const auto& [ds, weight] : {std::pair{-1, 0.25}, {0, 0.5}, {1, 0.25}}) {
-        athlete_scene.Pose(std::max(0, s + ds), &pose);
-        for (int id : body_ids) renderer.UpdateMesh(id, pose.mesh.vertices_W);
-        renderer.Render(&render);
-        std::fill(rgb.begin(), rgb.end(), 0);
-        composite.Composite(render, &rgb);
-        for (size_t k = 0; k < rgb.size(); ++k) sum[k] += weight * rgb[k];
+      const std::vector<View> phones = {
+          {Phone("end", bed + Eigen::Vector3d(-8.6, -1.2, 0.4), look, 1250.0, -0.05),
+           first_sample + 10},
+          {Phone("corner", bed + Eigen::Vector3d(6.4, -6.2, 0.2), look, 1230.0, -0.07),
+           first_sample - 26},
+          {Phone("far", bed + Eigen::Vector3d(-2.5, 6.9, 2.9), look, 1270.0, -0.04),
+           first_sample + 29}};
+      if (argc == 7) {
+        for (const View& v : phones)
+          if (v.camera.name == argv[4])
+            return RenderCamera(routine,
+                                athlete_scene,
+                                body_mesh_H,
+                                v.camera,
+                                v.first_sample,
+                                {},
+                                std::stoi(argv[5]),
+                                argv[6]) >= 0
+                       ? 0
+                       : 2;
+        std::fprintf(stderr, "make_sample_video: no phone named %s (end, corner, far)\n", argv[4]);
+        return 2;
       }
-      // Sensor noise: Gaussian, 2.5 levels.
-      for (size_t k = 0; k < rgb.size(); ++k)
-        rgb[k] =
-            static_cast<std::uint8_t>(std::clamp(std::lround(sum[k] + 2.5 * gaussian()), 0L, 255L));
-      if (preview) {
-        const std::vector<std::uint8_t> png =
-            acro::capture::EncodeRgbPng(camera.width_px, camera.height_px, rgb);
-        acro::WriteFileAtomically(argv[5], std::string(png.begin(), png.end()));
-        std::printf("wrote %s (frame %d, sample %d)\n", argv[5], frames, s);
-        return 0;
+      std::vector<acro::vision::Camera> all = {camera};
+      std::string truth =
+          "{\n  \"note\": \"frame k of each video shows the trial's sample first_sample + step k "
+          "(the true motion, "
+          "noise-free); offset_frames: where each video's frame 0 falls in the side video's "
+          "frames\",\n  \"fps\": " +
+          fmt::format("{}", kFps) + ",\n  \"step\": " + std::to_string(step) +
+          ",\n  \"videos\": [\n";
+      truth += fmt::format(
+          "    {{\"camera\": \"side\", \"video\": \"side_camera.mp4\", \"first_sample\": {}, "
+          "\"offset_frames\": 0}}",
+          first_sample);
+      for (const View& v : phones) {
+        const std::string name = v.camera.name + "_camera.mp4";
+        const int frames = RenderCamera(
+            routine, athlete_scene, body_mesh_H, v.camera, v.first_sample, dir / name, -1, "");
+        std::printf("wrote %s: %d frames from sample %d\n",
+                    (dir / name).string().c_str(),
+                    frames,
+                    v.first_sample);
+        all.push_back(v.camera);
+        truth += fmt::format(
+            ",\n    {{\"camera\": \"{}\", \"video\": \"{}\", \"first_sample\": {}, "
+            "\"offset_frames\": {}}}",
+            v.camera.name,
+            name,
+            v.first_sample,
+            double(v.first_sample - first_sample) / step);
       }
-      writer->Write(rgb);
+      truth += "\n  ]\n}\n";
+      acro::vision::WritePose2SimToml(all, dir / "views.toml");
+      acro::WriteFileAtomically(dir / "views_truth.json", truth);
+      std::printf("wrote %s and %s\n",
+                  (dir / "views.toml").string().c_str(),
+                  (dir / "views_truth.json").string().c_str());
+      return 0;
     }
+
+    if (!preview) acro::vision::WritePose2SimToml({camera}, dir / "side_camera.toml");
+    const int frames = RenderCamera(routine,
+                                    athlete_scene,
+                                    body_mesh_H,
+                                    camera,
+                                    first_sample,
+                                    dir / "side_camera.mp4",
+                                    preview ? std::stoi(argv[4]) : -1,
+                                    preview ? argv[5] : "");
     if (preview) {
-      std::fprintf(
-          stderr, "make_sample_video: frame %s is not in the video (%d frames)\n", argv[4], frames);
+      if (frames >= 0) return 0;
+      std::fprintf(stderr, "make_sample_video: frame %s is not in the video\n", argv[4]);
       return 2;
     }
-    writer->Finish();
     acro::WriteFileAtomically(
         dir / "video_truth.json",
         fmt::format(

@@ -135,18 +135,70 @@ void AnalyzeFilmstrips(const pipeline::TrialInput& input,
 #endif
 }
 
+// Several cameras' videos as the pipeline opens them: each video named after its camera (or
+// CAM=PATH), the sync found from the detections.
+pipeline::ViewsInput OpenVideosFor(const AnalyzeArguments& args, const TrialArguments& common) {
+  const VideoArguments& v = args.video;
+  if (v.more_videos.empty())
+    throw UsageError{
+        "one --video without TRIAL: the analysis from a single camera is not built yet "
+        "(docs/markerless.md); give two or more calibrated cameras' videos, or the trial"};
+  if (v.calibration.empty()) throw UsageError{"--video without TRIAL needs --calib (the cameras)"};
+  if (!v.sync.empty() || !v.event.empty() || v.offset_s != 0.0 || v.rate != 1.0 ||
+      !v.camera.empty())
+    throw UsageError{
+        "--sync, --event, --offset-s, --rate and --camera set one video's sync against a "
+        "trial: without TRIAL the cameras are synced from their detections"};
+  if (!common.static_path.empty()) throw UsageError{"--static goes with TRIAL"};
+  const std::vector<vision::Camera> cameras = vision::ReadCameras(v.calibration);
+  pipeline::ViewsRequest request;
+  std::vector<std::string> all = {v.video};
+  all.insert(all.end(), v.more_videos.begin(), v.more_videos.end());
+  for (const std::string& path : all)
+    request.cameras.push_back(pipeline::VideoSource(path, cameras, v.calibration));
+  request.calibration = v.calibration;
+  request.up = common.up;
+  request.athlete = common.Request().athlete;
+  request.use = "the analysis";
+  return OpenViewsFor("analyze", request, common.quiet);
+}
+
 int RunAnalyze(AnalyzeArguments& args) {
   const TrialArguments& common = args.common;
   DemandValidCommandLine(args.options);
   CheckOutputDirectory(common.out_dir);  // before any work: a bad -o costs nothing
   if (!args.rules.empty()) args.options.rules = fig::LoadRules(args.rules);
-  const pipeline::TrialInput input = OpenTrialFor("analyze", common.Request());
+  // The input: a trial, or several calibrated cameras' videos (docs/markerless.md) — the athlete
+  // detected in each, the cameras synced and the keypoints triangulated by the pipeline.
+  std::optional<pipeline::VideoInput> video;
+  std::optional<pipeline::ViewsInput> views;
+  pipeline::TrialInput input;
+  if (common.trial_path.empty()) {
+    if (args.video.video.empty())
+      throw UsageError{
+          "give TRIAL (markers or keypoints), or several cameras' videos: --video A "
+          "--video B … --calib C"};
+    views = OpenVideosFor(args, common);
+    input = std::move(views->input);
+  } else {
+    input = OpenTrialFor("analyze", common.Request());
+  }
   CheckCutoffBelowNyquist(args.options.reconstruction, input.trial);
   CheckJoint(input.athlete.body, args.report.joint);
-  // The video and its camera before the work: a mistyped name costs nothing.
-  std::optional<pipeline::VideoInput> video;
-  if (!args.video.video.empty() || !args.video.calibration.empty())
+  // The video and its camera before the work: a mistyped name costs nothing. From several
+  // cameras, the first one's video, on the time line the triangulation made.
+  if (views) {
+    pipeline::VideoRequest request;
+    request.video = input.path;
+    request.calibration = args.video.calibration;
+    request.camera = views->offsets[0].camera;
+    request.sync.kind = pipeline::SyncRequest::Kind::kOffset;
+    request.sync.offset_s = views->first_frame[0] / views->rates_hz[0];
+    request.sync.rate = 1.0;
+    video.emplace(request);
+  } else if (!args.video.video.empty() || !args.video.calibration.empty()) {
     video.emplace(OpenVideoFor(args.video));
+  }
 
   // The analysis, with one progress line per step and the IK's frames.
   if (!common.quiet) {
@@ -170,7 +222,7 @@ int RunAnalyze(AnalyzeArguments& args) {
   analysis::WriteAnalysisTables(result, dir);
   // Which Acrolab analysed which content (for acrolab library add --analysis).
   WriteFileAtomically(dir / "analysis.json", pipeline::FormatAnalysisProvenance(input));
-  report.trial_path = common.trial_path;
+  report.trial_path = views ? input.trial.source.path : common.trial_path;
   report.render_images = args.images;
   if (!common.quiet) std::fprintf(stderr, "report: rendering plots\n");
   const ui::AnalysisReportOutcome outcome = ui::WriteAnalysisReport(result, dir, report);
@@ -192,11 +244,14 @@ void AddAnalyzeCommand(CLI::App& app, CommandRunner* run) {
   auto args = std::make_shared<AnalyzeArguments>();
   CLI::App* command = app.add_subcommand(
       "analyze",
-      "The main job: import, reconstruct, check the physics, measure every jump. Writes "
+      "The main job: import (or, with no TRIAL, several calibrated cameras' videos: --video A "
+      "--video B … --calib C — the athlete detected, the cameras synced, the keypoints "
+      "triangulated; docs/markerless.md), reconstruct, check the physics, measure every jump. "
+      "Writes "
       "DIR/report.html (routine summary, per-jump table, verdict with its cause, charts as PNG and "
       "SVG, the score sheet), DIR/jumps.json, DIR/score.json, DIR/angles.mot, DIR/torques.sto, "
       "DIR/residuals.csv. docs/cli.md.");
-  args->common.Declare(command, &args->options.reconstruction);
+  args->common.Declare(command, &args->options.reconstruction, /*trial_required=*/false);
   command->add_option("--joint",
                       args->report.joint,
                       "the joint whose angle and torque the report plots (default r_hip_flexion)");

@@ -20,7 +20,8 @@
 
 namespace acro::app {
 
-void TrialArguments::Declare(CLI::App* command, analysis::ReconstructionOptions* options,
+void TrialArguments::Declare(CLI::App* command,
+                             analysis::ReconstructionOptions* options,
                              bool trial_required) {
   CLI::Option* trial =
       command->add_option("TRIAL", trial_path, "markers or keypoints: C3D, TRC or CSV");
@@ -103,8 +104,15 @@ vision::VideoSync ParseVideoSync(double offset_s, const std::string& event, doub
 }
 
 void VideoArguments::Declare(CLI::App* command, bool required) {
-  CLI::Option* v =
-      command->add_option("--video", video, "the calibrated camera's video of the trial");
+  CLI::Option* v = command
+                       ->add_option_function<std::vector<std::string>>(
+                           "--video",
+                           [this](const std::vector<std::string>& all) {
+                             video = all.empty() ? "" : all[0];
+                             more_videos.assign(all.begin() + (all.empty() ? 0 : 1), all.end());
+                           },
+                           "the calibrated camera's video of the trial")
+                       ->take_all();
   CLI::Option* c = command->add_option(
       "--calib", calibration, "cameras: Pose2Sim/Anipose .toml, Qualisys .qca, OpenCV .yml/.xml");
   if (required) {
@@ -160,21 +168,28 @@ pipeline::TrialInput OpenTrialFor(const std::string& command,
 }
 
 void ViewsArguments::Declare(CLI::App* command) {
-  command->add_option("--detections", detections,
+  command->add_option("--detections",
+                      detections,
                       "CAM=PATH, one per camera (at least two): a camera of --calib and its 2D "
                       "keypoints — a folder of OpenPose JSON, a CSV or a Sports2D TRC; instead of "
                       "TRIAL (docs/markerless.md)");
   command->add_option("--calib", calibration, "with --detections: the cameras' calibration");
-  command->add_option("--keypoints", keypoints,
+  command->add_option("--keypoints",
+                      keypoints,
                       "with --detections: the JSON files' keypoint set: body25b (default), body25, "
                       "coco17, halpe26");
-  command->add_option("--rate", rate_hz,
-                      "with --detections: the videos' frame rate (Hz); JSON files carry no time")
+  command
+      ->add_option("--rate",
+                   rate_hz,
+                   "with --detections: the videos' frame rate (Hz); JSON files carry no time")
       ->check(CLI::PositiveNumber);
-  command->add_option("--offset", offsets,
-                      "with --detections: CAM=FRAMES, where that camera's frame 0 falls on the first "
-                      "camera's time line (repeated); the others are found from the detections");
-  command->add_flag("--no-sync", no_sync,
+  command->add_option(
+      "--offset",
+      offsets,
+      "with --detections: CAM=FRAMES, where that camera's frame 0 falls on the first "
+      "camera's time line (repeated); the others are found from the detections");
+  command->add_flag("--no-sync",
+                    no_sync,
                     "with --detections: take the cameras as started together (offsets 0 unless "
                     "--offset)");
 }
@@ -182,7 +197,8 @@ void ViewsArguments::Declare(CLI::App* command) {
 pipeline::ViewsRequest ViewsArguments::Request(const TrialArguments& trial) const {
   if (!trial.trial_path.empty())
     throw UsageError{"give TRIAL or --detections (several cameras' keypoints), not both"};
-  if (calibration.empty()) throw UsageError{"--detections needs --calib (the cameras' calibration)"};
+  if (calibration.empty())
+    throw UsageError{"--detections needs --calib (the cameras' calibration)"};
   if (!(rate_hz > 0)) throw UsageError{"--detections needs --rate (the videos' frame rate, Hz)"};
   if (!trial.static_path.empty()) throw UsageError{"--static goes with TRIAL, not --detections"};
   pipeline::ViewsRequest r;
@@ -216,9 +232,19 @@ pipeline::ViewsRequest ViewsArguments::Request(const TrialArguments& trial) cons
   return r;
 }
 
-pipeline::ViewsInput OpenViewsFor(const std::string& command, const pipeline::ViewsRequest& request,
+pipeline::ViewsInput OpenViewsFor(const std::string& command,
+                                  const pipeline::ViewsRequest& request,
                                   bool quiet) {
   pipeline::ViewsInput views = pipeline::OpenViews(request, MakeStepProgress(quiet));
+  if (!quiet) {
+    for (size_t v = 0; v < views.offsets.size(); ++v)
+      std::fprintf(stderr,
+                   "sync: camera %s: offset %.2f frames (%s)\n",
+                   views.offsets[v].camera.c_str(),
+                   views.offsets[v].offset_frames,
+                   views.offset_origin[v].c_str());
+    std::fputs(views.triangulation.BriefReport().c_str(), stderr);
+  }
   std::vector<std::string> lines = views.input.warnings;
   if (!views.input.athlete.warning.empty()) lines.push_back(views.input.athlete.warning);
   for (const std::string& w : lines)
@@ -227,6 +253,9 @@ pipeline::ViewsInput OpenViewsFor(const std::string& command, const pipeline::Vi
 }
 
 pipeline::VideoRequest VideoArguments::Request() const {
+  if (!more_videos.empty())
+    throw UsageError{"--video is given " + std::to_string(1 + more_videos.size()) +
+                     " times: this takes one video (analyze without TRIAL takes several cameras')"};
   if (video.empty() != calibration.empty())
     throw UsageError{"--video and --calib go together (the camera's video and its calibration)"};
   if (!sync.empty() && sync != "auto")

@@ -137,6 +137,8 @@ vision::VideoSync ParseVideoSync(double offset_s, const std::string& event, doub
 /// --camera, and the sync (--offset-s, --event or --sync auto, --rate).
 struct VideoArguments {
   std::string video, calibration, camera, event, sync;
+  /// --video given again: the second and later (analyze takes several cameras' videos).
+  std::vector<std::string> more_videos;
   double offset_s = 0.0, rate = 1.0;
   /// Declares the options on `command`; --video and --calib required when `required`.
   void Declare(CLI::App* command, bool required);

@@ -24,12 +24,7 @@ acro::vision::Camera LookAt(const std::string& name, const Eigen::Vector3d& cent
   c.height_px = 1080;
   c.K << 1400, 0, 960, 0, 1400, 540, 0, 0, 1;
   c.distortion = {-0.1, 0.05, 0, 0};
-  const Eigen::Vector3d z = (Eigen::Vector3d(0, 0, 2) - centre).normalized();
-  const Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ()).normalized();
-  c.R_KW.row(0) = x.transpose();
-  c.R_KW.row(1) = z.cross(x).transpose();
-  c.R_KW.row(2) = z.transpose();
-  c.t_KW = -c.R_KW * centre;
+  acro::vision::AimCamera(&c, centre, Eigen::Vector3d(0, 0, 2));
   return c;
 }
 

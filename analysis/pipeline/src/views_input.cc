@@ -9,6 +9,8 @@
 #include "acro/base/content_hash.h"
 #include "acro/base/input_error.h"
 #include "acro/capture/detections.h"
+#include "acro/capture/video.h"
+#include "acro/pipeline/detect.h"
 #include "acro/vision/camera.h"
 
 namespace acro::pipeline {
@@ -69,6 +71,40 @@ capture::KeypointDetections AlignedTo(const capture::KeypointDetections& d,
 
 }  // namespace
 
+CameraSource VideoSource(const std::string& text,
+                         const std::vector<vision::Camera>& cameras,
+                         const std::string& calibration) {
+  CameraSource s;
+  const size_t eq = text.find('=');
+  if (eq != std::string::npos && eq > 0) {
+    const std::string name = text.substr(0, eq);
+    for (const vision::Camera& c : cameras)
+      if (c.name == name) {
+        s.camera = name;
+        s.video = text.substr(eq + 1);
+        return s;
+      }
+  }
+  s.video = text;
+  const std::string stem = std::filesystem::path(text).stem().string();
+  for (const vision::Camera& c : cameras) {
+    const std::string& n = c.name;
+    const bool match =
+        stem == n || (stem.size() > n.size() && stem.compare(0, n.size(), n) == 0 &&
+                      (stem[n.size()] == '_' || stem[n.size()] == '-' || stem[n.size()] == '.'));
+    if (match && n.size() > s.camera.size()) s.camera = n;
+  }
+  if (s.camera.empty()) {
+    std::string names;
+    for (const vision::Camera& c : cameras) names += (names.empty() ? "" : ", ") + c.name;
+    throw InputError(text,
+                     "--video",
+                     "no camera of " + calibration + " is named by this file (cameras: " + names +
+                         "): name the file after its camera or give CAMERA=" + text);
+  }
+  return s;
+}
+
 CameraSource ParseCameraSource(const std::string& text) {
   const size_t eq = text.find('=');
   if (eq == std::string::npos || eq == 0 || eq + 1 == text.size())
@@ -93,7 +129,7 @@ ViewsInput OpenViews(const ViewsRequest& request, const Progress& progress) {
                     request.cameras.size() == 1 ? "" : "s"));
   if (!(request.rate_hz > 0 && request.rate_hz <= 10000))
     for (const CameraSource& s : request.cameras)
-      if (!(s.rate_hz > 0))
+      if (!(s.rate_hz > 0) && s.video.empty())
         throw InputError(
             "",
             "--rate",
@@ -107,18 +143,47 @@ ViewsInput OpenViews(const ViewsRequest& request, const Progress& progress) {
   std::vector<analysis::CameraView> views;
   std::vector<double> rates;
   std::string provenance = Sha256OfFile(request.calibration) + "\n";
+  // The cameras given by their videos: detected first, side by side (cached beside each video).
+  std::vector<std::filesystem::path> videos;
+  for (const CameraSource& s : request.cameras)
+    if (!s.video.empty()) videos.push_back(s.video);
+  std::vector<pose::VideoPoses> poses;
+  if (!videos.empty()) {
+    for (const CameraSource& s : request.cameras)  // a mistyped camera or size costs no detection
+      if (!s.video.empty()) {
+        const vision::Camera& c =
+            vision::FindCamera(calibrated, s.camera, request.calibration.string());
+        const capture::VideoInfo info = capture::VideoReader(s.video).info();
+        vision::FitCameraToVideo(c, info.width, info.height, s.video.string(), nullptr);
+      }
+    poses = DetectPosesInCache(videos, request.model, progress);
+  }
+  size_t next_video = 0;
   for (const CameraSource& s : request.cameras) {
     if (!seen.insert(s.camera).second)
       throw InputError(
           s.detections.string(), "--detections", "camera '" + s.camera + "' is given twice");
     analysis::CameraView view;
     view.camera = vision::FindCamera(calibrated, s.camera, request.calibration.string());
-    view.detections = capture::ReadDetections(s.detections, request.keypoint_set);
+    double rate = s.rate_hz > 0 ? s.rate_hz : request.rate_hz;
+    if (!s.video.empty()) {
+      const pose::VideoPoses& p = poses[next_video++];
+      view.detections = Body25bDetections(p);
+      view.camera = vision::FitCameraToVideo(
+          view.camera, p.info.width, p.info.height, s.video.string(), nullptr);
+      rate = s.rate_hz > 0 ? s.rate_hz : p.info.average_fps;
+      if (p.frames_with_pose() == 0)
+        warnings.push_back(
+            fmt::format("camera {}: the detector found nobody in {}", s.camera, s.video.string()));
+      provenance += s.camera + " " + Sha256OfFile(s.video) + "\n";
+    } else {
+      view.detections = capture::ReadDetections(s.detections, request.keypoint_set);
+      provenance += s.camera + " " + HashOfSource(s.detections) + "\n";
+    }
     for (const std::string& w : view.detections.warnings) warnings.push_back(s.camera + ": " + w);
     if (!views.empty())
       view.detections = AlignedTo(view.detections, views[0].detections.names, &warnings, s.camera);
-    provenance += s.camera + " " + HashOfSource(s.detections) + "\n";
-    rates.push_back(s.rate_hz > 0 ? s.rate_hz : request.rate_hz);
+    rates.push_back(rate);
     if (!(rates.back() > 0 && rates.back() <= 10000))
       throw InputError(
           s.detections.string(),
@@ -170,6 +235,9 @@ ViewsInput OpenViews(const ViewsRequest& request, const Progress& progress) {
     end = std::max(end, o + views[v].detections.num_frames() * rates[0] / rates[v]);
   }
   const int num_frames = static_cast<int>(std::ceil(end - start - 1e-9));
+  out.rates_hz = rates;
+  for (size_t v = 0; v < views.size(); ++v)
+    out.first_frame.push_back((start - out.offsets[v].offset_frames) * rates[v] / rates[0]);
   for (size_t v = 0; v < views.size(); ++v)
     views[v].detections = analysis::ResampleDetections(
         views[v].detections, rates[v], rates[0], out.offsets[v].offset_frames - start, num_frames);
@@ -177,7 +245,8 @@ ViewsInput OpenViews(const ViewsRequest& request, const Progress& progress) {
   out.triangulation = analysis::TriangulateKeypoints(views, request.triangulation, progress);
   for (const std::string& w : out.triangulation.warnings) warnings.push_back(w);
   TrialInput& in = out.input;
-  in.path = request.cameras[0].detections;
+  in.path =
+      request.cameras[0].video.empty() ? request.cameras[0].detections : request.cameras[0].video;
   in.sha256 = Sha256Hex(provenance);
   in.trial = out.triangulation.ToTrial(
       rates[0],

@@ -127,6 +127,15 @@ bool Camera::IsValid(std::string* why) const {
   return true;
 }
 
+void AimCamera(Camera* camera, const Eigen::Vector3d& centre, const Eigen::Vector3d& target) {
+  const Eigen::Vector3d z = (target - centre).normalized();
+  const Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ()).normalized();
+  camera->R_KW.row(0) = x.transpose();
+  camera->R_KW.row(1) = z.cross(x).transpose();
+  camera->R_KW.row(2) = z.transpose();
+  camera->t_KW = -camera->R_KW * centre;
+}
+
 Camera FitCameraToVideo(
     const Camera& camera, int width, int height, const std::string& video, std::string* note) {
   Camera fitted = camera;

@@ -53,13 +53,7 @@ Camera LookAt(const std::string& name,
   c.height_px = 1080;
   c.K << 1400, 0, 960, 0, 1400, 540, 0, 0, 1;
   c.distortion = {-0.08, 0.02, 0.0005, -0.0003};
-  const Eigen::Vector3d z = (target - centre).normalized();
-  const Eigen::Vector3d x = z.cross(Eigen::Vector3d::UnitZ()).normalized();
-  const Eigen::Vector3d y = z.cross(x);
-  c.R_KW.row(0) = x.transpose();
-  c.R_KW.row(1) = y.transpose();
-  c.R_KW.row(2) = z.transpose();
-  c.t_KW = -c.R_KW * centre;
+  acro::vision::AimCamera(&c, centre, target);
   return c;
 }
 

@@ -15,6 +15,7 @@
 
 #include "acro/base/progress.h"
 #include "acro/pipeline/trial_input.h"
+#include "acro/pose/pose_models.h"
 #include "acro/reconstruct/triangulation.h"
 #include "acro/reconstruct/view_sync.h"
 
@@ -23,6 +24,9 @@ namespace acro::pipeline {
 struct CameraSource {
   std::string camera;                ///< its name in the calibration
   std::filesystem::path detections;  ///< a folder of OpenPose JSON, a CSV or a 2D TRC
+  /// Or its video: the athlete detected by Acrolab's own detector (kept in the video's
+  /// PoseCacheDirectory, so a second run reads them back), the rate from the file.
+  std::filesystem::path video;
   /// Its frame rate (Hz); 0: ViewsRequest::rate_hz.
   double rate_hz = 0;
   /// Where its frame 0 falls on the first camera's time line, in the first camera's frames; NaN:
@@ -41,6 +45,8 @@ struct ViewsRequest {
   /// Offsets not given are found from the detections (analysis::SyncViews); false: taken as 0.
   bool sync = true;
   analysis::ViewSyncOptions sync_options;
+  /// The detector's network for the cameras given by their videos.
+  pose::LandmarkModel model = pose::LandmarkModel::kHeavy;
   analysis::TriangulationOptions triangulation;
   /// The calibration's up axis, as TrialRequest::up.
   std::string up = "auto";
@@ -58,14 +64,27 @@ struct ViewsInput {
   /// Per camera, where its offset comes from: "the time line" (the first camera), "found" (from
   /// the detections), "given", or "assumed" (0: not found, or --no-sync).
   std::vector<std::string> offset_origin;
+  /// The time line's first frame in each camera's own frames (its frame f is the trial's sample
+  /// (f − first_frame[v]) · the first camera's rate / its rate): how a door puts the trial on one
+  /// camera's video (the sync of an overlay).
+  std::vector<double> first_frame;
+  std::vector<double> rates_hz;  ///< each camera's frame rate
 };
 
 /// Reads, syncs and triangulates. Throws acro::InputError naming the file, camera or option at
 /// fault: a camera missing from the calibration (naming those there are), two sources for one
 /// camera, fewer than two cameras, detections whose keypoints differ from the set or from the
 /// other cameras', no rate; a camera that sees nobody is a warning and the others are used.
-/// `progress` as acro::Progress ("sync", "triangulate").
+/// `progress` as acro::Progress ("detect", "sync", "triangulate").
 ViewsInput OpenViews(const ViewsRequest& request, const Progress& progress = {});
+
+/// A video as `analyze --video` takes it when several are given: "CAM=PATH", or a path whose file
+/// name's stem is a camera's name or starts with it and '_', '-' or '.' ("side_camera.mp4" for
+/// camera "side"; the longest such name). Throws acro::InputError (where "--video") naming the
+/// calibration's cameras when none matches.
+CameraSource VideoSource(const std::string& text,
+                         const std::vector<vision::Camera>& cameras,
+                         const std::string& calibration);
 
 /// "CAM=PATH" as `--detections` takes it. Throws acro::InputError (where "--detections").
 CameraSource ParseCameraSource(const std::string& text);

@@ -41,6 +41,10 @@ struct Camera {
   bool IsValid(std::string* why) const;
 };
 
+/// Sets the pose of `camera` to stand at `centre` (world, Z up) and look at `target`, the image's x
+/// axis level (a camera on a tripod, not rolled). `target` must not be straight above or below.
+void AimCamera(Camera* camera, const Eigen::Vector3d& centre, const Eigen::Vector3d& target);
+
 /// The one image-size policy of every command that puts a camera on a video (docs/limits.md,
 /// "Cameras"): a video of the calibrated size, or within 16 px of it (a calibration at the coded
 /// size, 1088 rows, for a 1080-row video), takes the camera as it is, its pixels from the top-left

@@ -1,0 +1,160 @@
+// The multi-camera sample routine, videos only (docs/markerless.md): `acrolab analyze --video ×4
+// --calib views.toml` — Acrolab's detector in each video, the cameras synced from the detections,
+// the keypoints triangulated — against `acrolab analyze` of the same routine's motion capture:
+// the cameras' offsets, every flight's landing and apex (asserted); its take-off, code and verdict
+// and the joint angles in flight (measured and printed: docs/markerless.md says what is not met).
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "acro/capture/storage.h"
+#include "pose_model_cache.h"
+#include "refdata.h"
+#include "run_command.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using acro::testing::Execute;
+using acro::testing::ProcessResult;
+using acro::testing::Quote;
+
+std::string Slurp(const fs::path& p) {
+  std::ifstream in(p, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+fs::path Sample() {
+  return acro::testing::SourceDir() / "samples/trials/trampoline_routine";
+}
+
+TEST(Markerless, SampleRoutineFromFourVideosAgreesWithItsMotionCapture) {
+  ACRO_REQUIRE_POSE_MODELS();
+  // The videos copied: the detections are kept beside them, not in the source tree.
+  const fs::path dir = acro::testing::ScratchDir("markerless_sample");
+  const nlohmann::json truth = nlohmann::json::parse(Slurp(Sample() / "views_truth.json"));
+  std::string videos;
+  int first_sample = 1 << 30;
+  for (const auto& v : truth["videos"]) {
+    fs::copy_file(Sample() / v["video"].get<std::string>(), dir / v["video"].get<std::string>());
+    videos += " --video " + Quote(dir / v["video"].get<std::string>());
+    first_sample = std::min(first_sample, v["first_sample"].get<int>());
+  }
+  const ProcessResult run =
+      Execute(std::string(ACROLAB_EXE) + " analyze" + videos + " --calib " +
+              Quote(Sample() / "views.toml") + " --no-images -o " + Quote(dir / "videos"));
+  ASSERT_EQ(run.status, 0) << run.err;
+  std::printf("%s\n%s\n", run.out.c_str(), run.err.c_str());
+  const ProcessResult mocap =
+      Execute(std::string(ACROLAB_EXE) + " analyze " + Quote(Sample() / "trampoline_routine.c3d") +
+              " --quiet --no-images -o " + Quote(dir / "mocap"));
+  ASSERT_EQ(mocap.status, 0) << mocap.err;
+
+  // The cameras found on one time line from the detections, each within a third of a frame of
+  // where the renderer started it.
+  for (const auto& v : truth["videos"]) {
+    const std::string line = "sync: camera " + v["camera"].get<std::string>() + ": offset ";
+    const size_t at = run.err.find(line);
+    ASSERT_NE(at, std::string::npos) << line << "\n" << run.err;
+    const double found = std::stod(run.err.substr(at + line.size()));
+    EXPECT_NEAR(found, v["offset_frames"].get<double>(), 1.0 / 3.0) << v["camera"];
+  }
+
+  // The videos' time line starts with the earliest camera: the motion capture's sample
+  // first_sample, at 120 Hz. Each complete flight of the videos against the motion capture's
+  // flight that takes off nearest.
+  const double shift_s = first_sample / 120.0;
+  const nlohmann::json ours = nlohmann::json::parse(Slurp(dir / "videos/jumps.json"));
+  const nlohmann::json theirs = nlohmann::json::parse(Slurp(dir / "mocap/jumps.json"));
+  std::vector<nlohmann::json> a, b;
+  for (const auto& j : ours)
+    if (!j["partial"].get<bool>()) a.push_back(j);
+  for (const auto& j : theirs)
+    if (!j["partial"].get<bool>()) b.push_back(j);
+  ASSERT_GE(a.size(), 5u);  // the straight jump took off before any video started
+  const double frame_s = 1.0 / 30.0;
+  int codes = 0, takeoffs = 0, verdicts = 0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    const double takeoff = a[i]["takeoff_s"].get<double>() + shift_s;
+    const nlohmann::json* m = &b[0];
+    for (const auto& j : b)
+      if (std::abs(j["takeoff_s"].get<double>() - takeoff) <
+          std::abs((*m)["takeoff_s"].get<double>() - takeoff))
+        m = &j;
+    const double landing = a[i]["landing_s"].get<double>() + shift_s;
+    std::printf(
+        "flight %zu: take-off %+.0f ms, landing %+.0f ms, apex %+.1f cm, %s / %s, verdict %s\n",
+        i,
+        1000 * (takeoff - (*m)["takeoff_s"].get<double>()),
+        1000 * (landing - (*m)["landing_s"].get<double>()),
+        100 * (a[i]["apex_m"].get<double>() - (*m)["apex_m"].get<double>()),
+        a[i]["fig_code"].dump().c_str(),
+        (*m)["fig_code"].dump().c_str(),
+        a[i]["verdict"].dump().c_str());
+    EXPECT_NEAR(landing, (*m)["landing_s"].get<double>(), frame_s) << i;
+    EXPECT_NEAR(a[i]["apex_m"].get<double>(), (*m)["apex_m"].get<double>(), 0.05) << i;
+    takeoffs += std::abs(takeoff - (*m)["takeoff_s"].get<double>()) <= frame_s;
+    codes += a[i]["fig_code"] == (*m)["fig_code"];
+    verdicts += a[i]["verdict"].get<std::string>().rfind("pass", 0) == 0;
+  }
+  // Not yet met (docs/markerless.md, "What is not met"): every take-off within a frame, every
+  // code, a pass everywhere. Measured and printed, so that the next step shows.
+  std::printf("take-offs within a frame: %d of %zu; codes: %d of %zu; passes: %d of %zu\n",
+              takeoffs,
+              a.size(),
+              codes,
+              a.size(),
+              verdicts,
+              a.size());
+
+  // The joint angles in flight against the motion capture's (120 Hz; ours at 30 Hz, shifted).
+  const acro::capture::Storage va = acro::capture::ReadStorage(dir / "videos/angles.mot");
+  const acro::capture::Storage vb = acro::capture::ReadStorage(dir / "mocap/angles.mot");
+  std::map<std::string, std::vector<double>> errors;
+  // Hips, knees and elbows: one main axis each. The shoulders' three Euler angles can
+  // differ by an equivalent triple for the same arm, so they are compared nowhere here.
+  for (const std::string name : {"r_hip_flexion",
+                                 "l_hip_flexion",
+                                 "r_knee_flexion",
+                                 "l_knee_flexion",
+                                 "r_elbow_flexion",
+                                 "l_elbow_flexion"}) {
+    const int ca = va.FindColumn(name), cb = vb.FindColumn(name);
+    ASSERT_GE(ca, 0) << name;
+    ASSERT_GE(cb, 0) << name;
+    for (int r = 0; r < va.time_s.size(); ++r) {
+      const double t = va.time_s(r) + shift_s;
+      bool in_flight = false;
+      for (const auto& j : b)
+        in_flight |=
+            t > j["takeoff_s"].get<double>() + 0.05 && t < j["landing_s"].get<double>() - 0.05;
+      if (!in_flight) continue;
+      const int rb = static_cast<int>(std::lround(t * 120.0));
+      if (rb < 0 || rb >= vb.time_s.size()) continue;
+      errors[name].push_back(std::abs(va.data(r, ca) - vb.data(rb, cb)));
+    }
+  }
+  std::vector<double> all;
+  for (auto& [name, e] : errors) {
+    std::nth_element(e.begin(), e.begin() + static_cast<long>(e.size() / 2), e.end());
+    std::printf("%-22s median %.1f deg over %zu frames\n", name.c_str(), e[e.size() / 2], e.size());
+    all.insert(all.end(), e.begin(), e.end());
+  }
+  ASSERT_GT(all.size(), 400u);
+  std::nth_element(all.begin(), all.begin() + static_cast<long>(all.size() / 2), all.end());
+  std::printf("joint angles in flight: median %.1f deg from the motion capture's\n",
+              all[all.size() / 2]);
+}
+
+}  // namespace
