@@ -315,8 +315,9 @@ int main(int argc, char** argv) {
 
     if (views) {
       // Three phones around the bed as a hall would place them, each started by hand at its own
-      // moment (a fraction of a frame apart too): at the bed's end, at a corner, high on the
-      // far side. With the side camera, the multi-camera sample (docs/markerless.md).
+      // moment (a fraction of a frame apart too) and before the first jump's take-off (sample 22),
+      // which the side camera misses: at the bed's end, at a corner, high on the far side. With
+      // the side camera, the multi-camera sample (docs/markerless.md).
       const Eigen::Vector3d look = bed + Eigen::Vector3d(0, 0, 2.6);
       struct View {
         acro::vision::Camera camera;
@@ -324,11 +325,11 @@ int main(int argc, char** argv) {
       };
       const std::vector<View> phones = {
           {Phone("end", bed + Eigen::Vector3d(-8.6, -1.2, 0.4), look, 1250.0, -0.05),
-           first_sample + 10},
+           first_sample - 54},
           {Phone("corner", bed + Eigen::Vector3d(6.4, -6.2, 0.2), look, 1230.0, -0.07),
-           first_sample - 26},
+           first_sample - 68},
           {Phone("far", bed + Eigen::Vector3d(-2.5, 6.9, 2.9), look, 1270.0, -0.04),
-           first_sample + 29}};
+           first_sample - 63}};
       if (argc == 7) {
         for (const View& v : phones)
           if (v.camera.name == argv[4])

@@ -180,6 +180,27 @@ int RunAnalyze(AnalyzeArguments& args) {
           "--video B … --calib C"};
     views = OpenVideosFor(args, common);
     input = std::move(views->input);
+    if (views->bed && !args.options.bed) {
+      analysis::BedGeometry bed;
+      bed.centre_W = views->bed->centre_W;
+      bed.long_axis_W = views->bed->long_axis_W;
+      bed.length_m = views->bed->length_m;
+      bed.width_m = views->bed->width_m;
+      bed.source = fmt::format(
+          "the bed in {} videos' first frames ({:.2f} × {:.2f} m, centres within {:.1f} cm)",
+          views->bed->views,
+          bed.length_m,
+          bed.width_m,
+          100 * views->bed->spread_m);
+      if (!common.quiet)
+        std::fprintf(stderr,
+                     "bed: %s at (%.3f, %.3f, %.3f) m\n",
+                     bed.source.c_str(),
+                     bed.centre_W.x(),
+                     bed.centre_W.y(),
+                     bed.centre_W.z());
+      args.options.bed = bed;
+    }
   } else {
     input = OpenTrialFor("analyze", common.Request());
   }

@@ -11,6 +11,7 @@
 #include "acro/capture/detections.h"
 #include "acro/capture/video.h"
 #include "acro/pipeline/detect.h"
+#include "acro/vision/bed_detection.h"
 #include "acro/vision/camera.h"
 
 namespace acro::pipeline {
@@ -254,6 +255,32 @@ ViewsInput OpenViews(const ViewsRequest& request, const Progress& progress) {
   capture::DemandUsableContent(in.trial, in.path.string(), request.min_frames, request.use);
   const std::string turned = analysis::OrientTrialUp(&in.trial, request.up, &in.up);
   if (!turned.empty()) warnings.push_back(turned);
+  // The bed, from the videos' first frames.
+  std::vector<vision::Camera> bed_cameras;
+  std::vector<vision::BedDetection> beds;
+  for (size_t v = 0; v < views.size(); ++v) {
+    if (request.cameras[v].video.empty()) continue;
+    try {
+      beds.push_back(vision::DetectBed(request.cameras[v].video, 0));
+      bed_cameras.push_back(views[v].camera);
+    } catch (const InputError& e) {
+      warnings.push_back(fmt::format(
+          "camera {}: no bed found in its first frame ({})", views[v].camera.name, e.what()));
+    }
+  }
+  if (beds.size() >= 2) {
+    const bool upright = in.up.axis == 2 && in.up.sign > 0;
+    try {
+      const vision::BedFromViews bed = vision::LocateBedFromViews(bed_cameras, beds);
+      if (upright)
+        out.bed = bed;
+      else
+        warnings.push_back(
+            "the bed seen in the videos is not used: the cameras' world is not Z up");
+    } catch (const InputError& e) {
+      warnings.push_back(std::string("the bed is not located from the videos: ") + e.what());
+    }
+  }
   in.athlete = MakeAthlete(request.athlete);
   return out;
 }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include <fmt/format.h>
 #include <Eigen/Geometry>
@@ -13,6 +14,7 @@
 #include "acro/base/input_error.h"
 #include "acro/base/text.h"
 #include "acro/capture/video.h"
+#include "acro/fig/trampoline.h"
 #include "photo_files.h"
 
 namespace acro::vision {
@@ -338,6 +340,198 @@ BedCalibration CalibrateFromBed(const Camera& intrinsics,
     result.other_rms_px = other->result.calibration.rms_px;
   }
   return result;
+}
+
+namespace {
+
+// The four corners of a view's bed on the plane z = h (nothing when a ray misses it or the camera
+// is not above it).
+std::optional<std::array<Eigen::Vector3d, 4>> CornersOnPlane(const Camera& camera,
+                                                             const BedDetection& bed,
+                                                             double h) {
+  const Eigen::Vector3d c = camera.CentreInWorld();
+  if (!(c.z() > h + 0.05)) return std::nullopt;
+  std::array<Eigen::Vector3d, 4> out;
+  for (int k = 0; k < 4; ++k) {
+    const Eigen::Vector3d d = camera.RayInWorld(bed.corners_px[k]);
+    if (!(d.z() < -1e-6)) return std::nullopt;
+    const double s = (h - c.z()) / d.z();
+    out[k] = c + s * d;
+  }
+  return out;
+}
+
+struct PlaneFit {
+  double cost = std::numeric_limits<double>::infinity();
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  int views = 0;
+};
+
+// The views' centres on the plane z = h: their mean weighted by how steeply each camera looks at
+// the bed (a grazing view's corners slide far along the plane for a pixel), and the weighted RMS
+// distance from it.
+PlaneFit FitAt(const std::vector<Camera>& cameras,
+               const std::vector<BedDetection>& beds,
+               double h) {
+  PlaneFit fit;
+  std::vector<Eigen::Vector3d> centres;
+  std::vector<double> weights;
+  for (size_t v = 0; v < cameras.size(); ++v) {
+    const auto corners = CornersOnPlane(cameras[v], beds[v], h);
+    if (!corners) continue;
+    const Eigen::Vector3d centre =
+        0.25 * ((*corners)[0] + (*corners)[1] + (*corners)[2] + (*corners)[3]);
+    const Eigen::Vector3d to = (centre - cameras[v].CentreInWorld()).normalized();
+    centres.push_back(centre);
+    weights.push_back(to.z() * to.z());
+  }
+  fit.views = static_cast<int>(centres.size());
+  if (fit.views < 2) return fit;
+  double w = 0;
+  for (size_t i = 0; i < centres.size(); ++i) {
+    fit.centre += weights[i] * centres[i];
+    w += weights[i];
+  }
+  fit.centre /= w;
+  double sum = 0;
+  for (size_t i = 0; i < centres.size(); ++i)
+    sum += weights[i] * (centres[i] - fit.centre).squaredNorm();
+  fit.cost = std::sqrt(sum / w);
+  return fit;
+}
+
+}  // namespace
+
+namespace {
+
+// The bed from these views, or an empty optional with the reason in *why.
+std::optional<BedFromViews> LocateFromAll(const std::vector<Camera>& cameras,
+                                          const std::vector<BedDetection>& beds,
+                                          std::string* why) {
+  double top = -std::numeric_limits<double>::infinity(), mean = 0;
+  for (const Camera& c : cameras) {
+    top = std::max(top, c.CentreInWorld().z());
+    mean += c.CentreInWorld().z() / static_cast<double>(cameras.size());
+  }
+  // The height: coarse steps, then golden-section search around the best.
+  // Heights seen from above by more views come first (a plane seen by fewer views agrees more
+  // easily), then the least spread.
+  double best_h = 0, best = std::numeric_limits<double>::infinity();
+  int best_views = 0;
+  for (double h = mean - 10.0; h < top; h += 0.05) {
+    const PlaneFit f = FitAt(cameras, beds, h);
+    if (f.views > best_views || (f.views == best_views && f.cost < best)) {
+      best = f.cost;
+      best_h = h;
+      best_views = f.views;
+    }
+  }
+  if (!std::isfinite(best)) {
+    *why = "fewer than two views see the bed from above";
+    return std::nullopt;
+  }
+  const auto cost = [&](double h) {
+    const PlaneFit f = FitAt(cameras, beds, h);
+    return f.views < best_views ? std::numeric_limits<double>::infinity() : f.cost;
+  };
+  double lo = best_h - 0.05, hi = best_h + 0.05;
+  const double g = (std::sqrt(5.0) - 1) / 2;
+  double a = hi - g * (hi - lo), b = lo + g * (hi - lo);
+  double fa = cost(a), fb = cost(b);
+  while (hi - lo > 1e-3) {
+    if (fa < fb) {
+      hi = b;
+      b = a;
+      fb = fa;
+      a = hi - g * (hi - lo);
+      fa = cost(a);
+    } else {
+      lo = a;
+      a = b;
+      fa = fb;
+      b = lo + g * (hi - lo);
+      fb = cost(b);
+    }
+  }
+  const double h = std::isfinite(cost(0.5 * (lo + hi))) ? 0.5 * (lo + hi) : best_h;
+  const PlaneFit fit = FitAt(cameras, beds, h);
+  BedFromViews out;
+  out.centre_W = fit.centre;
+  out.spread_m = fit.cost;
+  out.views = fit.views;
+  // The size and the long axis: each view's quadrilateral, its longer pair of opposite sides.
+  Eigen::Vector3d axis = Eigen::Vector3d::Zero();
+  double w = 0;
+  for (size_t v = 0; v < cameras.size(); ++v) {
+    const auto q = CornersOnPlane(cameras[v], beds[v], h);
+    if (!q) continue;
+    const double s02 = 0.5 * (((*q)[1] - (*q)[0]).norm() + ((*q)[3] - (*q)[2]).norm());
+    const double s13 = 0.5 * (((*q)[2] - (*q)[1]).norm() + ((*q)[0] - (*q)[3]).norm());
+    Eigen::Vector3d along = s02 >= s13 ? ((*q)[1] - (*q)[0]) + ((*q)[2] - (*q)[3])
+                                       : ((*q)[2] - (*q)[1]) + ((*q)[3] - (*q)[0]);
+    along.z() = 0;
+    along.normalize();
+    if (axis.dot(along) < 0 || (axis.isZero() && along.x() < 0)) along = -along;
+    const Eigen::Vector3d to = (fit.centre - cameras[v].CentreInWorld()).normalized();
+    const double weight = to.z() * to.z();
+    axis += weight * along;
+    out.length_m += weight * std::max(s02, s13);
+    out.width_m += weight * std::min(s02, s13);
+    w += weight;
+  }
+  out.long_axis_W = axis.normalized();
+  out.length_m /= w;
+  out.width_m /= w;
+  if (std::abs(out.length_m / fig::kBedLength_m - 1) > 0.25 ||
+      std::abs(out.width_m / fig::kBedWidth_m - 1) > 0.25 || out.spread_m > 0.15) {
+    *why = fmt::format(
+        "{:.2f} × {:.2f} m (FIG: {:.2f} × {:.2f}), centres {:.2f} m apart (RMS) at height {:.2f} m",
+        out.length_m,
+        out.width_m,
+        fig::kBedLength_m,
+        fig::kBedWidth_m,
+        out.spread_m,
+        h);
+    return std::nullopt;
+  }
+  return out;
+}
+
+}  // namespace
+
+BedFromViews LocateBedFromViews(const std::vector<Camera>& cameras,
+                                const std::vector<BedDetection>& beds) {
+  const int n = static_cast<int>(beds.size());
+  if (static_cast<int>(cameras.size()) != n || n < 2)
+    throw InputError(
+        "", "bed", fmt::format("{} views of the bed: locating it needs at least 2", n));
+  if (n > 12) throw InputError("", "bed", fmt::format("{} views of the bed: at most 12", n));
+  // The most views that agree: every subset, the largest first (a detector that took a mat or a
+  // dark wall for the bed is left out).
+  std::string first_why;
+  for (int m = n; m >= 2; --m) {
+    std::optional<BedFromViews> best;
+    for (unsigned mask = 0; mask < (1u << n); ++mask) {
+      if (__builtin_popcount(mask) != m) continue;
+      std::vector<Camera> c;
+      std::vector<BedDetection> b;
+      for (int i = 0; i < n; ++i)
+        if (mask & (1u << i)) {
+          c.push_back(cameras[i]);
+          b.push_back(beds[i]);
+        }
+      std::string why;
+      const std::optional<BedFromViews> found = LocateFromAll(c, b, &why);
+      if (first_why.empty() && m == n) first_why = why;
+      if (found && found->views == m && (!best || found->spread_m < best->spread_m)) best = found;
+    }
+    if (best) return *best;
+  }
+  throw InputError(
+      "",
+      "bed",
+      fmt::format(
+          "no two of the {} views agree on a trampoline's bed (all of them: {})", n, first_why));
 }
 
 }  // namespace acro::vision

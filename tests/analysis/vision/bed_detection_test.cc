@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "acro/base/input_error.h"
+#include "acro/capture/trial_io.h"
 #include "acro/vision/calibration.h"
 #include "acro/vision/camera.h"
 #include "input_errors.h"
@@ -116,6 +117,70 @@ TEST(BedDetection, WithoutABedSaysWhy) {
   const std::string corners =
       acro::testing::InputErrorOf([&] { CalibrateFromBed(truth.camera, three, bed); });
   EXPECT_NE(corners.find("BED_C2"), std::string::npos) << corners;
+}
+
+}  // namespace
+}  // namespace acro::vision
+
+namespace acro::vision {
+namespace {
+
+// The bed located from its corners in the multi-camera sample's four calibrated views (the C3D's
+// bed markers BED_C1…C4 projected, in each view's clockwise order from the top left as DetectBed
+// gives them), one view's detection replaced by a wrong region (the end mat), against the markers.
+TEST(BedDetection, SeveralViewsLocateTheBedAndLeaveOutAWrongOne) {
+  const std::vector<Camera> cameras = ReadPose2SimToml(Sample("views.toml"));
+  ASSERT_EQ(cameras.size(), 4u);
+  const acro::capture::Trial trial = acro::capture::ReadTrial(Sample("trampoline_routine.c3d"));
+  std::vector<Eigen::Vector3d> corners;
+  for (int p = 0; p < trial.num_points(); ++p)
+    if (trial.points[p].label.rfind("BED", 0) == 0 && trial.valid(0, p))
+      corners.push_back(trial.position(0, p));
+  ASSERT_EQ(corners.size(), 4u);
+  const Eigen::Vector3d marked = 0.25 * (corners[0] + corners[1] + corners[2] + corners[3]);
+  std::vector<BedDetection> beds;
+  for (const Camera& c : cameras) {
+    BedDetection b;
+    for (int k = 0; k < 4; ++k) b.corners_px[k] = *c.Project(corners[k]);
+    beds.push_back(b);
+  }
+  BedFromViews bed = LocateBedFromViews(cameras, beds);
+  EXPECT_EQ(bed.views, 4);
+  EXPECT_LT((bed.centre_W - marked).norm(), 0.002);
+  EXPECT_NEAR(bed.length_m, 4.28, 0.02);
+  EXPECT_NEAR(bed.width_m, 2.14, 0.02);
+  EXPECT_GT(std::abs(bed.long_axis_W.x()), 0.999);  // the sample's bed lies along x
+  EXPECT_LT(bed.spread_m, 0.002);
+  // A view whose detector took another dark region for the bed: left out, the rest unchanged.
+  BedDetection wrong;
+  wrong.corners_px = {Eigen::Vector2d(281, 1005),
+                      Eigen::Vector2d(508, 967),
+                      Eigen::Vector2d(521, 811),
+                      Eigen::Vector2d(306, 794)};
+  beds[1] = wrong;
+  bed = LocateBedFromViews(cameras, beds);
+  std::printf(
+      "bed from %d views: centre (%.4f, %.4f, %.4f) m, marked (%.4f, %.4f, %.4f); %.3f x %.3f m\n",
+      bed.views,
+      bed.centre_W.x(),
+      bed.centre_W.y(),
+      bed.centre_W.z(),
+      marked.x(),
+      marked.y(),
+      marked.z(),
+      bed.length_m,
+      bed.width_m);
+  EXPECT_EQ(bed.views, 3);
+  EXPECT_LT((bed.centre_W - marked).norm(), 0.002);
+  // One view is not enough; two that disagree are refused with the sizes found.
+  EXPECT_THROW(LocateBedFromViews({cameras[0]}, {beds[0]}), acro::InputError);
+  try {
+    LocateBedFromViews({cameras[0], cameras[1]}, {beds[0], wrong});
+    FAIL() << "two views of different beds agreed";
+  } catch (const acro::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("no two of the 2 views agree"), std::string::npos)
+        << e.what();
+  }
 }
 
 }  // namespace

@@ -10,6 +10,7 @@
 
 #include <filesystem>
 #include <limits>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -18,6 +19,7 @@
 #include "acro/pose/pose_models.h"
 #include "acro/reconstruct/triangulation.h"
 #include "acro/reconstruct/view_sync.h"
+#include "acro/vision/bed_detection.h"
 
 namespace acro::pipeline {
 
@@ -69,6 +71,10 @@ struct ViewsInput {
   /// camera's video (the sync of an overlay).
   std::vector<double> first_frame;
   std::vector<double> rates_hz;  ///< each camera's frame rate
+  /// The trampoline's bed located from its detection in the videos' first frames
+  /// (vision::LocateBedFromViews), when the cameras were given by their videos, at least two saw
+  /// the bed, they agree, and the cameras' world is Z up as the trial (else a warning says why).
+  std::optional<vision::BedFromViews> bed;
 };
 
 /// Reads, syncs and triangulates. Throws acro::InputError naming the file, camera or option at

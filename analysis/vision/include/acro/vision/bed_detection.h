@@ -60,4 +60,27 @@ BedCalibration CalibrateFromBed(const Camera& intrinsics,
                                 const BedDetection& bed,
                                 const std::optional<Eigen::Vector2d>& c1_near_px = std::nullopt);
 
+/// The bed in 3D from its detection in several calibrated views (docs/markerless.md, "The bed"):
+/// each view's four corner rays meet the bed's plane (horizontal, z = height in the cameras'
+/// world, Z up) in a quadrilateral, and at the right height the views' quadrilaterals coincide.
+/// The height is the one where their centres agree best (a search over ±10 m around the cameras'
+/// mean height, then golden-section to a millimetre); the centre is the mean of the views' centres
+/// there, the long axis the mean direction of their longer sides, the size their mean sides.
+struct BedFromViews {
+  Eigen::Vector3d centre_W = Eigen::Vector3d::Zero();
+  Eigen::Vector3d long_axis_W = Eigen::Vector3d::UnitX();
+  double length_m = 0.0, width_m = 0.0;  ///< the mean quadrilateral's sides
+  /// RMS distance of the views' centres from their mean at that height (m): how well they agree.
+  double spread_m = 0.0;
+  int views = 0;
+};
+
+/// Needs two views or more (cameras[i] with beds[i], at most 12). The views agree when their beds
+/// meet on one plane as a trampoline's (sides within 25 % of FIG's 4.28 × 2.14 m, centres within
+/// 15 cm RMS); the largest subset of views that agrees is taken (the least spread among subsets of
+/// one size), so a view whose detection took a mat or a dark wall for the bed is left out
+/// (`views` says how many were used). Throws acro::InputError (where "bed") when no two agree.
+BedFromViews LocateBedFromViews(const std::vector<Camera>& cameras,
+                                const std::vector<BedDetection>& beds);
+
 }  // namespace acro::vision
