@@ -101,6 +101,31 @@ Eigen::Vector3d Refine(const std::vector<const Observation*>& obs, Eigen::Vector
   return X;
 }
 
+// The standard error per coordinate (m) of X fitted to `obs`: σ² (JᵀWJ)⁻¹, σ² the weighted
+// squared residual per degree of freedom (2n − 3: one with two views, a rough estimate that the
+// median over a take evens out).
+double Uncertainty(const std::vector<const Observation*>& obs, const Eigen::Vector3d& X) {
+  Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
+  double ssr = 0, weights = 0;
+  for (const Observation* o : obs) {
+    const Eigen::Matrix3d R = o->view->P.leftCols<3>();
+    const Eigen::Vector3d p = R * X + o->view->P.col(3);
+    if (!(p.z() > 1e-6)) return kNaN;
+    const double f = o->view->focal_px;
+    const Eigen::Vector2d r = f * (p.head<2>() / p.z() - o->xy);
+    Eigen::Matrix<double, 2, 3> J;
+    J.row(0) = f * (R.row(0) - (p.x() / p.z()) * R.row(2)) / p.z();
+    J.row(1) = f * (R.row(1) - (p.y() / p.z()) * R.row(2)) / p.z();
+    H += o->weight * J.transpose() * J;
+    ssr += o->weight * r.squaredNorm();
+    weights += o->weight;
+  }
+  const int dof = 2 * static_cast<int>(obs.size()) - 3;
+  if (dof < 1 || !(weights > 0)) return kNaN;
+  const Eigen::Matrix3d cov = (ssr / dof) * H.inverse();
+  return std::sqrt(std::max(0.0, cov.trace()) / 3.0);
+}
+
 // Triangulates one point from its observations with a consensus over views, as Pose2Sim's
 // triangulation decides it (its triangulation.py, triangulation_from_best_cameras): all views when
 // their mean reprojection error is within the threshold, else the subset of one view fewer with the
@@ -326,6 +351,7 @@ Triangulation TriangulateKeypoints(const std::vector<CameraView>& views,
   result.positions.setConstant(3, static_cast<Eigen::Index>(num_frames) * num_points, kNaN);
   result.reprojection_px.setConstant(num_points, num_frames, kNaN);
   result.views.setZero(num_points, num_frames);
+  result.uncertainty_m.setConstant(num_points, num_frames, kNaN);
   result.cameras.resize(num_views);
   for (int v = 0; v < num_views; ++v) {
     result.cameras[v].name = views[v].camera.name;
@@ -475,6 +501,7 @@ Triangulation TriangulateKeypoints(const std::vector<CameraView>& views,
       const int n_obs = static_cast<int>(view_of[j].size());
       int n_agreed = 0;
       double weighted = 0, weights = 0;
+      std::vector<Observation> used;
       for (int i = 0; i < n_obs; ++i) {
         const int v = view_of[j][i];
         CameraTriangulationStats& stats = result.cameras[v];
@@ -485,6 +512,7 @@ Triangulation TriangulateKeypoints(const std::vector<CameraView>& views,
         }
         ++stats.agreed;
         ++n_agreed;
+        used.push_back({&geometry[v], frame[v].xy.col(j), frame[v].confidence(j)});
         const auto uv = views[v].camera.Project(X[j]);
         if (!uv) continue;
         const double e = (*uv - frame[v].pixels.col(j)).norm();
@@ -497,6 +525,9 @@ Triangulation TriangulateKeypoints(const std::vector<CameraView>& views,
       result.positions.col(static_cast<Eigen::Index>(k) * num_points + j) = X[j];
       result.views(j, k) = n_agreed;
       result.reprojection_px(j, k) = weights > 0 ? std::sqrt(weighted / weights) : kNaN;
+      std::vector<const Observation*> pointers;
+      for (const Observation& o : used) pointers.push_back(&o);
+      result.uncertainty_m(j, k) = Uncertainty(pointers, X[j]);
     }
     for (int v = 0; v < num_views; ++v)
       if (chosen[v] >= 0) {
@@ -526,6 +557,13 @@ Triangulation TriangulateKeypoints(const std::vector<CameraView>& views,
           stats.detections));
   }
   return result;
+}
+
+double Triangulation::NoiseRmsM() const {
+  std::vector<double> v;
+  for (Eigen::Index i = 0; i < uncertainty_m.size(); ++i)
+    if (std::isfinite(uncertainty_m(i))) v.push_back(uncertainty_m(i));
+  return v.empty() ? 0.0 : Percentile(v, 0.5);
 }
 
 capture::Trial Triangulation::ToTrial(double rate_hz, const std::string& source) const {
@@ -561,12 +599,14 @@ std::string Triangulation::BriefReport() const {
   for (int k = 0; k < num_frames; ++k)
     for (int j = 0; j < num_points(); ++j) found += views(j, k) > 0;
   const long total = static_cast<long>(num_frames) * num_points();
-  std::string out =
-      fmt::format("triangulated {} of {} keypoint samples ({:.1f} %) from {} cameras\n",
-                  found,
-                  total,
-                  total > 0 ? 100.0 * found / total : 0.0,
-                  cameras.size());
+  std::string out = fmt::format(
+      "triangulated {} of {} keypoint samples ({:.1f} %) from {} cameras; standard "
+      "error {:.1f} mm per coordinate (median)\n",
+      found,
+      total,
+      total > 0 ? 100.0 * found / total : 0.0,
+      cameras.size(),
+      1000 * NoiseRmsM());
   for (const CameraTriangulationStats& c : cameras)
     out += fmt::format(
         "  {}: person in {} frames, {} of {} detections agreed ({} outvoted), reprojection "

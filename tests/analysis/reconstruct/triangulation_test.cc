@@ -206,6 +206,13 @@ TEST(Triangulation, OutvotesAWrongViewPicksTheAthleteAndPutsASwappedCameraRight)
     }
   // 1.5 px of noise at 5–8 m with f ≈ 1700 px and 8 views: a few millimetres.
   EXPECT_LT(Median(d), 0.005);
+  // The standard error the fits predict against the errors made: the median length of a 3D
+  // Gaussian error is 1.54 σ per coordinate.
+  const double sigma = Median(d) / 1.54;
+  std::printf(
+      "standard error predicted %.2f mm, measured %.2f mm\n", 1000 * t.NoiseRmsM(), 1000 * sigma);
+  EXPECT_GT(t.NoiseRmsM(), 0.5 * sigma);
+  EXPECT_LT(t.NoiseRmsM(), 2.0 * sigma);
   EXPECT_LT(worst, 0.05);
   EXPECT_EQ(t.cameras[0].frames_chosen_among_several, frames);
   EXPECT_EQ(t.cameras[0].rejected, 0) << "the coach was taken for the athlete";

@@ -79,6 +79,9 @@ struct Triangulation {
   /// views (px), and how many views agreed (0 for a gap).
   Eigen::ArrayXXd reprojection_px;
   Eigen::ArrayXXi views;
+  /// points × frames: each point's standard error per coordinate (m, NaN for a gap), from its fit:
+  /// σ² (JᵀWJ)⁻¹ with σ² the weighted squared reprojection residual per degree of freedom.
+  Eigen::ArrayXXd uncertainty_m;
   std::vector<CameraTriangulationStats> cameras;
   /// Anything the user should know (a camera that never saw anyone, …), one line each.
   std::vector<std::string> warnings;
@@ -87,6 +90,9 @@ struct Triangulation {
   auto position(int frame, int point) const {
     return positions.col(static_cast<Eigen::Index>(frame) * num_points() + point);
   }
+  /// The median of uncertainty_m over the points found (0 when nothing was triangulated): the
+  /// keypoints' noise as the views' agreement measures it.
+  double NoiseRmsM() const;
   /// The points as a trial of keypoints (PointType::kMarker, "m") at `rate_hz`, Z up as the
   /// cameras' world is; its source says "triangulated from N cameras".
   capture::Trial ToTrial(double rate_hz, const std::string& source) const;
