@@ -80,7 +80,8 @@ struct TrialArguments {
   bool quiet = false;
   /// Declares these options on `command`; those of the reconstruction write into `options`
   /// (which must outlive the parse).
-  void Declare(CLI::App* command, analysis::ReconstructionOptions* options,
+  void Declare(CLI::App* command,
+               analysis::ReconstructionOptions* options,
                bool trial_required = true);
   /// What the pipeline opens (TRIAL, --static, --up, the athlete or the default body's numbers).
   pipeline::TrialRequest Request() const;
@@ -108,7 +109,8 @@ struct ViewsArguments {
 };
 
 /// pipeline::OpenViews with a progress bar unless `quiet`, its warnings on stderr.
-pipeline::ViewsInput OpenViewsFor(const std::string& command, const pipeline::ViewsRequest& request,
+pipeline::ViewsInput OpenViewsFor(const std::string& command,
+                                  const pipeline::ViewsRequest& request,
                                   bool quiet);
 
 /// Throws UsageError with `why` when `options.IsValid` fails (the reason reaches the user).

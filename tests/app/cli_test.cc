@@ -462,8 +462,11 @@ TEST(Cli, ReconstructFromSeveralCamerasDetections) {
   ASSERT_EQ(run.status, 0) << run.err;
   // The balancing trial hardly moves: the offsets cannot be told, and the user is told so.
   EXPECT_NE(run.err.find("do not tell its offset"), std::string::npos) << run.err;
-  for (const char* f : {"triangulated.trc", "triangulated_triangulation.txt", "triangulated.mot",
-                        "triangulated_angles.csv", "triangulated_summary.txt"})
+  for (const char* f : {"triangulated.trc",
+                        "triangulated_triangulation.txt",
+                        "triangulated.mot",
+                        "triangulated_angles.csv",
+                        "triangulated_summary.txt"})
     EXPECT_TRUE(std::filesystem::exists(out / "a" / f)) << f;
   const acro::capture::Trial ours = acro::capture::ReadTrial(out / "a/triangulated.trc");
   const acro::capture::Trial theirs = acro::capture::ReadTrial(theirs_path);

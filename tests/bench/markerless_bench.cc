@@ -30,7 +30,8 @@ acro::vision::Camera LookAt(const std::string& name, const Eigen::Vector3d& cent
 
 std::vector<CameraView> Views(int frames, int late_frames) {
   std::vector<CameraView> views;
-  const std::vector<Eigen::Vector3d> centres = {{0, 8, 2}, {8, 0, 2.5}, {0, -8, 1.8}, {-8, 0.5, 2.2}};
+  const std::vector<Eigen::Vector3d> centres = {
+      {0, 8, 2}, {8, 0, 2.5}, {0, -8, 1.8}, {-8, 0.5, 2.2}};
   std::mt19937 rng(3);
   std::normal_distribution<double> noise(0, 1.5);
   std::uniform_int_distribution<int> wrong(0, 24);
@@ -65,8 +66,10 @@ void BM_TriangulateFourCameras(benchmark::State& state) {
   const int frames = 600;  // 10 s at 60 fps
   const std::vector<CameraView> views = Views(frames, 0);
   for (auto _ : state) benchmark::DoNotOptimize(acro::analysis::TriangulateKeypoints(views));
-  state.counters["frames_per_s"] = benchmark::Counter(frames, benchmark::Counter::kIsIterationInvariantRate);
-  state.counters["x_real_time"] = benchmark::Counter(frames / 60.0, benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["frames_per_s"] =
+      benchmark::Counter(frames, benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["x_real_time"] =
+      benchmark::Counter(frames / 60.0, benchmark::Counter::kIsIterationInvariantRate);
 }
 BENCHMARK(BM_TriangulateFourCameras)->Unit(benchmark::kMillisecond);
 
@@ -77,7 +80,8 @@ void BM_SyncFourCameras(benchmark::State& state) {
   acro::analysis::ViewSyncOptions options;
   options.max_offset_s = 2.0;
   for (auto _ : state) benchmark::DoNotOptimize(acro::analysis::SyncViews(views, rates, options));
-  state.counters["x_real_time"] = benchmark::Counter(frames / 60.0, benchmark::Counter::kIsIterationInvariantRate);
+  state.counters["x_real_time"] =
+      benchmark::Counter(frames / 60.0, benchmark::Counter::kIsIterationInvariantRate);
 }
 BENCHMARK(BM_SyncFourCameras)->Unit(benchmark::kMillisecond);
 

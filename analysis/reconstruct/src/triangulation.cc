@@ -77,19 +77,30 @@ Eigen::Vector3d LinearTriangulation(const std::vector<const Observation*>& obs) 
 }
 
 // Gauss–Newton on Σ w (f (p_xy / p_z − x))², from X; a few steps suffice from the DLT.
+// One observation's reprojection residual r (px, undistorted) at X and its Jacobian J = ∂r/∂X;
+// false when X is not in front of the camera.
+bool Linearize(const Observation& o,
+               const Eigen::Vector3d& X,
+               Eigen::Vector2d* r,
+               Eigen::Matrix<double, 2, 3>* J) {
+  const Eigen::Matrix3d R = o.view->P.leftCols<3>();
+  const Eigen::Vector3d p = R * X + o.view->P.col(3);
+  if (!(p.z() > 1e-6)) return false;
+  const double f = o.view->focal_px;
+  *r = f * (p.head<2>() / p.z() - o.xy);
+  J->row(0) = f * (R.row(0) - (p.x() / p.z()) * R.row(2)) / p.z();
+  J->row(1) = f * (R.row(1) - (p.y() / p.z()) * R.row(2)) / p.z();
+  return true;
+}
+
 Eigen::Vector3d Refine(const std::vector<const Observation*>& obs, Eigen::Vector3d X) {
+  Eigen::Vector2d r;
+  Eigen::Matrix<double, 2, 3> J;
   for (int iteration = 0; iteration < 8; ++iteration) {
     Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
     Eigen::Vector3d g = Eigen::Vector3d::Zero();
     for (const Observation* o : obs) {
-      const Eigen::Matrix3d R = o->view->P.leftCols<3>();
-      const Eigen::Vector3d p = R * X + o->view->P.col(3);
-      if (!(p.z() > 1e-6)) return Eigen::Vector3d::Constant(kNaN);
-      const double f = o->view->focal_px;
-      const Eigen::Vector2d r = f * (p.head<2>() / p.z() - o->xy);
-      Eigen::Matrix<double, 2, 3> J;
-      J.row(0) = f * (R.row(0) - (p.x() / p.z()) * R.row(2)) / p.z();
-      J.row(1) = f * (R.row(1) - (p.y() / p.z()) * R.row(2)) / p.z();
+      if (!Linearize(*o, X, &r, &J)) return Eigen::Vector3d::Constant(kNaN);
       H += o->weight * J.transpose() * J;
       g += o->weight * J.transpose() * r;
     }
@@ -107,15 +118,10 @@ Eigen::Vector3d Refine(const std::vector<const Observation*>& obs, Eigen::Vector
 double Uncertainty(const std::vector<const Observation*>& obs, const Eigen::Vector3d& X) {
   Eigen::Matrix3d H = Eigen::Matrix3d::Zero();
   double ssr = 0, weights = 0;
+  Eigen::Vector2d r;
+  Eigen::Matrix<double, 2, 3> J;
   for (const Observation* o : obs) {
-    const Eigen::Matrix3d R = o->view->P.leftCols<3>();
-    const Eigen::Vector3d p = R * X + o->view->P.col(3);
-    if (!(p.z() > 1e-6)) return kNaN;
-    const double f = o->view->focal_px;
-    const Eigen::Vector2d r = f * (p.head<2>() / p.z() - o->xy);
-    Eigen::Matrix<double, 2, 3> J;
-    J.row(0) = f * (R.row(0) - (p.x() / p.z()) * R.row(2)) / p.z();
-    J.row(1) = f * (R.row(1) - (p.y() / p.z()) * R.row(2)) / p.z();
+    if (!Linearize(*o, X, &r, &J)) return kNaN;
     H += o->weight * J.transpose() * J;
     ssr += o->weight * r.squaredNorm();
     weights += o->weight;

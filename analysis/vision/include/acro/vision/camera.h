@@ -50,8 +50,8 @@ void AimCamera(Camera* camera, const Eigen::Vector3d& centre, const Eigen::Vecto
 /// size, 1088 rows, for a 1080-row video), takes the camera as it is, its pixels from the top-left
 /// corner; a scaled copy (both sides scaled alike, to 1 %) takes the camera scaled to it, said in
 /// `*note`; any other size is refused: acro::InputError naming `video`, both sizes.
-Camera FitCameraToVideo(const Camera& camera, int width, int height, const std::string& video,
-                        std::string* note);
+Camera FitCameraToVideo(
+    const Camera& camera, int width, int height, const std::string& video, std::string* note);
 
 /// Reads a Pose2Sim/Anipose calibration: one table per camera with `name`, `size` [w, h],
 /// `matrix` (3 × 3), `distortions` [k1 k2 p1 p2], `rotation` (Rodrigues vector, rad) and
