@@ -180,6 +180,7 @@ int RunAnalyze(AnalyzeArguments& args) {
           "--video B … --calib C"};
     views = OpenVideosFor(args, common);
     input = std::move(views->input);
+    args.options.reconstruction.views = views->views;
     if (views->bed && !args.options.bed) {
       analysis::BedGeometry bed;
       bed.centre_W = views->bed->centre_W;

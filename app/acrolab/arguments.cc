@@ -69,6 +69,13 @@ void TrialArguments::Declare(CLI::App* command,
       "--no-scale",
       [options] { options->scale = false; },
       "keep the athlete's segment lengths and default marker offsets");
+  command->add_option_function<std::string>(
+      "--fit",
+      [options](const std::string& how) { options->fit_to_views = how == "views"; },
+      "from several cameras: 'views' fits the model to every view's 2D keypoints after the fit to "
+      "the triangulated points (the default), 'points' stops at the triangulated points "
+      "(docs/markerless.md)")
+      ->check(CLI::IsMember({"views", "points"}));
   command->add_option("--threads", options->num_threads, "worker threads (default: all cores)")
       ->check(CLI::Range(1, 256));
   command->add_flag("--quiet", quiet, "no progress on stderr");

@@ -51,6 +51,7 @@ int RunReconstruct(ReconstructArguments& args) {
     request.use = "the reconstruction";
     views = OpenViewsFor("reconstruct", request, common.quiet);
     input = std::move(views->input);
+    options.views = views->views;
   } else {
     if (common.trial_path.empty())
       throw UsageError{"give TRIAL (markers or keypoints) or --detections CAM=PATH… --calib C"};

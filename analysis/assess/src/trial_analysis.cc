@@ -487,6 +487,14 @@ TrialAnalysis AnalyzeTrial(const capture::Trial& trial,
                        1e3 * rec.summary.median_rms_m,
                        1e3 * rec.summary.p95_rms_m,
                        Seconds(start)));
+  if (rec.summary.view_fit) {
+    std::string lines = rec.summary.view_fit->Report();
+    for (size_t at = 0, end; at < lines.size(); at = end + 1) {
+      end = lines.find('\n', at);
+      progress("reconstruct: " + lines.substr(at, end - at));
+      if (end == std::string::npos) break;
+    }
+  }
   out.reconstruct_s = Seconds(start);
 
   // 2. Phases.

@@ -255,6 +255,10 @@ ViewsInput OpenViews(const ViewsRequest& request, const Progress& progress) {
   capture::DemandUsableContent(in.trial, in.path.string(), request.min_frames, request.use);
   const std::string turned = analysis::OrientTrialUp(&in.trial, request.up, &in.up);
   if (!turned.empty()) warnings.push_back(turned);
+  const Eigen::Matrix3d R_trial_world =
+      turned.empty() ? Eigen::Matrix3d::Identity() : analysis::RotationToZUp(in.up);
+  out.views = std::make_shared<const analysis::ViewsToFit>(
+      analysis::MakeViewsToFit(out.triangulation, R_trial_world));
   // The bed, from the videos' first frames.
   std::vector<vision::Camera> bed_cameras;
   std::vector<vision::BedDetection> beds;

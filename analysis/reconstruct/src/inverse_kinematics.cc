@@ -356,6 +356,10 @@ struct InverseKinematics::Impl {
   Eigen::MatrixXd H, H_damped;
   Eigen::VectorXd g, x, x_new, step;
   Eigen::LDLT<Eigen::MatrixXd> ldlt;
+  // SolveRays: the rays of the frame and their projectors I − d dᵀ.
+  bool ray_mode = false;
+  std::vector<MarkerRay> rays;
+  std::vector<Eigen::Matrix3d> projectors;
 
   /// ½ Σ r̃² at chart coordinates x (p, φ, θ) around q0; with `normal` also H = J̃ᵀJ̃, g = J̃ᵀr̃.
   double EvaluateChart(const Eigen::Quaterniond& q0, const Eigen::VectorXd& xc, bool normal);
@@ -480,10 +484,11 @@ double InverseKinematics::Impl::EvaluateChart(const Eigen::Quaterniond& q0,
   }
   double cost = 0.0;
   Eigen::Matrix<double, 3, Eigen::Dynamic, 0, 3, 48> Jc;
-  for (size_t m = 0; m < markers.size(); ++m) {
-    if (!present[m]) continue;
-    const double w = markers[m].weight;
-    Eigen::Vector3d r = w * (kin.p_WM.col(Eigen::Index(m)) - targets.col(Eigen::Index(m)));
+  // One observation: a marker's residual r = w A (p_WM − b), A = I for a 3D target, the
+  // projector I − d dᵀ off a ray's direction for a ray (nullptr: identity).
+  const auto add = [&](size_t m, double w, const Eigen::Vector3d& at, const Eigen::Matrix3d* A) {
+    Eigen::Vector3d r = w * (kin.p_WM.col(Eigen::Index(m)) - at);
+    if (A != nullptr) r = *A * r;
     // Huber by the residual transform of AllMarkersCost.
     double scale = 1.0, extra = 0.0;
     Eigen::Vector3d rhat = Eigen::Vector3d::Zero();
@@ -497,13 +502,14 @@ double InverseKinematics::Impl::EvaluateChart(const Eigen::Quaterniond& q0,
       r *= scale;
     }
     cost += 0.5 * r.squaredNorm();
-    if (!normal) continue;
+    if (!normal) return;
     // The marker's Jacobian on its columns, the root rotation through Jr, then transformed.
     const std::vector<int>& cols = columns[m];
     const Eigen::Matrix3Xd& J = kin.J[m];
     const int k = static_cast<int>(cols.size());
     Jc.resize(3, k);
     for (int c = 0; c < k; ++c) Jc.col(c) = w * J.col(cols[size_t(c)]);
+    if (A != nullptr) Jc = (*A * Jc).eval();
     Jc.middleCols<3>(3) = (Jc.middleCols<3>(3) * Jr).eval();
     if (extra != 0.0) {
       const Eigen::Matrix<double, 1, Eigen::Dynamic, Eigen::RowMajor, 1, 48> rtJ =
@@ -518,6 +524,13 @@ double InverseKinematics::Impl::EvaluateChart(const Eigen::Quaterniond& q0,
       g[ia] += Jc.col(a).dot(r);
       for (int b = 0; b <= a; ++b) H(ia, cols[size_t(b)]) += Jc.col(a).dot(Jc.col(b));
     }
+  };
+  if (ray_mode) {
+    for (size_t i = 0; i < rays.size(); ++i)
+      add(size_t(rays[i].marker), rays[i].weight, rays[i].origin_W, &projectors[i]);
+  } else {
+    for (size_t m = 0; m < markers.size(); ++m)
+      if (present[m]) add(m, markers[m].weight, targets.col(Eigen::Index(m)), nullptr);
   }
   // Soft joint limits and the prior (diagonal).
   const double kl = options.joint_limit_stiffness_m_per_rad;
@@ -603,6 +616,40 @@ int InverseKinematics::Impl::SolveWarm(Eigen::VectorXd& q, bool* converged) {
   q.segment<4>(3).normalize();
   q.tail(n) = x.tail(n);
   return it;
+}
+
+IkFrameResult InverseKinematics::SolveRays(const std::vector<MarkerRay>& rays, Eigen::VectorXd& q) {
+  Impl& s = *impl_;
+  ACRO_DEMAND(q.size() == s.model.nq());
+  s.rays.clear();
+  s.projectors.clear();
+  for (const MarkerRay& ray : rays) {
+    ACRO_DEMAND(ray.marker >= 0 && ray.marker < num_markers());
+    if (!(ray.origin_W.allFinite() && ray.direction_W.allFinite() && ray.weight > 0)) continue;
+    const Eigen::Vector3d d = ray.direction_W.normalized();
+    s.rays.push_back(ray);
+    s.projectors.push_back(Eigen::Matrix3d::Identity() - d * d.transpose());
+  }
+  IkFrameResult result;
+  if (s.rays.size() < 3) return result;
+  s.joints_start = q.tail(s.model.num_joint_dofs());
+  s.warm = true;
+  s.ray_mode = true;
+  bool converged = false;
+  result.iterations = s.SolveWarm(q, &converged);
+  s.ray_mode = false;
+  result.converged = converged;
+  Eigen::Matrix3Xd p_WM;
+  CalcMarkerPositions(q, p_WM);
+  double sum = 0.0;
+  for (size_t i = 0; i < s.rays.size(); ++i) {
+    const double d = (s.projectors[i] * (p_WM.col(s.rays[i].marker) - s.rays[i].origin_W)).norm();
+    sum += d * d;
+    result.max_m = std::max(result.max_m, d);
+  }
+  result.num_markers = static_cast<int>(s.rays.size());
+  result.rms_m = std::sqrt(sum / double(s.rays.size()));
+  return result;
 }
 
 IkFrameResult InverseKinematics::Solve(const Eigen::Matrix3Xd& observed,

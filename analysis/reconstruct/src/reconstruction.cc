@@ -55,6 +55,7 @@ bool ReconstructionOptions::IsValid(std::string* why) const {
   if (!gaps.IsValid(&sub)) return fail("gaps: " + sub);
   if (!ik.IsValid(&sub)) return fail("ik: " + sub);
   if (!scaling.IsValid(&sub)) return fail("scaling: " + sub);
+  if (!view_fit.IsValid(&sub)) return fail("view_fit: " + sub);
   if (filter_order < 1 || filter_order > 8) return fail("filter_order must be 1–8");
   if (!(cutoff_hz >= 0)) return fail("cutoff_hz must be >= 0 (0: residual analysis)");
   if (scaling_window_frames < 1) return fail("scaling_window_frames must be >= 1");
@@ -107,6 +108,7 @@ std::string ReconstructionSummary::BriefReport() const {
         f.p95_rms_m * 1e3,
         f.max_m * 1e3);
   }
+  if (view_fit) out += view_fit->Report();
   for (const std::string& w : warnings) out += "warning: " + w + "\n";
   return out;
 }
@@ -764,6 +766,36 @@ FlightFit CalcFlightFit(const Motion& motion, int a, int b) {
 
 // Fit quality over the trial and per flight (flights found in the M marker positions P), with a
 // warning for frames left unfitted.
+// The motion refitted to the views (view_fit.h).
+ViewFitSummary FitToViews(const ViewsToFit& views,
+                          const ReconstructionOptions& options,
+                          ReconstructionResult& result) {
+  std::vector<int> marker_of_point;
+  for (const std::string& name : views.names)
+    marker_of_point.push_back(result.markerset.Find(name));
+  Progress progress;
+  if (options.progress || options.cancelled)
+    progress.report = [&](const std::string&, int done, int total) {
+      if (options.progress) options.progress(done, total);
+      return !(options.cancelled && options.cancelled());
+    };
+  const ReconstructionSummary& s = result.summary;
+  ViewFitOptions fit = options.view_fit;
+  if (fit.num_threads == 0) fit.num_threads = options.num_threads;
+  return FitModelToViews(views,
+                         marker_of_point,
+                         result.model,
+                         result.markers,
+                         result.joint_limits,
+                         result.ik_options,
+                         s.filtered ? s.cutoff_hz : 0.0,
+                         s.filter_order,
+                         result.motion.rate_hz,
+                         fit,
+                         &result.motion,
+                         progress);
+}
+
 void SummarizeFit(const Motion& motion,
                   const Eigen::Matrix3Xd& P,
                   int M,
@@ -886,8 +918,10 @@ ReconstructionResult Reconstruct(const capture::Trial& trial,
   if (solver.stopped()) throw Cancelled(trial.source.path + ": cancelled");
   summary.chunks_resolved =
       JoinChunks(result.model, markers, limits, ik_options, bounds, solver, motion);
-  MakeQuaternionSignsContinuous(motion);
   summary.swaps_repaired = solver.swaps() + continuity_swaps;
+  if (options.views && options.fit_to_views)
+    summary.view_fit = FitToViews(*options.views, options, result);
+  MakeQuaternionSignsContinuous(motion);
 
   // Fit quality over the trial and per flight.
   SummarizeFit(motion, P, M, summary);

@@ -359,8 +359,14 @@ Triangulation TriangulateKeypoints(const std::vector<CameraView>& views,
   result.views.setZero(num_points, num_frames);
   result.uncertainty_m.setConstant(num_points, num_frames, kNaN);
   result.cameras.resize(num_views);
+  result.observed.resize(num_views);
   for (int v = 0; v < num_views; ++v) {
     result.cameras[v].name = views[v].camera.name;
+    ViewKeypoints& seen_by = result.observed[v];
+    seen_by.camera = views[v].camera;
+    seen_by.xy.setConstant(2, static_cast<Eigen::Index>(num_frames) * num_points, kNaN);
+    seen_by.confidence.setZero(num_points, num_frames);
+    seen_by.agreed.setConstant(num_points, num_frames, false);
     if (views[v].detections.num_frames() < num_frames)
       result.warnings.push_back(fmt::format(
           "camera {}: detections for {} frames, the longest view has {}: its last {} frame(s) "
@@ -512,12 +518,16 @@ Triangulation TriangulateKeypoints(const std::vector<CameraView>& views,
         const int v = view_of[j][i];
         CameraTriangulationStats& stats = result.cameras[v];
         ++stats.detections;
+        ViewKeypoints& seen_by = result.observed[v];
+        seen_by.xy.col(static_cast<Eigen::Index>(k) * num_points + j) = frame[v].xy.col(j);
+        seen_by.confidence(j, k) = frame[v].confidence(j);
         if (!X[j].allFinite() || !agreed[j][i]) {
           if (X[j].allFinite()) ++stats.rejected;
           continue;
         }
         ++stats.agreed;
         ++n_agreed;
+        seen_by.agreed(j, k) = true;
         used.push_back({&geometry[v], frame[v].xy.col(j), frame[v].confidence(j)});
         const auto uv = views[v].camera.Project(X[j]);
         if (!uv) continue;

@@ -10,6 +10,7 @@
 
 #include <filesystem>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -18,6 +19,7 @@
 #include "acro/pipeline/trial_input.h"
 #include "acro/pose/pose_models.h"
 #include "acro/reconstruct/triangulation.h"
+#include "acro/reconstruct/view_fit.h"
 #include "acro/reconstruct/view_sync.h"
 #include "acro/vision/bed_detection.h"
 
@@ -62,6 +64,9 @@ struct ViewsInput {
   /// calibration's and every detection file's bytes), upright, with the athlete.
   TrialInput input;
   analysis::Triangulation triangulation;
+  /// The cameras' keypoints, posed in the trial's (upright) world: what ReconstructionOptions::views
+  /// takes for the fit of the model to the views.
+  std::shared_ptr<const analysis::ViewsToFit> views;
   std::vector<analysis::ViewOffset> offsets;  ///< per camera, as used (found or given)
   /// Per camera, where its offset comes from: "the time line" (the first camera), "found" (from
   /// the detections), "given", or "assumed" (0: not found, or --no-sync).

@@ -76,6 +76,17 @@ struct IkFrameResult {
   double final_cost = 0.0;
 };
 
+/// A marker seen by a camera: the ray from the camera's centre through its detection. The fit's
+/// residual is the marker's distance from the ray, w (I − d dᵀ)(p_WM − o) — the reprojection
+/// error measured in metres at the marker's depth, so that the joint limits and priors (m/rad) keep
+/// their meaning (docs/markerless.md, "The model fitted to the views").
+struct MarkerRay {
+  int marker = 0;
+  Eigen::Vector3d origin_W = Eigen::Vector3d::Zero();
+  Eigen::Vector3d direction_W = Eigen::Vector3d::UnitZ();  ///< unit length
+  double weight = 1.0;
+};
+
 class InverseKinematics {
  public:
   InverseKinematics(const dynamics::Model<double>& model,
@@ -94,6 +105,12 @@ class InverseKinematics {
   /// (InitializeRoot), then fits with the root alone and then with all coordinates, using
   /// cold_start_iterations.
   IkFrameResult Solve(const Eigen::Matrix3Xd& observed, Eigen::VectorXd& q, bool cold = false);
+
+  /// Solves one frame against rays instead of 3D positions (several cameras' detections of the
+  /// markers, or one camera's): a warm start from q (the structured Levenberg–Marquardt, with the
+  /// same robust loss, limits and priors; the temporal prior pulls towards q's angles). rms_m and
+  /// max_m are the rays' distances from their markers.
+  IkFrameResult SolveRays(const std::vector<MarkerRay>& rays, Eigen::VectorXd& q);
 
   /// Places the root (position and orientation) so that the markers of the pelvis and thorax
   /// (and markers at the origins of their child segments) match `observed` best with the joint

@@ -7,6 +7,7 @@
 // previous frame with left/right swap repair, run in parallel over independent chunks of frames.
 
 #include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 #include <vector>
@@ -20,6 +21,7 @@
 #include "acro/reconstruct/inverse_kinematics.h"
 #include "acro/reconstruct/markerset.h"
 #include "acro/reconstruct/scaling.h"
+#include "acro/reconstruct/view_fit.h"
 
 namespace acro::analysis {
 
@@ -69,6 +71,12 @@ struct ReconstructionOptions {
   int scaling_first_frame = -1;
   int scaling_last_frame = -1;
   InverseKinematicsOptions ik;
+  /// The cameras' 2D keypoints a triangulated trial was made from (view_fit.h): with them, the
+  /// motion fitted to the triangulated points is then fitted to the views themselves (when
+  /// fit_to_views). Empty: a trial of markers or keypoints alone.
+  std::shared_ptr<const ViewsToFit> views;
+  bool fit_to_views = true;
+  ViewFitOptions view_fit;
   /// Repair left/right swaps: in the raw data of marker sets (not keypoints), a mirror pair whose
   /// exchange brings both markers closer to their positions in the previous frame; before each
   /// warm-started frame, a pair whose exchange fits the model's predicted positions better.
@@ -120,6 +128,9 @@ struct ReconstructionSummary {
   double p95_rms_m = 0.0;
   double max_m = 0.0;
   std::vector<FlightFit> flights;
+  /// The fit to the views, when there was one: the marker errors above (and the motion's) are then
+  /// each keypoint's RMS distance from the rays of the detections it was fitted to.
+  std::optional<ViewFitSummary> view_fit;
   std::vector<std::string> warnings;
   std::string BriefReport() const;
 };

@@ -69,6 +69,20 @@ struct CameraTriangulationStats {
   double p90_reprojection_px = 0.0;
 };
 
+/// What one camera saw of the athlete as the triangulation used it: the chosen person's keypoints
+/// (its left and right put right), in the camera's normalised coordinates (distortion taken out
+/// unless TriangulationOptions::model_distortion is off) — what a fit of the model to the views
+/// starts from (view_fit.h).
+struct ViewKeypoints {
+  vision::Camera camera;
+  /// 2 × (frames · points), frame-major; NaN where the camera did not see the point (or below
+  /// the confidence threshold).
+  Eigen::Matrix2Xd xy;
+  Eigen::ArrayXXd confidence;  ///< points × frames; 0 where not seen
+  /// points × frames: the view agreed with the triangulated point (not outvoted).
+  Eigen::Array<bool, Eigen::Dynamic, Eigen::Dynamic> agreed;
+};
+
 struct Triangulation {
   std::vector<std::string> names;  ///< the keypoint set's names
   int num_frames = 0;
@@ -83,6 +97,8 @@ struct Triangulation {
   /// σ² (JᵀWJ)⁻¹ with σ² the weighted squared reprojection residual per degree of freedom.
   Eigen::ArrayXXd uncertainty_m;
   std::vector<CameraTriangulationStats> cameras;
+  /// Per camera, the detections used (in the views' order).
+  std::vector<ViewKeypoints> observed;
   /// Anything the user should know (a camera that never saw anyone, …), one line each.
   std::vector<std::string> warnings;
 

@@ -1,0 +1,324 @@
+#include "acro/reconstruct/view_fit.h"
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+#include <mutex>
+
+#include <fmt/format.h>
+#include <Eigen/Geometry>
+
+#include "acro/base/demand.h"
+#include "acro/base/input_error.h"
+#include "acro/base/parallel.h"
+#include "acro/dynamics/configuration.h"
+#include "acro/reconstruct/butterworth.h"
+
+namespace acro::analysis {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+double Median(std::vector<double> v) {
+  if (v.empty()) return kNaN;
+  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
+  std::nth_element(v.begin(), mid, v.end());
+  return *mid;
+}
+
+double FocalPx(const vision::Camera& c) {
+  return 0.5 * (c.K(0, 0) + c.K(1, 1));
+}
+
+// One camera's detections of one point in one frame, ready for the fit.
+struct Seen {
+  int view = 0;
+  int marker = 0;
+  Eigen::Vector2d xy = Eigen::Vector2d::Zero();   // as fitted (filtered)
+  Eigen::Vector2d raw = Eigen::Vector2d::Zero();  // as detected, for the reported error
+  double confidence = 0.0;
+  bool agreed = false;
+};
+
+// Reprojection error (px, normalised coordinates × focal) of p_W in view v; NaN behind it.
+double ErrorPx(const vision::Camera& c, const Eigen::Vector3d& p_W, const Eigen::Vector2d& xy) {
+  const Eigen::Vector3d p = c.R_KW * p_W + c.t_KW;
+  if (!(p.z() > 1e-6)) return kNaN;
+  return FocalPx(c) * (p.head<2>() / p.z() - xy).norm();
+}
+
+}  // namespace
+
+ViewsToFit MakeViewsToFit(const Triangulation& triangulation,
+                          const Eigen::Matrix3d& R_trial_world) {
+  ViewsToFit out;
+  out.names = triangulation.names;
+  out.num_frames = triangulation.num_frames;
+  out.views = triangulation.observed;
+  for (ViewKeypoints& v : out.views) v.camera.R_KW = v.camera.R_KW * R_trial_world.transpose();
+  return out;
+}
+
+bool ViewFitOptions::IsValid(std::string* why) const {
+  auto fail = [&](const char* w) {
+    if (why) *why = w;
+    return false;
+  };
+  if (!(gate_px > 0 && std::isfinite(gate_px))) return fail("gate_px must be finite and > 0");
+  if (max_iterations < 1) return fail("max_iterations must be >= 1");
+  if (num_threads < 0) return fail("num_threads must be >= 0");
+  return true;
+}
+
+std::string ViewFitSummary::Report() const {
+  std::string s = fmt::format(
+      "fit to the views: {} frames, {} detections ({} that no triangulated point had, {} beyond "
+      "the gate left out), reprojection median {:.1f} px from the triangulated fit → {:.1f} px\n",
+      frames,
+      detections_used,
+      detections_added,
+      detections_gated,
+      median_before_px,
+      median_after_px);
+  for (const ViewFitCamera& c : cameras)
+    s += fmt::format("  {}: {} detections, {} left out, median {:.1f} → {:.1f} px\n",
+                     c.name,
+                     c.used,
+                     c.gated,
+                     c.median_before_px,
+                     c.median_after_px);
+  return s;
+}
+
+ViewFitSummary FitModelToViews(const ViewsToFit& views,
+                               const std::vector<int>& marker_of_point,
+                               const dynamics::Model<double>& model,
+                               const std::vector<ModelMarker>& markers,
+                               const std::vector<JointLimit>& limits,
+                               const InverseKinematicsOptions& ik_options,
+                               double cutoff_hz,
+                               int filter_order,
+                               double rate_hz,
+                               const ViewFitOptions& options,
+                               Motion* motion,
+                               const Progress& progress) {
+  DemandValidOptions(options, "fit to the views");
+  const int P = static_cast<int>(views.names.size());
+  const int V = static_cast<int>(views.views.size());
+  const int F = std::min(motion->num_frames(), views.num_frames);
+  ACRO_DEMAND(static_cast<int>(marker_of_point.size()) == P);
+
+  ViewFitSummary summary;
+  summary.cameras.resize(static_cast<size_t>(V));
+  for (int v = 0; v < V; ++v) summary.cameras[size_t(v)].name = views.views[size_t(v)].camera.name;
+
+  // The detections within the gate of each frame's warm start (a wrong one is left out before
+  // the filter could spread it over its neighbours), then each view's tracks low-passed as the
+  // triangulated points were.
+  std::vector<Eigen::Matrix2Xd> xy(static_cast<size_t>(V));
+  for (int v = 0; v < V; ++v) xy[size_t(v)] = views.views[size_t(v)].xy;
+  {
+    InverseKinematics ik(model, markers, limits, ik_options);
+    Eigen::Matrix3Xd p_WM;
+    for (int k = 0; k < F; ++k) {
+      ik.CalcMarkerPositions(motion->q.col(k), p_WM);
+      for (int j = 0; j < P; ++j) {
+        const int m = marker_of_point[size_t(j)];
+        for (int v = 0; v < V; ++v) {
+          auto s = xy[size_t(v)].col(Eigen::Index(k) * P + j);
+          if (!s.allFinite()) continue;
+          if (m < 0 || !motion->fit[size_t(k)].valid ||
+              !(ErrorPx(views.views[size_t(v)].camera, p_WM.col(m), s) <= options.gate_px)) {
+            if (m >= 0 && motion->fit[size_t(k)].valid) ++summary.cameras[size_t(v)].gated;
+            s.setConstant(kNaN);
+          }
+        }
+      }
+    }
+  }
+  if (options.filter && cutoff_hz > 0 && cutoff_hz < 0.5 * rate_hz) {
+    const ButterworthFilter filter(filter_order, cutoff_hz, rate_hz);
+    Eigen::VectorXd track(F);
+    for (int v = 0; v < V; ++v)
+      for (int j = 0; j < P; ++j)
+        for (int r = 0; r < 2; ++r) {
+          for (int k = 0; k < F; ++k) track[k] = xy[size_t(v)](r, Eigen::Index(k) * P + j);
+          FilterWithGaps(filter, track);
+          for (int k = 0; k < F; ++k) xy[size_t(v)](r, Eigen::Index(k) * P + j) = track[k];
+        }
+  }
+
+  InverseKinematicsOptions fit_options = ik_options;
+  fit_options.max_iterations = options.max_iterations;
+  std::vector<Eigen::Vector3d> centre(static_cast<size_t>(V));
+  for (int v = 0; v < V; ++v) centre[size_t(v)] = views.views[size_t(v)].camera.CentreInWorld();
+
+  // Frames in chunks, one InverseKinematics per chunk.
+  const int threads = WorkerThreads(options.num_threads);
+  const int chunk_frames = 50;
+  const int chunks = (F + chunk_frames - 1) / chunk_frames;
+  std::mutex mutex;
+  std::vector<std::vector<double>> before(static_cast<size_t>(V)), after(static_cast<size_t>(V));
+  // Each frame's fitted configuration (NaN: not fitted) and the detections it used.
+  Eigen::MatrixXd fitted = Eigen::MatrixXd::Constant(motion->nq(), F, kNaN);
+  std::vector<std::vector<Seen>> used_by_frame(static_cast<size_t>(F));
+  std::atomic<int> done{0};
+  std::atomic<bool> stop{false};
+  ParallelFor(
+      chunks,
+      threads,
+      [&](int c) {
+        InverseKinematics ik(model, markers, limits, fit_options);
+        std::vector<std::vector<double>> chunk_before(static_cast<size_t>(V));
+        std::vector<int> used(size_t(V), 0);
+        int added = 0, frames = 0;
+        Eigen::Matrix3Xd p_WM;
+        std::vector<Seen> seen;
+        std::vector<MarkerRay> rays;
+        const int first = c * chunk_frames, last = std::min(F, first + chunk_frames);
+        for (int k = first; k < last; ++k) {
+          if (!motion->fit[size_t(k)].valid) continue;
+          Eigen::VectorXd q = motion->q.col(k);
+          ik.CalcMarkerPositions(q, p_WM);
+          seen.clear();
+          for (int j = 0; j < P; ++j) {
+            const int m = marker_of_point[size_t(j)];
+            if (m < 0) continue;
+            for (int v = 0; v < V; ++v) {
+              const ViewKeypoints& view = views.views[size_t(v)];
+              const double conf = view.confidence(j, k);
+              const Eigen::Vector2d s = xy[size_t(v)].col(Eigen::Index(k) * P + j);
+              if (!(conf > 0) || !s.allFinite()) continue;
+              seen.push_back(
+                  {v, m, s, view.xy.col(Eigen::Index(k) * P + j), conf, view.agreed(j, k)});
+            }
+          }
+          if (seen.size() < 3) continue;
+          // Weights: per view as pixels (the ray distance × f/z, relative to the point's views'
+          // mean), by the confidence, and by √(3 / 2n) so that n rays weigh as one 3D point.
+          rays.clear();
+          for (size_t a = 0; a < seen.size();) {
+            size_t b = a;
+            while (b < seen.size() && seen[b].marker == seen[a].marker) ++b;
+            const int n = static_cast<int>(b - a);
+            double mean_scale = 0, mean_conf = 0;
+            std::vector<double> scale(static_cast<size_t>(n));
+            for (size_t i = a; i < b; ++i) {
+              const vision::Camera& cam = views.views[size_t(seen[i].view)].camera;
+              const double z = (cam.R_KW * p_WM.col(seen[i].marker) + cam.t_KW).z();
+              scale[i - a] = FocalPx(cam) / z;
+              mean_scale += scale[i - a] / n;
+              mean_conf += seen[i].confidence / n;
+            }
+            for (size_t i = a; i < b; ++i) {
+              const vision::Camera& cam = views.views[size_t(seen[i].view)].camera;
+              MarkerRay ray;
+              ray.marker = seen[i].marker;
+              ray.origin_W = centre[size_t(seen[i].view)];
+              ray.direction_W =
+                  cam.R_KW.transpose() * Eigen::Vector3d(seen[i].xy.x(), seen[i].xy.y(), 1.0);
+              ray.weight = markers[size_t(ray.marker)].weight * std::sqrt(1.5 / n) *
+                           std::sqrt(seen[i].confidence / mean_conf) * scale[i - a] / mean_scale;
+              rays.push_back(ray);
+            }
+            a = b;
+          }
+          const IkFrameResult r = ik.SolveRays(rays, q);
+          if (!q.allFinite()) continue;
+          for (const Seen& s : seen) {
+            const vision::Camera& cam = views.views[size_t(s.view)].camera;
+            chunk_before[size_t(s.view)].push_back(ErrorPx(cam, p_WM.col(s.marker), s.raw));
+            ++used[size_t(s.view)];
+            added += s.agreed ? 0 : 1;
+          }
+          fitted.col(k) = q;
+          used_by_frame[size_t(k)] = seen;
+          motion->fit[size_t(k)].iterations += r.iterations;
+          ++frames;
+        }
+        std::lock_guard<std::mutex> lock(mutex);
+        for (int v = 0; v < V; ++v) {
+          before[size_t(v)].insert(before[size_t(v)].end(),
+                                   chunk_before[size_t(v)].begin(),
+                                   chunk_before[size_t(v)].end());
+          summary.cameras[size_t(v)].used += used[size_t(v)];
+        }
+        summary.frames += frames;
+        summary.detections_added += added;
+        done += last - first;
+        if (!progress.Report("fit to the views", done, F)) stop = true;
+      },
+      [&] { return !stop; });
+  if (stop) throw Cancelled("fit to the views: cancelled");
+
+  // The corrections to the fit to the points, low-passed as the tracks were: per frame the root's
+  // displacement, its rotation vector and the joint angles' changes, NaN where not fitted.
+  const int n = model.num_joint_dofs();
+  Eigen::MatrixXd corrections = Eigen::MatrixXd::Constant(F, 6 + n, kNaN);
+  for (int k = 0; k < F; ++k) {
+    if (!std::isfinite(fitted(0, k))) continue;
+    const Eigen::VectorXd q0 = motion->q.col(k), q1 = fitted.col(k);
+    corrections.block(k, 0, 1, 3) = (q1.head<3>() - q0.head<3>()).transpose();
+    const Eigen::AngleAxisd turn(dynamics::GetRootQuaternion(q0).normalized().conjugate() *
+                                 dynamics::GetRootQuaternion(q1).normalized());
+    corrections.block(k, 3, 1, 3) = (turn.angle() * turn.axis()).transpose();
+    corrections.block(k, 6, 1, n) = (q1.tail(n) - q0.tail(n)).transpose();
+  }
+  if (options.filter && cutoff_hz > 0 && cutoff_hz < 0.5 * rate_hz)
+    FilterColumnsWithGaps(ButterworthFilter(filter_order, cutoff_hz, rate_hz), corrections);
+  InverseKinematics ik(model, markers, limits, fit_options);
+  Eigen::Matrix3Xd p_WM;
+  for (int k = 0; k < F; ++k) {
+    if (!corrections.row(k).allFinite()) continue;
+    Eigen::VectorXd q = motion->q.col(k);
+    q.head<3>() += corrections.block(k, 0, 1, 3).transpose();
+    const Eigen::Vector3d phi = corrections.block(k, 3, 1, 3).transpose();
+    dynamics::SetRootQuaternion<double>(
+        dynamics::GetRootQuaternion(q).normalized() * dynamics::QuaternionExp<double>(phi), q);
+    q.tail(n) += corrections.block(k, 6, 1, n).transpose();
+    motion->q.col(k) = q;
+    ik.CalcMarkerPositions(q, p_WM);
+    // The fit's residual: per marker, the RMS distance from the rays it was fitted to.
+    Eigen::VectorXd sum = Eigen::VectorXd::Zero(Eigen::Index(markers.size()));
+    Eigen::VectorXi count = Eigen::VectorXi::Zero(Eigen::Index(markers.size()));
+    for (const Seen& s : used_by_frame[size_t(k)]) {
+      const vision::Camera& cam = views.views[size_t(s.view)].camera;
+      after[size_t(s.view)].push_back(ErrorPx(cam, p_WM.col(s.marker), s.raw));
+      const Eigen::Vector3d d =
+          (cam.R_KW.transpose() * Eigen::Vector3d(s.xy.x(), s.xy.y(), 1.0)).normalized();
+      const Eigen::Vector3d r = p_WM.col(s.marker) - centre[size_t(s.view)];
+      sum[s.marker] += (r - d * d.dot(r)).squaredNorm();
+      ++count[s.marker];
+    }
+    FrameFit& fit = motion->fit[size_t(k)];
+    double total = 0;
+    int markers_seen = 0;
+    fit.max_m = 0;
+    for (Eigen::Index m = 0; m < sum.size(); ++m) {
+      const double e = count[m] > 0 ? std::sqrt(sum[m] / count[m]) : kNaN;
+      motion->marker_error_m(m, k) = e;
+      if (count[m] == 0) continue;
+      total += e * e;
+      ++markers_seen;
+      fit.max_m = std::max(fit.max_m, e);
+    }
+    fit.rms_m = std::sqrt(total / std::max(1, markers_seen));
+  }
+  std::vector<double> all_before, all_after;
+  for (int v = 0; v < V; ++v) {
+    ViewFitCamera& c = summary.cameras[size_t(v)];
+    c.median_before_px = Median(before[size_t(v)]);
+    c.median_after_px = Median(after[size_t(v)]);
+    summary.detections_used += c.used;
+    summary.detections_gated += c.gated;
+    all_before.insert(all_before.end(), before[size_t(v)].begin(), before[size_t(v)].end());
+    all_after.insert(all_after.end(), after[size_t(v)].begin(), after[size_t(v)].end());
+  }
+  summary.median_before_px = Median(all_before);
+  summary.median_after_px = Median(all_after);
+  return summary;
+}
+
+}  // namespace acro::analysis
