@@ -141,8 +141,9 @@ pipeline::ViewsInput OpenVideosFor(const AnalyzeArguments& args, const TrialArgu
   const VideoArguments& v = args.video;
   if (v.more_videos.empty())
     throw UsageError{
-        "one --video without TRIAL: the analysis from a single camera is not built yet "
-        "(docs/markerless.md); give two or more calibrated cameras' videos, or the trial"};
+        "one --video without TRIAL: the full analysis from a single camera is not built yet "
+        "(docs/one-camera.md); `acrolab video flights VIDEO -o DIR` times its flights, or give "
+        "two or more calibrated cameras' videos, or the trial"};
   if (v.calibration.empty()) throw UsageError{"--video without TRIAL needs --calib (the cameras)"};
   if (!v.sync.empty() || !v.event.empty() || v.offset_s != 0.0 || v.rate != 1.0 ||
       !v.camera.empty())

@@ -740,6 +740,33 @@ TEST(Cli, SyncFromImageMotionFindsALateVideo) {
   EXPECT_NE(Slurp(dir / "cost.svg").find("<svg"), std::string::npos);
 }
 
+// `video flights` on a video with no bed in its first frame and no line given: one line naming the
+// video and what to give, no detection run, nothing written.
+TEST(Cli, VideoFlightsWithoutABedSaysSoBeforeAnyWork) {
+  const auto dir = acro::testing::TempDir() / "flights_no_bed";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  const ProcessResult grey = Execute(
+      "ffmpeg -v error -y -f lavfi -i 'color=c=0xb4b4b4:s=320x240:r=30:d=1' -c:v libx264 "
+      "-preset ultrafast -pix_fmt yuv420p " +
+      Quote(dir / "grey.mp4"));
+  if (grey.status != 0) GTEST_SKIP() << "the ffmpeg command is not installed";
+  const ProcessResult run = Execute(std::string(ACROLAB_EXE) + " video flights " +
+                                    Quote(dir / "grey.mp4") + " -o " + Quote(dir / "out"));
+  EXPECT_EQ(run.status, 1) << run.err;
+  EXPECT_NE(run.err.find("grey.mp4"), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("--bed-line"), std::string::npos) << run.err;
+  EXPECT_EQ(run.err.find("detect ["), std::string::npos) << "work was done: " << run.err;
+  EXPECT_EQ(std::count(run.err.begin(), run.err.end(), '\n'), 1) << run.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "out" / "flights.json"));
+  // A malformed line is the option's own error.
+  const ProcessResult bad =
+      Execute(std::string(ACROLAB_EXE) + " video flights " + Quote(dir / "grey.mp4") +
+              " --bed-line 12 -o " + Quote(dir / "out"));
+  EXPECT_NE(bad.status, 0);
+  EXPECT_NE(bad.err.find("--bed-line"), std::string::npos) << bad.err;
+}
+
 #ifdef ACRO_HAVE_VIEWS
 // `analyze --video`: the sample routine with its video (made from the true motion, 0.575 s after
 // the mocap): the sync found from the image motion, a silhouette IoU per jump in jumps.json and on

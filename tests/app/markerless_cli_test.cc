@@ -3,7 +3,8 @@
 // the keypoints triangulated — against `acrolab analyze` of the same routine's motion capture:
 // the cameras' offsets, every flight found, its landing time and landing spot (asserted); its
 // take-off, apex, code and verdict and the joint angles in flight (measured and printed:
-// docs/markerless.md says what is not met).
+// docs/markerless.md says what is not met). Then the side video alone, `acrolab video flights`:
+// each flight's take-off and landing from the picture (asserted within a frame).
 
 #include <algorithm>
 #include <cmath>
@@ -184,6 +185,47 @@ TEST(Markerless, SampleRoutineFromFourVideosAgreesWithItsMotionCapture) {
   std::nth_element(all.begin(), all.begin() + static_cast<long>(all.size() / 2), all.end());
   std::printf("joint angles in flight: median %.1f deg from the motion capture's\n",
               all[all.size() / 2]);
+
+  // One camera (docs/one-camera.md, "Flights from the image"): the side video alone, no
+  // calibration — its detections are the ones above — every flight it sees whole timed within a
+  // frame of the motion capture's take-off and landing (the video starts in the first flight).
+  const nlohmann::json side_truth = nlohmann::json::parse(Slurp(Sample() / "video_truth.json"));
+  const ProcessResult side =
+      Execute(std::string(ACROLAB_EXE) + " video flights " + Quote(dir / "side_camera.mp4") +
+              " --quiet -o " + Quote(dir / "side"));
+  ASSERT_EQ(side.status, 0) << side.err;
+  std::printf("%s", side.out.c_str());
+  const nlohmann::json flights = nlohmann::json::parse(Slurp(dir / "side/flights.json"));
+  const double video_to_trial = -side_truth["offset_s"].get<double>();
+  int complete = 0;
+  double sum_ours = 0, sum_theirs = 0;
+  for (const auto& f : flights["flights"]) {
+    if (f["partial"].get<bool>()) continue;
+    ++complete;
+    const double takeoff = f["takeoff_s"].get<double>() + video_to_trial;
+    const double landing = f["landing_s"].get<double>() + video_to_trial;
+    const nlohmann::json* m = &b[0];
+    for (const auto& j : b)
+      if (std::abs(j["takeoff_s"].get<double>() - takeoff) <
+          std::abs((*m)["takeoff_s"].get<double>() - takeoff))
+        m = &j;
+    std::printf(
+        "one camera, flight %d: take-off %+.1f ms, landing %+.1f ms, time of flight %+.1f ms\n",
+        f["index"].get<int>(),
+        1e3 * (takeoff - (*m)["takeoff_s"].get<double>()),
+        1e3 * (landing - (*m)["landing_s"].get<double>()),
+        1e3 * ((landing - takeoff) -
+               ((*m)["landing_s"].get<double>() - (*m)["takeoff_s"].get<double>())));
+    EXPECT_NEAR(takeoff, (*m)["takeoff_s"].get<double>(), frame_s) << f["index"];
+    EXPECT_NEAR(landing, (*m)["landing_s"].get<double>(), frame_s) << f["index"];
+    sum_ours += landing - takeoff;
+    sum_theirs += (*m)["landing_s"].get<double>() - (*m)["takeoff_s"].get<double>();
+  }
+  EXPECT_EQ(complete, 5);
+  std::printf("one camera: time of flight of the %d flights %.3f s against %.3f s\n",
+              complete,
+              sum_ours,
+              sum_theirs);
 }
 
 }  // namespace

@@ -1,0 +1,333 @@
+#include "acro/vision/image_flights.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cmath>
+#include <limits>
+
+#include <fmt/format.h>
+#include <Eigen/QR>
+
+#include "acro/base/input_error.h"
+
+namespace acro::vision {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+
+std::string Lower(std::string s) {
+  for (char& c : s) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  return s;
+}
+
+// Which keypoints are the hips, the feet (soles: ankles, heels, toes) and the head.
+struct BodyParts {
+  std::vector<int> hips, feet, head;
+};
+
+BodyParts FindParts(const std::vector<std::string>& names) {
+  BodyParts parts;
+  for (int j = 0; j < static_cast<int>(names.size()); ++j) {
+    const std::string n = Lower(names[size_t(j)]);
+    if (n.find("hip") != std::string::npos) parts.hips.push_back(j);
+    if (n.find("ankle") != std::string::npos || n.find("heel") != std::string::npos ||
+        n.find("toe") != std::string::npos || n.find("foot_index") != std::string::npos)
+      parts.feet.push_back(j);
+    if (n.find("nose") != std::string::npos || n.find("eye") != std::string::npos ||
+        n.find("ear") != std::string::npos || n == "head")
+      parts.head.push_back(j);
+  }
+  return parts;
+}
+
+double Percentile(std::vector<double> v, double p) {
+  if (v.empty()) return kNaN;
+  const size_t k = std::min(v.size() - 1, static_cast<size_t>(p * double(v.size() - 1) + 0.5));
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+  return v[k];
+}
+
+// The root of a t² + b t + c = 0 nearest `near` (NaN when none is real).
+double RootNearest(double a, double b, double c, double near) {
+  if (std::abs(a) < 1e-12) return std::abs(b) > 1e-12 ? -c / b : kNaN;
+  const double disc = b * b - 4 * a * c;
+  if (disc < 0) return kNaN;
+  const double s = std::sqrt(disc);
+  const double r1 = (-b - s) / (2 * a), r2 = (-b + s) / (2 * a);
+  return std::abs(r1 - near) < std::abs(r2 - near) ? r1 : r2;
+}
+
+}  // namespace
+
+BedLine RestLineOfBed(const BedDetection& bed) {
+  const auto& c = bed.corners_px;  // clockwise from the top left: upper side c0–c1, lower c3–c2
+  const Eigen::Vector2d left = 0.5 * (c[0] + c[3]), right = 0.5 * (c[1] + c[2]);
+  const double width = std::abs(right.x() - left.x());
+  const double height = 0.5 * ((c[3] - c[0]).norm() + (c[2] - c[1]).norm());
+  if (!(width > height))
+    throw InputError(bed.source,
+                     "bed",
+                     fmt::format("the bed is {:.0f} px wide and {:.0f} px high in the picture: a "
+                                 "camera at its end or above it, whose rest line is not one line; "
+                                 "film from beside the trampoline or give the line",
+                                 width,
+                                 height));
+  BedLine line;
+  line.slope = (right.y() - left.y()) / (right.x() - left.x());
+  line.y0_px = left.y() - line.slope * left.x();
+  line.source = "the bed detected in " + bed.source;
+  return line;
+}
+
+bool ImageFlightOptions::IsValid(std::string* why) const {
+  auto fail = [&](const char* w) {
+    if (why) *why = w;
+    return false;
+  };
+  if (!(min_confidence >= 0 && min_confidence <= 1))
+    return fail("min_confidence must be in [0, 1]");
+  if (!(clearance_fraction >= 0 && clearance_fraction < 0.5))
+    return fail("clearance_fraction must be in [0, 0.5)");
+  if (!(min_flight_s > 0 && std::isfinite(min_flight_s))) return fail("min_flight_s must be > 0");
+  if (min_arc_frames < 3) return fail("min_arc_frames must be >= 3");
+  return true;
+}
+
+double ImageFlights::TotalTimeOfFlight() const {
+  double sum = 0;
+  for (const ImageFlight& f : flights)
+    if (!f.partial()) sum += f.time_of_flight_s();
+  return sum;
+}
+
+ImageFlights FindFlightsInImage(const capture::KeypointDetections& detections,
+                                double rate_hz,
+                                const BedLine& bed,
+                                const ImageFlightOptions& options) {
+  DemandValidOptions(options, "flights from the image");
+  if (!(rate_hz > 0 && std::isfinite(rate_hz)))
+    throw InputError(detections.source, "rate", fmt::format("a frame rate of {:g} Hz", rate_hz));
+  const BodyParts parts = FindParts(detections.names);
+  if (parts.hips.empty() || parts.feet.empty())
+    throw InputError(
+        detections.source,
+        "detections",
+        "the keypoints name no hips or no feet (ankles, heels, toes): the soles and the "
+        "hips are what the flights are found from");
+  const int F = detections.num_frames();
+  ImageFlights out;
+  out.bed = bed;
+  out.rate_hz = rate_hz;
+  out.sole_y_px.setConstant(F, kNaN);
+  out.hip_y_px.setConstant(F, kNaN);
+  out.sole_x_px.setConstant(F, kNaN);
+  Eigen::VectorXd& sole_x = out.sole_x_px;
+  std::vector<double> heights;
+  const double c_min = options.min_confidence;
+  for (int k = 0; k < F; ++k) {
+    const auto& people = detections.frames[size_t(k)];
+    if (people.empty()) continue;
+    // The most confident person.
+    size_t best = 0;
+    double best_sum = -1;
+    for (size_t p = 0; p < people.size(); ++p) {
+      const double s =
+          (people[p].row(2).array() >= c_min).select(people[p].row(2).array(), 0).sum();
+      if (s > best_sum) {
+        best_sum = s;
+        best = p;
+      }
+    }
+    const capture::DetectedPerson& person = people[best];
+    auto seen = [&](int j) {
+      return j < person.cols() && person(2, j) >= c_min && std::isfinite(person(1, j));
+    };
+    double sole = -std::numeric_limits<double>::infinity(), x = kNaN;
+    for (int j : parts.feet)
+      if (seen(j) && person(1, j) > sole) {
+        sole = person(1, j);
+        x = person(0, j);
+      }
+    double hip = 0;
+    int hips = 0;
+    for (int j : parts.hips)
+      if (seen(j)) {
+        hip += person(1, j);
+        ++hips;
+      }
+    if (std::isfinite(sole)) {
+      out.sole_y_px[k] = sole;
+      sole_x[k] = x;
+    }
+    if (hips > 0) out.hip_y_px[k] = hip / hips;
+    double top = std::numeric_limits<double>::infinity();
+    for (int j : parts.head)
+      if (seen(j)) top = std::min(top, person(1, j));
+    if (std::isfinite(sole) && std::isfinite(top) && sole > top) heights.push_back(sole - top);
+  }
+  if (heights.size() < 5)
+    throw InputError(
+        detections.source,
+        "detections",
+        fmt::format("the athlete's head and feet are seen together in {} frame(s): too "
+                    "few to tell the athlete's size in the picture (5 needed)",
+                    heights.size()));
+  // The extended body (upright or upside down, not tucked): a high percentile of the head–soles
+  // distance.
+  out.athlete_height_px = Percentile(heights, 0.9);
+  const double clearance = options.clearance_fraction * out.athlete_height_px;
+
+  // Height of the soles above the rest line (px, up positive) and the air/contact state.
+  Eigen::VectorXd h(F);
+  for (int k = 0; k < F; ++k)
+    h[k] = std::isfinite(out.sole_y_px[k]) ? bed.At(sole_x[k]) - out.sole_y_px[k] : kNaN;
+  std::vector<int> air(size_t(F), -1);  // 1 air, 0 contact, −1 unknown (before anything is seen)
+  int state = -1;
+  for (int k = 0; k < F; ++k) {
+    if (std::isfinite(h[k])) {
+      if (h[k] > clearance)
+        state = 1;
+      else if (h[k] <= 0)
+        state = 0;
+      else if (state < 0)
+        state = 0;
+    }
+    air[size_t(k)] = state;
+  }
+  const double dt = 1.0 / rate_hz;
+  const int min_frames = std::max(2, static_cast<int>(std::ceil(options.min_flight_s * rate_hz)));
+  for (int a = 0; a < F;) {
+    if (air[size_t(a)] != 1) {
+      ++a;
+      continue;
+    }
+    int b = a;
+    while (b + 1 < F && air[size_t(b) + 1] == 1) ++b;
+    const int run = b - a + 1;
+    const int next = b + 1;
+    if (run < min_frames) {
+      a = next;
+      continue;
+    }
+    ImageFlight f;
+    // The crossings: the last frame on the bed (h ≤ 0) before the run, the first after it.
+    for (int k = a - 1; k >= 0; --k)
+      if (std::isfinite(h[k]) && h[k] <= 0) {
+        f.last_contact_frame = k;
+        break;
+      }
+    for (int k = b + 1; k < F; ++k)
+      if (std::isfinite(h[k]) && h[k] <= 0) {
+        f.first_contact_frame = k;
+        break;
+      }
+    // The airborne frames between them (h > 0), and the hips' arc over them.
+    const int first_air = f.last_contact_frame >= 0 ? f.last_contact_frame + 1 : a;
+    const int last_air = f.first_contact_frame >= 0 ? f.first_contact_frame - 1 : b;
+    std::vector<int> arc;
+    for (int k = first_air; k <= last_air; ++k)
+      if (std::isfinite(out.hip_y_px[k]) && std::isfinite(h[k]) && h[k] > 0) arc.push_back(k);
+    const double t_mid = 0.5 * (first_air + last_air) * dt;
+    Eigen::Vector3d coef = Eigen::Vector3d::Constant(kNaN);  // y = c0 + c1 τ + c2 τ², τ = t − t_mid
+    if (static_cast<int>(arc.size()) >= options.min_arc_frames) {
+      Eigen::MatrixXd A(arc.size(), 3);
+      Eigen::VectorXd y(arc.size());
+      for (size_t i = 0; i < arc.size(); ++i) {
+        const double tau = arc[i] * dt - t_mid;
+        A.row(Eigen::Index(i)) << 1, tau, tau * tau;
+        y[Eigen::Index(i)] = out.hip_y_px[arc[i]];
+      }
+      coef = A.colPivHouseholderQr().solve(y);
+      if (!(coef[2] > 0)) coef.setConstant(kNaN);  // not an arc going up then down
+    }
+    f.apex_s = std::isfinite(coef[2]) ? t_mid - coef[1] / (2 * coef[2])
+                                      : 0.5 * (first_air + last_air) * dt;
+    // One crossing: between frame `on` (on the bed) and `off` (in the air), by the soles' linear
+    // interpolation and, when the arc is there, by the arc with the soles' offset at `off`.
+    auto crossing = [&](int on, int off, std::string* method) {
+      const double t_on = on * dt, t_off = off * dt;
+      double soles = t_on + (t_off - t_on) * (-h[on]) / (h[off] - h[on]);
+      // At high frame rates, a straight line through the soles' heights within 25 ms of that
+      // crossing (each side's frames on their side of the line): the noise averaged rather than
+      // the crossing moved to wherever it made the last frame dip below the line.
+      {
+        double sw = 0, st = 0, sh = 0, stt = 0, sth = 0;
+        int n = 0;
+        for (int k = std::max(0, std::min(on, off) - 20);
+             k <= std::min(F - 1, std::max(on, off) + 20);
+             ++k) {
+          if (!std::isfinite(h[k]) || std::abs(k * dt - soles) > 0.025) continue;
+          const double t = k * dt - soles;
+          sw += 1;
+          st += t;
+          sh += h[k];
+          stt += t * t;
+          sth += t * h[k];
+          ++n;
+        }
+        const double det = sw * stt - st * st;
+        if (n > 2 && det > 0) {
+          const double slope = (sw * sth - st * sh) / det, intercept = (sh - slope * st) / sw;
+          if (std::abs(slope) > 0) {
+            const double t = soles - intercept / slope;
+            if (std::abs(t - soles) <= dt) soles = t;
+          }
+        }
+      }
+      *method = "soles";
+      if (!options.time_from_arc || !std::isfinite(coef[2])) return soles;
+      // The soles' offset from the arc: their mean over the airborne frames within 50 ms of the
+      // crossing (the legs still as they left the bed), `off` at least.
+      const int step = off > on ? 1 : -1;
+      double offset = 0;
+      int n = 0;
+      for (int k = off;
+           k >= first_air && k <= last_air && (n == 0 || std::abs(k - off) * dt <= 0.05);
+           k += step) {
+        if (!std::isfinite(out.sole_y_px[k])) continue;
+        const double tau = k * dt - t_mid;
+        offset += out.sole_y_px[k] - (coef[0] + coef[1] * tau + coef[2] * tau * tau);
+        ++n;
+      }
+      if (n == 0) return soles;
+      offset /= n;
+      const double rest = bed.At(sole_x[off]);
+      // The arc plus the offset reaches the rest line: c2 τ² + c1 τ + (c0 + offset − rest) = 0.
+      const double tau = RootNearest(coef[2], coef[1], coef[0] + offset - rest, soles - t_mid);
+      const double t = t_mid + tau;
+      // The arc's crossing is taken when it is within a frame of the soles' own, or within 20 ms
+      // at high frame rates, where the noise moves the soles' last frame on the bed by several.
+      if (!std::isfinite(t) || std::abs(t - soles) > std::max(dt, 0.02)) return soles;
+      *method = "arc";
+      return t;
+    };
+    // The airborne frame next to each crossing that saw the soles.
+    int takeoff_off = f.last_contact_frame + 1, landing_off = f.first_contact_frame - 1;
+    while (takeoff_off <= b && !std::isfinite(h[takeoff_off])) ++takeoff_off;
+    while (landing_off >= a && !std::isfinite(h[landing_off])) --landing_off;
+    f.takeoff_s = f.last_contact_frame >= 0
+                      ? crossing(f.last_contact_frame, takeoff_off, &f.takeoff_method)
+                      : kNaN;
+    f.landing_s = f.first_contact_frame >= 0
+                      ? crossing(f.first_contact_frame, landing_off, &f.landing_method)
+                      : kNaN;
+    if (f.first_contact_frame >= 0)
+      f.landing_px =
+          Eigen::Vector2d(sole_x[f.first_contact_frame], out.sole_y_px[f.first_contact_frame]);
+    out.flights.push_back(f);
+    a = next;
+  }
+  if (out.flights.empty())
+    out.warnings.push_back(fmt::format(
+        "no flight: the soles never rose {:.0f} px ({:.0f} % of the athlete's {:.0f} px) above the "
+        "bed's line ({}) for {:.2f} s",
+        clearance,
+        100 * options.clearance_fraction,
+        out.athlete_height_px,
+        bed.source,
+        options.min_flight_s));
+  return out;
+}
+
+}  // namespace acro::vision
