@@ -18,6 +18,7 @@
 #include "acro/capture/video.h"
 #include "acro/dynamics/configuration.h"
 #include "acro/fig/rules.h"
+#include "acro/pipeline/monocular_input.h"
 #include "acro/pipeline/steps.h"
 #include "acro/report/analysis_report.h"
 #include "acro/scene/silhouette_check.h"
@@ -135,22 +136,41 @@ void AnalyzeFilmstrips(const pipeline::TrialInput& input,
 #endif
 }
 
+// The options a video without TRIAL cannot take.
+void CheckVideosWithoutTrial(const VideoArguments& v, const TrialArguments& common) {
+  if (v.calibration.empty())
+    throw UsageError{
+        "--video without TRIAL needs --calib (the cameras); `acrolab video flights VIDEO -o DIR` "
+        "times one video's flights with none"};
+  if (!v.sync.empty() || !v.event.empty() || v.offset_s != 0.0 || v.rate != 1.0)
+    throw UsageError{
+        "--sync, --event, --offset-s and --rate set one video's sync against a trial: without "
+        "TRIAL the video is the time line"};
+  if (!common.static_path.empty()) throw UsageError{"--static goes with TRIAL"};
+}
+
+// One calibrated camera's video as the pipeline opens it (docs/one-camera.md).
+pipeline::MonocularInput OpenOneVideoFor(const AnalyzeArguments& args,
+                                         const TrialArguments& common) {
+  const VideoArguments& v = args.video;
+  CheckVideosWithoutTrial(v, common);
+  pipeline::MonocularRequest request;
+  request.video = v.video;
+  request.calibration = v.calibration;
+  request.camera = v.camera;
+  request.athlete = common.Request().athlete;
+  pipeline::MonocularInput mono = pipeline::OpenMonocular(request, MakeStepProgress(common.quiet));
+  if (!common.quiet) std::fputs(mono.Report().c_str(), stderr);
+  return mono;
+}
+
 // Several cameras' videos as the pipeline opens them: each video named after its camera (or
 // CAM=PATH), the sync found from the detections.
 pipeline::ViewsInput OpenVideosFor(const AnalyzeArguments& args, const TrialArguments& common) {
   const VideoArguments& v = args.video;
-  if (v.more_videos.empty())
-    throw UsageError{
-        "one --video without TRIAL: the full analysis from a single camera is not built yet "
-        "(docs/one-camera.md); `acrolab video flights VIDEO -o DIR` times its flights, or give "
-        "two or more calibrated cameras' videos, or the trial"};
-  if (v.calibration.empty()) throw UsageError{"--video without TRIAL needs --calib (the cameras)"};
-  if (!v.sync.empty() || !v.event.empty() || v.offset_s != 0.0 || v.rate != 1.0 ||
-      !v.camera.empty())
-    throw UsageError{
-        "--sync, --event, --offset-s, --rate and --camera set one video's sync against a "
-        "trial: without TRIAL the cameras are synced from their detections"};
-  if (!common.static_path.empty()) throw UsageError{"--static goes with TRIAL"};
+  CheckVideosWithoutTrial(v, common);
+  if (!v.camera.empty())
+    throw UsageError{"--camera names one video's camera: several videos are named after theirs"};
   const std::vector<vision::Camera> cameras = vision::ReadCameras(v.calibration);
   pipeline::ViewsRequest request;
   std::vector<std::string> all = {v.video};
@@ -173,15 +193,28 @@ int RunAnalyze(AnalyzeArguments& args) {
   // detected in each, the cameras synced and the keypoints triangulated by the pipeline.
   std::optional<pipeline::VideoInput> video;
   std::optional<pipeline::ViewsInput> views;
+  std::optional<pipeline::MonocularInput> mono;
   pipeline::TrialInput input;
   if (common.trial_path.empty()) {
     if (args.video.video.empty())
       throw UsageError{
           "give TRIAL (markers or keypoints), or several cameras' videos: --video A "
           "--video B … --calib C"};
-    views = OpenVideosFor(args, common);
-    input = std::move(views->input);
-    args.options.reconstruction.views = views->views;
+    if (args.video.more_videos.empty()) {
+      mono = OpenOneVideoFor(args, common);
+      input = std::move(mono->input);
+      args.options.reconstruction.views = mono->views;
+      if (!args.options.bed && !args.options.surface_height_m)
+        args.options.surface_height_m = mono->bed_height_m;
+      // The flights as the picture's soles time them (the trial's clock is the video's).
+      for (const vision::ImageFlight& f : mono->flights.flights)
+        args.options.given_flights_s.emplace_back(f.takeoff_s, f.landing_s);
+      args.options.given_flights_source = "picture's soles against the bed's line";
+    } else {
+      views = OpenVideosFor(args, common);
+      input = std::move(views->input);
+      args.options.reconstruction.views = views->views;
+    }
     if (views->bed && !args.options.bed) {
       analysis::BedGeometry bed;
       bed.centre_W = views->bed->centre_W;
@@ -219,6 +252,15 @@ int RunAnalyze(AnalyzeArguments& args) {
     request.sync.offset_s = views->first_frame[0] / views->rates_hz[0];
     request.sync.rate = 1.0;
     video.emplace(request);
+  } else if (mono) {
+    pipeline::VideoRequest request;
+    request.video = input.path;
+    request.calibration = args.video.calibration;
+    request.camera = mono->camera.name;
+    request.sync.kind = pipeline::SyncRequest::Kind::kOffset;
+    request.sync.offset_s = 0;
+    request.sync.rate = 1.0;
+    video.emplace(request);
   } else if (!args.video.video.empty() || !args.video.calibration.empty()) {
     video.emplace(OpenVideoFor(args.video));
   }
@@ -245,7 +287,7 @@ int RunAnalyze(AnalyzeArguments& args) {
   analysis::WriteAnalysisTables(result, dir);
   // Which Acrolab analysed which content (for acrolab library add --analysis).
   WriteFileAtomically(dir / "analysis.json", pipeline::FormatAnalysisProvenance(input));
-  report.trial_path = views ? input.trial.source.path : common.trial_path;
+  report.trial_path = views || mono ? input.trial.source.path : common.trial_path;
   report.render_images = args.images;
   if (!common.quiet) std::fprintf(stderr, "report: rendering plots\n");
   const ui::AnalysisReportOutcome outcome = ui::WriteAnalysisReport(result, dir, report);

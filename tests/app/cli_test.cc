@@ -767,6 +767,30 @@ TEST(Cli, VideoFlightsWithoutABedSaysSoBeforeAnyWork) {
   EXPECT_NE(bad.err.find("--bed-line"), std::string::npos) << bad.err;
 }
 
+// `analyze --video V --calib C` with one camera whose calibration's world is not Z up: one line
+// naming the calibration and the camera before any detection, nothing written.
+TEST(Cli, OneCameraWhoseWorldIsNotZUpIsRefusedFirst) {
+  const auto dir = acro::testing::TempDir() / "one_camera_y_up";
+  std::filesystem::remove_all(dir);
+  std::filesystem::create_directories(dir);
+  {
+    std::ofstream toml(dir / "y_up.toml");
+    toml << "[side]\nname = \"side\"\nsize = [1920, 1080]\n"
+            "matrix = [[1482, 0, 968.4], [0, 1478.5, 536.1], [0, 0, 1]]\n"
+            "distortions = [0, 0, 0, 0]\nrotation = [0, 0, 0]\ntranslation = [0, 0, 10]\n"
+            "fisheye = false\n";
+  }
+  const ProcessResult run =
+      Execute(std::string(ACROLAB_EXE) + " analyze --video " +
+              Quote(RepoFile("samples/trials/trampoline_routine/side_camera.mp4")) + " --calib " +
+              Quote(dir / "y_up.toml") + " -o " + Quote(dir / "out"));
+  EXPECT_EQ(run.status, 1) << run.err;
+  EXPECT_NE(run.err.find("y_up.toml: camera side: "), std::string::npos) << run.err;
+  EXPECT_NE(run.err.find("Z is up"), std::string::npos) << run.err;
+  EXPECT_EQ(run.err.find("detect ["), std::string::npos) << "work was done: " << run.err;
+  EXPECT_FALSE(std::filesystem::exists(dir / "out" / "report.html"));
+}
+
 #ifdef ACRO_HAVE_VIEWS
 // `analyze --video`: the sample routine with its video (made from the true motion, 0.575 s after
 // the mocap): the sync found from the image motion, a silhouette IoU per jump in jumps.json and on

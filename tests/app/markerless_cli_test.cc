@@ -37,6 +37,17 @@ std::string Slurp(const fs::path& p) {
   return s.str();
 }
 
+// The flight of `flights` whose take-off is nearest `takeoff_s`.
+const nlohmann::json* NearestByTakeoff(const std::vector<nlohmann::json>& flights,
+                                       double takeoff_s) {
+  const nlohmann::json* best = &flights[0];
+  for (const auto& f : flights)
+    if (std::abs(f["takeoff_s"].get<double>() - takeoff_s) <
+        std::abs((*best)["takeoff_s"].get<double>() - takeoff_s))
+      best = &f;
+  return best;
+}
+
 fs::path Sample() {
   return acro::testing::SourceDir() / "samples/trials/trampoline_routine";
 }
@@ -89,11 +100,7 @@ TEST(Markerless, SampleRoutineFromFourVideosAgreesWithItsMotionCapture) {
   int codes = 0, takeoffs = 0, apexes = 0, verdicts = 0;
   for (size_t i = 0; i < a.size(); ++i) {
     const double takeoff = a[i]["takeoff_s"].get<double>() + shift_s;
-    const nlohmann::json* m = &b[0];
-    for (const auto& j : b)
-      if (std::abs(j["takeoff_s"].get<double>() - takeoff) <
-          std::abs((*m)["takeoff_s"].get<double>() - takeoff))
-        m = &j;
+    const nlohmann::json* m = NearestByTakeoff(b, takeoff);
     const double landing = a[i]["landing_s"].get<double>() + shift_s;
     const double apex = a[i]["apex_m"].get<double>() - (*m)["apex_m"].get<double>();
     std::printf(
@@ -204,11 +211,7 @@ TEST(Markerless, SampleRoutineFromFourVideosAgreesWithItsMotionCapture) {
     ++complete;
     const double takeoff = f["takeoff_s"].get<double>() + video_to_trial;
     const double landing = f["landing_s"].get<double>() + video_to_trial;
-    const nlohmann::json* m = &b[0];
-    for (const auto& j : b)
-      if (std::abs(j["takeoff_s"].get<double>() - takeoff) <
-          std::abs((*m)["takeoff_s"].get<double>() - takeoff))
-        m = &j;
+    const nlohmann::json* m = NearestByTakeoff(b, takeoff);
     std::printf(
         "one camera, flight %d: take-off %+.1f ms, landing %+.1f ms, time of flight %+.1f ms\n",
         f["index"].get<int>(),
@@ -226,6 +229,46 @@ TEST(Markerless, SampleRoutineFromFourVideosAgreesWithItsMotionCapture) {
               complete,
               sum_ours,
               sum_theirs);
+
+  // The whole analysis from the side video and its calibration alone (docs/one-camera.md, "The
+  // athlete from one camera"): the athlete's depth from gravity, the keypoints on that plane, the
+  // model fitted to the camera's rays, the flights as the picture times them. Every complete
+  // flight's code, its take-off and landing within a frame, its apex within 5 cm (asserted); its
+  // somersault and twist at landing against the motion capture's (printed).
+  const ProcessResult mono =
+      Execute(std::string(ACROLAB_EXE) + " analyze --video " + Quote(dir / "side_camera.mp4") +
+              " --calib " + Quote(Sample() / "side_camera.toml") + " --no-images -o " +
+              Quote(dir / "mono"));
+  ASSERT_EQ(mono.status, 0) << mono.err;
+  const size_t line = mono.err.find("one camera");
+  if (line != std::string::npos)
+    std::printf("%s\n", mono.err.substr(line, mono.err.find('\n', line) - line).c_str());
+  const nlohmann::json one = nlohmann::json::parse(Slurp(dir / "mono/jumps.json"));
+  int codes_one = 0, complete_one = 0;
+  for (const auto& j : one) {
+    if (j["partial"].get<bool>()) continue;
+    ++complete_one;
+    const double takeoff = j["takeoff_s"].get<double>() + video_to_trial;
+    const nlohmann::json* m = NearestByTakeoff(b, takeoff);
+    std::printf(
+        "one camera, %s / %s: take-off %+.0f ms, landing %+.0f ms, apex %+.1f cm, somersault %+.0f "
+        "deg, twist %+.0f deg\n",
+        j["fig_code"].dump().c_str(),
+        (*m)["fig_code"].dump().c_str(),
+        1e3 * (takeoff - (*m)["takeoff_s"].get<double>()),
+        1e3 * (j["landing_s"].get<double>() + video_to_trial - (*m)["landing_s"].get<double>()),
+        100 * (j["apex_m"].get<double>() - (*m)["apex_m"].get<double>()),
+        j["measured_somersault_deg"].get<double>() - (*m)["measured_somersault_deg"].get<double>(),
+        j["measured_twist_deg"].get<double>() - (*m)["measured_twist_deg"].get<double>());
+    codes_one += j["fig_code"] == (*m)["fig_code"];
+    EXPECT_NEAR(takeoff, (*m)["takeoff_s"].get<double>(), frame_s) << j["index"];
+    EXPECT_NEAR(
+        j["landing_s"].get<double>() + video_to_trial, (*m)["landing_s"].get<double>(), frame_s)
+        << j["index"];
+    EXPECT_NEAR(j["apex_m"].get<double>(), (*m)["apex_m"].get<double>(), 0.05) << j["index"];
+  }
+  EXPECT_EQ(complete_one, 5);
+  EXPECT_EQ(codes_one, complete_one);
 }
 
 }  // namespace

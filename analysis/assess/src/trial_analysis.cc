@@ -288,7 +288,10 @@ BodyPaths FindPhases(const capture::Trial& trial,
   phase_options.gravity_m_per_s2 = model.gravity_W().norm();
   const Eigen::VectorXd fz =
       options.use_force_plates ? TotalVerticalForce(trial) : Eigen::VectorXd();
-  if (fz.size() > 0 && trial.analog_rate_hz > 0) {
+  if (!options.given_flights_s.empty()) {
+    out.phases = DetectFlightsFromIntervals(
+        options.given_flights_s, motion.time_s, com_z, options.given_flights_source, phase_options);
+  } else if (fz.size() > 0 && trial.analog_rate_hz > 0) {
     Eigen::VectorXd t(fz.size());
     for (Eigen::Index i = 0; i < fz.size(); ++i)
       t[i] = static_cast<double>(i) / trial.analog_rate_hz;

@@ -313,6 +313,34 @@ PhaseSegmentation DetectFlightsFromForce(const Eigen::VectorXd& time_s,
   return result;
 }
 
+PhaseSegmentation DetectFlightsFromIntervals(
+    const std::vector<std::pair<double, double>>& flights_s,
+    const Eigen::VectorXd& time_s,
+    const Eigen::VectorXd& com_z_m,
+    const std::string& method,
+    const PhaseOptions& options) {
+  DemandValidOptions(options, "phase options");
+  ACRO_DEMAND(com_z_m.size() == time_s.size() || com_z_m.size() == 0);
+  PhaseSegmentation result{{}, method};
+  const Eigen::Index n = time_s.size();
+  if (n < 2) return result;
+  // A contact signal on a 1 kHz clock (+1 on the support, −1 in the air), whose crossings are the
+  // given times to half a millisecond, through the detector every other route uses.
+  const double t0 = time_s[0], t1 = time_s[n - 1];
+  const Eigen::Index m = static_cast<Eigen::Index>(std::ceil((t1 - t0) * 1000.0)) + 1;
+  Eigen::VectorXd grid(m), signal = Eigen::VectorXd::Ones(m);
+  for (Eigen::Index i = 0; i < m; ++i) grid[i] = t0 + (t1 - t0) * double(i) / double(m - 1);
+  for (const auto& [takeoff, landing] : flights_s) {
+    const double a = std::isfinite(takeoff) ? takeoff : -1e300;
+    const double b = std::isfinite(landing) ? landing : 1e300;
+    for (Eigen::Index i = 0; i < m; ++i)
+      if (grid[i] > a && grid[i] < b) signal[i] = -1.0;
+  }
+  result = FlightsBelowThreshold(grid, signal, 0.0, 0.0, time_s, com_z_m, options);
+  result.method = method;
+  return result;
+}
+
 PhaseSegmentation DetectFlightsFromFeet(const Eigen::VectorXd& time_s,
                                         const Eigen::VectorXd& feet_z_m,
                                         double surface_z_m,

@@ -24,6 +24,8 @@ std::string Lower(std::string s) {
 // Which keypoints are the hips, the feet (soles: ankles, heels, toes) and the head.
 struct BodyParts {
   std::vector<int> hips, feet, head;
+  /// Indices into `feet` by foot: the left's, the right's, and any keypoint of no side.
+  std::vector<std::vector<int>> foot_groups;
 };
 
 BodyParts FindParts(const std::vector<std::string>& names) {
@@ -32,13 +34,117 @@ BodyParts FindParts(const std::vector<std::string>& names) {
     const std::string n = Lower(names[size_t(j)]);
     if (n.find("hip") != std::string::npos) parts.hips.push_back(j);
     if (n.find("ankle") != std::string::npos || n.find("heel") != std::string::npos ||
-        n.find("toe") != std::string::npos || n.find("foot_index") != std::string::npos)
+        n.find("toe") != std::string::npos || n.find("foot_index") != std::string::npos) {
+      const bool left = n.rfind("left", 0) == 0 || n.rfind("l", 0) == 0;
+      const bool right = n.rfind("right", 0) == 0 || n.rfind("r", 0) == 0;
+      parts.foot_groups.resize(3);
+      parts.foot_groups[left ? 0 : right ? 1 : 2].push_back(static_cast<int>(parts.feet.size()));
       parts.feet.push_back(j);
+    }
     if (n.find("nose") != std::string::npos || n.find("eye") != std::string::npos ||
         n.find("ear") != std::string::npos || n == "head")
       parts.head.push_back(j);
   }
   return parts;
+}
+
+// The body's centre of mass in the picture from its keypoints: each segment's centre between its
+// two keypoints at de Leva's ratio, weighted by his mass fractions (de Leva 1996, Adjustments to
+// Zatsiorsky–Seluyanov's segment inertia parameters, J. Biomech. 29(9), table 4, males: % of the
+// body's mass, and the centre's distance from the proximal end in % of the segment's length).
+// Under a camera's weak perspective the picture of the centre of mass is the mass-weighted mean of
+// the segments' pictures; it flies a parabola where the hips, which move within the body as it
+// tucks and opens, do not.
+struct MassPoint {
+  int proximal = -1, distal = -1;  // keypoints; distal −1: the proximal point itself
+  double ratio = 0.0, mass = 0.0;
+};
+
+int FindSided(const std::vector<std::string>& names,
+              bool left,
+              const std::vector<std::string>& parts) {
+  for (int j = 0; j < static_cast<int>(names.size()); ++j) {
+    const std::string n = Lower(names[size_t(j)]);
+    const bool is_left = n.rfind("left", 0) == 0 || n.rfind("l", 0) == 0;
+    const bool is_right = n.rfind("right", 0) == 0 || n.rfind("r", 0) == 0;
+    if ((left && !is_left) || (!left && !is_right)) continue;
+    for (const std::string& part : parts)
+      if (n.find(part) != std::string::npos) return j;
+  }
+  return -1;
+}
+
+struct MassModel {
+  std::vector<MassPoint> points;           // limbs and the hands and feet
+  std::vector<int> shoulders, hips, head;  // the trunk between the shoulders' and hips' middles
+};
+
+MassModel MakeMassModel(const std::vector<std::string>& names, const std::vector<int>& head) {
+  MassModel m;
+  m.head = head;
+  for (const bool left : {true, false}) {
+    const int shoulder = FindSided(names, left, {"shoulder"});
+    const int elbow = FindSided(names, left, {"elbow"});
+    const int wrist = FindSided(names, left, {"wrist"});
+    const int hip = FindSided(names, left, {"hip"});
+    const int knee = FindSided(names, left, {"knee"});
+    const int ankle = FindSided(names, left, {"ankle"});
+    const int heel = FindSided(names, left, {"heel"});
+    const int toe = FindSided(names, left, {"bigtoe", "big_toe", "foot_index"});
+    m.points.push_back({shoulder, elbow, 0.5772, 2.71});
+    m.points.push_back({elbow, wrist, 0.4574, 1.62});
+    m.points.push_back({wrist, -1, 0.0, 0.61});
+    m.points.push_back({hip, knee, 0.4095, 14.16});
+    m.points.push_back({knee, ankle, 0.4459, 4.33});
+    if (heel >= 0 && toe >= 0)
+      m.points.push_back({heel, toe, 0.4415, 1.37});
+    else
+      m.points.push_back({ankle, -1, 0.0, 1.37});
+    m.shoulders.push_back(shoulder);
+    m.hips.push_back(hip);
+  }
+  return m;
+}
+
+// The centre of mass's image y, NaN when less than 80 % of the body's mass is seen.
+double CentreOfMassY(const MassModel& m,
+                     const capture::DetectedPerson& person,
+                     double min_confidence) {
+  auto seen = [&](int j) {
+    return j >= 0 && j < person.cols() && person(2, j) >= min_confidence &&
+           std::isfinite(person(1, j));
+  };
+  double sum = 0, mass = 0;
+  for (const MassPoint& p : m.points) {
+    if (!seen(p.proximal) || (p.distal >= 0 && !seen(p.distal))) continue;
+    const double y = p.distal >= 0 ? person(1, p.proximal) +
+                                         p.ratio * (person(1, p.distal) - person(1, p.proximal))
+                                   : person(1, p.proximal);
+    sum += p.mass * y;
+    mass += p.mass;
+  }
+  auto middle = [&](const std::vector<int>& pair, double* y) {
+    if (pair.size() != 2 || !seen(pair[0]) || !seen(pair[1])) return false;
+    *y = 0.5 * (person(1, pair[0]) + person(1, pair[1]));
+    return true;
+  };
+  double top = 0, bottom = 0;
+  if (middle(m.shoulders, &top) && middle(m.hips, &bottom)) {
+    sum += 43.46 * (top + 0.4486 * (bottom - top));
+    mass += 43.46;
+  }
+  double head = 0;
+  int n = 0;
+  for (const int j : m.head)
+    if (seen(j)) {
+      head += person(1, j);
+      ++n;
+    }
+  if (n > 0) {
+    sum += 6.94 * head / n;
+    mass += 6.94;
+  }
+  return mass >= 0.8 * 100.0 ? sum / mass : kNaN;
 }
 
 double Percentile(std::vector<double> v, double p) {
@@ -121,9 +227,15 @@ ImageFlights FindFlightsInImage(const capture::KeypointDetections& detections,
   out.rate_hz = rate_hz;
   out.sole_y_px.setConstant(F, kNaN);
   out.hip_y_px.setConstant(F, kNaN);
+  out.com_y_px.setConstant(F, kNaN);
+  const MassModel mass_model = MakeMassModel(detections.names, parts.head);
   out.sole_x_px.setConstant(F, kNaN);
   Eigen::VectorXd& sole_x = out.sole_x_px;
   std::vector<double> heights;
+  const Eigen::Index num_feet = static_cast<Eigen::Index>(parts.feet.size());
+  Eigen::MatrixXd foot_x = Eigen::MatrixXd::Constant(num_feet, F, kNaN);
+  Eigen::MatrixXd foot_y = Eigen::MatrixXd::Constant(num_feet, F, kNaN);
+  Eigen::VectorXd head_top = Eigen::VectorXd::Constant(F, kNaN);
   const double c_min = options.min_confidence;
   for (int k = 0; k < F; ++k) {
     const auto& people = detections.frames[size_t(k)];
@@ -143,11 +255,10 @@ ImageFlights FindFlightsInImage(const capture::KeypointDetections& detections,
     auto seen = [&](int j) {
       return j < person.cols() && person(2, j) >= c_min && std::isfinite(person(1, j));
     };
-    double sole = -std::numeric_limits<double>::infinity(), x = kNaN;
-    for (int j : parts.feet)
-      if (seen(j) && person(1, j) > sole) {
-        sole = person(1, j);
-        x = person(0, j);
+    for (size_t i = 0; i < parts.feet.size(); ++i)
+      if (seen(parts.feet[i])) {
+        foot_x(Eigen::Index(i), k) = person(0, parts.feet[i]);
+        foot_y(Eigen::Index(i), k) = person(1, parts.feet[i]);
       }
     double hip = 0;
     int hips = 0;
@@ -156,15 +267,43 @@ ImageFlights FindFlightsInImage(const capture::KeypointDetections& detections,
         hip += person(1, j);
         ++hips;
       }
-    if (std::isfinite(sole)) {
-      out.sole_y_px[k] = sole;
-      sole_x[k] = x;
-    }
     if (hips > 0) out.hip_y_px[k] = hip / hips;
-    double top = std::numeric_limits<double>::infinity();
+    out.com_y_px[k] = CentreOfMassY(mass_model, person, c_min);
     for (int j : parts.head)
-      if (seen(j)) top = std::min(top, person(1, j));
-    if (std::isfinite(sole) && std::isfinite(top) && sole > top) heights.push_back(sole - top);
+      if (seen(j))
+        head_top[k] = std::min(std::isfinite(head_top[k]) ? head_top[k] : 1e300, person(1, j));
+  }
+  // The soles per frame: for each foot, the keypoint (heel, toe, ankle) lowest over the five frames
+  // around it, at its own position in the frame — a choice by the mean, so that the noise does not
+  // pick the lowest of several samples (which would put the soles ~σ low) — then the lower foot.
+  for (int k = 0; k < F; ++k) {
+    double sole = -std::numeric_limits<double>::infinity(), x = kNaN;
+    for (const std::vector<int>& group : parts.foot_groups) {
+      int best = -1;
+      double best_mean = -std::numeric_limits<double>::infinity();
+      for (const int i : group) {
+        if (!std::isfinite(foot_y(i, k))) continue;
+        double sum = 0;
+        int n = 0;
+        for (int m = std::max(0, k - 2); m <= std::min(F - 1, k + 2); ++m)
+          if (std::isfinite(foot_y(i, m))) {
+            sum += foot_y(i, m);
+            ++n;
+          }
+        if (sum / n > best_mean) {
+          best_mean = sum / n;
+          best = i;
+        }
+      }
+      if (best >= 0 && foot_y(best, k) > sole) {
+        sole = foot_y(best, k);
+        x = foot_x(best, k);
+      }
+    }
+    if (!std::isfinite(sole)) continue;
+    out.sole_y_px[k] = sole;
+    sole_x[k] = x;
+    if (std::isfinite(head_top[k]) && sole > head_top[k]) heights.push_back(sole - head_top[k]);
   }
   if (heights.size() < 5)
     throw InputError(
@@ -222,12 +361,12 @@ ImageFlights FindFlightsInImage(const capture::KeypointDetections& detections,
         f.first_contact_frame = k;
         break;
       }
-    // The airborne frames between them (h > 0), and the hips' arc over them.
+    // The airborne frames between them (h > 0), and the centre of mass's arc over them.
     const int first_air = f.last_contact_frame >= 0 ? f.last_contact_frame + 1 : a;
     const int last_air = f.first_contact_frame >= 0 ? f.first_contact_frame - 1 : b;
     std::vector<int> arc;
     for (int k = first_air; k <= last_air; ++k)
-      if (std::isfinite(out.hip_y_px[k]) && std::isfinite(h[k]) && h[k] > 0) arc.push_back(k);
+      if (std::isfinite(out.com_y_px[k]) && std::isfinite(h[k]) && h[k] > 0) arc.push_back(k);
     const double t_mid = 0.5 * (first_air + last_air) * dt;
     Eigen::Vector3d coef = Eigen::Vector3d::Constant(kNaN);  // y = c0 + c1 τ + c2 τ², τ = t − t_mid
     if (static_cast<int>(arc.size()) >= options.min_arc_frames) {
@@ -236,11 +375,12 @@ ImageFlights FindFlightsInImage(const capture::KeypointDetections& detections,
       for (size_t i = 0; i < arc.size(); ++i) {
         const double tau = arc[i] * dt - t_mid;
         A.row(Eigen::Index(i)) << 1, tau, tau * tau;
-        y[Eigen::Index(i)] = out.hip_y_px[arc[i]];
+        y[Eigen::Index(i)] = out.com_y_px[arc[i]];
       }
       coef = A.colPivHouseholderQr().solve(y);
       if (!(coef[2] > 0)) coef.setConstant(kNaN);  // not an arc going up then down
     }
+    f.com_accel_px_s2 = 2 * coef[2];
     f.apex_s = std::isfinite(coef[2]) ? t_mid - coef[1] / (2 * coef[2])
                                       : 0.5 * (first_air + last_air) * dt;
     // One crossing: between frame `on` (on the bed) and `off` (in the air), by the soles' linear

@@ -86,6 +86,29 @@ void ExpectEventsWithin(const Bounces& truth,
   EXPECT_GE(complete, 2);
 }
 
+// Flights timed elsewhere (one camera's picture): their times kept to the millisecond, their frames
+// and COM parabola from the motion's clock, a flight the recording starts in partial.
+TEST(Phases, FlightsGivenByTheirTimesKeepThemAndFitTheParabola) {
+  const Bounces truth = SimulateBounces(30.0, 0.0, 0.0, 5);
+  std::vector<std::pair<double, double>> given = {{std::nan(""), truth.landings[0]}};
+  for (size_t i = 0; i + 1 < truth.landings.size() && i < truth.takeoffs.size(); ++i)
+    given.emplace_back(truth.takeoffs[i], truth.landings[i + 1]);
+  const PhaseSegmentation p =
+      DetectFlightsFromIntervals(given, truth.t, truth.z, "picture's soles");
+  EXPECT_EQ(p.method, "picture's soles");
+  ASSERT_EQ(p.flights.size(), given.size());
+  EXPECT_TRUE(p.flights[0].partial);
+  for (size_t i = 1; i < given.size(); ++i) {
+    const Flight& f = p.flights[i];
+    EXPECT_FALSE(f.partial);
+    EXPECT_NEAR(f.takeoff_s, given[i].first, 0.001);
+    EXPECT_NEAR(f.landing_s, given[i].second, 0.001);
+    EXPECT_GE(truth.t[f.takeoff_frame], f.takeoff_s);
+    EXPECT_LT(truth.t[f.takeoff_frame] - f.takeoff_s, 1.0 / 30.0);
+    EXPECT_NEAR(f.fitted_gravity_m_per_s2, kG, 0.2);
+  }
+}
+
 TEST(Phases, FindsEveryFlightOfASprungBedWithinOneFrame) {
   // 0.2 mm: the noise of a COM averaged over a full marker set of clean capture (1 mm per marker).
   // An elastic bed: the force grows from zero at touch-down and falls to zero at take-off.

@@ -1,6 +1,6 @@
 // Flights from one camera's 2D keypoints (docs/one-camera.md, "Flights from the image"): bounces
-// made by physics in the picture — the hips on their ballistic arc, the soles under them (the legs
-// tucked in the middle of each flight), the bed pressed down in a half-sine between — sampled at
+// made by physics in the picture — the body on its ballistic arc, the soles under it, the bed
+// pressed down in a half-sine between — sampled at
 // 30, 60, 120 and 240 fps with a detector's noise (3 px) and a start at any phase of the frame:
 // every take-off and landing within a few milliseconds by either timing (the soles' crossing, the
 // arc), and the FIG sum within 0.02 s.
@@ -47,10 +47,9 @@ void Body(const std::vector<Bounce>& bounces, double t, double* hip_y, double* s
       // Ballistic from take-off to landing (the soles at the rest line at both ends).
       const double T = b.landing_s - b.takeoff_s, u = t - b.takeoff_s;
       const double z = 0.5 * kG * u * (T - u);  // the hips' rise above their take-off height
-      // The legs tuck in the middle of the flight: the soles rise towards the hips.
-      const double tuck = 0.45 * std::pow(std::sin(std::numbers::pi * u / T), 2);
+      // The legs extended (the centre of mass, a fixed offset from the hips, flies ballistic).
       *hip_y = kRestY - kPxPerM * (legs + z);
-      *sole_y = *hip_y + kPxPerM * (legs - tuck);
+      *sole_y = *hip_y + kPxPerM * legs;
       return;
     }
     // Contacts of 0.35 s after the last flight and before the first too.
@@ -76,11 +75,32 @@ void Body(const std::vector<Bounce>& bounces, double t, double* hip_y, double* s
   *hip_y = kRestY - kPxPerM * legs;
 }
 
+// A BODY_25B-like body at image column 960: the hips at hip_y, the rest rigidly above them and the
+// feet at sole_y (so the centre of mass keeps its offset from the hips while the legs are
+// extended); 3 px of noise on every keypoint.
 capture::KeypointDetections Detect(
     const std::vector<Bounce>& bounces, double fps, double phase, double noise_px, unsigned seed) {
   capture::KeypointDetections d;
   d.source = "synthetic";
-  d.names = {"Nose", "LHip", "RHip", "LAnkle", "RAnkle", "LHeel", "RHeel"};
+  d.names = {"Nose",
+             "LShoulder",
+             "RShoulder",
+             "LElbow",
+             "RElbow",
+             "LWrist",
+             "RWrist",
+             "LHip",
+             "RHip",
+             "LKnee",
+             "RKnee",
+             "LAnkle",
+             "RAnkle",
+             "LHeel",
+             "RHeel",
+             "LBigToe",
+             "RBigToe"};
+  // Heights above the hips (px, up positive) of the upper body.
+  const double upper[7] = {0.75, 0.5, 0.5, 0.25, 0.25, 0.02, 0.02};
   std::mt19937 rng(seed);
   std::normal_distribution<double> noise(0, noise_px);
   const double end = bounces.back().landing_s + 0.3;
@@ -88,15 +108,21 @@ capture::KeypointDetections Detect(
     const double t = (k + phase) / fps;
     double hip, sole;
     Body(bounces, t, &hip, &sole);
-    capture::DetectedPerson p(3, 7);
+    capture::DetectedPerson p(3, Eigen::Index(d.names.size()));
     const double x = 960;
-    p.col(0) << x, hip - 0.75 * kPxPerM + noise(rng), 0.9;  // nose above the hips
-    p.col(1) << x - 10, hip + noise(rng), 0.9;
-    p.col(2) << x + 10, hip + noise(rng), 0.9;
-    p.col(3) << x - 8, sole - 10 + noise(rng), 0.9;  // ankles 10 px above the soles
-    p.col(4) << x + 8, sole - 10 + noise(rng), 0.9;
-    p.col(5) << x - 12, sole + noise(rng), 0.9;
-    p.col(6) << x + 12, sole + noise(rng), 0.9;
+    for (int j = 0; j < 7; ++j)
+      p.col(j) << x + 10 * (j % 2), hip - upper[j] * kPxPerM + noise(rng), 0.9;
+    p.col(7) << x - 10, hip + noise(rng), 0.9;
+    p.col(8) << x + 10, hip + noise(rng), 0.9;
+    const double knee = hip + 0.5 * (sole - hip);
+    p.col(9) << x - 10, knee + noise(rng), 0.9;
+    p.col(10) << x + 10, knee + noise(rng), 0.9;
+    p.col(11) << x - 8, sole - 10 + noise(rng), 0.9;  // ankles 10 px above the soles
+    p.col(12) << x + 8, sole - 10 + noise(rng), 0.9;
+    p.col(13) << x - 12, sole + noise(rng), 0.9;
+    p.col(14) << x + 12, sole + noise(rng), 0.9;
+    p.col(15) << x - 30, sole - 2 + noise(rng), 0.9;
+    p.col(16) << x + 30, sole - 2 + noise(rng), 0.9;
     d.frames.push_back({p});
   }
   return d;
@@ -162,7 +188,10 @@ TEST(ImageFlights, SaysWhatItCannotUse) {
   capture::KeypointDetections d = Detect(truth, 30, 0, 1, 3);
   // No feet in the set.
   capture::KeypointDetections no_feet = d;
-  no_feet.names = {"Nose", "LHip", "RHip", "LKnee", "RKnee", "LWrist", "RWrist"};
+  for (std::string& name : no_feet.names)
+    if (name.find("Ankle") != std::string::npos || name.find("Heel") != std::string::npos ||
+        name.find("Toe") != std::string::npos)
+      name = "Point" + std::to_string(&name - &no_feet.names[0]);
   EXPECT_THROW(FindFlightsInImage(no_feet, 30, bed), InputError);
   // The bed's line far above the athlete: the soles never rise above it, no flight, a warning.
   BedLine low = bed;

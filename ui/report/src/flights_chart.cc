@@ -12,7 +12,7 @@ Chart MakeImageFlightsChart(const vision::ImageFlights& flights) {
   chart.width_px = 1200;
   LineSeries soles, hips;
   soles.name = "soles (lowest foot keypoint)";
-  hips.name = "hips";
+  hips.name = "centre of mass (keypoints, de Leva's masses)";
   hips.color = {0.17, 0.63, 0.17};
   for (Eigen::Index k = 0; k < flights.sole_y_px.size(); ++k) {
     const double t = double(k) / flights.rate_hz;
@@ -20,7 +20,7 @@ Chart MakeImageFlightsChart(const vision::ImageFlights& flights) {
     soles.x.push_back(t);
     soles.y.push_back(rest - flights.sole_y_px[k]);
     hips.x.push_back(t);
-    hips.y.push_back(rest - flights.hip_y_px[k]);
+    hips.y.push_back(rest - flights.com_y_px[k]);
   }
   chart.series = {soles, hips};
   for (const vision::ImageFlight& f : flights.flights) {

@@ -67,6 +67,11 @@ struct TrialAnalysisOptions {
   /// 1.155 m above the floor by the FIG norms; the floor), so that the phases come from the soles.
   /// Empty: the phases come from the COM.
   std::optional<double> surface_height_m;
+  /// Flights timed elsewhere (take-off, landing in the trial's seconds; NaN: outside the
+  /// recording): they replace the phases from the feet or the COM — one camera's picture, whose
+  /// soles are surer than its 3D feet (docs/one-camera.md). `given_flights_source` names them.
+  std::vector<std::pair<double, double>> given_flights_s;
+  std::string given_flights_source;
   /// The rules the routine is scored by (the score sheet, docs/scoring.md).
   fig::RoutineRules rules = fig::RoutineRules::FigSenior();
   /// How far a landing's contact points may be off (m): a zone margin within it is a close call.

@@ -66,6 +66,17 @@ PhaseSegmentation DetectFlightsFromCom(const Eigen::VectorXd& time_s,
                                        const Eigen::VectorXd& com_z_m,
                                        const PhaseOptions& options = {});
 
+/// Flights timed elsewhere — `flights_s` holds each flight's take-off and landing (s, on
+/// `time_s`'s clock; NaN: before the recording starts / after it ends) — with their frames and the
+/// COM parabola from `com_z_m` at `time_s`: the picture's soles of one camera
+/// (vision/image_flights.h) for a motion whose 3D feet are less sure than the picture's.
+PhaseSegmentation DetectFlightsFromIntervals(
+    const std::vector<std::pair<double, double>>& flights_s,
+    const Eigen::VectorXd& time_s,
+    const Eigen::VectorXd& com_z_m,
+    const std::string& method,
+    const PhaseOptions& options = {});
+
 /// Flights from the total vertical ground reaction (N) sampled at `time_s`; the parabola fields are
 /// filled from `com_z_m` at `com_time_s` when given (may be empty).
 PhaseSegmentation DetectFlightsFromForce(const Eigen::VectorXd& time_s,

@@ -7,8 +7,10 @@
 /// lowest confident one) against the bed's rest line in the picture: in the air while they are
 /// above it. Each crossing is timed to a fraction of a frame where the soles' image height crosses
 /// the line between the two frames around it, or (ImageFlightOptions::time_from_arc) from the
-/// flight's ballistic arc: the hips' parabola over the flight plus the soles' offset from it.
+/// flight's ballistic arc: the parabola of the centre of mass (from the keypoints and de Leva's
+/// segment masses) over the flight plus the soles' offset from it.
 
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -43,7 +45,7 @@ struct ImageFlightOptions {
   double clearance_fraction = 0.03;
   /// Shorter airborne runs are not flights (a step, a detection's jitter), s.
   double min_flight_s = 0.2;
-  /// Time each crossing from the flight's arc (the hips' parabola + the soles' offset from it
+  /// Time each crossing from the flight's arc (the centre of mass's parabola + the soles' offset
   /// over the 50 ms next to the crossing) rather than by the soles' linear interpolation between
   /// the two frames around it. Off by default: on the sample routine's side video the hips of a
   /// double back and a full twist leave their parabola as the tuck or the twist starts, and the
@@ -63,7 +65,11 @@ struct ImageFlight {
   int first_contact_frame = -1;
   double takeoff_s = 0.0;  ///< video time, sub-frame; NaN when partial at the start
   double landing_s = 0.0;  ///< NaN when partial at the end
-  double apex_s = 0.0;     ///< the hips' arc's top
+  double apex_s = 0.0;     ///< the top of the centre of mass's arc
+  /// The centre of mass's downward acceleration in the picture over the flight (px/s², its
+  /// parabola's 2·c2; NaN without an arc): gravity seen at the athlete's depth, g·f/Z for a camera
+  /// beside the routine — how one camera tells how far away the athlete is (docs/one-camera.md).
+  double com_accel_px_s2 = std::numeric_limits<double>::quiet_NaN();
   /// How the crossings were timed: "arc" or "soles" (linear between two frames), per end.
   std::string takeoff_method, landing_method;
   /// The soles' image point at the first contact frame (px).
@@ -77,9 +83,10 @@ struct ImageFlights {
   BedLine bed;
   double rate_hz = 0.0;
   double athlete_height_px = 0.0;  ///< as measured (the clearance's scale)
-  /// Per frame: the soles' lowest image point (x, y) and the hips' image y (px, NaN where not
-  /// seen).
-  Eigen::VectorXd sole_x_px, sole_y_px, hip_y_px;
+  /// Per frame: the soles' lowest image point (x, y), the hips' image y and the centre of mass's
+  /// (segments' centres weighted by de Leva's mass fractions; NaN with less than 80 % of the mass
+  /// seen) (px, NaN where not seen).
+  Eigen::VectorXd sole_x_px, sole_y_px, hip_y_px, com_y_px;
   std::vector<std::string> warnings;
   /// The complete flights' time of flight summed (s): the FIG T before truncation.
   double TotalTimeOfFlight() const;

@@ -1,0 +1,61 @@
+#pragma once
+
+/// \file
+/// The input of a door that starts from one calibrated camera's video (docs/one-camera.md, "The
+/// athlete from one camera"): the athlete detected, the flights found in the picture, the
+/// athlete's distance from the camera told by gravity — in flight the hips fall at g, which the
+/// picture shows as g·f/Z px/s² — and every keypoint put where its ray meets the vertical plane at
+/// that distance, square to the camera: a trial of keypoints opened as every trial is (upright,
+/// hashed, with its athlete), with the camera's keypoints for the fit of the model to its rays.
+
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "acro/base/progress.h"
+#include "acro/pipeline/trial_input.h"
+#include "acro/pose/pose_models.h"
+#include "acro/reconstruct/view_fit.h"
+#include "acro/vision/camera.h"
+#include "acro/vision/image_flights.h"
+
+namespace acro::pipeline {
+
+struct MonocularRequest {
+  std::filesystem::path video;
+  std::filesystem::path calibration;
+  /// Its camera in the calibration; empty: the only one, or the one the video's name starts with.
+  std::string camera;
+  pose::LandmarkModel model = pose::LandmarkModel::kHeavy;
+  vision::ImageFlightOptions flights;
+  AthleteChoice athlete;
+  int min_frames = 2;
+  std::string use = "the analysis";
+};
+
+struct MonocularInput {
+  /// The keypoints on the athlete's plane as a trial (path: the video; sha256 over the
+  /// calibration's and the video's bytes), upright, with the athlete.
+  TrialInput input;
+  vision::Camera camera;  ///< as fitted to the video's size
+  /// The camera's keypoints, posed in the trial's world (ReconstructionOptions::views).
+  std::shared_ptr<const analysis::ViewsToFit> views;
+  vision::ImageFlights flights;  ///< from the picture (image_flights.h)
+  /// The athlete's distance along the camera's axis (m): the median over the complete flights of
+  /// g·f / (the centre of mass's acceleration in the picture).
+  double depth_m = 0.0;
+  std::vector<double> depth_per_flight_m;
+  /// The bed's surface at rest (m, the trial's Z): the picture's rest line under the landings met
+  /// with the athlete's plane — the surface the analysis times the flights against
+  /// (TrialAnalysisOptions::surface_height_m).
+  double bed_height_m = 0.0;
+  std::string Report() const;
+};
+
+/// Throws acro::InputError naming the file or option at fault: a camera not in the calibration, a
+/// calibration whose world is not Z up (gravity is −Z), no bed in the first frame, no complete
+/// flight to weigh the depth with. `progress` as acro::Progress ("detect").
+MonocularInput OpenMonocular(const MonocularRequest& request, const Progress& progress = {});
+
+}  // namespace acro::pipeline
