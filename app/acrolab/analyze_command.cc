@@ -47,6 +47,9 @@ struct AnalyzeArguments {
   analysis::TrialAnalysisOptions options;
   ui::AnalysisReportOptions report;
   std::string rules;  // a rule file (rules/*.yaml); empty: the FIG senior routine
+  // One camera's detections made elsewhere (docs/one-camera.md), instead of TRIAL or a video.
+  std::string detections, keypoints = "body25b", bed_line;
+  double fps = 0;
 };
 
 // The plotted joint must exist before any work is done (and before any file is written).
@@ -149,13 +152,30 @@ void CheckVideosWithoutTrial(const VideoArguments& v, const TrialArguments& comm
   if (!common.static_path.empty()) throw UsageError{"--static goes with TRIAL"};
 }
 
-// One calibrated camera's video as the pipeline opens it (docs/one-camera.md).
-pipeline::MonocularInput OpenOneVideoFor(const AnalyzeArguments& args,
-                                         const TrialArguments& common) {
+// One calibrated camera as the pipeline opens it (docs/one-camera.md): its video, or its
+// detections made elsewhere (with their rate and the bed's line: no picture to find it in).
+pipeline::MonocularInput OpenOneCameraFor(const AnalyzeArguments& args,
+                                          const TrialArguments& common) {
   const VideoArguments& v = args.video;
-  CheckVideosWithoutTrial(v, common);
   pipeline::MonocularRequest request;
-  request.video = v.video;
+  if (!args.detections.empty()) {
+    if (!v.video.empty())
+      throw UsageError{"give --detections or --video, not both: the detections are of one camera"};
+    if (v.calibration.empty()) throw UsageError{"--detections needs --calib (its camera)"};
+    if (!(args.fps > 0)) throw UsageError{"--detections needs --fps (their frame rate, Hz)"};
+    if (args.bed_line.empty())
+      throw UsageError{
+          "--detections needs --bed-line Y0,SLOPE: the bed's rest line in their picture (px), "
+          "with no video to find the bed in"};
+    request.detections = args.detections;
+    request.keypoint_set = args.keypoints;
+    request.rate_hz = args.fps;
+    request.bed_line = ParseBedLine(args.bed_line);
+  } else {
+    request.video = v.video;
+    if (!args.bed_line.empty()) request.bed_line = ParseBedLine(args.bed_line);
+  }
+  CheckVideosWithoutTrial(v, common);
   request.calibration = v.calibration;
   request.camera = v.camera;
   request.athlete = common.Request().athlete;
@@ -196,12 +216,13 @@ int RunAnalyze(AnalyzeArguments& args) {
   std::optional<pipeline::MonocularInput> mono;
   pipeline::TrialInput input;
   if (common.trial_path.empty()) {
-    if (args.video.video.empty())
+    if (args.video.video.empty() && args.detections.empty())
       throw UsageError{
-          "give TRIAL (markers or keypoints), or several cameras' videos: --video A "
-          "--video B … --calib C"};
-    if (args.video.more_videos.empty()) {
-      mono = OpenOneVideoFor(args, common);
+          "give TRIAL (markers or keypoints), calibrated videos (--video A [--video B …] "
+          "--calib C), or one camera's detections (--detections DIR --calib C --fps HZ "
+          "--bed-line Y0,SLOPE)"};
+    if (!args.detections.empty() || args.video.more_videos.empty()) {
+      mono = OpenOneCameraFor(args, common);
       input = std::move(mono->input);
       args.options.reconstruction.views = mono->views;
       if (!args.options.bed && !args.options.surface_height_m)
@@ -237,6 +258,8 @@ int RunAnalyze(AnalyzeArguments& args) {
       args.options.bed = bed;
     }
   } else {
+    if (!args.detections.empty())
+      throw UsageError{"give TRIAL or --detections (one camera's keypoints), not both"};
     input = OpenTrialFor("analyze", common.Request());
   }
   CheckCutoffBelowNyquist(args.options.reconstruction, input.trial);
@@ -253,14 +276,16 @@ int RunAnalyze(AnalyzeArguments& args) {
     request.sync.rate = 1.0;
     video.emplace(request);
   } else if (mono) {
-    pipeline::VideoRequest request;
-    request.video = input.path;
-    request.calibration = args.video.calibration;
-    request.camera = mono->camera.name;
-    request.sync.kind = pipeline::SyncRequest::Kind::kOffset;
-    request.sync.offset_s = 0;
-    request.sync.rate = 1.0;
-    video.emplace(request);
+    if (args.detections.empty()) {  // the one camera's video (detections made elsewhere: none)
+      pipeline::VideoRequest request;
+      request.video = input.path;
+      request.calibration = args.video.calibration;
+      request.camera = mono->camera.name;
+      request.sync.kind = pipeline::SyncRequest::Kind::kOffset;
+      request.sync.offset_s = 0;
+      request.sync.rate = 1.0;
+      video.emplace(request);
+    }
   } else if (!args.video.video.empty() || !args.video.calibration.empty()) {
     video.emplace(OpenVideoFor(args.video));
   }
@@ -349,6 +374,20 @@ void AddAnalyzeCommand(CLI::App& app, CommandRunner* run) {
   command->add_flag_callback(
       "--no-images", [args] { args->images = false; }, "the report without charts");
   args->video.Declare(command, false);
+  command->add_option("--detections",
+                      args->detections,
+                      "instead of TRIAL or a video: one camera's 2D keypoints made elsewhere (a "
+                      "folder of OpenPose JSON, a CSV or a Sports2D TRC), with --calib, --fps and "
+                      "--bed-line (docs/one-camera.md)");
+  command->add_option("--keypoints",
+                      args->keypoints,
+                      "with --detections: the JSON files' keypoint set (default body25b)");
+  command->add_option("--fps", args->fps, "with --detections: their frame rate (Hz)")
+      ->check(CLI::PositiveNumber);
+  command->add_option("--bed-line",
+                      args->bed_line,
+                      "with --detections (or one video whose first frame does not show the bed): "
+                      "Y0,SLOPE, the bed's rest line in the picture, y = Y0 + SLOPE·x (px)");
   command->callback([args, run] { *run = [args] { return RunAnalyze(*args); }; });
 }
 

@@ -69,12 +69,14 @@ void TrialArguments::Declare(CLI::App* command,
       "--no-scale",
       [options] { options->scale = false; },
       "keep the athlete's segment lengths and default marker offsets");
-  command->add_option_function<std::string>(
-      "--fit",
-      [options](const std::string& how) { options->fit_to_views = how == "views"; },
-      "from several cameras: 'views' fits the model to every view's 2D keypoints after the fit to "
-      "the triangulated points (the default), 'points' stops at the triangulated points "
-      "(docs/markerless.md)")
+  command
+      ->add_option_function<std::string>(
+          "--fit",
+          [options](const std::string& how) { options->fit_to_views = how == "views"; },
+          "from several cameras: 'views' fits the model to every view's 2D keypoints after the fit "
+          "to "
+          "the triangulated points (the default), 'points' stops at the triangulated points "
+          "(docs/markerless.md)")
       ->check(CLI::IsMember({"views", "points"}));
   command->add_option("--threads", options->num_threads, "worker threads (default: all cores)")
       ->check(CLI::Range(1, 256));
@@ -199,6 +201,15 @@ void ViewsArguments::Declare(CLI::App* command) {
                     no_sync,
                     "with --detections: take the cameras as started together (offsets 0 unless "
                     "--offset)");
+}
+
+vision::BedLine ParseBedLine(const std::string& text) {
+  const Eigen::VectorXd v = ParseCommaNumbers("--bed-line", text, 2, "Y0,SLOPE");
+  vision::BedLine line;
+  line.y0_px = v[0];
+  line.slope = v[1];
+  line.source = "--bed-line";
+  return line;
 }
 
 pipeline::ViewsRequest ViewsArguments::Request(const TrialArguments& trial) const {

@@ -21,6 +21,7 @@
 #include "acro/pipeline/trial_input.h"
 #include "acro/pipeline/video_input.h"
 #include "acro/pipeline/views_input.h"
+#include "acro/vision/image_flights.h"
 #include "acro/reconstruct/reconstruction.h"
 #include "acro/report/skill_report.h"
 #include "acro/vision/camera.h"
@@ -107,6 +108,9 @@ struct ViewsArguments {
   /// go together).
   pipeline::ViewsRequest Request(const TrialArguments& trial) const;
 };
+
+/// `--bed-line Y0,SLOPE`: the bed's rest line in the picture, y = Y0 + SLOPE·x (px).
+vision::BedLine ParseBedLine(const std::string& text);
 
 /// pipeline::OpenViews with a progress bar unless `quiet`, its warnings on stderr.
 pipeline::ViewsInput OpenViewsFor(const std::string& command,

@@ -37,14 +37,7 @@ int RunVideoFlights(const VideoFlightsArguments& args) {
   pipeline::VideoFlightsRequest request;
   request.video = args.file;
   request.model = pose::ParseLandmarkModel(args.model);
-  if (!args.bed_line.empty()) {
-    const Eigen::VectorXd v = ParseCommaNumbers("--bed-line", args.bed_line, 2, "Y0,SLOPE");
-    vision::BedLine line;
-    line.y0_px = v[0];
-    line.slope = v[1];
-    line.source = "--bed-line";
-    request.bed_line = line;
-  }
+  if (!args.bed_line.empty()) request.bed_line = ParseBedLine(args.bed_line);
   pipeline::VideoFlights result;
   try {
     result = pipeline::FindFlightsInVideo(request, MakeStepProgress(args.quiet));

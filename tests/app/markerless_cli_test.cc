@@ -15,6 +15,7 @@
 #include <string>
 #include <vector>
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 #include <nlohmann/json.hpp>
 
@@ -269,6 +270,25 @@ TEST(Markerless, SampleRoutineFromFourVideosAgreesWithItsMotionCapture) {
   }
   EXPECT_EQ(complete_one, 5);
   EXPECT_EQ(codes_one, complete_one);
+
+  // The same camera's detections as made elsewhere (the OpenPose JSON the detector kept beside the
+  // video), with the bed's line `video flights` found: `analyze --detections` reads the same
+  // flights and codes as from the video.
+  const nlohmann::json& bed_line = flights["bed_line"];
+  const ProcessResult det =
+      Execute(std::string(ACROLAB_EXE) + " analyze --detections " +
+              Quote(dir / "acrolab-detect/side_camera/json") + " --calib " +
+              Quote(Sample() / "side_camera.toml") + " --fps 30 --bed-line " +
+              fmt::format("{},{}", bed_line["y0_px"].get<double>(), bed_line["slope"].get<double>()) +
+              " --quiet --no-images -o " + Quote(dir / "mono_detections"));
+  ASSERT_EQ(det.status, 0) << det.err;
+  const nlohmann::json from_json = nlohmann::json::parse(Slurp(dir / "mono_detections/jumps.json"));
+  ASSERT_EQ(from_json.size(), one.size());
+  for (size_t i = 0; i < one.size(); ++i) {
+    EXPECT_EQ(from_json[i]["fig_code"], one[i]["fig_code"]) << i;
+    EXPECT_NEAR(from_json[i]["takeoff_s"].get<double>(), one[i]["takeoff_s"].get<double>(), 0.002)
+        << i;
+  }
 }
 
 }  // namespace

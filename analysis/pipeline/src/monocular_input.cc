@@ -8,6 +8,7 @@
 
 #include "acro/base/content_hash.h"
 #include "acro/base/input_error.h"
+#include "acro/capture/detections.h"
 #include "acro/capture/video.h"
 #include "acro/pipeline/detect.h"
 #include "acro/pipeline/views_input.h"
@@ -40,6 +41,8 @@ std::string MonocularInput::Report() const {
 MonocularInput OpenMonocular(const MonocularRequest& request, const Progress& progress) {
   MonocularInput out;
   const std::vector<vision::Camera> cameras = vision::ReadCameras(request.calibration);
+  const bool from_video = request.detections.empty();
+  const std::filesystem::path& source = from_video ? request.video : request.detections;
   vision::Camera camera;
   if (!request.camera.empty())
     camera = vision::FindCamera(cameras, request.camera, request.calibration.string());
@@ -48,11 +51,28 @@ MonocularInput OpenMonocular(const MonocularRequest& request, const Progress& pr
   else
     camera = vision::FindCamera(
         cameras,
-        VideoSource(request.video.string(), cameras, request.calibration.string()).camera,
+        VideoSource(source.string(), cameras, request.calibration.string()).camera,
         request.calibration.string());
-  const capture::VideoInfo info = capture::VideoReader(request.video).info();
-  camera =
-      vision::FitCameraToVideo(camera, info.width, info.height, request.video.string(), nullptr);
+  capture::VideoInfo info;
+  if (from_video) {
+    info = capture::VideoReader(request.video).info();
+    camera =
+        vision::FitCameraToVideo(camera, info.width, info.height, request.video.string(), nullptr);
+  } else {
+    if (!(request.rate_hz > 0 && request.rate_hz <= 10000))
+      throw InputError(request.detections.string(),
+                       "rate",
+                       fmt::format("detections need their frame rate (given {:g} Hz): their files "
+                                   "carry no time",
+                                   request.rate_hz));
+    if (!request.bed_line)
+      throw InputError(request.detections.string(),
+                       "bed",
+                       "one camera's detections need the bed's rest line in their picture: there "
+                       "is no video to find the bed in");
+    info.average_fps = request.rate_hz;
+    info.width = camera.width_px;
+  }
   // Gravity is the calibration's −Z: the camera's picture-down axis must point down.
   const Eigen::Vector3d down_W = camera.R_KW.transpose() * Eigen::Vector3d::UnitY();
   if (!(down_W.z() < -0.5))
@@ -65,10 +85,16 @@ MonocularInput OpenMonocular(const MonocularRequest& request, const Progress& pr
                                  down_W.y(),
                                  down_W.z()));
   // The bed's line before the detection: a video without a bed costs nothing.
-  const vision::BedLine line = vision::RestLineOfBed(vision::DetectBed(request.video, 0));
-  const pose::VideoPoses poses = DetectPosesInCache(request.video, request.model, progress);
-  capture::KeypointDetections detections = Body25bDetections(poses);
-  detections.source = request.video.string();
+  const vision::BedLine line = request.bed_line
+                                   ? *request.bed_line
+                                   : vision::RestLineOfBed(vision::DetectBed(request.video, 0));
+  capture::KeypointDetections detections;
+  if (from_video) {
+    detections = Body25bDetections(DetectPosesInCache(request.video, request.model, progress));
+    detections.source = request.video.string();
+  } else {
+    detections = capture::ReadDetections(request.detections, request.keypoint_set);
+  }
   const double rate = info.average_fps;
   out.flights = vision::FindFlightsInImage(detections, rate, line, request.flights);
 
@@ -144,8 +170,8 @@ MonocularInput OpenMonocular(const MonocularRequest& request, const Progress& pr
     out.bed_height_m = (C + (distance / n.dot(d)) * d).z();
   }
   TrialInput& in = out.input;
-  in.path = request.video;
-  in.sha256 = Sha256Hex(Sha256OfFile(request.calibration) + Sha256OfFile(request.video));
+  in.path = source;
+  in.sha256 = Sha256Hex(Sha256OfFile(request.calibration) + HashOfSource(source));
   in.trial = points.ToTrial(
       rate,
       fmt::format("one camera's keypoints ({}, camera {}) on the plane {:.2f} m away",

@@ -18,20 +18,6 @@ namespace acro::pipeline {
 
 namespace {
 
-// The provenance of a detections source: its file's hash, or a folder's names and files' hashes.
-std::string HashOfSource(const std::filesystem::path& path) {
-  std::error_code ec;
-  if (!std::filesystem::is_directory(path, ec)) return Sha256OfFile(path);
-  std::vector<std::filesystem::path> files;
-  for (const auto& entry : std::filesystem::directory_iterator(path, ec))
-    if (entry.is_regular_file(ec) && entry.path().extension() == ".json")
-      files.push_back(entry.path());
-  std::sort(files.begin(), files.end());
-  std::string text;
-  for (const auto& f : files) text += f.filename().string() + " " + Sha256OfFile(f) + "\n";
-  return Sha256Hex(text);
-}
-
 // The detections with `names`' order: keypoints the file lacks are absent (confidence 0).
 capture::KeypointDetections AlignedTo(const capture::KeypointDetections& d,
                                       const std::vector<std::string>& names,
@@ -71,6 +57,19 @@ capture::KeypointDetections AlignedTo(const capture::KeypointDetections& d,
 }
 
 }  // namespace
+
+std::string HashOfSource(const std::filesystem::path& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_directory(path, ec)) return Sha256OfFile(path);
+  std::vector<std::filesystem::path> files;
+  for (const auto& entry : std::filesystem::directory_iterator(path, ec))
+    if (entry.is_regular_file(ec) && entry.path().extension() == ".json")
+      files.push_back(entry.path());
+  std::sort(files.begin(), files.end());
+  std::string text;
+  for (const auto& f : files) text += f.filename().string() + " " + Sha256OfFile(f) + "\n";
+  return Sha256Hex(text);
+}
 
 CameraSource VideoSource(const std::string& text,
                          const std::vector<vision::Camera>& cameras,

@@ -10,6 +10,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,7 +24,15 @@
 namespace acro::pipeline {
 
 struct MonocularRequest {
+  /// The camera's video; or `detections` made elsewhere.
   std::filesystem::path video;
+  /// One camera's 2D keypoints made elsewhere (a folder of OpenPose JSON, a CSV or a Sports2D
+  /// TRC: capture::ReadDetections) at `rate_hz`, with `bed_line` (no picture to find the bed in).
+  std::filesystem::path detections;
+  std::string keypoint_set = "body25b";
+  double rate_hz = 0;
+  /// The bed's rest line in the picture; empty: found in the video's first frame.
+  std::optional<vision::BedLine> bed_line;
   std::filesystem::path calibration;
   /// Its camera in the calibration; empty: the only one, or the one the video's name starts with.
   std::string camera;
@@ -54,8 +63,9 @@ struct MonocularInput {
 };
 
 /// Throws acro::InputError naming the file or option at fault: a camera not in the calibration, a
-/// calibration whose world is not Z up (gravity is −Z), no bed in the first frame, no complete
-/// flight to weigh the depth with. `progress` as acro::Progress ("detect").
+/// calibration whose world is not Z up (gravity is −Z), no bed in the first frame (or, from
+/// detections, no bed line or no rate given), no complete flight to weigh the depth with.
+/// `progress` as acro::Progress ("detect").
 MonocularInput OpenMonocular(const MonocularRequest& request, const Progress& progress = {});
 
 }  // namespace acro::pipeline

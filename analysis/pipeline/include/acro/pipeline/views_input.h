@@ -97,6 +97,10 @@ CameraSource VideoSource(const std::string& text,
                          const std::vector<vision::Camera>& cameras,
                          const std::string& calibration);
 
+/// The SHA-256 of a detections source: of the file, or of a folder's JSON files' names and hashes
+/// (in name order) — the bytes a door's provenance names.
+std::string HashOfSource(const std::filesystem::path& path);
+
 /// "CAM=PATH" as `--detections` takes it. Throws acro::InputError (where "--detections").
 CameraSource ParseCameraSource(const std::string& text);
 
