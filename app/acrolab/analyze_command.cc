@@ -236,7 +236,7 @@ int RunAnalyze(AnalyzeArguments& args) {
       input = std::move(views->input);
       args.options.reconstruction.views = views->views;
     }
-    if (views->bed && !args.options.bed) {
+    if (views && views->bed && !args.options.bed) {
       analysis::BedGeometry bed;
       bed.centre_W = views->bed->centre_W;
       bed.long_axis_W = views->bed->long_axis_W;

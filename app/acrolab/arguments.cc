@@ -204,7 +204,12 @@ void ViewsArguments::Declare(CLI::App* command) {
 }
 
 vision::BedLine ParseBedLine(const std::string& text) {
-  const Eigen::VectorXd v = ParseCommaNumbers("--bed-line", text, 2, "Y0,SLOPE");
+  Eigen::VectorXd v;
+  try {
+    v = ParseCommaNumbers("--bed-line", text, 2, "Y0,SLOPE");
+  } catch (const CLI::ValidationError& e) {  // parsed in a command's run, not by CLI11's parse
+    throw UsageError{e.what()};
+  }
   vision::BedLine line;
   line.y0_px = v[0];
   line.slope = v[1];

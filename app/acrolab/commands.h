@@ -109,7 +109,8 @@ struct ViewsArguments {
   pipeline::ViewsRequest Request(const TrialArguments& trial) const;
 };
 
-/// `--bed-line Y0,SLOPE`: the bed's rest line in the picture, y = Y0 + SLOPE·x (px).
+/// `--bed-line Y0,SLOPE`: the bed's rest line in the picture, y = Y0 + SLOPE·x (px). UsageError
+/// for anything else.
 vision::BedLine ParseBedLine(const std::string& text);
 
 /// pipeline::OpenViews with a progress bar unless `quiet`, its warnings on stderr.

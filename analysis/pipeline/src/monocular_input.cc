@@ -104,7 +104,7 @@ MonocularInput OpenMonocular(const MonocularRequest& request, const Progress& pr
     if (!flight.partial() && flight.com_accel_px_s2 > 0)
       out.depth_per_flight_m.push_back(kG * f / flight.com_accel_px_s2);
   if (out.depth_per_flight_m.empty())
-    throw InputError(request.video.string(),
+    throw InputError(source.string(),
                      "flights",
                      fmt::format("no complete flight in the picture ({} found): one camera tells "
                                  "the athlete's distance from gravity in flight",
@@ -138,7 +138,10 @@ MonocularInput OpenMonocular(const MonocularRequest& request, const Progress& pr
   for (int k = 0; k < F; ++k) {
     const auto& people = detections.frames[size_t(k)];
     if (people.empty()) continue;
-    const capture::DetectedPerson& person = people[0];  // one athlete: the detector's first
+    // The athlete: the person the flights were found from (the most confident).
+    const int chosen = vision::MostConfidentPerson(people, c_min);
+    if (chosen < 0) continue;
+    const capture::DetectedPerson& person = people[size_t(chosen)];
     for (int j = 0; j < P && j < person.cols(); ++j) {
       if (!(person(2, j) >= c_min) || !std::isfinite(person(0, j))) continue;
       const Eigen::Vector2d u = camera.Undistort(person.col(j).head<2>());
@@ -167,7 +170,17 @@ MonocularInput OpenMonocular(const MonocularRequest& request, const Progress& pr
     const double y = (u.y() - camera.K(1, 2)) / camera.K(1, 1);
     const double x = (u.x() - camera.K(0, 2) - camera.K(0, 1) * y) / camera.K(0, 0);
     const Eigen::Vector3d d = camera.R_KW.transpose() * Eigen::Vector3d(x, y, 1.0);
-    out.bed_height_m = (C + (distance / n.dot(d)) * d).z();
+    const double along = n.dot(d);
+    out.bed_height_m = along > 1e-6 ? (C + (distance / along) * d).z() : std::nan("");
+    if (!std::isfinite(out.bed_height_m))
+      throw InputError(source.string(),
+                       "bed",
+                       fmt::format("the bed's line ({}: y = {:.1f} px {:+.4f} x) does not meet the "
+                                   "athlete's plane in front of the camera at x = {:.0f} px",
+                                   line.source,
+                                   line.y0_px,
+                                   line.slope,
+                                   x_bed));
   }
   TrialInput& in = out.input;
   in.path = source;

@@ -625,7 +625,9 @@ IkFrameResult InverseKinematics::SolveRays(const std::vector<MarkerRay>& rays, E
   s.projectors.clear();
   for (const MarkerRay& ray : rays) {
     ACRO_DEMAND(ray.marker >= 0 && ray.marker < num_markers());
-    if (!(ray.origin_W.allFinite() && ray.direction_W.allFinite() && ray.weight > 0)) continue;
+    if (!(ray.origin_W.allFinite() && ray.direction_W.allFinite() && std::isfinite(ray.weight) &&
+          ray.weight > 0 && ray.direction_W.norm() > 0))
+      continue;
     const Eigen::Vector3d d = ray.direction_W.normalized();
     s.rays.push_back(ray);
     s.projectors.push_back(Eigen::Matrix3d::Identity() - d * d.transpose());

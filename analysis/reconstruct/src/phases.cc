@@ -324,20 +324,23 @@ PhaseSegmentation DetectFlightsFromIntervals(
   PhaseSegmentation result{{}, method};
   const Eigen::Index n = time_s.size();
   if (n < 2) return result;
-  // A contact signal on a 1 kHz clock (+1 on the support, −1 in the air), whose crossings are the
-  // given times to half a millisecond, through the detector every other route uses.
-  const double t0 = time_s[0], t1 = time_s[n - 1];
-  const Eigen::Index m = static_cast<Eigen::Index>(std::ceil((t1 - t0) * 1000.0)) + 1;
-  Eigen::VectorXd grid(m), signal = Eigen::VectorXd::Ones(m);
-  for (Eigen::Index i = 0; i < m; ++i) grid[i] = t0 + (t1 - t0) * double(i) / double(m - 1);
+  const double first = time_s[0], last = time_s[n - 1];
   for (const auto& [takeoff, landing] : flights_s) {
-    const double a = std::isfinite(takeoff) ? takeoff : -1e300;
-    const double b = std::isfinite(landing) ? landing : 1e300;
-    for (Eigen::Index i = 0; i < m; ++i)
-      if (grid[i] > a && grid[i] < b) signal[i] = -1.0;
+    // An end outside the recording (or not seen) is where the recording cuts the flight.
+    Flight flight;
+    flight.takeoff_s = std::isfinite(takeoff) ? std::clamp(takeoff, first, last) : first;
+    flight.landing_s = std::isfinite(landing) ? std::clamp(landing, first, last) : last;
+    flight.partial =
+        !(std::isfinite(takeoff) && takeoff > first) || !(std::isfinite(landing) && landing < last);
+    if (!(flight.landing_s - flight.takeoff_s >= options.min_flight_s)) continue;
+    flight.takeoff_frame = FirstFrameAtOrAfter(time_s, flight.takeoff_s);
+    flight.landing_frame = FirstFrameAtOrAfter(time_s, flight.landing_s);
+    if (com_z_m.size() > 0) FitFlightParabola(time_s, com_z_m, &flight);
+    result.flights.push_back(flight);
   }
-  result = FlightsBelowThreshold(grid, signal, 0.0, 0.0, time_s, com_z_m, options);
-  result.method = method;
+  std::sort(result.flights.begin(), result.flights.end(), [](const Flight& x, const Flight& y) {
+    return x.takeoff_s < y.takeoff_s;
+  });
   return result;
 }
 

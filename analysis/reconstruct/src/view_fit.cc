@@ -226,10 +226,11 @@ ViewFitSummary FitModelToViews(const ViewsToFit& views,
             a = b;
           }
           const IkFrameResult r = ik.SolveRays(rays, q);
-          if (!q.allFinite()) continue;
+          if (r.num_markers < 3 || !q.allFinite()) continue;  // not fitted: the frame as it was
           for (const Seen& s : seen) {
             const vision::Camera& cam = views.views[size_t(s.view)].camera;
-            chunk_before[size_t(s.view)].push_back(ErrorPx(cam, p_WM.col(s.marker), s.raw));
+            const double e = ErrorPx(cam, p_WM.col(s.marker), s.raw);
+            if (std::isfinite(e)) chunk_before[size_t(s.view)].push_back(e);
             ++used[size_t(s.view)];
             added += s.agreed ? 0 : 1;
           }
@@ -285,7 +286,8 @@ ViewFitSummary FitModelToViews(const ViewsToFit& views,
     Eigen::VectorXi count = Eigen::VectorXi::Zero(Eigen::Index(markers.size()));
     for (const Seen& s : used_by_frame[size_t(k)]) {
       const vision::Camera& cam = views.views[size_t(s.view)].camera;
-      after[size_t(s.view)].push_back(ErrorPx(cam, p_WM.col(s.marker), s.raw));
+      const double e = ErrorPx(cam, p_WM.col(s.marker), s.raw);
+      if (std::isfinite(e)) after[size_t(s.view)].push_back(e);
       const Eigen::Vector3d d =
           (cam.R_KW.transpose() * Eigen::Vector3d(s.xy.x(), s.xy.y(), 1.0)).normalized();
       const Eigen::Vector3d r = p_WM.col(s.marker) - centre[size_t(s.view)];

@@ -200,6 +200,20 @@ bool ImageFlightOptions::IsValid(std::string* why) const {
   return true;
 }
 
+int MostConfidentPerson(const std::vector<capture::DetectedPerson>& people, double min_confidence) {
+  int best = -1;
+  double best_sum = -1;
+  for (size_t p = 0; p < people.size(); ++p) {
+    const auto c = people[p].row(2).array();
+    const double s = (c >= min_confidence).select(c, 0.0).sum();
+    if (s > best_sum) {
+      best_sum = s;
+      best = static_cast<int>(p);
+    }
+  }
+  return best;
+}
+
 double ImageFlights::TotalTimeOfFlight() const {
   double sum = 0;
   for (const ImageFlight& f : flights)
@@ -212,8 +226,10 @@ ImageFlights FindFlightsInImage(const capture::KeypointDetections& detections,
                                 const BedLine& bed,
                                 const ImageFlightOptions& options) {
   DemandValidOptions(options, "flights from the image");
-  if (!(rate_hz > 0 && std::isfinite(rate_hz)))
-    throw InputError(detections.source, "rate", fmt::format("a frame rate of {:g} Hz", rate_hz));
+  if (!(rate_hz > 0 && rate_hz <= 100000))
+    throw InputError(detections.source,
+                     "rate",
+                     fmt::format("a frame rate of {:g} Hz is outside (0, 100000] Hz", rate_hz));
   const BodyParts parts = FindParts(detections.names);
   if (parts.hips.empty() || parts.feet.empty())
     throw InputError(
@@ -240,18 +256,9 @@ ImageFlights FindFlightsInImage(const capture::KeypointDetections& detections,
   for (int k = 0; k < F; ++k) {
     const auto& people = detections.frames[size_t(k)];
     if (people.empty()) continue;
-    // The most confident person.
-    size_t best = 0;
-    double best_sum = -1;
-    for (size_t p = 0; p < people.size(); ++p) {
-      const double s =
-          (people[p].row(2).array() >= c_min).select(people[p].row(2).array(), 0).sum();
-      if (s > best_sum) {
-        best_sum = s;
-        best = p;
-      }
-    }
-    const capture::DetectedPerson& person = people[best];
+    const int best = MostConfidentPerson(people, c_min);
+    if (best < 0) continue;
+    const capture::DetectedPerson& person = people[size_t(best)];
     auto seen = [&](int j) {
       return j < person.cols() && person(2, j) >= c_min && std::isfinite(person(1, j));
     };
@@ -335,7 +342,8 @@ ImageFlights FindFlightsInImage(const capture::KeypointDetections& detections,
     air[size_t(k)] = state;
   }
   const double dt = 1.0 / rate_hz;
-  const int min_frames = std::max(2, static_cast<int>(std::ceil(options.min_flight_s * rate_hz)));
+  const int min_frames = std::max(
+      2, static_cast<int>(std::min(double(F) + 1, std::ceil(options.min_flight_s * rate_hz))));
   for (int a = 0; a < F;) {
     if (air[size_t(a)] != 1) {
       ++a;
@@ -388,14 +396,15 @@ ImageFlights FindFlightsInImage(const capture::KeypointDetections& detections,
     auto crossing = [&](int on, int off, std::string* method) {
       const double t_on = on * dt, t_off = off * dt;
       double soles = t_on + (t_off - t_on) * (-h[on]) / (h[off] - h[on]);
-      // At high frame rates, a straight line through the soles' heights within 25 ms of that
-      // crossing (each side's frames on their side of the line): the noise averaged rather than
-      // the crossing moved to wherever it made the last frame dip below the line.
+      // At high frame rates, a straight line through the soles' heights in every frame within
+      // 25 ms of that crossing (on either side of the line): the noise averaged rather than the
+      // crossing moved to wherever it made the last frame dip below the line.
       {
         double sw = 0, st = 0, sh = 0, stt = 0, sth = 0;
         int n = 0;
-        for (int k = std::max(0, std::min(on, off) - 20);
-             k <= std::min(F - 1, std::max(on, off) + 20);
+        const int reach = static_cast<int>(std::ceil(0.025 / dt)) + 1;
+        for (int k = std::max(0, std::min(on, off) - reach);
+             k <= std::min(F - 1, std::max(on, off) + reach);
              ++k) {
           if (!std::isfinite(h[k]) || std::abs(k * dt - soles) > 0.025) continue;
           const double t = k * dt - soles;

@@ -3,9 +3,9 @@
 /// \file
 /// The input of a door that starts from one calibrated camera's video (docs/one-camera.md, "The
 /// athlete from one camera"): the athlete detected, the flights found in the picture, the
-/// athlete's distance from the camera told by gravity — in flight the hips fall at g, which the
-/// picture shows as g·f/Z px/s² — and every keypoint put where its ray meets the vertical plane at
-/// that distance, square to the camera: a trial of keypoints opened as every trial is (upright,
+/// athlete's distance from the camera told by gravity — in flight the centre of mass falls at g,
+/// which the picture shows as g·f/Z px/s² — and every keypoint put where its ray meets the
+/// vertical plane at that distance, square to the camera: a trial of keypoints opened as every trial is (upright,
 /// hashed, with its athlete), with the camera's keypoints for the fit of the model to its rays.
 
 #include <filesystem>

@@ -4,11 +4,12 @@
 /// Every jump's take-off and landing from one camera's 2D keypoints (docs/one-camera.md, "Flights
 /// from the image"): what a force-plate system under the bed gives — time of flight to a few
 /// milliseconds — from a phone beside the trampoline. The soles (heels, toes and ankles, the
-/// lowest confident one) against the bed's rest line in the picture: in the air while they are
-/// above it. Each crossing is timed to a fraction of a frame where the soles' image height crosses
-/// the line between the two frames around it, or (ImageFlightOptions::time_from_arc) from the
-/// flight's ballistic arc: the parabola of the centre of mass (from the keypoints and de Leva's
-/// segment masses) over the flight plus the soles' offset from it.
+/// keypoint lowest over five frames, per foot) against the bed's rest line in the picture: in the
+/// air while they are above it. Each crossing is timed to a fraction of a frame where the soles'
+/// image height crosses the line between the two frames around it, or
+/// (ImageFlightOptions::time_from_arc) from the flight's ballistic arc: the parabola of the centre
+/// of mass (from the keypoints and de Leva's segment masses) over the flight plus the soles' offset
+/// from it.
 
 #include <limits>
 #include <string>
@@ -91,6 +92,10 @@ struct ImageFlights {
   /// The complete flights' time of flight summed (s): the FIG T before truncation.
   double TotalTimeOfFlight() const;
 };
+
+/// The most confident person of a frame (the sum of the confidences at or above
+/// `min_confidence`), or −1 for none: the athlete, when the picture also shows a coach or a judge.
+int MostConfidentPerson(const std::vector<capture::DetectedPerson>& people, double min_confidence);
 
 /// The flights of the person in `detections` (the most confident one in each frame; BODY_25B,
 /// BODY_25, COCO or BlazePose names: hips, ankles, heels and toes found by name) against `bed`, at
