@@ -181,6 +181,10 @@ pipeline::MonocularInput OpenOneCameraFor(const AnalyzeArguments& args,
   request.athlete = common.Request().athlete;
   pipeline::MonocularInput mono = pipeline::OpenMonocular(request, MakeStepProgress(common.quiet));
   if (!common.quiet) std::fputs(mono.Report().c_str(), stderr);
+  std::vector<std::string> lines = mono.input.warnings;  // the flights' (a jump out of the picture)
+  if (!mono.input.athlete.warning.empty()) lines.push_back(mono.input.athlete.warning);
+  for (const std::string& w : lines)
+    std::fprintf(stderr, "acrolab analyze: warning: %s\n", w.c_str());
   return mono;
 }
 

@@ -461,6 +461,23 @@ ImageFlights FindFlightsInImage(const capture::KeypointDetections& detections,
     f.landing_s = f.first_contact_frame >= 0
                       ? crossing(f.first_contact_frame, landing_off, &f.landing_method)
                       : kNaN;
+    // The athlete not seen for a part of the flight (out of the picture, above it or beside it; or
+    // hidden): its arc and apex rest on the frames around, and the user hears which flight.
+    {
+      int unseen = 0;
+      for (int k = first_air; k <= last_air; ++k)
+        unseen += !std::isfinite(out.sole_y_px[k]) && !std::isfinite(out.hip_y_px[k]);
+      const int airborne = last_air - first_air + 1;
+      if (airborne > 0 && unseen > 0.2 * airborne)
+        out.warnings.push_back(fmt::format(
+            "flight {} ({:.2f}–{:.2f} s): the athlete is not seen in {} of its {} frames in the "
+            "air (out of the picture?): its height and shape rest on the frames around",
+            out.flights.size() + 1,
+            first_air * dt,
+            last_air * dt,
+            unseen,
+            airborne));
+    }
     if (f.first_contact_frame >= 0)
       f.landing_px =
           Eigen::Vector2d(sole_x[f.first_contact_frame], out.sole_y_px[f.first_contact_frame]);

@@ -206,6 +206,21 @@ TEST(ImageFlights, SaysWhatItCannotUse) {
   ASSERT_EQ(partial.flights.size(), truth.size());
   EXPECT_TRUE(partial.flights[0].partial());
   EXPECT_TRUE(std::isnan(partial.flights[0].takeoff_s));
+  // The athlete out of the picture for the top of one flight (nobody detected there): the flight
+  // is still found and timed, and a warning names it.
+  capture::KeypointDetections out_of_picture = d;
+  const int top =
+      static_cast<int>(std::lround(0.5 * (truth[2].takeoff_s + truth[2].landing_s) * 30));
+  for (int k = top - 8; k <= top + 8; ++k) out_of_picture.frames[size_t(k)].clear();
+  const ImageFlights seen_in_part = FindFlightsInImage(out_of_picture, 30, bed);
+  ASSERT_EQ(seen_in_part.flights.size(), truth.size());
+  EXPECT_NEAR(seen_in_part.flights[2].takeoff_s, truth[2].takeoff_s, 0.01);
+  EXPECT_NEAR(seen_in_part.flights[2].landing_s, truth[2].landing_s, 0.01);
+  ASSERT_EQ(seen_in_part.warnings.size(), 1u);
+  EXPECT_NE(seen_in_part.warnings[0].find("flight 3 "), std::string::npos)
+      << seen_in_part.warnings[0];
+  EXPECT_NE(seen_in_part.warnings[0].find("not seen in 17 of"), std::string::npos)
+      << seen_in_part.warnings[0];
   // A bed seen from its end is refused with what to do.
   BedDetection end_on;
   end_on.source = "end.png";
