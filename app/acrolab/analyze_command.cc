@@ -234,6 +234,7 @@ int RunAnalyze(AnalyzeArguments& args) {
       // The flights as the picture's soles time them (the trial's clock is the video's).
       for (const vision::ImageFlight& f : mono->flights.flights)
         args.options.given_flights_s.emplace_back(f.takeoff_s, f.landing_s);
+      args.options.reconstruction.ballistic_flights_s = args.options.given_flights_s;
       args.options.given_flights_source = "picture's soles against the bed's line";
     } else {
       views = OpenVideosFor(args, common);

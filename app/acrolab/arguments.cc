@@ -78,6 +78,13 @@ void TrialArguments::Declare(CLI::App* command,
           "the triangulated points (the default), 'points' stops at the triangulated points "
           "(docs/markerless.md)")
       ->check(CLI::IsMember({"views", "points"}));
+  command->add_flag(
+      "--flight-physics",
+      options->fit_flight_physics,
+      "from one camera: refit each flight's root as a free flight (the centre of mass on "
+      "gravity's parabola, the angular momentum constant), with the twist's mirror image fitted "
+      "and reported (docs/one-camera.md, \"Flight physics\": measured, not yet better than the "
+      "frame-by-frame fit on real video)");
   command->add_option("--threads", options->num_threads, "worker threads (default: all cores)")
       ->check(CLI::Range(1, 256));
   command->add_flag("--quiet", quiet, "no progress on stderr");

@@ -360,6 +360,9 @@ struct InverseKinematics::Impl {
   bool ray_mode = false;
   std::vector<MarkerRay> rays;
   std::vector<Eigen::Matrix3d> projectors;
+  // SolveRays with a root prior: its weights and the warm start's root position.
+  RootPrior root_prior;
+  Eigen::Vector3d root_start = Eigen::Vector3d::Zero();
 
   /// ½ Σ r̃² at chart coordinates x (p, φ, θ) around q0; with `normal` also H = J̃ᵀJ̃, g = J̃ᵀr̃.
   double EvaluateChart(const Eigen::Quaterniond& q0, const Eigen::VectorXd& xc, bool normal);
@@ -557,6 +560,19 @@ double InverseKinematics::Impl::EvaluateChart(const Eigen::Quaterniond& q0,
       g[6 + j] += wp * wp * t;
     }
   }
+  // The root prior (ray mode only): towards the warm start's position and orientation (φ = 0).
+  if (ray_mode && (root_prior.position > 0 || root_prior.rotation_m_per_rad > 0)) {
+    const double wp = root_prior.position, wr = root_prior.rotation_m_per_rad;
+    const Eigen::Vector3d dp = xc.head<3>() - root_start;
+    cost += 0.5 * wp * wp * dp.squaredNorm() + 0.5 * wr * wr * phi.squaredNorm();
+    if (normal)
+      for (int i = 0; i < 3; ++i) {
+        H(i, i) += wp * wp;
+        g[i] += wp * wp * dp[i];
+        H(3 + i, 3 + i) += wr * wr;
+        g[3 + i] += wr * wr * phi[i];
+      }
+  }
   if (normal) H = H.selfadjointView<Eigen::Lower>();
   return cost;
 }
@@ -618,7 +634,9 @@ int InverseKinematics::Impl::SolveWarm(Eigen::VectorXd& q, bool* converged) {
   return it;
 }
 
-IkFrameResult InverseKinematics::SolveRays(const std::vector<MarkerRay>& rays, Eigen::VectorXd& q) {
+IkFrameResult InverseKinematics::SolveRays(const std::vector<MarkerRay>& rays,
+                                           Eigen::VectorXd& q,
+                                           const RootPrior* root_prior) {
   Impl& s = *impl_;
   ACRO_DEMAND(q.size() == s.model.nq());
   s.rays.clear();
@@ -637,6 +655,8 @@ IkFrameResult InverseKinematics::SolveRays(const std::vector<MarkerRay>& rays, E
   s.joints_start = q.tail(s.model.num_joint_dofs());
   s.warm = true;
   s.ray_mode = true;
+  s.root_prior = root_prior ? *root_prior : RootPrior{};
+  s.root_start = q.head<3>();
   bool converged = false;
   result.iterations = s.SolveWarm(q, &converged);
   s.ray_mode = false;

@@ -56,6 +56,10 @@ bool ReconstructionOptions::IsValid(std::string* why) const {
   if (!ik.IsValid(&sub)) return fail("ik: " + sub);
   if (!scaling.IsValid(&sub)) return fail("scaling: " + sub);
   if (!view_fit.IsValid(&sub)) return fail("view_fit: " + sub);
+  if (!flight_physics.IsValid(&sub)) return fail("flight_physics: " + sub);
+  for (const auto& [a, b] : ballistic_flights_s)
+    if (std::isfinite(a) && std::isfinite(b) && !(a < b))
+      return fail("ballistic_flights_s: a flight must end after it starts");
   if (filter_order < 1 || filter_order > 8) return fail("filter_order must be 1–8");
   if (!(cutoff_hz >= 0)) return fail("cutoff_hz must be >= 0 (0: residual analysis)");
   if (scaling_window_frames < 1) return fail("scaling_window_frames must be >= 1");
@@ -109,6 +113,7 @@ std::string ReconstructionSummary::BriefReport() const {
         f.max_m * 1e3);
   }
   if (view_fit) out += view_fit->Report();
+  if (flight_physics) out += flight_physics->Report();
   for (const std::string& w : warnings) out += "warning: " + w + "\n";
   return out;
 }
@@ -796,6 +801,37 @@ ViewFitSummary FitToViews(const ViewsToFit& views,
                          progress);
 }
 
+// The flights known before the reconstruction, as frames (the first and last frame in the air),
+// each refitted as one free flight (flight_physics.h).
+FlightPhysicsSummary FitToPhysics(const ViewsToFit& views,
+                                  const ReconstructionOptions& options,
+                                  ReconstructionResult& result) {
+  std::vector<int> marker_of_point;
+  for (const std::string& name : views.names)
+    marker_of_point.push_back(result.markerset.Find(name));
+  const Eigen::VectorXd& t = result.motion.time_s;
+  std::vector<std::pair<int, int>> flights;
+  for (const auto& [takeoff, landing] : options.ballistic_flights_s) {
+    if (!std::isfinite(takeoff) || !std::isfinite(landing)) continue;  // partial: not a whole arc
+    const auto first = std::upper_bound(t.data(), t.data() + t.size(), takeoff) - t.data();
+    const auto end = std::lower_bound(t.data(), t.data() + t.size(), landing) - t.data();
+    if (end - 1 > first) flights.push_back({int(first), int(end - 1)});
+  }
+  Progress progress;
+  if (options.cancelled)
+    progress.report = [&](const std::string&, int, int) { return !options.cancelled(); };
+  return FitFlightsToPhysics(views,
+                             marker_of_point,
+                             result.model,
+                             result.markers,
+                             result.joint_limits,
+                             result.ik_options,
+                             flights,
+                             options.flight_physics,
+                             &result.motion,
+                             progress);
+}
+
 void SummarizeFit(const Motion& motion,
                   const Eigen::Matrix3Xd& P,
                   int M,
@@ -921,6 +957,11 @@ ReconstructionResult Reconstruct(const capture::Trial& trial,
   summary.swaps_repaired = solver.swaps() + continuity_swaps;
   if (options.views && options.fit_to_views)
     summary.view_fit = FitToViews(*options.views, options, result);
+  if (options.views && options.fit_flight_physics && !options.ballistic_flights_s.empty()) {
+    summary.flight_physics = FitToPhysics(*options.views, options, result);
+    for (const std::string& w : summary.flight_physics->warnings)
+      summary.warnings.push_back("flight physics: " + w);
+  }
   MakeQuaternionSignsContinuous(motion);
 
   // Fit quality over the trial and per flight.

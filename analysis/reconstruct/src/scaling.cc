@@ -177,12 +177,15 @@ ScaleGroups MakeScaleGroups(const dynamics::Model<double>& model) {
 
 // The markers' RMS error over the frames at the poses `q`: evaluated there, or (solve) each pose
 // solved first.
-double MarkerRmsOverFrames(InverseKinematics& ik, const std::vector<Eigen::Matrix3Xd>& frames,
-                           std::vector<Eigen::VectorXd>& q, bool solve) {
+double MarkerRmsOverFrames(InverseKinematics& ik,
+                           const std::vector<Eigen::Matrix3Xd>& frames,
+                           std::vector<Eigen::VectorXd>& q,
+                           bool solve) {
   double sum = 0;
   int count = 0;
   for (size_t k = 0; k < frames.size(); ++k) {
-    const IkFrameResult r = solve ? ik.Solve(frames[k], q[k], true) : ik.Evaluate(frames[k], q[k], nullptr);
+    const IkFrameResult r =
+        solve ? ik.Solve(frames[k], q[k], true) : ik.Evaluate(frames[k], q[k], nullptr);
     if (r.num_markers > 0) {
       sum += r.rms_m * r.rms_m * r.num_markers;
       count += r.num_markers;
@@ -193,8 +196,10 @@ double MarkerRmsOverFrames(InverseKinematics& ik, const std::vector<Eigen::Matri
 
 // The priors of the joint problem: the scales near 1 within their bounds, the markers' offsets
 // near their defaults.
-void AddScalingPriors(const ScalingOptions& options, std::vector<double>& scales,
-                      std::vector<Eigen::Vector3d>& delta, ceres::Problem& problem) {
+void AddScalingPriors(const ScalingOptions& options,
+                      std::vector<double>& scales,
+                      std::vector<Eigen::Vector3d>& delta,
+                      ceres::Problem& problem) {
   {
     auto* prior = new ceres::DynamicAutoDiffCostFunction<PriorResidual, 16>(
         new PriorResidual{static_cast<int>(scales.size()), options.scale_prior_m, 1.0});

@@ -15,22 +15,16 @@
 #include "acro/dynamics/configuration.h"
 #include "acro/reconstruct/butterworth.h"
 
+#include "view_residuals.h"
+
 namespace acro::analysis {
 
 namespace {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
-double Median(std::vector<double> v) {
-  if (v.empty()) return kNaN;
-  const auto mid = v.begin() + static_cast<std::ptrdiff_t>(v.size() / 2);
-  std::nth_element(v.begin(), mid, v.end());
-  return *mid;
-}
-
-double FocalPx(const vision::Camera& c) {
-  return 0.5 * (c.K(0, 0) + c.K(1, 1));
-}
+using view_residuals::FocalPx;
+using view_residuals::Median;
 
 // One camera's detections of one point in one frame, ready for the fit.
 struct Seen {

@@ -80,6 +80,12 @@ struct IkFrameResult {
 /// residual is the marker's distance from the ray, w (I − d dᵀ)(p_WM − o) — the reprojection
 /// error measured in metres at the marker's depth, so that the joint limits and priors (m/rad) keep
 /// their meaning (docs/markerless.md, "The model fitted to the views").
+/// How firmly SolveRays holds the root at its warm start.
+struct RootPrior {
+  double position = 0.0;            ///< m of ray distance per m
+  double rotation_m_per_rad = 0.0;  ///< m of ray distance per rad
+};
+
 struct MarkerRay {
   int marker = 0;
   Eigen::Vector3d origin_W = Eigen::Vector3d::Zero();
@@ -110,7 +116,13 @@ class InverseKinematics {
   /// markers, or one camera's): a warm start from q (the structured Levenberg–Marquardt, with the
   /// same robust loss, limits and priors; the temporal prior pulls towards q's angles). rms_m and
   /// max_m are the rays' distances from their markers.
-  IkFrameResult SolveRays(const std::vector<MarkerRay>& rays, Eigen::VectorXd& q);
+  /// With `root_prior`, the root is also pulled towards q's root: its position by
+  /// root_prior->position (a displacement costs like that many times its length in ray distance),
+  /// its orientation by root_prior->rotation_m_per_rad (a turn of 1 rad costs like that ray
+  /// distance) — a root held by something other than the rays (flight_physics.h).
+  IkFrameResult SolveRays(const std::vector<MarkerRay>& rays,
+                          Eigen::VectorXd& q,
+                          const RootPrior* root_prior = nullptr);
 
   /// Places the root (position and orientation) so that the markers of the pelvis and thorax
   /// (and markers at the origins of their child segments) match `observed` best with the joint

@@ -17,6 +17,7 @@
 #include "acro/capture/trial.h"
 #include "acro/dynamics/model.h"
 #include "acro/reconstruct/butterworth.h"
+#include "acro/reconstruct/flight_physics.h"
 #include "acro/reconstruct/gap_filling.h"
 #include "acro/reconstruct/inverse_kinematics.h"
 #include "acro/reconstruct/markerset.h"
@@ -77,6 +78,14 @@ struct ReconstructionOptions {
   std::shared_ptr<const ViewsToFit> views;
   bool fit_to_views = true;
   ViewFitOptions view_fit;
+  /// Flights known before the reconstruction (seconds of the trial: the first and last instant
+  /// in the air; one camera: from the picture's soles against the bed). With views, each is
+  /// refitted as one free flight (flight_physics.h: the centre of mass on gravity's parabola,
+  /// the angular momentum constant) when fit_flight_physics — off by default: on real video it
+  /// is not yet nearer the truth than the frame-by-frame fit (docs/one-camera.md).
+  std::vector<std::pair<double, double>> ballistic_flights_s;
+  bool fit_flight_physics = false;
+  FlightPhysicsOptions flight_physics;
   /// Repair left/right swaps: in the raw data of marker sets (not keypoints), a mirror pair whose
   /// exchange brings both markers closer to their positions in the previous frame; before each
   /// warm-started frame, a pair whose exchange fits the model's predicted positions better.
@@ -131,6 +140,8 @@ struct ReconstructionSummary {
   /// The fit to the views, when there was one: the marker errors above (and the motion's) are then
   /// each keypoint's RMS distance from the rays of the detections it was fitted to.
   std::optional<ViewFitSummary> view_fit;
+  /// The flights refitted as free flights, when there were any (ballistic_flights_s).
+  std::optional<FlightPhysicsSummary> flight_physics;
   std::vector<std::string> warnings;
   std::string BriefReport() const;
 };
