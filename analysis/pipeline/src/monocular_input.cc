@@ -14,6 +14,7 @@
 #include "acro/pipeline/views_input.h"
 #include "acro/reconstruct/up_axis.h"
 #include "acro/vision/bed_detection.h"
+#include "acro/vision/camera_motion.h"
 
 namespace acro::pipeline {
 
@@ -97,6 +98,12 @@ MonocularInput OpenMonocular(const MonocularRequest& request, const Progress& pr
   }
   const double rate = info.average_fps;
   out.flights = vision::FindFlightsInImage(detections, rate, line, request.flights);
+  // The bed's line and the camera's pose are the first frame's: a camera that moved after it is
+  // said, per flight.
+  if (from_video)
+    for (const std::string& w : vision::CameraMotionWarnings(
+             vision::MeasureCameraMotion(request.video, {}, progress), out.flights))
+      out.flights.warnings.push_back(w);
 
   // The depth from gravity, per complete flight.
   const double f = 0.5 * (camera.K(0, 0) + camera.K(1, 1));

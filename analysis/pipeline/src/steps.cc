@@ -12,23 +12,33 @@
 
 namespace acro::pipeline {
 
-analysis::TrialAnalysis Analyze(const TrialInput& input, const analysis::TrialAnalysisOptions& options) {
-  return analysis::AnalyzeTrial(input.trial, input.static_trial ? &*input.static_trial : nullptr,
-                                input.athlete.body, options);
+analysis::TrialAnalysis Analyze(const TrialInput& input,
+                                const analysis::TrialAnalysisOptions& options) {
+  return analysis::AnalyzeTrial(input.trial,
+                                input.static_trial ? &*input.static_trial : nullptr,
+                                input.athlete.body,
+                                options);
 }
 
 void DemandAFlight(const TrialInput& input, const analysis::TrialAnalysis& analysis) {
   if (!analysis.phases.flights.empty()) return;
   const capture::Trial& trial = input.trial;
-  throw InputError(input.path.string(), "",
-                   fmt::format("no flight in its {} frames ({:.2f} s at {:g} Hz): the athlete's "
-                               "centre of mass never leaves the bed, so there is no jump to measure "
-                               "(acrolab reconstruct gives the joint angles of any motion)",
-                               trial.num_frames, trial.duration_s(), trial.point_rate_hz));
+  throw InputError(
+      input.path.string(),
+      "",
+      fmt::format("no flight in its {} frames ({:.2f} s at {:g} Hz): the athlete's "
+                  "centre of mass never leaves the bed, so there is no jump to measure "
+                  "(acrolab reconstruct gives the joint angles of any motion)",
+                  trial.num_frames,
+                  trial.duration_s(),
+                  trial.point_rate_hz));
 }
 
-VideoCheck CheckVideo(VideoInput& video, const capture::Trial& trial, const analysis::AthleteBody& body,
-                      const analysis::TrialAnalysis& analysis, const Progress& progress) {
+VideoCheck CheckVideo(VideoInput& video,
+                      const capture::Trial& trial,
+                      const analysis::AthleteBody& body,
+                      const analysis::TrialAnalysis& analysis,
+                      const Progress& progress) {
   // The silhouettes with the body's full mesh: what the video shows.
   analysis::TrialScene scene(trial, analysis, body, analysis::MakeEllipsoidBodyMesh(body));
   VideoCheck out;
@@ -37,7 +47,9 @@ VideoCheck CheckVideo(VideoInput& video, const capture::Trial& trial, const anal
   return out;
 }
 
-VideoCheck AttachVideo(VideoInput& video, const TrialInput& input, analysis::TrialAnalysis* analysis,
+VideoCheck AttachVideo(VideoInput& video,
+                       const TrialInput& input,
+                       analysis::TrialAnalysis* analysis,
                        const Progress& progress) {
   VideoCheck out = CheckVideo(video, input.trial, input.athlete.body, *analysis, progress);
   analysis::AttachSilhouetteCheck(out.silhouettes, analysis);

@@ -37,9 +37,12 @@ Athlete MakeAthlete(const AthleteChoice& choice) {
   out.body = analysis::MakeDeLevaBody(choice.height_m, choice.mass_kg, choice.sex);
   out.name = "default de Leva athlete (no athlete file)";
   out.warning = fmt::format(
-      "no --athlete file; using a de Leva athlete of {:.2f} m, {:.1f} kg, sex {} (segment masses and "
+      "no --athlete file; using a de Leva athlete of {:.2f} m, {:.1f} kg, sex {} (segment masses "
+      "and "
       "inertias will be generic)",
-      choice.height_m, choice.mass_kg, choice.sex == analysis::Sex::kFemale ? "f" : "m");
+      choice.height_m,
+      choice.mass_kg,
+      choice.sex == analysis::Sex::kFemale ? "f" : "m");
   return out;
 }
 
@@ -49,7 +52,8 @@ TrialInput OpenTrial(const TrialRequest& request) {
   // The bytes once: what is hashed is what is parsed.
   const std::vector<std::uint8_t> bytes = ReadFileBytes(request.trial);
   in.size_bytes = static_cast<std::int64_t>(bytes.size());
-  in.sha256 = Sha256Hex(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
+  in.sha256 =
+      Sha256Hex(std::string_view(reinterpret_cast<const char*>(bytes.data()), bytes.size()));
   in.trial = capture::ReadTrialFromBytes(bytes, request.trial);
   for (const std::string& w : in.trial.warnings) in.warnings.push_back(w);
   capture::DemandUsableContent(in.trial, request.trial.string(), request.min_frames, request.use);
@@ -57,11 +61,12 @@ TrialInput OpenTrial(const TrialRequest& request) {
   if (!turned.empty()) in.warnings.push_back(turned);
   if (!request.static_trial.empty()) {
     in.static_trial = capture::ReadTrial(request.static_trial);
-    capture::DemandUsableContent(*in.static_trial, request.static_trial.string(), 1,
-                                 "a static trial");
+    capture::DemandUsableContent(
+        *in.static_trial, request.static_trial.string(), 1, "a static trial");
     // Recorded in the same lab: the trial's up, forced.
     if (in.up.found)
-      analysis::OrientTrialUp(&*in.static_trial, (in.up.sign > 0 ? "" : "-") + std::string(1, char('x' + in.up.axis)));
+      analysis::OrientTrialUp(&*in.static_trial,
+                              (in.up.sign > 0 ? "" : "-") + std::string(1, char('x' + in.up.axis)));
   }
   in.athlete = MakeAthlete(request.athlete);
   return in;

@@ -7,6 +7,7 @@
 #include "acro/fig/score_sheet.h"
 #include "acro/pipeline/detect.h"
 #include "acro/vision/bed_detection.h"
+#include "acro/vision/camera_motion.h"
 
 namespace acro::pipeline {
 
@@ -21,6 +22,10 @@ VideoFlights FindFlightsInVideo(const VideoFlightsRequest& request, const Progre
   capture::KeypointDetections detections = Body25bDetections(poses);
   detections.source = request.video.string();
   out.flights = vision::FindFlightsInImage(detections, out.info.average_fps, line, request.options);
+  // The bed's line is the first frame's: a camera that moved after it is said, per flight.
+  for (const std::string& w : vision::CameraMotionWarnings(
+           vision::MeasureCameraMotion(request.video, {}, progress), out.flights))
+    out.flights.warnings.push_back(w);
   if (out.info.variable_frame_rate)
     out.flights.warnings.push_back(
         "the video's frame rate varies: its frames are timed at the average rate, " +

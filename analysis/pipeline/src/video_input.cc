@@ -14,7 +14,8 @@ bool SyncRequest::IsValid(std::string* why) const {
     if (why) *why = m;
     return false;
   };
-  if (!(rate > 0) || !std::isfinite(rate)) return fail(fmt::format("rate {}: a positive number", rate));
+  if (!(rate > 0) || !std::isfinite(rate))
+    return fail(fmt::format("rate {}: a positive number", rate));
   if (!std::isfinite(offset_s) || !std::isfinite(event_trial_s) || !std::isfinite(event_video_s))
     return fail("the sync's times must be finite");
   return true;
@@ -36,7 +37,8 @@ VideoInput::VideoInput(const VideoRequest& request) : request_(request) {
   reader_ = std::make_unique<capture::VideoReader>(request.video);
   const capture::VideoInfo& info = reader_->info();
   std::string note;
-  camera_ = vision::FitCameraToVideo(camera_, info.width, info.height, request.video.string(), &note);
+  camera_ =
+      vision::FitCameraToVideo(camera_, info.width, info.height, request.video.string(), &note);
   if (!note.empty()) warnings_.push_back(note);
 }
 
@@ -74,8 +76,8 @@ const SyncOutcome& VideoInput::Sync(analysis::TrialScene& scene, const Progress&
     out.sync = vision::SyncFromEvent(r.event_trial_s, r.event_video_s, r.rate);
   }
   if (r.kind != SyncRequest::Kind::kAuto) {
-    vision::DemandTrialInsideVideo(out.sync, scene.trial().duration_s(), reader_->info().duration_s,
-                                   request_.video.string());
+    vision::DemandTrialInsideVideo(
+        out.sync, scene.trial().duration_s(), reader_->info().duration_s, request_.video.string());
   } else {
     // From the image motion, then refined by the silhouettes to the trial's sample.
     vision::AutoSyncOptions motion;
@@ -86,18 +88,23 @@ const SyncOutcome& VideoInput::Sync(analysis::TrialScene& scene, const Progress&
     refine.progress = Step(progress, "sync (silhouettes)");
     out.found = analysis::SyncVideoAutomatically(scene, camera_, *reader_, motion, refine);
     out.sync = out.found->refined.sync;
-    out.lines.push_back(fmt::format(
-        "sync: video time = {:.4f} s + trial time (from the image motion: 1 − correlation {:.3f}, runner-up {:.3f})",
-        out.found->motion.sync.offset_s, out.found->motion.cost, out.found->motion.runner_up_cost));
+    out.lines.push_back(
+        fmt::format("sync: video time = {:.4f} s + trial time (from the image motion: 1 − "
+                    "correlation {:.3f}, runner-up {:.3f})",
+                    out.found->motion.sync.offset_s,
+                    out.found->motion.cost,
+                    out.found->motion.runner_up_cost));
     out.lines.push_back(fmt::format(
         "sync: video time = {:.4f} s + trial time (refined by the silhouettes, median IoU {:.3f})",
-        out.sync.offset_s, out.found->refined.median_iou));
+        out.sync.offset_s,
+        out.found->refined.median_iou));
   }
   sync_ = std::move(out);
   return *sync_;
 }
 
-analysis::SilhouetteCheck VideoInput::CheckSilhouettes(analysis::TrialScene& scene, const Progress& progress) {
+analysis::SilhouetteCheck VideoInput::CheckSilhouettes(analysis::TrialScene& scene,
+                                                       const Progress& progress) {
   analysis::SilhouetteCheckOptions check;
   check.sync = Sync(scene, progress).sync;
   check.background_model = &Background();
