@@ -490,13 +490,14 @@ TrialAnalysis AnalyzeTrial(const capture::Trial& trial,
                        1e3 * rec.summary.median_rms_m,
                        1e3 * rec.summary.p95_rms_m,
                        Seconds(start)));
-  if (rec.summary.view_fit) {
-    std::string lines = rec.summary.view_fit->Report();
-    for (size_t at = 0, end; at < lines.size(); at = end + 1) {
-      end = lines.find('\n', at);
-      progress("reconstruct: " + lines.substr(at, end - at));
-      if (end == std::string::npos) break;
-    }
+  // The fits' reports, line by line.
+  std::string lines;
+  if (rec.summary.view_fit) lines += rec.summary.view_fit->Report();
+  if (rec.summary.flight_physics) lines += rec.summary.flight_physics->Report();
+  for (size_t at = 0, end; at < lines.size(); at = end + 1) {
+    end = lines.find('\n', at);
+    if (end != at) progress("reconstruct: " + lines.substr(at, end - at));
+    if (end == std::string::npos) break;
   }
   out.reconstruct_s = Seconds(start);
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 #include <mutex>
+#include <numbers>
 #include <optional>
 
 #include <ceres/ceres.h>
@@ -514,6 +515,10 @@ bool FlightPhysicsOptions::IsValid(std::string* why) const {
   if (min_frames < 3) return fail("min_frames must be >= 3");
   if (blend_frames < 0) return fail("blend_frames must be >= 0");
   if (!(ambiguous_ratio >= 1)) return fail("ambiguous_ratio must be >= 1");
+  if (!(distinct_deg >= 0 && distinct_deg <= 180)) return fail("distinct_deg must be 0–180");
+  if (!(worse_factor >= 1 && std::isfinite(worse_factor) && worse_px >= 0 &&
+        std::isfinite(worse_px)))
+    return fail("worse_factor must be finite and >= 1, worse_px finite and >= 0");
   if (!(segment_s > 0 && std::isfinite(segment_s))) return fail("segment_s must be finite and > 0");
   if (!(continuity_px_per_rad >= 0 && std::isfinite(continuity_px_per_rad)))
     return fail("continuity_px_per_rad must be finite and >= 0");
@@ -536,10 +541,12 @@ std::string FlightPhysicsSummary::Report() const {
         f.H_Scm_W.y(),
         f.H_Scm_W.z());
     if (std::isfinite(f.mirror_cost_ratio))
-      s += fmt::format(", mirror image {:.2f}× the cost{}{}",
+      s += fmt::format(", mirror image {:.2f}× the cost and up to {:.0f}° apart{}{}",
                        f.mirror_cost_ratio,
+                       f.mirror_apart_deg,
                        f.mirror_chosen ? " (the mirror image chosen)" : "",
                        f.ambiguous ? ": twist direction not told" : "");
+    if (!f.kept) s += "; not kept (worse than frame by frame)";
     s += "\n";
   }
   return s;
@@ -658,13 +665,29 @@ FlightPhysicsSummary FitFlightsToPhysics(const ViewsToFit& views,
           chosen = results[1].cost < results[0].cost ? 1 : 0;
           fit.mirror_chosen = chosen == 1;
           fit.mirror_cost_ratio = results[1 - chosen].cost / results[chosen].cost;
-          fit.ambiguous = fit.mirror_cost_ratio < options.ambiguous_ratio;
+          // Ambiguous: two flights that turn differently (apart by more than
+          // options.distinct_deg somewhere) fit alike. A flight without twist is its own mirror
+          // image: nothing to tell.
+          flight.SetJoints(joints[0]);
+          const std::vector<Eigen::Quaterniond> a = flight.Turns(results[0].state);
+          flight.SetJoints(joints[1]);
+          const std::vector<Eigen::Quaterniond> b = flight.Turns(results[1].state);
+          for (size_t i = 0; i < a.size(); ++i)
+            fit.mirror_apart_deg = std::max(
+                fit.mirror_apart_deg,
+                Eigen::AngleAxisd(a[i].conjugate() * b[i]).angle() * 180 / std::numbers::pi);
+          fit.ambiguous = fit.mirror_cost_ratio < options.ambiguous_ratio &&
+                          fit.mirror_apart_deg > options.distinct_deg;
         }
         const Solved& best = results[chosen];
         flight.SetJoints(joints[chosen]);
         const Eigen::MatrixXd Q = flight.Configurations(best.state);
         fit.median_before_px = Median(flight.Errors(Q0));
         fit.median_after_px = Median(flight.Errors(Q));
+        // A free flight that explains the picture worse than the frame-by-frame fit by more than
+        // the options allow is not kept: the joints it was given cannot fly that way.
+        fit.kept =
+            fit.median_after_px <= options.worse_factor * fit.median_before_px + options.worse_px;
         fit.H_Scm_W = best.state.H_W;
         fit.c0_W = best.state.c0_W;
         fit.v0_W = best.state.v0_W;
@@ -686,6 +709,17 @@ FlightPhysicsSummary FitFlightsToPhysics(const ViewsToFit& views,
       continue;
     }
     const auto [first, last] = flights[f];
+    summary.flights.push_back(*fits[f]);
+    if (!fits[f]->kept) {
+      summary.warnings.push_back(fmt::format(
+          "frames {}–{}: the free flight fits the picture worse ({:.1f} px against {:.1f} px frame "
+          "by frame, median): kept as fitted frame by frame",
+          first,
+          last,
+          fits[f]->median_after_px,
+          fits[f]->median_before_px));
+      continue;
+    }
     const Eigen::MatrixXd& Q = refitted[f];
     auto change_at = [&](int k, const Eigen::VectorXd& q_new) {
       const Eigen::VectorXd q_old = motion->q.col(k);
@@ -715,13 +749,14 @@ FlightPhysicsSummary FitFlightsToPhysics(const ViewsToFit& views,
     for (int j = 1; j <= std::min(options.blend_frames, gap_after); ++j)
       apply(last + j, d_last, 1.0 - double(j) / (options.blend_frames + 1));
     motion->q.middleCols(first, Q.cols()) = Q;
-    summary.flights.push_back(*fits[f]);
     if (fits[f]->ambiguous)
       summary.warnings.push_back(fmt::format(
           "frames {}–{}: the picture does not tell which way the body twists (its mirror image "
-          "through the depth fits within {:.0f} %): the twist's direction is a guess",
+          "through the depth, turning up to {:.0f}° apart, fits within {:.0f} %): the twist's "
+          "direction is a guess",
           first,
           last,
+          fits[f]->mirror_apart_deg,
           100 * (fits[f]->mirror_cost_ratio - 1)));
   }
   return summary;

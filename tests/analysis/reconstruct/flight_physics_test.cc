@@ -248,11 +248,14 @@ FlightPhysicsFit ExpectRootBack(int flight_index) {
 }
 
 // The back somersault without twist (the sample's second flight): its mirror image through the
-// depth is itself, so the picture has no twist direction to tell — reported as such.
+// depth is itself — the same cost, the same turns — so there is no twist direction to tell, and no
+// warning.
 TEST(FlightPhysics, APhysicalSomersaultSeenByOneCameraGetsItsRootBack) {
   const FlightPhysicsFit fit = ExpectRootBack(1);
   EXPECT_LT(fit.mirror_cost_ratio, 1.1);
-  EXPECT_TRUE(fit.ambiguous);
+  EXPECT_LT(fit.mirror_apart_deg, 5.0);
+  EXPECT_FALSE(fit.ambiguous);
+  EXPECT_TRUE(fit.kept);
 }
 
 // The full twist (the sample's fifth flight): the mirror image, twisting the other way, fits far
@@ -261,7 +264,9 @@ TEST(FlightPhysics, APhysicalTwistSeenByOneCameraGetsItsRootBack) {
   const FlightPhysicsFit fit = ExpectRootBack(4);
   EXPECT_FALSE(fit.mirror_chosen);
   EXPECT_GT(fit.mirror_cost_ratio, 10.0);
+  EXPECT_GT(fit.mirror_apart_deg, 90.0);
   EXPECT_FALSE(fit.ambiguous);
+  EXPECT_TRUE(fit.kept);
 }
 
 TEST(FlightPhysics, OptionsOutOfRangeAreRefused) {

@@ -63,6 +63,13 @@ struct FlightPhysicsOptions {
   /// When the mirror image's best cost is within this factor of the chosen one, the flight's
   /// twist direction is reported as not told by the picture.
   double ambiguous_ratio = 1.10;
+  /// … and when the two turn apart by more than this somewhere in the flight (a flight without
+  /// twist is its own mirror image: nothing to tell).
+  double distinct_deg = 30.0;
+  /// A free flight whose median reprojection error is above worse_factor × the frame-by-frame
+  /// fit's + worse_px is not kept (the joints it was given cannot fly that way; said).
+  double worse_factor = 1.3;
+  double worse_px = 1.0;
   bool IsValid(std::string* why) const;
 };
 
@@ -80,8 +87,10 @@ struct FlightPhysicsFit {
   /// cannot tell the twist's direction), and whether the mirror image was the one chosen. NaN with
   /// several cameras (no mirror image).
   double mirror_cost_ratio = 0.0;
+  double mirror_apart_deg = 0.0;  ///< the largest angle between the two flights' roots
   bool mirror_chosen = false;
   bool ambiguous = false;
+  bool kept = true;  ///< false: worse than the frame-by-frame fit, the motion left as it was
   bool converged = false;
 };
 
