@@ -3,6 +3,7 @@
 // 200 px at 100 px/s) reads the window's slide, and the flights timed while it slid are named.
 
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
@@ -63,6 +64,7 @@ TEST(CameraMotion, APanIsMeasuredAndTheFlightsDuringItAreNamed) {
   flights.flights[1].last_contact_frame = 60;
   flights.flights[1].first_contact_frame = 100;
   const std::vector<std::string> w = CameraMotionWarnings(m, flights);
+  for (const std::string& line : w) std::printf("%s\n", line.c_str());
   ASSERT_EQ(w.size(), 2u);
   EXPECT_NE(w[0].find("the camera moves"), std::string::npos) << w[0];
   EXPECT_NE(w[0].find(pan.string()), std::string::npos) << w[0];
