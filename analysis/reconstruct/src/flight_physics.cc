@@ -348,6 +348,25 @@ class Flight {
     });
   }
 
+  // Per frame: each detection's marker and its distance from the detection's ray (m) for Q.
+  std::vector<std::vector<std::pair<int, double>>> RayErrors(const Eigen::MatrixXd& Q) {
+    std::vector<std::vector<std::pair<int, double>>> out(static_cast<size_t>(frames_));
+    Eigen::Matrix3Xd p_WM;
+    for (int i = 0; i < frames_; ++i) {
+      if (by_frame_[size_t(i)].empty()) continue;
+      ik_.CalcMarkerPositions(Q.col(i), p_WM);
+      for (const int d : by_frame_[size_t(i)]) {
+        const Detection& det = detections_[size_t(d)];
+        const vision::Camera& cam = views_.views[size_t(det.view)].camera;
+        const Eigen::Vector3d dir =
+            (cam.R_KW.transpose() * Eigen::Vector3d(det.xy.x(), det.xy.y(), 1.0)).normalized();
+        const Eigen::Vector3d r = p_WM.col(det.marker) - cam.CentreInWorld();
+        out[size_t(i)].push_back({det.marker, (r - dir * dir.dot(r)).norm()});
+      }
+    }
+    return out;
+  }
+
   // Plain reprojection errors (px) of every detection for Q.
   std::vector<double> Errors(const Eigen::MatrixXd& Q) {
     std::vector<double> out;
@@ -489,8 +508,9 @@ Solved Solve(Flight& flight, const FlightState& start, int max_iterations) {
 
 // The picture's mirror image through the depth along `axis_W` (a unit vector from the camera to
 // the athlete): the body reflected by M = I − 2 a aᵀ and its left and right exchanged (the root
-// frame's y, lateral, reflected), so that the first frame's picture is the same and the angular
-// momentum, a pseudovector, becomes −M H: the twist turns the other way.
+// frame's y, lateral, reflected) — the same first picture when the body's left–right axis lies
+// along the line of sight (a side camera's somersault; otherwise a start near it) — and the
+// angular momentum, a pseudovector, becomes −M H: the twist turns the other way.
 FlightState Mirror(const FlightState& s, const Eigen::Vector3d& axis_W) {
   const Eigen::Matrix3d M = Eigen::Matrix3d::Identity() - 2 * axis_W * axis_W.transpose();
   const Eigen::Matrix3d M_B = Eigen::Vector3d(1, -1, 1).asDiagonal();
@@ -513,6 +533,11 @@ bool FlightPhysicsOptions::IsValid(std::string* why) const {
   if (!(robust_px > 0 && std::isfinite(robust_px))) return fail("robust_px must be finite and > 0");
   if (max_iterations < 1) return fail("max_iterations must be >= 1");
   if (min_frames < 3) return fail("min_frames must be >= 3");
+  if (rounds < 0) return fail("rounds must be >= 0");
+  if (num_threads < 0) return fail("num_threads must be >= 0");
+  if (!(root_prior >= 0 && std::isfinite(root_prior) && root_prior_m_per_rad >= 0 &&
+        std::isfinite(root_prior_m_per_rad)))
+    return fail("root_prior and root_prior_m_per_rad must be finite and >= 0");
   if (blend_frames < 0) return fail("blend_frames must be >= 0");
   if (!(ambiguous_ratio >= 1)) return fail("ambiguous_ratio must be >= 1");
   if (!(distinct_deg >= 0 && distinct_deg <= 180)) return fail("distinct_deg must be 0–180");
@@ -558,11 +583,14 @@ FlightPhysicsSummary FitFlightsToPhysics(const ViewsToFit& views,
                                          const std::vector<ModelMarker>& markers,
                                          const std::vector<JointLimit>& limits,
                                          const InverseKinematicsOptions& ik_options,
-                                         const std::vector<std::pair<int, int>>& flights,
+                                         const std::vector<std::pair<int, int>>& given,
                                          const FlightPhysicsOptions& options,
                                          Motion* motion,
                                          const Progress& progress) {
   DemandValidOptions(options, "flight physics");
+  // In time order, so that each flight's neighbours bound the blends into its contacts.
+  std::vector<std::pair<int, int>> flights = given;
+  std::sort(flights.begin(), flights.end());
   const int P = static_cast<int>(views.names.size());
   const int V = static_cast<int>(views.views.size());
   const int F = std::min(motion->num_frames(), views.num_frames);
@@ -571,20 +599,37 @@ FlightPhysicsSummary FitFlightsToPhysics(const ViewsToFit& views,
   std::vector<std::optional<FlightPhysicsFit>> fits(flights.size());
   std::vector<Eigen::MatrixXd> refitted(flights.size());
   std::vector<std::string> skipped(flights.size());
-  std::atomic<int> done{0};
+  // Per flight and frame in it: each marker's distance from the rays of its detections (m).
+  std::vector<std::vector<std::vector<std::pair<int, double>>>> ray_errors(flights.size());
+  int done = 0;
   std::atomic<bool> stop{false};
   std::mutex mutex;
+  // One more flight done (fitted or left), told in order under the lock.
+  auto count_done = [&] {
+    std::lock_guard<std::mutex> lock(mutex);
+    if (!progress.Report("flight physics", ++done, static_cast<int>(flights.size()))) stop = true;
+  };
   ParallelFor(
       static_cast<int>(flights.size()),
-      0,
+      options.num_threads,
       [&](int f) {
         const auto [first, last] = flights[size_t(f)];
-        if (first < 0 || last >= F || last - first + 1 < options.min_frames) {
+        if (first < 0 || last >= F) {
+          skipped[size_t(f)] = fmt::format(
+              "frames {}–{}: outside the fitted frames (0–{}): left as fitted frame by frame",
+              first,
+              last,
+              F - 1);
+          count_done();
+          return;
+        }
+        if (last - first + 1 < options.min_frames) {
           skipped[size_t(f)] =
               fmt::format("frames {}–{}: too short to fit as a free flight (fewer than {} frames)",
                           first,
                           last,
                           options.min_frames);
+          count_done();
           return;
         }
         // The detections within the gate of the frame-by-frame fit.
@@ -617,6 +662,7 @@ FlightPhysicsSummary FitFlightsToPhysics(const ViewsToFit& views,
                           first,
                           last,
                           detections.size());
+          count_done();
           return;
         }
         Flight flight(
@@ -664,7 +710,7 @@ FlightPhysicsSummary FitFlightsToPhysics(const ViewsToFit& views,
         if (results.size() == 2) {
           chosen = results[1].cost < results[0].cost ? 1 : 0;
           fit.mirror_chosen = chosen == 1;
-          fit.mirror_cost_ratio = results[1 - chosen].cost / results[chosen].cost;
+          fit.mirror_cost_ratio = results[1 - chosen].cost / std::max(results[chosen].cost, 1e-12);
           // Ambiguous: two flights that turn differently (apart by more than
           // options.distinct_deg somewhere) fit alike. A flight without twist is its own mirror
           // image: nothing to tell.
@@ -694,9 +740,8 @@ FlightPhysicsSummary FitFlightsToPhysics(const ViewsToFit& views,
         fit.converged = best.converged;
         fits[size_t(f)] = fit;
         refitted[size_t(f)] = Q;
-        const int n = ++done;
-        std::lock_guard<std::mutex> lock(mutex);
-        if (!progress.Report("flight physics", n, static_cast<int>(flights.size()))) stop = true;
+        ray_errors[size_t(f)] = flight.RayErrors(Q);
+        count_done();
       },
       [&] { return !stop; });
   if (stop) throw Cancelled("flight physics: cancelled");
@@ -749,6 +794,31 @@ FlightPhysicsSummary FitFlightsToPhysics(const ViewsToFit& views,
     for (int j = 1; j <= std::min(options.blend_frames, gap_after); ++j)
       apply(last + j, d_last, 1.0 - double(j) / (options.blend_frames + 1));
     motion->q.middleCols(first, Q.cols()) = Q;
+    // The frames' fit quality as the fit to the views reports it: per marker the RMS distance from
+    // its detections' rays.
+    for (int i = 0; i < Q.cols(); ++i) {
+      const int k = first + i;
+      Eigen::VectorXd sum = Eigen::VectorXd::Zero(motion->marker_error_m.rows());
+      Eigen::VectorXi count = Eigen::VectorXi::Zero(sum.size());
+      for (const auto& [m, d] : ray_errors[f][size_t(i)]) {
+        if (m >= sum.size()) continue;
+        sum[m] += d * d;
+        ++count[m];
+      }
+      if (count.sum() == 0) continue;
+      FrameFit& frame_fit = motion->fit[size_t(k)];
+      double total = 0;
+      int seen = 0;
+      frame_fit.max_m = 0;
+      for (Eigen::Index m = 0; m < sum.size(); ++m) {
+        motion->marker_error_m(m, k) = count[m] > 0 ? std::sqrt(sum[m] / count[m]) : kNaN;
+        if (count[m] == 0) continue;
+        total += sum[m] / count[m];
+        ++seen;
+        frame_fit.max_m = std::max(frame_fit.max_m, motion->marker_error_m(m, k));
+      }
+      frame_fit.rms_m = std::sqrt(total / seen);
+    }
     if (fits[f]->ambiguous)
       summary.warnings.push_back(fmt::format(
           "frames {}–{}: the picture does not tell which way the body twists (its mirror image "

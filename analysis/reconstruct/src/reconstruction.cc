@@ -818,8 +818,13 @@ FlightPhysicsSummary FitToPhysics(const ViewsToFit& views,
     if (end - 1 > first) flights.push_back({int(first), int(end - 1)});
   }
   Progress progress;
-  if (options.cancelled)
-    progress.report = [&](const std::string&, int, int) { return !options.cancelled(); };
+  if (options.progress || options.cancelled)
+    progress.report = [&](const std::string&, int done, int total) {
+      if (options.progress) options.progress(done, total);
+      return !(options.cancelled && options.cancelled());
+    };
+  FlightPhysicsOptions physics = options.flight_physics;
+  if (physics.num_threads == 0) physics.num_threads = options.num_threads;
   return FitFlightsToPhysics(views,
                              marker_of_point,
                              result.model,
@@ -827,7 +832,7 @@ FlightPhysicsSummary FitToPhysics(const ViewsToFit& views,
                              result.joint_limits,
                              result.ik_options,
                              flights,
-                             options.flight_physics,
+                             physics,
                              &result.motion,
                              progress);
 }

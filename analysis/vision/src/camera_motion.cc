@@ -37,10 +37,8 @@ double CameraMotion::LargestShiftPx(int first, int last) const {
 
 int CameraMotion::FirstMovedFrame() const {
   for (size_t i = 0; i < frames.size(); ++i)
-    if (shift[i].norm() > moved_px ||
-        std::find(lost_frames.begin(), lost_frames.end(), frames[i]) != lost_frames.end())
-      return frames[i];
-  return -1;
+    if (shift[i].norm() > moved_px) return frames[i];
+  return lost_frames.empty() ? -1 : lost_frames.front();
 }
 
 namespace {
@@ -109,7 +107,9 @@ class Follower {
       double best = 0;
       cv::Point at;
       cv::minMaxLoc(score, nullptr, &best, nullptr, &at);
-      if (best < 0.8) continue;
+      // A peak on the window's edge may be a slope towards a match outside it: not found.
+      if (best < 0.8 || at.x == 0 || at.y == 0 || at.x == score.cols - 1 || at.y == score.rows - 1)
+        continue;
       // Sub-pixel: the parabola through the peak and its neighbours, per axis.
       auto refine = [&](int i, int n, auto value) {
         if (i <= 0 || i >= n - 1) return 0.0;
@@ -155,7 +155,11 @@ CameraMotion MeasureCameraMotion(const std::filesystem::path& video,
   out.width_px = info.width;
   out.moved_px = options.moved_px;
   const int factor = std::max(1, info.width / options.analysis_width_px);
-  if (info.width / factor < 64 || info.height / factor < 64) return out;
+  if (info.width / factor < 64 || info.height / factor < 64) {
+    out.unmeasured =
+        fmt::format("its picture, {}×{} px, is too small to follow", info.width, info.height);
+    return out;
+  }
   std::optional<Follower> follower;
   Eigen::Vector2d shift = Eigen::Vector2d::Zero();  // reduced px, against the first frame
   capture::VideoFrame frame;
@@ -185,6 +189,7 @@ CameraMotion MeasureCameraMotion(const std::filesystem::path& video,
     }
     progress.ReportOrThrow("camera motion", k + 1, n);
   }
+  if (out.frames.empty() && out.unmeasured.empty()) out.unmeasured = "no frame could be read";
   return out;
 }
 
@@ -227,15 +232,20 @@ std::vector<std::string> CameraMotionWarnings(
 std::vector<std::string> CameraMotionWarnings(const CameraMotion& motion,
                                               const ImageFlights& flights) {
   std::vector<std::pair<std::pair<int, int>, std::string>> spans;
-  const int last_frame = motion.frames.empty() ? 0 : motion.frames.back();
   for (size_t i = 0; i < flights.flights.size(); ++i) {
     const ImageFlight& f = flights.flights[i];
     const int a = f.last_contact_frame >= 0 ? f.last_contact_frame : 0;
-    const int b = f.first_contact_frame >= 0 ? f.first_contact_frame : last_frame;
+    // In the air at the video's end: up to its end (past the last frame compared, a loss
+    // included).
+    const int b =
+        f.first_contact_frame >= 0 ? f.first_contact_frame : std::numeric_limits<int>::max();
+    // Named by its frames in the air, as the flights' own warnings name it.
+    const double from = f.last_contact_frame >= 0 ? (a + 1) / flights.rate_hz : 0.0;
     spans.push_back(
         {{a, b},
-         fmt::format(
-             "flight {} ({:.2f}–{:.2f} s)", i + 1, a / flights.rate_hz, b / flights.rate_hz)});
+         f.first_contact_frame >= 0
+             ? fmt::format("flight {} ({:.2f}–{:.2f} s)", i + 1, from, (b - 1) / flights.rate_hz)
+             : fmt::format("flight {} (from {:.2f} s)", i + 1, from)});
   }
   return CameraMotionWarnings(motion, spans);
 }

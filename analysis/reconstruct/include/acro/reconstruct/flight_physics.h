@@ -70,6 +70,8 @@ struct FlightPhysicsOptions {
   /// fit's + worse_px is not kept (the joints it was given cannot fly that way; said).
   double worse_factor = 1.3;
   double worse_px = 1.0;
+  /// Worker threads, one flight each (0: the machine's cores).
+  int num_threads = 0;
   bool IsValid(std::string* why) const;
 };
 

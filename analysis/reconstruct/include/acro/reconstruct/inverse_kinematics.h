@@ -76,16 +76,16 @@ struct IkFrameResult {
   double final_cost = 0.0;
 };
 
-/// A marker seen by a camera: the ray from the camera's centre through its detection. The fit's
-/// residual is the marker's distance from the ray, w (I − d dᵀ)(p_WM − o) — the reprojection
-/// error measured in metres at the marker's depth, so that the joint limits and priors (m/rad) keep
-/// their meaning (docs/markerless.md, "The model fitted to the views").
 /// How firmly SolveRays holds the root at its warm start.
 struct RootPrior {
   double position = 0.0;            ///< m of ray distance per m
   double rotation_m_per_rad = 0.0;  ///< m of ray distance per rad
 };
 
+/// A marker seen by a camera: the ray from the camera's centre through its detection. The fit's
+/// residual is the marker's distance from the ray, w (I − d dᵀ)(p_WM − o) — the reprojection
+/// error measured in metres at the marker's depth, so that the joint limits and priors (m/rad) keep
+/// their meaning (docs/markerless.md, "The model fitted to the views").
 struct MarkerRay {
   int marker = 0;
   Eigen::Vector3d origin_W = Eigen::Vector3d::Zero();

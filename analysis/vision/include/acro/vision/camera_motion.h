@@ -47,8 +47,8 @@ struct CameraMotion {
   /// The largest shift's length over the compared frames in [first, last] (0 when none; infinite
   /// when the background was lost at or before `last`).
   double LargestShiftPx(int first, int last) const;
-  /// The first compared frame whose shift is beyond moved_px or whose background was lost (−1:
-  /// the camera held still).
+  /// The first compared frame whose shift is beyond moved_px, else the frame where the background
+  /// was lost (−1: the camera held still).
   int FirstMovedFrame() const;
 };
 
@@ -67,7 +67,8 @@ std::vector<std::string> CameraMotionWarnings(
     const std::vector<std::pair<std::pair<int, int>, std::string>>& spans);
 
 /// CameraMotionWarnings for the flights found in the picture (each from its last frame on the
-/// bed to its first back on it), as "flight N (t0–t1 s)".
+/// bed to its first back on it, or to the video's end), named "flight N (t0–t1 s)" by its frames
+/// in the air as the flights' own warnings name them. With motion.unmeasured, its one line.
 std::vector<std::string> CameraMotionWarnings(const CameraMotion& motion,
                                               const ImageFlights& flights);
 
