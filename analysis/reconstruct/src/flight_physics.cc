@@ -316,23 +316,37 @@ class Flight {
       for (int c = 0; c < 3; ++c) *r++ = continuity_px_per_rad_ * m[c];
   }
 
-  // Each detection's reprojection error (px, a 2-vector; NaN behind the camera) for the
-  // configurations Q, given to `use(detection index, error)`.
+  // Every detection of the flight with its marker's position for the configurations Q:
+  // use(frame, detection index, detection, its camera, p_WM).
   template <typename Use>
-  void ForEachError(const Eigen::MatrixXd& Q, Use&& use) {
+  void ForEachDetection(const Eigen::MatrixXd& Q, Use&& use) {
     Eigen::Matrix3Xd p_WM;
     for (int i = 0; i < frames_; ++i) {
       if (by_frame_[size_t(i)].empty()) continue;
       ik_.CalcMarkerPositions(Q.col(i), p_WM);
       for (const int d : by_frame_[size_t(i)]) {
         const Detection& det = detections_[size_t(d)];
-        const vision::Camera& cam = views_.views[size_t(det.view)].camera;
-        const Eigen::Vector3d p = cam.R_KW * p_WM.col(det.marker) + cam.t_KW;
-        use(d,
-            p.z() > 1e-3 ? Eigen::Vector2d(FocalPx(cam) * (p.head<2>() / p.z() - det.xy))
-                         : Eigen::Vector2d::Constant(kNaN));
+        use(i, d, det, views_.views[size_t(det.view)].camera, p_WM.col(det.marker));
       }
     }
+  }
+
+  // Each detection's reprojection error (px, a 2-vector; NaN behind the camera) for the
+  // configurations Q, given to `use(detection index, error)`.
+  template <typename Use>
+  void ForEachError(const Eigen::MatrixXd& Q, Use&& use) {
+    ForEachDetection(Q,
+                     [&](int,
+                         int d,
+                         const Detection& det,
+                         const vision::Camera& cam,
+                         const Eigen::Vector3d& p_W) {
+                       const Eigen::Vector3d p = cam.R_KW * p_W + cam.t_KW;
+                       use(d,
+                           p.z() > 1e-3
+                               ? Eigen::Vector2d(FocalPx(cam) * (p.head<2>() / p.z() - det.xy))
+                               : Eigen::Vector2d::Constant(kNaN));
+                     });
   }
 
   // Robust reprojection residuals (px) of every detection for the configurations Q: weighted,
@@ -351,19 +365,18 @@ class Flight {
   // Per frame: each detection's marker and its distance from the detection's ray (m) for Q.
   std::vector<std::vector<std::pair<int, double>>> RayErrors(const Eigen::MatrixXd& Q) {
     std::vector<std::vector<std::pair<int, double>>> out(static_cast<size_t>(frames_));
-    Eigen::Matrix3Xd p_WM;
-    for (int i = 0; i < frames_; ++i) {
-      if (by_frame_[size_t(i)].empty()) continue;
-      ik_.CalcMarkerPositions(Q.col(i), p_WM);
-      for (const int d : by_frame_[size_t(i)]) {
-        const Detection& det = detections_[size_t(d)];
-        const vision::Camera& cam = views_.views[size_t(det.view)].camera;
-        const Eigen::Vector3d dir =
-            (cam.R_KW.transpose() * Eigen::Vector3d(det.xy.x(), det.xy.y(), 1.0)).normalized();
-        const Eigen::Vector3d r = p_WM.col(det.marker) - cam.CentreInWorld();
-        out[size_t(i)].push_back({det.marker, (r - dir * dir.dot(r)).norm()});
-      }
-    }
+    ForEachDetection(
+        Q,
+        [&](int i,
+            int,
+            const Detection& det,
+            const vision::Camera& cam,
+            const Eigen::Vector3d& p_W) {
+          const Eigen::Vector3d dir =
+              (cam.R_KW.transpose() * Eigen::Vector3d(det.xy.x(), det.xy.y(), 1.0)).normalized();
+          const Eigen::Vector3d r = p_W - cam.CentreInWorld();
+          out[size_t(i)].push_back({det.marker, (r - dir * dir.dot(r)).norm()});
+        });
     return out;
   }
 
@@ -551,8 +564,11 @@ bool FlightPhysicsOptions::IsValid(std::string* why) const {
 }
 
 std::string FlightPhysicsSummary::Report() const {
-  std::string s =
-      fmt::format("flight physics: {} flights fitted as free flights\n", flights.size());
+  std::string s = fmt::format(
+      "flight physics: {} flights fitted as free flights, {} kept\n",
+      flights.size(),
+      std::count_if(
+          flights.begin(), flights.end(), [](const FlightPhysicsFit& f) { return f.kept; }));
   for (const FlightPhysicsFit& f : flights) {
     s += fmt::format(
         "  frames {}–{}: {} detections, reprojection median {:.1f} → {:.1f} px, H = ({:.1f}, "
