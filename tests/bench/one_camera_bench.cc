@@ -43,8 +43,8 @@ const Setup& TheSetup() {
     const capture::Trial trial = capture::ReadTrial(Sample("trampoline_routine.c3d"));
     const analysis::AthleteBody body = analysis::MakeDeLevaBody(1.75, 65.0, analysis::Sex::kFemale);
     const analysis::ReconstructionResult truth = analysis::Reconstruct(trial, nullptr, body, {});
-    const std::vector<analysis::ModelMarker> keypoints = analysis::PlaceMarkers(
-        analysis::BuiltinMarkerSet("body25b"), truth.model, body.height_m);
+    const std::vector<analysis::ModelMarker> keypoints =
+        analysis::PlaceMarkers(analysis::BuiltinMarkerSet("body25b"), truth.model, body.height_m);
     analysis::InverseKinematics ik(truth.model, keypoints, truth.joint_limits, truth.ik_options);
     vision::Camera side;
     for (const vision::Camera& c : vision::ReadCameras(Sample("views.toml")))
@@ -98,8 +98,12 @@ void Run(benchmark::State& state, bool physics) {
   state.counters["frames"] = s.frames;
 }
 
-void BM_OneCameraTwelveSkills60fps(benchmark::State& state) { Run(state, false); }
-void BM_OneCameraTwelveSkills60fpsFlightPhysics(benchmark::State& state) { Run(state, true); }
+void BM_OneCameraTwelveSkills60fps(benchmark::State& state) {
+  Run(state, false);
+}
+void BM_OneCameraTwelveSkills60fpsFlightPhysics(benchmark::State& state) {
+  Run(state, true);
+}
 
 BENCHMARK(BM_OneCameraTwelveSkills60fps)->Unit(benchmark::kSecond)->Iterations(1);
 BENCHMARK(BM_OneCameraTwelveSkills60fpsFlightPhysics)->Unit(benchmark::kSecond)->Iterations(1);

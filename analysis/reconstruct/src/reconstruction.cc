@@ -769,26 +769,34 @@ FlightFit CalcFlightFit(const Motion& motion, int a, int b) {
   return ff;
 }
 
-// Fit quality over the trial and per flight (flights found in the M marker positions P), with a
-// warning for frames left unfitted.
+// The views' keypoints as the marker set's markers (−1: not in the set).
+std::vector<int> MarkersOfPoints(const ViewsToFit& views, const ReconstructionResult& result) {
+  std::vector<int> marker_of_point;
+  for (const std::string& name : views.names)
+    marker_of_point.push_back(result.markerset.Find(name));
+  return marker_of_point;
+}
+
+// The options' progress and cancellation as a step's Progress.
+Progress StepProgress(const ReconstructionOptions& options) {
+  Progress progress;
+  if (options.progress || options.cancelled)
+    progress.report = [&options](const std::string&, int done, int total) {
+      if (options.progress) options.progress(done, total);
+      return !(options.cancelled && options.cancelled());
+    };
+  return progress;
+}
+
 // The motion refitted to the views (view_fit.h).
 ViewFitSummary FitToViews(const ViewsToFit& views,
                           const ReconstructionOptions& options,
                           ReconstructionResult& result) {
-  std::vector<int> marker_of_point;
-  for (const std::string& name : views.names)
-    marker_of_point.push_back(result.markerset.Find(name));
-  Progress progress;
-  if (options.progress || options.cancelled)
-    progress.report = [&](const std::string&, int done, int total) {
-      if (options.progress) options.progress(done, total);
-      return !(options.cancelled && options.cancelled());
-    };
   const ReconstructionSummary& s = result.summary;
   ViewFitOptions fit = options.view_fit;
   if (fit.num_threads == 0) fit.num_threads = options.num_threads;
   return FitModelToViews(views,
-                         marker_of_point,
+                         MarkersOfPoints(views, result),
                          result.model,
                          result.markers,
                          result.joint_limits,
@@ -798,7 +806,7 @@ ViewFitSummary FitToViews(const ViewsToFit& views,
                          result.motion.rate_hz,
                          fit,
                          &result.motion,
-                         progress);
+                         StepProgress(options));
 }
 
 // The flights known before the reconstruction, as frames (the first and last frame in the air),
@@ -806,9 +814,6 @@ ViewFitSummary FitToViews(const ViewsToFit& views,
 FlightPhysicsSummary FitToPhysics(const ViewsToFit& views,
                                   const ReconstructionOptions& options,
                                   ReconstructionResult& result) {
-  std::vector<int> marker_of_point;
-  for (const std::string& name : views.names)
-    marker_of_point.push_back(result.markerset.Find(name));
   const Eigen::VectorXd& t = result.motion.time_s;
   std::vector<std::pair<int, int>> flights;
   for (const auto& [takeoff, landing] : options.ballistic_flights_s) {
@@ -817,16 +822,10 @@ FlightPhysicsSummary FitToPhysics(const ViewsToFit& views,
     const auto end = std::lower_bound(t.data(), t.data() + t.size(), landing) - t.data();
     if (end - 1 > first) flights.push_back({int(first), int(end - 1)});
   }
-  Progress progress;
-  if (options.progress || options.cancelled)
-    progress.report = [&](const std::string&, int done, int total) {
-      if (options.progress) options.progress(done, total);
-      return !(options.cancelled && options.cancelled());
-    };
   FlightPhysicsOptions physics = options.flight_physics;
   if (physics.num_threads == 0) physics.num_threads = options.num_threads;
   return FitFlightsToPhysics(views,
-                             marker_of_point,
+                             MarkersOfPoints(views, result),
                              result.model,
                              result.markers,
                              result.joint_limits,
@@ -834,7 +833,7 @@ FlightPhysicsSummary FitToPhysics(const ViewsToFit& views,
                              flights,
                              physics,
                              &result.motion,
-                             progress);
+                             StepProgress(options));
 }
 
 void SummarizeFit(const Motion& motion,

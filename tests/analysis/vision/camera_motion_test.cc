@@ -7,6 +7,8 @@
 #include <cstdlib>
 #include <filesystem>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <gtest/gtest.h>
 
@@ -21,16 +23,26 @@ std::filesystem::path SideVideo() {
   return acro::testing::SourceDir() / "samples/trials/trampoline_routine/side_camera.mp4";
 }
 
+// Flights at 30 fps, each from its last frame on the bed to its first back on it (−1: in the air
+// at the video's end).
+ImageFlights Flights(const std::vector<std::pair<int, int>>& contacts) {
+  ImageFlights flights;
+  flights.rate_hz = 30;
+  for (const auto& [last_on_bed, back_on_bed] : contacts) {
+    ImageFlight f;
+    f.last_contact_frame = last_on_bed;
+    f.first_contact_frame = back_on_bed;
+    flights.flights.push_back(f);
+  }
+  return flights;
+}
+
 TEST(CameraMotion, TheSampleTripodHoldsStill) {
   const CameraMotion m = MeasureCameraMotion(SideVideo());
   ASSERT_GT(m.frames.size(), 90u);
   EXPECT_EQ(m.FirstMovedFrame(), -1);
   EXPECT_LT(m.LargestShiftPx(0, 1 << 30), 1.0);
-  ImageFlights flights;
-  flights.rate_hz = 30;
-  flights.flights.resize(1);
-  flights.flights[0].last_contact_frame = 40;
-  flights.flights[0].first_contact_frame = 80;
+  const ImageFlights flights = Flights({{40, 80}});
   EXPECT_TRUE(CameraMotionWarnings(m, flights).empty());
 }
 
@@ -56,13 +68,7 @@ TEST(CameraMotion, APanIsMeasuredAndTheFlightsDuringItAreNamed) {
   EXPECT_GT(m.FirstMovedFrame(), 30);
   EXPECT_LT(m.FirstMovedFrame(), 36);
   // A flight before the pan is not named; one during it is, with the shift.
-  ImageFlights flights;
-  flights.rate_hz = 30;
-  flights.flights.resize(2);
-  flights.flights[0].last_contact_frame = 2;
-  flights.flights[0].first_contact_frame = 25;
-  flights.flights[1].last_contact_frame = 60;
-  flights.flights[1].first_contact_frame = 100;
+  const ImageFlights flights = Flights({{2, 25}, {60, 100}});
   const std::vector<std::string> w = CameraMotionWarnings(m, flights);
   for (const std::string& line : w) std::printf("%s\n", line.c_str());
   ASSERT_EQ(w.size(), 2u);
@@ -91,15 +97,7 @@ TEST(CameraMotion, AKnockedCameraIsLostAndEveryLaterFlightNamed) {
   EXPECT_LE(m.lost_frames[0], 54);
   EXPECT_GE(m.FirstMovedFrame(), 45);
   EXPECT_LE(m.FirstMovedFrame(), m.lost_frames[0]);
-  ImageFlights flights;
-  flights.rate_hz = 30;
-  flights.flights.resize(3);
-  flights.flights[0].last_contact_frame = 2;
-  flights.flights[0].first_contact_frame = 40;
-  flights.flights[1].last_contact_frame = 44;
-  flights.flights[1].first_contact_frame = 80;
-  flights.flights[2].last_contact_frame = 85;
-  flights.flights[2].first_contact_frame = 110;
+  const ImageFlights flights = Flights({{2, 40}, {44, 80}, {85, 110}});
   const std::vector<std::string> w = CameraMotionWarnings(m, flights);
   ASSERT_EQ(w.size(), 3u);
   EXPECT_NE(w[0].find("turned too far to follow"), std::string::npos) << w[0];
@@ -117,12 +115,7 @@ TEST(CameraMotion, ALossIsAMoveAndTheFlightsAfterItAreNamed) {
   m.shift.assign(3, Eigen::Vector2d(0.5, 0));
   m.lost_frames = {9};
   EXPECT_EQ(m.FirstMovedFrame(), 9);
-  ImageFlights flights;
-  flights.rate_hz = 30;
-  flights.flights.resize(2);
-  flights.flights[0].last_contact_frame = 0;
-  flights.flights[0].first_contact_frame = 6;
-  flights.flights[1].last_contact_frame = 10;  // in the air at the video's end
+  const ImageFlights flights = Flights({{0, 6}, {10, -1}});  // the second in the air at the end
   const std::vector<std::string> w = CameraMotionWarnings(m, flights);
   ASSERT_EQ(w.size(), 2u);
   EXPECT_NE(w[0].find("turned too far to follow"), std::string::npos) << w[0];
