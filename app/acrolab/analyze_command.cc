@@ -50,6 +50,10 @@ struct AnalyzeArguments {
   // One camera's detections made elsewhere (docs/one-camera.md), instead of TRIAL or a video.
   std::string detections, keypoints = "body25b", bed_line;
   double fps = 0;
+  // One video with no calibration: the camera from the bed in its first frame (docs/one-camera.md,
+  // "The camera from the video alone"), the intrinsics from a checkerboard's file if given.
+  bool detect_bed = false;
+  std::string intrinsics;
 };
 
 // The plotted joint must exist before any work is done (and before any file is written).
@@ -140,11 +144,13 @@ void AnalyzeFilmstrips(const pipeline::TrialInput& input,
 }
 
 // The options a video without TRIAL cannot take.
-void CheckVideosWithoutTrial(const VideoArguments& v, const TrialArguments& common) {
-  if (v.calibration.empty())
+void CheckVideosWithoutTrial(const VideoArguments& v,
+                             const TrialArguments& common,
+                             bool detect_bed = false) {
+  if (v.calibration.empty() && !detect_bed)
     throw UsageError{
-        "--video without TRIAL needs --calib (the cameras); `acrolab video flights VIDEO -o DIR` "
-        "times one video's flights with none"};
+        "--video without TRIAL needs --calib (the cameras) or, for one video, --detect-bed; "
+        "`acrolab video flights VIDEO -o DIR` times one video's flights with neither"};
   if (!v.sync.empty() || !v.event.empty() || v.offset_s != 0.0 || v.rate != 1.0)
     throw UsageError{
         "--sync, --event, --offset-s and --rate set one video's sync against a trial: without "
@@ -175,9 +181,23 @@ pipeline::MonocularInput OpenOneCameraFor(const AnalyzeArguments& args,
     request.video = v.video;
     if (!args.bed_line.empty()) request.bed_line = ParseBedLine(args.bed_line);
   }
-  CheckVideosWithoutTrial(v, common);
+  if (args.detect_bed) {
+    if (!args.detections.empty())
+      throw UsageError{"--detect-bed finds the bed in a video: detections have no picture"};
+    if (!v.calibration.empty())
+      throw UsageError{
+          "give --calib or --detect-bed, not both (with intrinsics from a checkerboard: "
+          "--detect-bed --intrinsics C)"};
+    if (!args.bed_line.empty())
+      throw UsageError{"--detect-bed finds the bed's line itself: --bed-line goes without it"};
+  } else if (!args.intrinsics.empty()) {
+    throw UsageError{"--intrinsics goes with --detect-bed (with --calib, the camera is known)"};
+  }
+  CheckVideosWithoutTrial(v, common, args.detect_bed);
   request.calibration = v.calibration;
   request.camera = v.camera;
+  request.detect_bed = args.detect_bed;
+  request.intrinsics = args.intrinsics;
   request.athlete = common.Request().athlete;
   pipeline::MonocularInput mono = pipeline::OpenMonocular(request, MakeStepProgress(common.quiet));
   if (!common.quiet) std::fputs(mono.Report().c_str(), stderr);
@@ -236,6 +256,16 @@ int RunAnalyze(AnalyzeArguments& args) {
         args.options.given_flights_s.emplace_back(f.takeoff_s, f.landing_s);
       args.options.reconstruction.ballistic_flights_s = args.options.given_flights_s;
       args.options.given_flights_source = "picture's soles against the bed's line";
+      if (args.detect_bed && !args.options.bed) {
+        // The camera's world is the FIG bed's: centred, its long side along x, at rest at z 0.
+        analysis::BedGeometry bed;
+        bed.centre_W = Eigen::Vector3d::Zero();
+        bed.long_axis_W = Eigen::Vector3d::UnitX();
+        bed.length_m = fig::kBedLength_m;
+        bed.width_m = fig::kBedWidth_m;
+        bed.source = "the FIG bed the camera was posed on (its first frame)";
+        args.options.bed = bed;
+      }
     } else {
       views = OpenVideosFor(args, common);
       input = std::move(views->input);
@@ -286,6 +316,7 @@ int RunAnalyze(AnalyzeArguments& args) {
       request.video = input.path;
       request.calibration = args.video.calibration;
       request.camera = mono->camera.name;
+      if (args.detect_bed) request.camera_given = mono->camera;
       request.sync.kind = pipeline::SyncRequest::Kind::kOffset;
       request.sync.offset_s = 0;
       request.sync.rate = 1.0;
@@ -389,6 +420,15 @@ void AddAnalyzeCommand(CLI::App& app, CommandRunner* run) {
                       "with --detections: the JSON files' keypoint set (default body25b)");
   command->add_option("--fps", args->fps, "with --detections: their frame rate (Hz)")
       ->check(CLI::PositiveNumber);
+  command->add_flag("--detect-bed",
+                    args->detect_bed,
+                    "one video with no --calib: the camera's pose (and, without --intrinsics, its "
+                    "focal length) from the trampoline's bed in the first frame, a FIG bed "
+                    "(docs/one-camera.md)");
+  command->add_option("--intrinsics",
+                      args->intrinsics,
+                      "with --detect-bed: the camera's intrinsics from a checkerboard "
+                      "(acrolab calibrate intrinsics), --camera naming it in a file of several");
   command->add_option("--bed-line",
                       args->bed_line,
                       "with --detections (or one video whose first frame does not show the bed): "

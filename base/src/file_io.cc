@@ -222,8 +222,8 @@ void CopyThenRename(const std::filesystem::path& from, const OutputTarget& targe
   if (ec) {
     std::error_code ignored;
     std::filesystem::remove(temp, ignored);
-    throw InputError(target.named.string(), "", "cannot move the finished output into place: " +
-                                                    ec.message());
+    throw InputError(
+        target.named.string(), "", "cannot move the finished output into place: " + ec.message());
   }
 }
 
@@ -312,8 +312,8 @@ void PlaceFinishedOutput(const std::filesystem::path& finished, const OutputTarg
   if (ec) {
     std::error_code ignored;
     std::filesystem::remove(finished, ignored);
-    throw InputError(target.named.string(), "", "cannot rename the finished output into place: " +
-                                                    ec.message());
+    throw InputError(
+        target.named.string(), "", "cannot rename the finished output into place: " + ec.message());
   }
 }
 
@@ -342,7 +342,8 @@ void WriteFileAtomically(const std::filesystem::path& path, std::string_view byt
       throw InputError(path.string(), "", "write failed (disk full?)");
     }
   }
-  PlaceFinishedOutput(temp, target);
+  // One step for the interrupt handler: renamed and counted as kept, or not renamed at all.
+  RunUninterrupted([&] { PlaceFinishedOutput(temp, target); });
 }
 
 std::string LowerExtension(const std::filesystem::path& path) {

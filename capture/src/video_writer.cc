@@ -283,7 +283,9 @@ void VideoWriter::Finish() {
   if (rc < 0) m.Fail("cannot write the MP4 index: " + AvError(rc));
   avio_closep(&m.format->pb);
   m.finished = true;  // the temporary is PlaceFinishedOutput's from here
-  PlaceFinishedOutput(m.temp, m.target);
+  // As one step the interrupt handler waits for, and counts as kept: a Ctrl-C just after the rename
+  // must not find a finished video it does not know about.
+  RunUninterrupted([&m] { PlaceFinishedOutput(m.temp, m.target); });
 }
 
 }  // namespace acro::capture

@@ -29,50 +29,132 @@ std::string MonocularInput::Report() const {
   std::string per;
   for (const double z : depth_per_flight_m)
     per += fmt::format("{}{:.2f}", per.empty() ? "" : ", ", z);
+  std::string bed_depth;
+  if (bed_depth_m > 0)
+    bed_depth = fmt::format(" (the bed's middle line is {:.2f} m away)", bed_depth_m);
   return fmt::format(
-      "one camera ({}): the athlete {:.2f} m away along its axis, from gravity in {} flight(s) "
-      "({} m); the keypoints put on the vertical plane there; the bed at rest {:.3f} m high\n",
+      "one camera ({}), from {}\n"
+      "one camera: the athlete {:.2f} m away along its axis, from gravity in {} flight(s) "
+      "({} m){}; the keypoints put on the vertical plane there; the bed at rest {:.3f} m high\n",
       camera.name,
+      camera_source,
       depth_m,
       depth_per_flight_m.size(),
       per,
+      bed_depth,
       bed_height_m);
 }
 
+namespace {
+
+// The camera's pose (and, with no intrinsics given, its focal length) from the FIG bed found in
+// the video's first frame: the world is the bed's.
+vision::Camera CameraFromBed(const MonocularRequest& request,
+                             const vision::BedDetection& bed,
+                             const capture::VideoInfo& info,
+                             MonocularInput* out) {
+  const std::vector<vision::NamedPoint3> fig = vision::FigTrampolinePoints();
+  vision::BedCalibration pose;
+  if (!request.intrinsics.empty()) {
+    const std::vector<vision::Camera> cameras = vision::ReadCameras(request.intrinsics);
+    vision::Camera intrinsics =
+        request.camera.empty() && cameras.size() == 1
+            ? cameras[0]
+            : vision::FindCamera(cameras, request.camera, request.intrinsics.string());
+    intrinsics = vision::FitCameraToVideo(
+        intrinsics, info.width, info.height, request.video.string(), nullptr);
+    pose = vision::CalibrateFromBed(intrinsics, fig, bed);
+    out->bed_focal.emplace();
+    out->bed_focal->bed = pose;
+    out->camera_source =
+        fmt::format("the intrinsics of {} (camera {}), the pose from the bed in {} ({:.2f} px RMS)",
+                    request.intrinsics.string(),
+                    intrinsics.name,
+                    bed.source,
+                    pose.calibration.rms_px);
+  } else {
+    out->bed_focal = vision::CalibrateFromBedUnknownFocal(info.width, info.height, fig, bed);
+    pose = out->bed_focal->bed;
+    const vision::BedFocalCalibration& f = *out->bed_focal;
+    const double lo = 0.25 * info.width, hi = 8.0 * info.width;
+    out->camera_source = fmt::format(
+        "the bed in {}: focal length {:.0f} px (corners good to 1 px tell it within "
+        "{}{:.0f}–{}{:.0f} px; from its homography {:.0f} px), the principal point at the "
+        "picture's centre, no distortion; the pose {:.2f} px RMS",
+        bed.source,
+        f.focal_px,
+        f.focal_low_px <= lo * 1.0001 ? "≤ " : "",
+        f.focal_low_px,
+        f.focal_high_px >= hi * 0.9999 ? "≥ " : "",
+        f.focal_high_px,
+        f.closed_form_px,
+        pose.calibration.rms_px);
+    // ±15 % in the focal length is ±15 % in every length and speed gravity does not fix.
+    if (f.focal_high_px > 1.3 * f.focal_low_px)
+      out->camera_warnings.push_back(fmt::format(
+          "{}: the bed's picture tells the camera's focal length poorly ({:.0f}–{:.0f} px for "
+          "corners good to 1 px: too little perspective, seen from its own height or from far); "
+          "distances across the picture are as uncertain — give --intrinsics (a checkerboard's "
+          "calibration) or --calib",
+          request.video.string(),
+          f.focal_low_px,
+          f.focal_high_px));
+  }
+  vision::Camera camera = pose.calibration.camera;
+  camera.name = request.video.stem().string();
+  return camera;
+}
+
+}  // namespace
+
 MonocularInput OpenMonocular(const MonocularRequest& request, const Progress& progress) {
   MonocularInput out;
-  const std::vector<vision::Camera> cameras = vision::ReadCameras(request.calibration);
   const bool from_video = request.detections.empty();
   const std::filesystem::path& source = from_video ? request.video : request.detections;
   vision::Camera camera;
-  if (!request.camera.empty())
-    camera = vision::FindCamera(cameras, request.camera, request.calibration.string());
-  else if (cameras.size() == 1)
-    camera = cameras[0];
-  else
-    camera = vision::FindCamera(
-        cameras,
-        VideoSource(source.string(), cameras, request.calibration.string()).camera,
-        request.calibration.string());
   capture::VideoInfo info;
-  if (from_video) {
-    info = capture::VideoReader(request.video).info();
-    camera =
-        vision::FitCameraToVideo(camera, info.width, info.height, request.video.string(), nullptr);
-  } else {
-    if (!(request.rate_hz > 0 && request.rate_hz <= 10000))
-      throw InputError(request.detections.string(),
-                       "rate",
-                       fmt::format("detections need their frame rate (given {:g} Hz): their files "
-                                   "carry no time",
-                                   request.rate_hz));
-    if (!request.bed_line)
+  std::optional<vision::BedDetection> bed;
+  if (request.detect_bed) {
+    if (!from_video)
       throw InputError(request.detections.string(),
                        "bed",
-                       "one camera's detections need the bed's rest line in their picture: there "
-                       "is no video to find the bed in");
-    info.average_fps = request.rate_hz;
-    info.width = camera.width_px;
+                       "detections have no picture to find the bed in: give their camera's "
+                       "calibration");
+    info = capture::VideoReader(request.video).info();
+    bed = vision::DetectBed(request.video, 0);
+    camera = CameraFromBed(request, *bed, info, &out);
+  } else {
+    const std::vector<vision::Camera> cameras = vision::ReadCameras(request.calibration);
+    if (!request.camera.empty())
+      camera = vision::FindCamera(cameras, request.camera, request.calibration.string());
+    else if (cameras.size() == 1)
+      camera = cameras[0];
+    else
+      camera = vision::FindCamera(
+          cameras,
+          VideoSource(source.string(), cameras, request.calibration.string()).camera,
+          request.calibration.string());
+    out.camera_source =
+        fmt::format("the calibration {}, camera {}", request.calibration.string(), camera.name);
+    if (from_video) {
+      info = capture::VideoReader(request.video).info();
+      camera = vision::FitCameraToVideo(
+          camera, info.width, info.height, request.video.string(), nullptr);
+    } else {
+      if (!(request.rate_hz > 0 && request.rate_hz <= 10000))
+        throw InputError(request.detections.string(),
+                         "rate",
+                         fmt::format("detections need their frame rate (given {:g} Hz): their "
+                                     "files carry no time",
+                                     request.rate_hz));
+      if (!request.bed_line)
+        throw InputError(request.detections.string(),
+                         "bed",
+                         "one camera's detections need the bed's rest line in their picture: "
+                         "there is no video to find the bed in");
+      info.average_fps = request.rate_hz;
+      info.width = camera.width_px;
+    }
   }
   // Gravity is the calibration's −Z: the camera's picture-down axis must point down.
   const Eigen::Vector3d down_W = camera.R_KW.transpose() * Eigen::Vector3d::UnitY();
@@ -86,9 +168,9 @@ MonocularInput OpenMonocular(const MonocularRequest& request, const Progress& pr
                                  down_W.y(),
                                  down_W.z()));
   // The bed's line before the detection: a video without a bed costs nothing.
-  const vision::BedLine line = request.bed_line
-                                   ? *request.bed_line
-                                   : vision::RestLineOfBed(vision::DetectBed(request.video, 0));
+  const vision::BedLine line =
+      request.bed_line ? *request.bed_line
+                       : vision::RestLineOfBed(bed ? *bed : vision::DetectBed(request.video, 0));
   capture::KeypointDetections detections;
   if (from_video) {
     detections = Body25bDetections(DetectPosesInCache(request.video, request.model, progress));
@@ -121,6 +203,15 @@ MonocularInput OpenMonocular(const MonocularRequest& request, const Progress& pr
   out.depth_m = sorted.size() % 2
                     ? sorted[sorted.size() / 2]
                     : 0.5 * (sorted[sorted.size() / 2 - 1] + sorted[sorted.size() / 2]);
+  // From the bed, a second reading of the distance: the bed's long middle line (y = 0 in its
+  // world), where a trampolinist flies, along the camera's axis.
+  if (request.detect_bed) {
+    const Eigen::Vector3d C0 = camera.CentreInWorld();
+    const Eigen::Vector3d axis0 = camera.R_KW.transpose() * Eigen::Vector3d::UnitZ();
+    const Eigen::Vector3d n0 = Eigen::Vector3d(axis0.x(), axis0.y(), 0).normalized();
+    if (std::abs(n0.y()) > 0.2 && n0.dot(axis0) > 1e-6)
+      out.bed_depth_m = (-C0.y() / n0.y()) / n0.dot(axis0);
+  }
 
   // The keypoints on the vertical plane square to the camera's horizontal axis, at that depth.
   const Eigen::Vector3d C = camera.CentreInWorld();
@@ -191,18 +282,22 @@ MonocularInput OpenMonocular(const MonocularRequest& request, const Progress& pr
   }
   TrialInput& in = out.input;
   in.path = source;
-  in.sha256 = Sha256Hex(Sha256OfFile(request.calibration) + HashOfSource(source));
+  // The bytes the camera came from (none when the video alone gave it) and the source's.
+  const std::filesystem::path& camera_file =
+      request.detect_bed ? request.intrinsics : request.calibration;
+  in.sha256 = Sha256Hex((camera_file.empty() ? std::string() : Sha256OfFile(camera_file)) +
+                        HashOfSource(source));
   in.trial = points.ToTrial(
       rate,
-      fmt::format("one camera's keypoints ({}, camera {}) on the plane {:.2f} m away",
-                  request.calibration.string(),
-                  camera.name,
+      fmt::format("one camera's keypoints (camera from {}) on the plane {:.2f} m away",
+                  out.camera_source,
                   out.depth_m));
   capture::DemandUsableContent(in.trial, in.path.string(), request.min_frames, request.use);
   const std::string turned = analysis::OrientTrialUp(&in.trial, "z", &in.up);
   (void)turned;  // "z": the calibration's world is Z up (checked above)
   out.views = std::make_shared<const analysis::ViewsToFit>(
       analysis::MakeViewsToFit(points, Eigen::Matrix3d::Identity()));
+  for (const std::string& w : out.camera_warnings) in.warnings.push_back(w);
   for (const std::string& w : out.flights.warnings) in.warnings.push_back(w);
   in.athlete = MakeAthlete(request.athlete);
   out.camera = camera;

@@ -22,7 +22,7 @@ bool SyncRequest::IsValid(std::string* why) const {
 }
 
 bool VideoRequest::IsValid(std::string* why) const {
-  if (video.empty() || calibration.empty()) {
+  if (video.empty() || (calibration.empty() && !camera_given)) {
     if (why) *why = "a video needs its calibration (--video and --calib go together)";
     return false;
   }
@@ -32,8 +32,12 @@ bool VideoRequest::IsValid(std::string* why) const {
 VideoInput::VideoInput(const VideoRequest& request) : request_(request) {
   DemandValidOptions(request, "video");
   // The camera first: a mistyped name costs nothing.
-  const std::vector<vision::Camera> cameras = vision::ReadCameras(request.calibration);
-  camera_ = vision::FindCamera(cameras, request.camera, request.calibration.string());
+  if (request.camera_given) {
+    camera_ = *request.camera_given;
+  } else {
+    const std::vector<vision::Camera> cameras = vision::ReadCameras(request.calibration);
+    camera_ = vision::FindCamera(cameras, request.camera, request.calibration.string());
+  }
   reader_ = std::make_unique<capture::VideoReader>(request.video);
   const capture::VideoInfo& info = reader_->info();
   std::string note;

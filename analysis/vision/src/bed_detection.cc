@@ -499,6 +499,179 @@ std::optional<BedFromViews> LocateFromAll(const std::vector<Camera>& cameras,
 
 }  // namespace
 
+namespace {
+
+// The focal length of a camera with square pixels, its principal point at the centre, from the
+// homography that takes the bed's plane (metres, in-plane axes) to its picture: Zhang's (2000)
+// constraints on the image of the absolute conic ω = K⁻ᵀK⁻¹ = diag(w, w, 1) with w = 1/f², from
+// r1 ⟂ r2 and |r1| = |r2|, solved together in least squares. NaN when they do not tell (the
+// bed square to the camera's axis, or a negative w).
+double FocalFromHomography(const std::array<Eigen::Vector2d, 4>& plane_m,
+                           const std::array<Eigen::Vector2d, 4>& pixels,
+                           const Eigen::Vector2d& centre_px) {
+  std::vector<cv::Point2f> from, to;
+  for (size_t k = 0; k < 4; ++k) {
+    from.emplace_back(static_cast<float>(plane_m[k].x()), static_cast<float>(plane_m[k].y()));
+    to.emplace_back(static_cast<float>(pixels[k].x() - centre_px.x()),
+                    static_cast<float>(pixels[k].y() - centre_px.y()));
+  }
+  const cv::Mat h = cv::getPerspectiveTransform(from, to, cv::DECOMP_SVD);
+  Eigen::Matrix3d H;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) H(r, c) = h.at<double>(r, c);
+  const Eigen::Vector3d h1 = H.col(0), h2 = H.col(1);
+  // Each constraint as a·w + b = 0, both in the same units (1/m²): least squares as they are. (Each
+  // scaled to unit size first, a constraint that the view makes degenerate — r1 ⟂ r2 for a bed
+  // seen square from its side — weighed as much as the other and read 4308 px for the sample's
+  // 1480.)
+  const double a[2] = {h1.x() * h2.x() + h1.y() * h2.y(),
+                       h1.x() * h1.x() + h1.y() * h1.y() - h2.x() * h2.x() - h2.y() * h2.y()};
+  const double b[2] = {h1.z() * h2.z(), h1.z() * h1.z() - h2.z() * h2.z()};
+  double num = 0, den = 0;
+  for (int i = 0; i < 2; ++i) {
+    num += a[i] * b[i];
+    den += a[i] * a[i];
+  }
+  if (!(den > 0)) return std::nan("");
+  const double w = -num / den;
+  if (!(w > 0) || !std::isfinite(w)) return std::nan("");
+  return 1.0 / std::sqrt(w);
+}
+
+}  // namespace
+
+BedFocalCalibration CalibrateFromBedUnknownFocal(int width_px,
+                                                 int height_px,
+                                                 const std::vector<NamedPoint3>& points_W,
+                                                 const BedDetection& bed,
+                                                 const std::optional<Eigen::Vector2d>& c1_near_px) {
+  if (width_px <= 0 || height_px <= 0)
+    throw InputError(bed.source, "bed", fmt::format("a picture {} x {} px", width_px, height_px));
+  const auto camera_at = [&](double f) {
+    Camera c;
+    c.name = "bed";
+    c.width_px = width_px;
+    c.height_px = height_px;
+    c.K << f, 0, 0.5 * width_px, 0, f, 0.5 * height_px, 0, 0, 1;
+    return c;
+  };
+  // The fit's RMS at each focal length; infinite where no naming puts the camera above the bed.
+  const auto rms_at = [&](double f) {
+    try {
+      return CalibrateFromBed(camera_at(f), points_W, bed, c1_near_px).calibration.rms_px;
+    } catch (const InputError&) {
+      return std::numeric_limits<double>::infinity();
+    }
+  };
+  const double lo = 0.25 * width_px, hi = 8.0 * width_px;
+  constexpr int kSteps = 64;
+  std::vector<double> fs(kSteps + 1), rms(kSteps + 1);
+  int best = 0;
+  for (int i = 0; i <= kSteps; ++i) {
+    fs[size_t(i)] = lo * std::pow(hi / lo, static_cast<double>(i) / kSteps);
+    rms[size_t(i)] = rms_at(fs[size_t(i)]);
+    if (rms[size_t(i)] < rms[size_t(best)]) best = i;
+  }
+  if (!std::isfinite(rms[size_t(best)]))
+    throw InputError(
+        bed.source, "bed", "no focal length puts the camera above the bed the picture shows");
+  // Golden-section on log f between the best grid point's neighbours.
+  double a = std::log(fs[size_t(std::max(0, best - 1))]);
+  double b = std::log(fs[size_t(std::min(kSteps, best + 1))]);
+  const double phi = 0.5 * (std::sqrt(5.0) - 1.0);
+  double x1 = b - phi * (b - a), x2 = a + phi * (b - a);
+  double r1 = rms_at(std::exp(x1)), r2 = rms_at(std::exp(x2));
+  while (b - a > 1e-4) {
+    if (r1 < r2) {
+      b = x2;
+      x2 = x1;
+      r2 = r1;
+      x1 = b - phi * (b - a);
+      r1 = rms_at(std::exp(x1));
+    } else {
+      a = x1;
+      x1 = x2;
+      r1 = r2;
+      x2 = a + phi * (b - a);
+      r2 = rms_at(std::exp(x2));
+    }
+  }
+  BedFocalCalibration out;
+  out.focal_px = std::exp(0.5 * (a + b));
+  out.bed = CalibrateFromBed(camera_at(out.focal_px), points_W, bed, c1_near_px);
+  const double best_rms = out.bed.calibration.rms_px;
+  if (best_rms > 3.0)
+    throw InputError(bed.source,
+                     "bed",
+                     fmt::format("the bed's corners fit a FIG bed's rectangle {:.1f} px RMS at "
+                                 "best (focal length {:.0f} px): not a trampoline's bed",
+                                 best_rms,
+                                 out.focal_px));
+  // The focal lengths the corners tell apart from the best: where the squared residuals' sum
+  // (8 coordinates) grows by 4σ² with σ = 1 px, what DetectBed's corners are good to (1.2–1.9 px
+  // from the truth on the sample, about 1 px of it a bias) — about two standard deviations.
+  // Found by bisection on each side of the best, from the grid's first point beyond.
+  const double limit = best_rms * best_rms + 4.0 * 1.0 / 8.0;
+  const auto within = [&](double f) {
+    const double r = rms_at(f);
+    return r * r <= limit;
+  };
+  const auto edge = [&](double inside, double outside) {
+    for (int i = 0; i < 40; ++i) {
+      const double mid = std::sqrt(inside * outside);
+      (within(mid) ? inside : outside) = mid;
+    }
+    return inside;
+  };
+  // Every focal length that fits as well counts, not only those next to the best: a bed seen
+  // from its own height can fit as well at a focal length four times the true one (the camera
+  // then put just under the bed's plane, refused, at the true one).
+  int first = -1, last = -1;
+  for (int i = 0; i <= kSteps; ++i)
+    if (rms[size_t(i)] * rms[size_t(i)] <= limit) {
+      if (first < 0) first = i;
+      last = i;
+    }
+  out.focal_low_px = out.focal_px;
+  out.focal_high_px = out.focal_px;
+  if (first >= 0) {
+    out.focal_low_px = std::min(out.focal_low_px, fs[size_t(first)]);
+    out.focal_high_px = std::max(out.focal_high_px, fs[size_t(last)]);
+  }
+  // The ends refined between the last grid point inside and the next one out (or the bound).
+  {
+    int below = -1, above = -1;
+    for (int i = 0; i <= kSteps; ++i) {
+      if (fs[size_t(i)] < out.focal_low_px) below = i;
+      if (above < 0 && fs[size_t(i)] > out.focal_high_px) above = i;
+    }
+    out.focal_low_px = below >= 0 ? edge(out.focal_low_px, fs[size_t(below)]) : lo;
+    out.focal_high_px = above >= 0 ? edge(out.focal_high_px, fs[size_t(above)]) : hi;
+  }
+  // The closed form, with the corners named as the pose names them.
+  std::array<Eigen::Vector2d, 4> plane{}, pixels{};
+  {
+    std::array<Eigen::Vector3d, 4> corner_W;
+    for (int k = 0; k < 4; ++k) {
+      const std::string name = fmt::format("BED_C{}", k + 1);
+      for (const NamedPoint3& p : points_W)
+        if (p.name == name) corner_W[size_t(k)] = p.p_W;
+      for (const NamedPoint2& p : out.bed.corners)
+        if (p.name == name) pixels[size_t(k)] = p.uv_px;
+    }
+    const Eigen::Vector3d e1 = (corner_W[1] - corner_W[0]).normalized();
+    const Eigen::Vector3d up = e1.cross(corner_W[3] - corner_W[0]).normalized();
+    const Eigen::Vector3d e2 = up.cross(e1);
+    for (size_t k = 0; k < 4; ++k) {
+      const Eigen::Vector3d d = corner_W[k] - corner_W[0];
+      plane[k] = Eigen::Vector2d(d.dot(e1), d.dot(e2));
+    }
+  }
+  out.closed_form_px =
+      FocalFromHomography(plane, pixels, Eigen::Vector2d(0.5 * width_px, 0.5 * height_px));
+  return out;
+}
+
 BedFromViews LocateBedFromViews(const std::vector<Camera>& cameras,
                                 const std::vector<BedDetection>& beds) {
   const int n = static_cast<int>(beds.size());

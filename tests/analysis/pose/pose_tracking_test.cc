@@ -144,22 +144,28 @@ TEST(Sports2D, TheFlipperIsFollowedThroughHisBackSomersault) {
   }
   ASSERT_EQ(trunk.size(), 42u);
   double largest_step = 0.0;
-  int reversals = 0;
+  int reversals = 0, reversals_in_the_air = 0;
   for (std::size_t k = 1; k < trunk.size(); ++k) {
     const double step = trunk[k] - trunk[k - 1];
     largest_step = std::max(largest_step, std::abs(step));
     // A reversal: the turn changes direction by more than a degree either way.
     if (k >= 2) {
       const double before = trunk[k - 1] - trunk[k - 2];
-      if (step * before < 0 && std::abs(step) > 1.0 && std::abs(before) > 1.0) ++reversals;
+      if (step * before < 0 && std::abs(step) > 1.0 && std::abs(before) > 1.0) {
+        ++reversals;
+        if (150 + k <= 185) ++reversals_in_the_air;
+      }
     }
   }
   const double covered = *std::max_element(trunk.begin(), trunk.end()) - *std::min_element(trunk.begin(), trunk.end());
-  std::printf("trunk over frames 150–191: %.0f° covered, largest step %.1f°, %d reversals\n", covered, largest_step,
-              reversals);
+  std::printf("trunk over frames 150–191: %.0f° covered, largest step %.1f°, %d reversals (%d in the air)\n",
+              covered, largest_step, reversals, reversals_in_the_air);
   EXPECT_GE(covered, 330.0);
   EXPECT_LE(largest_step, 30.0);
-  EXPECT_LE(reversals, 2);
+  // In the air (to frame 185) the turn goes one way; the landing's crouch (frames 186–191) may wobble the trunk's
+  // line (2 reversals on one machine, 3 on another: OpenCV's kernels differ by CPU in the last digits).
+  EXPECT_EQ(reversals_in_the_air, 0);
+  EXPECT_LE(reversals, 4);
 }
 
 }  // namespace

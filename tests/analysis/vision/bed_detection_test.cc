@@ -6,13 +6,18 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <string>
 #include <vector>
 
 #include "acro/base/input_error.h"
 #include "acro/capture/trial_io.h"
+#include "acro/fig/trampoline.h"
 #include "acro/vision/calibration.h"
 #include "acro/vision/camera.h"
 #include "input_errors.h"
@@ -181,6 +186,134 @@ TEST(BedDetection, SeveralViewsLocateTheBedAndLeaveOutAWrongOne) {
     EXPECT_NE(std::string(e.what()).find("no two of the 2 views agree"), std::string::npos)
         << e.what();
   }
+}
+
+}  // namespace
+}  // namespace acro::vision
+
+namespace acro::vision {
+namespace {
+
+// A FIG bed seen by a camera placed by hand: its corners in the picture's clockwise order from
+// the top left, as DetectBed gives them.
+BedDetection PictureOfBed(const Camera& camera, double noise_px, std::uint32_t seed) {
+  std::vector<Eigen::Vector2d> uv;
+  for (const NamedPoint3& p : FigTrampolinePoints())
+    if (p.name.rfind("BED_C", 0) == 0) uv.push_back(*camera.Project(p.p_W));
+  Eigen::Vector2d mean = Eigen::Vector2d::Zero();
+  for (const Eigen::Vector2d& p : uv) mean += 0.25 * p;
+  // Clockwise as displayed (y down): by angle about the centre, increasing.
+  std::sort(uv.begin(), uv.end(), [&](const Eigen::Vector2d& a, const Eigen::Vector2d& b) {
+    return std::atan2(a.y() - mean.y(), a.x() - mean.x()) <
+           std::atan2(b.y() - mean.y(), b.x() - mean.x());
+  });
+  // From the one nearest the top left.
+  size_t first = 0;
+  for (size_t k = 1; k < 4; ++k)
+    if (uv[k].sum() < uv[first].sum()) first = k;
+  std::rotate(uv.begin(), uv.begin() + static_cast<long>(first), uv.end());
+  std::mt19937 rng(seed);
+  std::normal_distribution<double> noise(0.0, noise_px);
+  BedDetection bed;
+  bed.source = "a bed drawn by hand";
+  bed.width_px = camera.width_px;
+  bed.height_px = camera.height_px;
+  for (size_t k = 0; k < 4; ++k)
+    bed.corners_px[k] = uv[k] + Eigen::Vector2d(noise(rng), noise(rng));
+  return bed;
+}
+
+Camera HandCamera(double f, const Eigen::Vector3d& centre) {
+  Camera c;
+  c.name = "phone";
+  c.width_px = 1920;
+  c.height_px = 1080;
+  c.K << f, 0, 960, 0, f, 540, 0, 0, 1;
+  AimCamera(&c, centre, Eigen::Vector3d(0, 0, 0));  // the bed's centre, at z = 0
+  return c;
+}
+
+// Exact corners give the focal length back (search and closed form); with 0.5 px of noise on each
+// corner, how close it stays depends on the bed's perspective, which the range reported says: the
+// truth within it (measured 20/20 in each place), and an estimate far off (a phone at the bed's
+// own height: once 304 % off, at 4 × the focal length) only with a range that says so.
+TEST(BedFocal, TheBedsPerspectiveTellsTheFocalLength) {
+  struct Place {
+    const char* what;
+    double f;
+    Eigen::Vector3d centre;
+  };
+  const Place places[] = {
+      {"phone 8 m to the side, 1.2 m above the floor", 1500, {0.3, -8.0, 1.2 - fig::kBedHeight_m}},
+      {"wide phone 6 m away, on a 2 m stand", 1000, {-1.0, -6.0, 2.0 - fig::kBedHeight_m}},
+      {"long lens 12 m away, from the gallery", 2600, {1.5, -12.0, 4.0}},
+  };
+  for (const Place& place : places) {
+    SCOPED_TRACE(place.what);
+    const Camera truth = HandCamera(place.f, place.centre);
+    const BedFocalCalibration exact =
+        CalibrateFromBedUnknownFocal(1920, 1080, FigTrampolinePoints(), PictureOfBed(truth, 0, 1));
+    EXPECT_NEAR(exact.focal_px, place.f, 0.002 * place.f);
+    EXPECT_NEAR(exact.closed_form_px, place.f, 0.002 * place.f);
+    EXPECT_LT((exact.bed.calibration.camera.CentreInWorld() - place.centre).norm(), 0.01);
+    EXPECT_LE(exact.focal_low_px, exact.focal_px);
+    EXPECT_GE(exact.focal_high_px, exact.focal_px);
+    std::vector<double> errors;
+    int inside = 0;
+    for (std::uint32_t seed = 1; seed <= 20; ++seed) {
+      const BedFocalCalibration noisy = CalibrateFromBedUnknownFocal(
+          1920, 1080, FigTrampolinePoints(), PictureOfBed(truth, 0.5, seed));
+      errors.push_back(std::abs(noisy.focal_px / place.f - 1.0));
+      // Far off only when the range says the picture cannot tell (the warning's trigger).
+      if (errors.back() > 0.10) {
+        EXPECT_GT(noisy.focal_high_px, 1.3 * noisy.focal_low_px) << seed;
+      }
+      if (noisy.focal_low_px <= place.f && place.f <= noisy.focal_high_px) ++inside;
+    }
+    std::sort(errors.begin(), errors.end());
+    std::printf(
+        "  %s: f %.0f px, 0.5 px noise: median error %.1f %%, worst %.1f %%, truth within "
+        "the range given %d/20\n",
+        place.what,
+        place.f,
+        100 * errors[10],
+        100 * errors.back(),
+        inside);
+    EXPECT_LT(errors[10], 0.10);
+    EXPECT_GE(inside, 18);
+  }
+}
+
+// The sample routine's side video (its camera 1482 × 1478.5 px, principal point 8 px off the
+// centre, k1 −0.062): the focal length from the detected bed alone, against the calibration.
+TEST(BedFocal, SampleVideoGivesTheFocalLength) {
+  const Camera truth = ReadCameras(Sample("side_camera.toml")).at(0);
+  const BedFocalCalibration cal = CalibrateFromBedUnknownFocal(
+      1920, 1080, FigTrampolinePoints(), DetectBed(Sample("side_camera.mp4")));
+  const double f_true = 0.5 * (truth.K(0, 0) + truth.K(1, 1));
+  std::printf("  focal %.0f px (closed form %.0f, range %.0f–%.0f), truth %.0f: %+.1f %%\n",
+              cal.focal_px,
+              cal.closed_form_px,
+              cal.focal_low_px,
+              cal.focal_high_px,
+              f_true,
+              100 * (cal.focal_px / f_true - 1));
+  EXPECT_NEAR(cal.focal_px, f_true, 0.10 * f_true);
+}
+
+// Four corners that no rectangle's picture makes are refused.
+TEST(BedFocal, NotARectanglesPictureIsRefused) {
+  BedDetection bed;
+  bed.source = "a kite";
+  bed.width_px = 1920;
+  bed.height_px = 1080;
+  bed.corners_px = {Eigen::Vector2d(900, 500),
+                    Eigen::Vector2d(1400, 520),
+                    Eigen::Vector2d(1000, 900),
+                    Eigen::Vector2d(300, 560)};
+  const std::string why = acro::testing::InputErrorOf(
+      [&] { CalibrateFromBedUnknownFocal(1920, 1080, FigTrampolinePoints(), bed); });
+  EXPECT_NE(why.find("a kite"), std::string::npos) << why;
 }
 
 }  // namespace

@@ -5,8 +5,9 @@
 /// athlete from one camera"): the athlete detected, the flights found in the picture, the
 /// athlete's distance from the camera told by gravity — in flight the centre of mass falls at g,
 /// which the picture shows as g·f/Z px/s² — and every keypoint put where its ray meets the
-/// vertical plane at that distance, square to the camera: a trial of keypoints opened as every trial is (upright,
-/// hashed, with its athlete), with the camera's keypoints for the fit of the model to its rays.
+/// vertical plane at that distance, square to the camera: a trial of keypoints opened as every
+/// trial is (upright, hashed, with its athlete), with the camera's keypoints for the fit of the
+/// model to its rays.
 
 #include <filesystem>
 #include <memory>
@@ -18,6 +19,7 @@
 #include "acro/pipeline/trial_input.h"
 #include "acro/pose/pose_models.h"
 #include "acro/reconstruct/view_fit.h"
+#include "acro/vision/bed_detection.h"
 #include "acro/vision/camera.h"
 #include "acro/vision/image_flights.h"
 
@@ -36,6 +38,13 @@ struct MonocularRequest {
   std::filesystem::path calibration;
   /// Its camera in the calibration; empty: the only one, or the one the video's name starts with.
   std::string camera;
+  /// The camera from the video alone, instead of `calibration`: its pose from the bed found in
+  /// the first frame (a FIG bed, vision::CalibrateFromBed), its intrinsics from `intrinsics` (a
+  /// checkerboard's calibration, `camera` naming one of its cameras) or, with none, its focal
+  /// length from the bed's perspective too (vision::CalibrateFromBedUnknownFocal). The world is
+  /// then the bed's: its centre at the origin, its long axis x, Z up.
+  bool detect_bed = false;
+  std::filesystem::path intrinsics;
   pose::LandmarkModel model = pose::LandmarkModel::kHeavy;
   vision::ImageFlightOptions flights;
   AthleteChoice athlete;
@@ -59,10 +68,21 @@ struct MonocularInput {
   /// with the athlete's plane — the surface the analysis times the flights against
   /// (TrialAnalysisOptions::surface_height_m).
   double bed_height_m = 0.0;
+  /// How the camera was had: "the calibration C.toml, camera side", or from the bed with the
+  /// focal length found and how well the picture tells it.
+  std::string camera_source;
+  /// With `detect_bed`: the focal length's search (focal_px 0 when the intrinsics were given),
+  /// and the athlete's distance the bed tells (the camera's to the bed's long middle line, along
+  /// its axis), beside the one gravity tells.
+  std::optional<vision::BedFocalCalibration> bed_focal;
+  double bed_depth_m = 0.0;
+  /// The camera's own warnings (a focal length the bed tells poorly), also in input.warnings.
+  std::vector<std::string> camera_warnings;
   std::string Report() const;
 };
 
-/// Throws acro::InputError naming the file or option at fault: a camera not in the calibration, a
+/// Throws acro::InputError naming the file or option at fault: no bed in the first frame with
+/// `detect_bed` (or detections, which have no picture), a camera not in the calibration, a
 /// calibration whose world is not Z up (gravity is −Z), no bed in the first frame (or, from
 /// detections, no bed line or no rate given), no complete flight to weigh the depth with.
 /// `progress` as acro::Progress ("detect").

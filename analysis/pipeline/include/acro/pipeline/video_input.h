@@ -37,6 +37,9 @@ struct SyncRequest {
 struct VideoRequest {
   std::filesystem::path video, calibration;
   std::string camera;  ///< the camera's name in the calibration; empty: the only one
+  /// A camera had another way (from the bed in the video: MonocularInput::camera), instead of
+  /// `calibration`.
+  std::optional<vision::Camera> camera_given;
   SyncRequest sync;
 
   bool IsValid(std::string* why) const;
@@ -77,7 +80,8 @@ class VideoInput {
 
   /// The silhouettes of `scene`'s athlete against the video's foreground over every flight frame,
   /// at the sync found (Sync first).
-  analysis::SilhouetteCheck CheckSilhouettes(analysis::TrialScene& scene, const Progress& progress = {});
+  analysis::SilhouetteCheck CheckSilhouettes(analysis::TrialScene& scene,
+                                             const Progress& progress = {});
 
  private:
   VideoRequest request_;

@@ -60,6 +60,38 @@ BedCalibration CalibrateFromBed(const Camera& intrinsics,
                                 const BedDetection& bed,
                                 const std::optional<Eigen::Vector2d>& c1_near_px = std::nullopt);
 
+/// A camera known only by its picture's size: its focal length and pose from the detected bed
+/// (docs/one-camera.md, "The camera from the video alone"). Square pixels, the principal point at
+/// the picture's centre, no distortion (a phone's video is corrected in the phone); the focal
+/// length is the one at which the bed's four corners fit a FIG bed's rectangle best
+/// (CalibrateFromBed at each focal length: a log-spaced search over 0.25–8 picture widths, then
+/// golden-section to 0.01 %). Only the bed's perspective tells the focal length: its size in the
+/// picture, the athlete's height and gravity's pull all scale with focal length over distance
+/// alike.
+struct BedFocalCalibration {
+  BedCalibration bed;  ///< the pose, with the camera's K at the focal length found
+  double focal_px = 0.0;
+  /// The focal lengths the corners do not tell from the best: where the fit's squared residuals
+  /// (8 coordinates) grow by less than 4σ², σ = 1 px (what the detected corners are good to) —
+  /// about two standard deviations. An end at the search's bound (0.25 or 8 picture widths): the
+  /// bed seen with too little perspective to tell.
+  double focal_low_px = 0.0, focal_high_px = 0.0;
+  /// The same from the bed's homography in closed form (Zhang's two constraints on the image of
+  /// the absolute conic, K = diag(f, f, 1) about the centre), NaN where both are degenerate: a
+  /// second method, a check on the search.
+  double closed_form_px = 0.0;
+};
+
+/// Throws acro::InputError (where "bed") when no focal length gives a pose with the camera above
+/// the bed, or the best fit is worse than 3 px RMS (the quadrilateral is not a rectangle's
+/// picture).
+BedFocalCalibration CalibrateFromBedUnknownFocal(
+    int width_px,
+    int height_px,
+    const std::vector<NamedPoint3>& points_W,
+    const BedDetection& bed,
+    const std::optional<Eigen::Vector2d>& c1_near_px = std::nullopt);
+
 /// The bed in 3D from its detection in several calibrated views (docs/markerless.md, "The bed"):
 /// each view's four corner rays meet the bed's plane (horizontal, z = height in the cameras'
 /// world, Z up) in a quadrilateral, and at the right height the views' quadrilaterals coincide.
