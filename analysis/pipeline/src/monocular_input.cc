@@ -29,19 +29,21 @@ std::string MonocularInput::Report() const {
   std::string per;
   for (const double z : depth_per_flight_m)
     per += fmt::format("{}{:.2f}", per.empty() ? "" : ", ", z);
-  std::string bed_depth;
-  if (bed_depth_m > 0)
-    bed_depth = fmt::format(" (the bed's middle line is {:.2f} m away)", bed_depth_m);
+  const std::string gravity = fmt::format("gravity in {} flight(s) ({} m)",
+                                          depth_per_flight_m.size(),
+                                          per);
+  const std::string how =
+      bed_depth_m > 0 ? fmt::format("the bed's middle line; {} says {:.2f} m", gravity,
+                                    gravity_depth_m)
+                      : "from " + gravity;
   return fmt::format(
       "one camera ({}), from {}\n"
-      "one camera: the athlete {:.2f} m away along its axis, from gravity in {} flight(s) "
-      "({} m){}; the keypoints put on the vertical plane there; the bed at rest {:.3f} m high\n",
+      "one camera: the athlete {:.2f} m away along its axis ({}); the keypoints put on the "
+      "vertical plane there; the bed at rest {:.3f} m high\n",
       camera.name,
       camera_source,
       depth_m,
-      depth_per_flight_m.size(),
-      per,
-      bed_depth,
+      how,
       bed_height_m);
 }
 
@@ -211,6 +213,18 @@ MonocularInput OpenMonocular(const MonocularRequest& request, const Progress& pr
     const Eigen::Vector3d n0 = Eigen::Vector3d(axis0.x(), axis0.y(), 0).normalized();
     if (std::abs(n0.y()) > 0.2 && n0.dot(axis0) > 1e-6)
       out.bed_depth_m = (-C0.y() / n0.y()) / n0.dot(axis0);
+  }
+  // With the bed located, the athlete's plane is its middle line: a trampolinist flies within
+  // zone A's ±0.54 m of it, where gravity's reading was 4.8 % (sample, calibrated) to 9 % (from
+  // the bed) far — and the landings, measured on the bed, would sit that far across it. Across
+  // the bed one side camera then measures nothing: said.
+  if (out.bed_depth_m > 0) {
+    out.gravity_depth_m = out.depth_m;
+    out.depth_m = out.bed_depth_m;
+    out.camera_warnings.push_back(
+        "one camera beside the bed sees the landings along the bed, not across it (the athlete is "
+        "put on the bed's middle line): the landing spots and H count the travel along the bed "
+        "only");
   }
 
   // The keypoints on the vertical plane square to the camera's horizontal axis, at that depth.

@@ -61,8 +61,10 @@ struct MonocularInput {
   std::shared_ptr<const analysis::ViewsToFit> views;
   vision::ImageFlights flights;  ///< from the picture (image_flights.h)
   /// The athlete's distance along the camera's axis (m): the median over the complete flights of
-  /// g·f / (the centre of mass's acceleration in the picture).
+  /// g·f / (the centre of mass's acceleration in the picture); with the bed located
+  /// (`detect_bed`), the bed's middle line's (`bed_depth_m`), gravity's then in gravity_depth_m.
   double depth_m = 0.0;
+  double gravity_depth_m = 0.0;
   std::vector<double> depth_per_flight_m;
   /// The bed's surface at rest (m, the trial's Z): the picture's rest line under the landings met
   /// with the athlete's plane — the surface the analysis times the flights against
