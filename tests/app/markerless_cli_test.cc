@@ -310,11 +310,13 @@ TEST(Markerless, SampleRoutineFromFourVideosAgreesWithItsMotionCapture) {
     for (size_t i = 0; i < along_ours.size(); ++i)
       e.push_back(std::abs(sign * along_ours[i] - along_theirs[i]));
     std::sort(e.begin(), e.end());
-    if (along_errors.empty() || e[e.size() / 2] < along_errors[along_errors.size() / 2]) along_errors = e;
+    if (along_errors.empty() || e[e.size() / 2] < along_errors[along_errors.size() / 2])
+      along_errors = e;
   }
-  std::printf("one camera from the bed: landings along the bed, median %.1f cm, worst %.1f cm off\n",
-              100 * along_errors[along_errors.size() / 2],
-              100 * along_errors.back());
+  std::printf(
+      "one camera from the bed: landings along the bed, median %.1f cm, worst %.1f cm off\n",
+      100 * along_errors[along_errors.size() / 2],
+      100 * along_errors.back());
   EXPECT_LT(along_errors[along_errors.size() / 2], 0.10);
 
   // The same camera's detections as made elsewhere (the OpenPose JSON the detector kept beside the

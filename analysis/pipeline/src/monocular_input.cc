@@ -29,13 +29,12 @@ std::string MonocularInput::Report() const {
   std::string per;
   for (const double z : depth_per_flight_m)
     per += fmt::format("{}{:.2f}", per.empty() ? "" : ", ", z);
-  const std::string gravity = fmt::format("gravity in {} flight(s) ({} m)",
-                                          depth_per_flight_m.size(),
-                                          per);
+  const std::string gravity =
+      fmt::format("gravity in {} flight(s) ({} m)", depth_per_flight_m.size(), per);
   const std::string how =
-      bed_depth_m > 0 ? fmt::format("the bed's middle line; {} says {:.2f} m", gravity,
-                                    gravity_depth_m)
-                      : "from " + gravity;
+      bed_depth_m > 0
+          ? fmt::format("the bed's middle line; {} says {:.2f} m", gravity, gravity_depth_m)
+          : "from " + gravity;
   return fmt::format(
       "one camera ({}), from {}\n"
       "one camera: the athlete {:.2f} m away along its axis ({}); the keypoints put on the "
