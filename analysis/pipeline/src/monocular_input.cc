@@ -159,6 +159,17 @@ MonocularInput OpenMonocular(const MonocularRequest& request, const Progress& pr
   }
   // Gravity is the calibration's −Z: the camera's picture-down axis must point down.
   const Eigen::Vector3d down_W = camera.R_KW.transpose() * Eigen::Vector3d::UnitY();
+  if (bed && !(down_W.z() < -0.5))
+    throw InputError(request.video.string(),
+                     "bed",
+                     fmt::format("the dark four-sided region found in the first frame ({}) does "
+                                 "not pose a camera beside a trampoline's bed (the picture's down "
+                                 "would be ({:.2f}, {:.2f}, {:.2f}) with the bed's up (0, 0, 1)): "
+                                 "not a bed seen from its side — give --calib",
+                                 bed->source,
+                                 down_W.x(),
+                                 down_W.y(),
+                                 down_W.z()));
   if (!(down_W.z() < -0.5))
     throw InputError(request.calibration.string(),
                      "camera " + camera.name,
