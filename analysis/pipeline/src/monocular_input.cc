@@ -215,15 +215,14 @@ MonocularInput OpenMonocular(const MonocularRequest& request, const Progress& pr
   out.depth_m = sorted.size() % 2
                     ? sorted[sorted.size() / 2]
                     : 0.5 * (sorted[sorted.size() / 2 - 1] + sorted[sorted.size() / 2]);
+  // The vertical plane square to the camera's horizontal axis, at that depth, takes the keypoints.
+  const Eigen::Vector3d C = camera.CentreInWorld();
+  const Eigen::Vector3d axis = camera.R_KW.transpose() * Eigen::Vector3d::UnitZ();
+  const Eigen::Vector3d n = Eigen::Vector3d(axis.x(), axis.y(), 0).normalized();
   // From the bed, a second reading of the distance: the bed's long middle line (y = 0 in its
   // world), where a trampolinist flies, along the camera's axis.
-  if (request.detect_bed) {
-    const Eigen::Vector3d C0 = camera.CentreInWorld();
-    const Eigen::Vector3d axis0 = camera.R_KW.transpose() * Eigen::Vector3d::UnitZ();
-    const Eigen::Vector3d n0 = Eigen::Vector3d(axis0.x(), axis0.y(), 0).normalized();
-    if (std::abs(n0.y()) > 0.2 && n0.dot(axis0) > 1e-6)
-      out.bed_depth_m = (-C0.y() / n0.y()) / n0.dot(axis0);
-  }
+  if (request.detect_bed && std::abs(n.y()) > 0.2 && n.dot(axis) > 1e-6)
+    out.bed_depth_m = (-C.y() / n.y()) / n.dot(axis);
   // With the bed located, the athlete's plane is its middle line: a trampolinist flies within
   // zone A's ±0.54 m of it, where gravity's reading was 4.8 % (sample, calibrated) to 9 % (from
   // the bed) far — and the landings, measured on the bed, would sit that far across it. Across
@@ -237,10 +236,7 @@ MonocularInput OpenMonocular(const MonocularRequest& request, const Progress& pr
         "only");
   }
 
-  // The keypoints on the vertical plane square to the camera's horizontal axis, at that depth.
-  const Eigen::Vector3d C = camera.CentreInWorld();
-  const Eigen::Vector3d axis = camera.R_KW.transpose() * Eigen::Vector3d::UnitZ();
-  const Eigen::Vector3d n = Eigen::Vector3d(axis.x(), axis.y(), 0).normalized();
+  // The keypoints on that plane.
   const double distance = out.depth_m * n.dot(axis);
   const int F = detections.num_frames();
   const int P = static_cast<int>(detections.names.size());

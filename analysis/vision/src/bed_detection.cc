@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <limits>
 #include <optional>
 
@@ -20,6 +21,33 @@
 namespace acro::vision {
 
 namespace {
+
+// The minimum of a one-dimensional `cost` within [lo, hi] by golden-section search, to `tolerance`
+// (the bracket's width): the middle of the last bracket.
+double GoldenSectionMinimum(const std::function<double(double)>& cost,
+                            double lo,
+                            double hi,
+                            double tolerance) {
+  const double g = (std::sqrt(5.0) - 1) / 2;
+  double a = hi - g * (hi - lo), b = lo + g * (hi - lo);
+  double fa = cost(a), fb = cost(b);
+  while (hi - lo > tolerance) {
+    if (fa < fb) {
+      hi = b;
+      b = a;
+      fb = fa;
+      a = hi - g * (hi - lo);
+      fa = cost(a);
+    } else {
+      lo = a;
+      a = b;
+      fa = fb;
+      b = lo + g * (hi - lo);
+      fb = cost(b);
+    }
+  }
+  return 0.5 * (lo + hi);
+}
 
 cv::Mat LoadGrey(const std::filesystem::path& path, int frame, std::string* source) {
   if (!IsRegularFile(path)) throw InputError(path.string(), "", "no such file");
@@ -434,26 +462,8 @@ std::optional<BedFromViews> LocateFromAll(const std::vector<Camera>& cameras,
     const PlaneFit f = FitAt(cameras, beds, h);
     return f.views < best_views ? std::numeric_limits<double>::infinity() : f.cost;
   };
-  double lo = best_h - 0.05, hi = best_h + 0.05;
-  const double g = (std::sqrt(5.0) - 1) / 2;
-  double a = hi - g * (hi - lo), b = lo + g * (hi - lo);
-  double fa = cost(a), fb = cost(b);
-  while (hi - lo > 1e-3) {
-    if (fa < fb) {
-      hi = b;
-      b = a;
-      fb = fa;
-      a = hi - g * (hi - lo);
-      fa = cost(a);
-    } else {
-      lo = a;
-      a = b;
-      fa = fb;
-      b = lo + g * (hi - lo);
-      fb = cost(b);
-    }
-  }
-  const double h = std::isfinite(cost(0.5 * (lo + hi))) ? 0.5 * (lo + hi) : best_h;
+  const double found = GoldenSectionMinimum(cost, best_h - 0.05, best_h + 0.05, 1e-3);
+  const double h = std::isfinite(cost(found)) ? found : best_h;
   const PlaneFit fit = FitAt(cameras, beds, h);
   BedFromViews out;
   out.centre_W = fit.centre;
@@ -576,28 +586,12 @@ BedFocalCalibration CalibrateFromBedUnknownFocal(int width_px,
     throw InputError(
         bed.source, "bed", "no focal length puts the camera above the bed the picture shows");
   // Golden-section on log f between the best grid point's neighbours.
-  double a = std::log(fs[size_t(std::max(0, best - 1))]);
-  double b = std::log(fs[size_t(std::min(kSteps, best + 1))]);
-  const double phi = 0.5 * (std::sqrt(5.0) - 1.0);
-  double x1 = b - phi * (b - a), x2 = a + phi * (b - a);
-  double r1 = rms_at(std::exp(x1)), r2 = rms_at(std::exp(x2));
-  while (b - a > 1e-4) {
-    if (r1 < r2) {
-      b = x2;
-      x2 = x1;
-      r2 = r1;
-      x1 = b - phi * (b - a);
-      r1 = rms_at(std::exp(x1));
-    } else {
-      a = x1;
-      x1 = x2;
-      r1 = r2;
-      x2 = a + phi * (b - a);
-      r2 = rms_at(std::exp(x2));
-    }
-  }
+  const double log_f = GoldenSectionMinimum([&](double x) { return rms_at(std::exp(x)); },
+                                            std::log(fs[size_t(std::max(0, best - 1))]),
+                                            std::log(fs[size_t(std::min(kSteps, best + 1))]),
+                                            1e-4);
   BedFocalCalibration out;
-  out.focal_px = std::exp(0.5 * (a + b));
+  out.focal_px = std::exp(log_f);
   out.bed = CalibrateFromBed(camera_at(out.focal_px), points_W, bed, c1_near_px);
   const double best_rms = out.bed.calibration.rms_px;
   if (best_rms > 3.0)
