@@ -62,8 +62,9 @@ pkg_check_modules(CAIRO REQUIRED IMPORTED_TARGET cairo cairo-svg cairo-png)
 pkg_check_modules(SQLITE3 REQUIRED IMPORTED_TARGET GLOBAL sqlite3)
 pkg_check_modules(NETTLE REQUIRED IMPORTED_TARGET GLOBAL nettle)
 
-# FFmpeg: video input and output (capture/src only).
-pkg_check_modules(FFMPEG REQUIRED IMPORTED_TARGET libavformat libavcodec libswscale libavutil)
+# FFmpeg: video input and output, live sources (libavdevice: V4L2 cameras) (capture/src only).
+pkg_check_modules(FFMPEG REQUIRED IMPORTED_TARGET libavformat libavcodec libswscale libavutil
+                  libavdevice)
 
 # Ceres and OpenMesh (analysis/*/src only).
 find_package(Ceres 2.1 REQUIRED)

@@ -17,7 +17,7 @@ set -euo pipefail
 main_packages=(
   build-essential cmake pkg-config git ccache
   libeigen3-dev libceres-dev libopenmesh-dev
-  libavformat-dev libavcodec-dev libswscale-dev libavutil-dev
+  libavformat-dev libavcodec-dev libswscale-dev libavutil-dev libavdevice-dev
   libyaml-cpp-dev nlohmann-json3-dev libfmt-dev libcli11-dev libcairo2-dev libtomlplusplus-dev
   libpugixml-dev libsqlite3-dev nettle-dev
   libopencv-calib3d-dev libopencv-imgproc-dev libopencv-imgcodecs-dev

@@ -55,6 +55,8 @@ void AddLibraryCommand(CLI::App& app, CommandRunner* run);
 void AddBatchCommand(CLI::App& app, CommandRunner* run);
 /// `acrolab detect`: 2D keypoints from video (docs/pose.md).
 void AddDetectCommand(CLI::App& app, CommandRunner* run);
+/// `acrolab live`: live sources recorded and watched for jumps and routines (docs/live.md).
+void AddLiveCommand(CLI::App& app, CommandRunner* run);
 /// What `overlay` and `compare` run in a build without the 3D views: throws the UsageError that
 /// says how to get them.
 int NeedTheViews();

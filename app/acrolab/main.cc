@@ -76,6 +76,7 @@ int Main(int argc, char** argv) {
   acro::app::AddLibraryCommand(app, &run);
   acro::app::AddBatchCommand(app, &run);
   acro::app::AddDetectCommand(app, &run);
+  acro::app::AddLiveCommand(app, &run);
 
   // Parse: --help and --version exit 0; a bad command line exits 2 with one line and the hint.
   if (argc > 1 && argv[1][0] != '-' &&

@@ -233,6 +233,18 @@ void VideoReader::Impl::Index() {
 }
 
 void VideoReader::Impl::Rewind(std::int64_t to_pts) {
+  // MPEG transport and program streams carry no index: FFmpeg seeks them by searching timestamps
+  // in the bytes, and for the first keyframe lands on the second (the recordings of `acrolab
+  // live` lost their first group of pictures so). The start is byte 0.
+  const std::string name = format->iformat->name;
+  if (to_pts <= keyframe_pts.front() && (name == "mpegts" || name == "mpeg")) {
+    if (av_seek_frame(format, -1, 0, AVSEEK_FLAG_BYTE) >= 0) {
+      avcodec_flush_buffers(decoder);
+      input_done = false;
+      last_pts = AV_NOPTS_VALUE;
+      return;
+    }
+  }
   const int rc = av_seek_frame(format, stream, to_pts, AVSEEK_FLAG_BACKWARD);
   if (rc < 0) Fail(fmt::format("timestamp {}", to_pts), "cannot seek: " + AvError(rc));
   avcodec_flush_buffers(decoder);
@@ -470,8 +482,11 @@ VideoFrame VideoReader::Frame(int index) {
   }
   for (;;) {
     m.Rewind(*key);
-    bool overshot = false;
+    // A seek that lands past the target, or (an MPEG-TS's search by timestamp) past the last
+    // frame, steps back a keyframe.
+    bool overshot = true;
     while (m.DecodeNext()) {
+      overshot = false;
       const std::int64_t p = m.last_pts;
       if (p == target) {
         VideoFrame out;

@@ -217,6 +217,31 @@ TEST(VideoReader, VariableFrameRateTimestampsAndDisplayRotation) {
 
 // Grey frames (luma, for calibration and the image-motion sync) are the ffmpeg command line's
 // `-pix_fmt gray` frames bit for bit, for a portrait H.264 and a VP9 file.
+// MPEG-TS (what `acrolab live` records) has no index: FFmpeg seeks it by searching timestamps in
+// the bytes, which landed on the second group of pictures for the first frame and past the end
+// for the last group. Every frame, in order and at random, as the command line decodes it.
+TEST(VideoReader, MpegTsFramesInOrderAndAtRandom) {
+  if (!HaveFfmpeg())
+    GTEST_SKIP() << "the ffmpeg command is not installed (scripts/install-deps.sh)";
+  const fs::path dir = TempDir("ts");
+  const fs::path ts = dir / "gop.ts";
+  ASSERT_EQ(std::system(("ffmpeg -v error -y -f lavfi -i testsrc=size=320x240:rate=30 -t 4 "
+                         "-c:v libx264 -g 25 -bf 2 -pix_fmt yuv420p -f mpegts " +
+                         Quote(ts))
+                            .c_str()),
+            0);
+  const std::vector<std::uint64_t> truth = FfmpegFrameHashes(ts, 320, 240);
+  ASSERT_EQ(truth.size(), 120u);
+  VideoReader reader(ts);
+  ASSERT_EQ(reader.num_frames(), 120);
+  VideoFrame f;
+  std::vector<std::uint64_t> in_order;
+  while (reader.ReadNext(&f)) in_order.push_back(HashFrame(f));
+  EXPECT_EQ(in_order, truth);
+  for (int i : {119, 0, 100, 24, 25, 118, 50, 1, 76, 119})
+    EXPECT_EQ(HashFrame(reader.Frame(i)), truth[static_cast<size_t>(i)]) << "frame " << i;
+}
+
 TEST(VideoReader, GreyFramesEqualTheFfmpegCommandLinesGray) {
   if (!HaveFfmpeg())
     GTEST_SKIP() << "the ffmpeg command is not installed (scripts/install-deps.sh)";

@@ -225,9 +225,11 @@ std::array<Eigen::Vector2d, 4> Intersect(const std::array<Eigen::Vector3d, 4>& s
 
 }  // namespace
 
-BedDetection DetectBed(const std::filesystem::path& image_or_video, int frame) {
+namespace {
+
+BedDetection DetectBedInGrey(cv::Mat grey, const std::string& source) {
   BedDetection bed;
-  cv::Mat grey = LoadGrey(image_or_video, frame, &bed.source);
+  bed.source = source;
   bed.width_px = grey.cols;
   bed.height_px = grey.rows;
   cv::GaussianBlur(grey, grey, {5, 5}, 0);
@@ -287,6 +289,30 @@ BedDetection DetectBed(const std::filesystem::path& image_or_video, int frame) {
   bed.inside_grey = best.inside;
   bed.outside_grey = best.outside;
   return bed;
+}
+
+}  // namespace
+
+BedDetection DetectBed(const std::filesystem::path& image_or_video, int frame) {
+  std::string source;
+  cv::Mat grey = LoadGrey(image_or_video, frame, &source);
+  return DetectBedInGrey(grey, source);
+}
+
+BedDetection DetectBed(const capture::VideoFrame& frame, const std::string& source) {
+  if (frame.width <= 0 || frame.height <= 0 || (frame.channels != 1 && frame.channels != 3) ||
+      frame.pixels.size() != static_cast<size_t>(frame.width) * frame.height * frame.channels)
+    throw InputError(source, "bed", "an empty or malformed picture");
+  cv::Mat grey;
+  const cv::Mat view(frame.height,
+                     frame.width,
+                     frame.channels == 1 ? CV_8UC1 : CV_8UC3,
+                     const_cast<std::uint8_t*>(frame.pixels.data()));
+  if (frame.channels == 1)
+    grey = view.clone();
+  else
+    cv::cvtColor(view, grey, cv::COLOR_RGB2GRAY);
+  return DetectBedInGrey(grey, source);
 }
 
 BedCalibration CalibrateFromBed(const Camera& intrinsics,

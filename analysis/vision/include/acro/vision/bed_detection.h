@@ -13,6 +13,7 @@
 
 #include <Eigen/Core>
 
+#include "acro/capture/video.h"
 #include "acro/vision/calibration.h"
 #include "acro/vision/camera.h"
 
@@ -36,6 +37,9 @@ struct BedDetection {
 /// convex quadrilateral among its regions by area times contrast with its surroundings. Throws
 /// acro::InputError naming the file when it cannot be read or holds no such region.
 BedDetection DetectBed(const std::filesystem::path& image_or_video, int frame = 0);
+/// The same in a picture already decoded (grey or RGB; a live camera's frame), `source` naming it
+/// in the detection and in errors.
+BedDetection DetectBed(const capture::VideoFrame& frame, const std::string& source);
 
 /// A camera's pose from the detected bed: the corners named BED_C1…BED_C4 of `points_W` (at
 /// least these four; "fig-trampoline" or the bed's markers of a trial), in each of the four

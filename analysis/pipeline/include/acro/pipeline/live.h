@@ -1,0 +1,115 @@
+#pragma once
+
+/// \file
+/// In the hall (docs/live.md): live cameras watched as they send, every jump's line a moment after
+/// it lands, every routine cut into its own folder. One thread per source reads it
+/// (capture::LiveSource: recorded as it comes, frame-exact), finds the bed in its first frame and
+/// the camera from it (the focal length too), watches the frames for jumps
+/// (vision::MotionFlightWatcher) and cuts routines: a run of jumps whose contacts with the bed are
+/// short, ended when the athlete stays on the bed. `acrolab live` calls it, the studio's live mode
+/// will.
+
+#include <atomic>
+#include <filesystem>
+#include <functional>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "acro/capture/live_source.h"
+#include "acro/vision/motion_flights.h"
+
+namespace acro::pipeline {
+
+/// One jump as `jumps.jsonl` has it.
+struct LiveJump {
+  std::string source;
+  vision::MotionJump jump;
+  /// Where it landed along the bed (m from the centre, the camera's image of the bed's middle
+  /// line), its zone and deduction counting the travel along the bed only (one side camera sees
+  /// nothing across); NaN / empty without a camera from the bed.
+  double landing_along_bed_m = 0.0;
+  std::string zone;
+  double deduction = 0.0;
+  /// The line was written this long after the landing frame arrived (s).
+  double latency_s = 0.0;
+};
+
+struct LiveRoutine {
+  std::string source;
+  int number = 0;
+  std::vector<LiveJump> jumps;
+  double first_takeoff_s = 0.0, last_landing_s = 0.0;
+  /// The source stopped while the athlete was in the air: that jump is lost, the routine is
+  /// scored to its last landing.
+  bool interrupted = false;
+  std::filesystem::path folder;  ///< routines/<source>-NNN/ (clip.ts, routine.json)
+  std::string clip_error;        ///< why the clip could not be written, if it could not
+};
+
+struct LiveRequest {
+  std::vector<std::string> sources;  ///< URLs, devices or files (LiveSource)
+  /// A new or empty folder: recording/, jumps.jsonl, routines/, live.json. A session never
+  /// replaces an earlier one's files.
+  std::filesystem::path out_dir;
+  capture::LiveSourceOptions source;  ///< timeouts, pace, segment length (name/prefix per source)
+  vision::MotionFlightOptions flights;
+  /// A routine ends when the athlete has stayed on the bed this long after a landing (s); the
+  /// contacts between a routine's jumps are shorter (about 0.3–0.6 s on a competition bed).
+  double rest_s = 1.5;
+  /// A routine's clip starts this long before its first take-off and ends after its last landing.
+  double pre_roll_s = 1.0, post_roll_s = 1.0;
+  /// Stop after this long (s of the shared clock), all sources; unset: until they end or Stop.
+  std::optional<double> duration_s;
+  /// Each line a person watching would read (a jump, a routine, a source's end), as it happens;
+  /// called from the sources' threads, one call at a time.
+  std::function<void(const std::string&)> on_line;
+  /// Each routine as it is cut (its folder written), from the source's thread: a door queues its
+  /// analysis here.
+  std::function<void(const LiveRoutine&)> on_routine;
+  bool IsValid(std::string* why) const;
+};
+
+struct LiveSourceSummary {
+  std::string name, url;
+  int frames = 0;
+  long long packets_recorded = 0;
+  std::vector<std::filesystem::path> segments;
+  std::string end_reason;
+  bool ended_normally = false;
+  std::string bed;                 ///< how the bed and camera were found, or why not
+  std::string failure;             ///< the source could not be opened (one line)
+  double first_arrival_s = 0.0;    ///< its first frame on the shared clock
+  double stream_to_clock_s = 0.0;  ///< arrival − stream time, median over its first frames
+};
+
+struct LiveSummary {
+  std::vector<LiveSourceSummary> sources;
+  std::vector<LiveJump> jumps;
+  std::vector<LiveRoutine> routines;
+};
+
+/// Runs the session until every source has ended, `duration_s` has passed or `stop` becomes true.
+/// Throws acro::InputError naming the folder when it holds an earlier session; a source that
+/// cannot be opened is one line (on_line and its summary) and the others go on.
+LiveSummary RunLive(const LiveRequest& request, const std::atomic<bool>* stop = nullptr);
+
+/// The routine cut by itself: jumps in, routines out (per source).
+class RoutineCutter {
+ public:
+  explicit RoutineCutter(double rest_s) : rest_s_(rest_s) {}
+  /// A jump that landed; returns the routine it ended, if the contact before it was a rest.
+  std::optional<std::vector<LiveJump>> AddJump(const LiveJump& jump);
+  /// The stream's time now (the last frame seen) while the athlete is on the bed: returns the
+  /// routine that ended when the rest has lasted `rest_s`.
+  std::optional<std::vector<LiveJump>> OnBed(double now_s);
+  /// The source ended: what is open, if anything (interrupted).
+  std::optional<std::vector<LiveJump>> Finish();
+
+ private:
+  double rest_s_;
+  std::vector<LiveJump> open_;
+};
+
+}  // namespace acro::pipeline

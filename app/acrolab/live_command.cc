@@ -1,0 +1,187 @@
+// acrolab live SOURCE… -o DIR [--duration S] [--rest S] [--open-timeout S] [--stall-timeout S]
+// [--segment S] [--as-fast-as-decoded]: live cameras and streams recorded, every jump's line as it
+// lands, every routine cut into its own folder (docs/live.md).
+
+#include <condition_variable>
+#include <cstdio>
+#include <deque>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <thread>
+
+#include <fmt/format.h>
+
+#include "acro/base/process.h"
+#include "acro/base/text.h"
+#include "acro/pipeline/live.h"
+#include "commands.h"
+
+namespace acro::app {
+namespace {
+
+struct LiveArguments {
+  std::vector<std::string> sources;
+  std::string out_dir;
+  double duration_s = 0, rest_s = 1.5, open_timeout_s = 10, stall_timeout_s = 5, segment_s = 60;
+  bool unpaced = false, quiet = false, no_analysis = false;
+};
+
+// Each routine's full analysis as its clip is written (`acrolab analyze --video clip.ts
+// --detect-bed`), one at a time in a process of its own — as `batch` runs its trials: a routine
+// that cannot be analysed never stops the recording, and Ctrl-C stops the analysis with the rest.
+class RoutineAnalyses {
+ public:
+  explicit RoutineAnalyses(std::function<void(const std::string&)> line)
+      : line_(std::move(line)), worker_([this] { Work(); }) {}
+  ~RoutineAnalyses() {
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      closing_ = true;
+    }
+    wake_.notify_all();
+    worker_.join();
+  }
+  void Add(const pipeline::LiveRoutine& routine) {
+    {
+      const std::lock_guard<std::mutex> lock(mutex_);
+      queue_.push_back(routine);
+    }
+    wake_.notify_all();
+  }
+
+ private:
+  void Work() {
+    for (;;) {
+      pipeline::LiveRoutine r;
+      {
+        std::unique_lock<std::mutex> lock(mutex_);
+        wake_.wait(lock, [this] { return closing_ || !queue_.empty(); });
+        if (queue_.empty()) return;
+        r = queue_.front();
+        queue_.pop_front();
+      }
+      const std::filesystem::path out = r.folder / "analysis";
+      const std::vector<std::string> command = {CurrentExecutable(),
+                                                "analyze",
+                                                "--video",
+                                                (r.folder / "clip.ts").string(),
+                                                "--detect-bed",
+                                                "--quiet",
+                                                "-o",
+                                                out.string()};
+      RunProcesses({command}, 1, [&](size_t, const ProcessOutcome& o) {
+        line_(o.ok() ? fmt::format("{}  routine {} analysed in {:.1f} s: {}",
+                                   r.source,
+                                   r.number,
+                                   o.seconds,
+                                   (out / "report.html").string())
+                     : fmt::format("{}  routine {} not analysed ({:.1f} s): {}",
+                                   r.source,
+                                   r.number,
+                                   o.seconds,
+                                   o.last_error_line));
+      });
+    }
+  }
+  std::function<void(const std::string&)> line_;
+  std::mutex mutex_;
+  std::condition_variable wake_;
+  std::deque<pipeline::LiveRoutine> queue_;
+  bool closing_ = false;
+  std::thread worker_;
+};
+
+int RunLiveCommand(const LiveArguments& args) {
+  pipeline::LiveRequest request;
+  request.sources = args.sources;
+  request.out_dir = args.out_dir;
+  request.rest_s = args.rest_s;
+  request.source.open_timeout_s = args.open_timeout_s;
+  request.source.stall_timeout_s = args.stall_timeout_s;
+  request.source.segment_s = args.segment_s;
+  request.source.pace_files = !args.unpaced;
+  if (args.duration_s > 0) request.duration_s = args.duration_s;
+  std::mutex print;
+  const auto line = [&print](const std::string& text) {
+    const std::lock_guard<std::mutex> lock(print);
+    std::printf("%s\n", EscapeForTerminal(text).c_str());
+    std::fflush(stdout);
+  };
+  request.on_line = line;
+  std::string why;
+  if (!request.IsValid(&why)) throw UsageError{why};
+  std::optional<RoutineAnalyses> analyses;
+  if (!args.no_analysis) {
+    analyses.emplace(line);
+    request.on_routine = [&analyses](const pipeline::LiveRoutine& r) {
+      if (r.clip_error.empty()) analyses->Add(r);
+    };
+  }
+  const pipeline::LiveSummary summary = pipeline::RunLive(request);
+  analyses.reset();  // the routines' analyses finished
+  int failed = 0;
+  for (const pipeline::LiveSourceSummary& s : summary.sources)
+    if (!s.failure.empty()) ++failed;
+  if (!args.quiet)
+    std::printf(
+        "%zu jump%s, %zu routine%s: %s\n",
+        summary.jumps.size(),
+        summary.jumps.size() == 1 ? "" : "s",
+        summary.routines.size(),
+        summary.routines.size() == 1 ? "" : "s",
+        EscapeForTerminal((std::filesystem::path(args.out_dir) / "live.json").string()).c_str());
+  // Every source refused: nothing was recorded, which is a failure; some refused: said in their
+  // lines, the others' recordings kept.
+  return failed == static_cast<int>(summary.sources.size()) ? 1 : 0;
+}
+
+}  // namespace
+
+void AddLiveCommand(CLI::App& app, CommandRunner* run) {
+  auto args = std::make_shared<LiveArguments>();
+  CLI::App* command = app.add_subcommand(
+      "live",
+      "Live cameras and streams (V4L2 devices, udp://, rtsp://, srt://, … or a file played at its "
+      "own pace) recorded frame-exact, every jump's time of flight and landing zone printed as "
+      "it lands (jumps.jsonl), every routine cut into its own folder with its clip "
+      "(docs/live.md). Stops when the sources end, after --duration, or on Ctrl-C (what was "
+      "recorded is kept).");
+  command->add_option("SOURCE", args->sources, "cameras, stream URLs or files")->required();
+  command->add_option("-o,--output", args->out_dir, "a new or empty output folder")
+      ->required()
+      ->check(kNotEmpty);
+  command->add_option("--duration", args->duration_s, "stop after this many seconds")
+      ->check(CLI::PositiveNumber);
+  command
+      ->add_option("--rest",
+                   args->rest_s,
+                   "a routine ends when the athlete stays on the bed this long (s, default 1.5)")
+      ->check(CLI::Range(0.1, 59.0));
+  command
+      ->add_option("--open-timeout",
+                   args->open_timeout_s,
+                   "a source that sends nothing this long is refused (s, default 10)")
+      ->check(CLI::Range(0.1, 3600.0));
+  command
+      ->add_option("--stall-timeout",
+                   args->stall_timeout_s,
+                   "a source that stops sending this long has ended (s, default 5)")
+      ->check(CLI::Range(0.1, 3600.0));
+  command
+      ->add_option("--segment",
+                   args->segment_s,
+                   "the recording starts a new file after this many seconds (default 60)")
+      ->check(CLI::Range(1.0, 86400.0));
+  command->add_flag("--as-fast-as-decoded",
+                    args->unpaced,
+                    "read files as fast as they decode instead of at their own pace");
+  command->add_flag("--no-analysis",
+                    args->no_analysis,
+                    "cut routines but do not analyse them (`acrolab analyze --video clip.ts "
+                    "--detect-bed` each, one after the other, as they end)");
+  command->add_flag("--quiet", args->quiet, "no summary line");
+  command->callback([args, run] { *run = [args] { return RunLiveCommand(*args); }; });
+}
+
+}  // namespace acro::app

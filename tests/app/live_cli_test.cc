@@ -1,0 +1,210 @@
+// `acrolab live` (docs/live.md), the acceptance set-up: the sample routine's side video
+// streamed over UDP on the loopback interface at real time (ffmpeg -re) into `acrolab live`; every
+// jump's line against the motion capture's flights (truth.json, shifted to the video's clock by
+// video_truth.json), its delay after the landing, the routine cut, the recording frame-exact.
+
+#include <unistd.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include "acro/capture/video.h"
+#include "refdata.h"
+
+namespace {
+
+std::filesystem::path Sample(const std::string& name) {
+  return acro::testing::SourceDir() / "samples/trials/trampoline_routine" / name;
+}
+
+nlohmann::json ReadJson(const std::filesystem::path& p) {
+  std::ifstream in(p);
+  return nlohmann::json::parse(in);
+}
+
+std::vector<nlohmann::json> ReadLines(const std::filesystem::path& p) {
+  std::vector<nlohmann::json> out;
+  std::ifstream in(p);
+  for (std::string line; std::getline(in, line);)
+    if (!line.empty()) out.push_back(nlohmann::json::parse(line));
+  return out;
+}
+
+std::vector<std::uint64_t> Hashes(const std::filesystem::path& video) {
+  acro::capture::VideoReader reader(video);
+  std::vector<std::uint64_t> h;
+  acro::capture::VideoFrame f;
+  while (reader.ReadNext(&f)) h.push_back(acro::capture::HashFrame(f));
+  return h;
+}
+
+struct LiveRun {
+  int status = -1;
+  std::string out;
+};
+
+// Runs `acrolab live` on a UDP port while ffmpeg streams the side video to it at real time,
+// starting `delay_s` after the command (it is listening by then).
+LiveRun LiveWithStream(const std::filesystem::path& dir,
+                       int port,
+                       double send_s,
+                       const std::string& extra = "") {
+  std::thread sender([&] {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1000));
+    const std::string cmd = "ffmpeg -v error -re -i '" + Sample("side_camera.mp4").string() + "'" +
+                            (send_s > 0 ? fmt::format(" -t {}", send_s) : std::string()) +
+                            " -c copy -f mpegts 'udp://127.0.0.1:" + std::to_string(port) +
+                            "?pkt_size=1316'";
+    EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
+  });
+  const std::string cmd =
+      fmt::format("'{}' live udp://127.0.0.1:{} --stall-timeout 1.5 {} -o '{}' 2>&1",
+                  ACROLAB_EXE,
+                  port,
+                  extra,
+                  dir.string());
+  LiveRun run;
+  FILE* pipe = popen(cmd.c_str(), "r");
+  char buffer[4096];
+  while (pipe != nullptr && std::fgets(buffer, sizeof buffer, pipe) != nullptr) run.out += buffer;
+  run.status = pipe != nullptr ? pclose(pipe) : -1;
+  sender.join();
+  return run;
+}
+
+TEST(LiveCli, TheSideVideoStreamedAtRealTime) {
+  if (std::system("ffmpeg -version > /dev/null 2>&1") != 0)
+    GTEST_SKIP() << "the ffmpeg command is not installed";
+  const auto dir = acro::testing::ScratchDir("live_cli") / "session";
+  const int port = 20000 + (::getpid() * 13) % 20000;
+  const LiveRun run = LiveWithStream(dir, port, 0);
+  ASSERT_EQ(run.status, 0) << run.out;
+  std::printf("%s", run.out.c_str());
+
+  // The truth: the motion capture's flights on the video's clock (the first is in the air when
+  // the video starts: not a jump the picture can time).
+  const nlohmann::json truth = ReadJson(Sample("truth.json"));
+  const double offset = ReadJson(Sample("video_truth.json")).at("offset_s").get<double>();
+  std::vector<std::pair<double, double>> flights;
+  for (const auto& f : truth.at("flights")) {
+    const double t0 = f.at("takeoff_s").get<double>() + offset;
+    const double t1 = f.at("landing_s").get<double>() + offset;
+    if (t0 > 0 && t1 < 299.0 / 30.0) flights.emplace_back(t0, t1);
+  }
+  ASSERT_EQ(flights.size(), 5u);
+
+  const std::vector<nlohmann::json> jumps = ReadLines(dir / "jumps.jsonl");
+  ASSERT_EQ(jumps.size(), flights.size()) << run.out;
+  double worst_takeoff = 0, worst_landing = 0, worst_latency = 0, sum = 0, truth_sum = 0;
+  for (size_t k = 0; k < jumps.size(); ++k) {
+    const double t0 = jumps[k].at("takeoff_s").get<double>();
+    const double t1 = jumps[k].at("landing_s").get<double>();
+    worst_takeoff = std::max(worst_takeoff, std::abs(t0 - flights[k].first));
+    worst_landing = std::max(worst_landing, std::abs(t1 - flights[k].second));
+    worst_latency = std::max(worst_latency, jumps[k].at("latency_s").get<double>());
+    sum += t1 - t0;
+    truth_sum += flights[k].second - flights[k].first;
+    // Every landing of the sample routine is in zone A (the motion capture's score sheet).
+    EXPECT_EQ(jumps[k].at("zone"), "A") << jumps[k].dump();
+  }
+  std::printf(
+      "live: take-offs within %.0f ms, landings within %.0f ms, ToF sum %+.0f ms, "
+      "lines at most %.2f s after the landing\n",
+      1e3 * worst_takeoff,
+      1e3 * worst_landing,
+      1e3 * (sum - truth_sum),
+      worst_latency);
+  EXPECT_LT(worst_takeoff, 2.0 / 30.0);
+  EXPECT_LT(worst_landing, 2.0 / 30.0);
+  EXPECT_LE(worst_latency, 1.0) << "every jump's line within a second of its landing";
+
+  // One routine, cut within 0.5 s of its first take-off and last landing, its clip frame-exact.
+  const nlohmann::json live = ReadJson(dir / "live.json");
+  ASSERT_EQ(live.at("routines").size(), 1u) << live.dump(2);
+  const auto routine_dir = dir / live.at("routines")[0].at("folder").get<std::string>();
+  const nlohmann::json routine = ReadJson(routine_dir / "routine.json");
+  EXPECT_EQ(routine.at("jumps").size(), 5u);
+  EXPECT_NEAR(routine.at("first_takeoff_s").get<double>(), flights.front().first, 0.5);
+  EXPECT_NEAR(routine.at("last_landing_s").get<double>(), flights.back().second, 0.5);
+  EXPECT_FALSE(routine.at("interrupted").get<bool>());
+  const std::vector<std::uint64_t> source = Hashes(Sample("side_camera.mp4"));
+  const std::vector<std::uint64_t> clip = Hashes(routine_dir / "clip.ts");
+  const int first = static_cast<int>(std::lround(routine.at("clip_start_s").get<double>() * 30));
+  ASSERT_GT(clip.size(), 200u);
+  for (size_t k = 0; k < clip.size(); ++k)
+    ASSERT_EQ(clip[k], source.at(first + k)) << "clip frame " << k;
+  // The recording, every frame the source sent.
+  std::vector<std::uint64_t> recorded;
+  for (const auto& s : live.at("sources")[0].at("segments")) {
+    const auto h = Hashes(dir / "recording" / s.get<std::string>());
+    recorded.insert(recorded.end(), h.begin(), h.end());
+  }
+  EXPECT_EQ(recorded, source);
+}
+
+TEST(LiveCli, TheStreamCutOffInTheAirInterruptsTheRoutine) {
+  if (std::system("ffmpeg -version > /dev/null 2>&1") != 0)
+    GTEST_SKIP() << "the ffmpeg command is not installed";
+  const auto dir = acro::testing::ScratchDir("live_cut") / "session";
+  const int port = 20000 + (::getpid() * 17 + 5) % 20000;
+  // 5.2 s: in the third complete flight (4.579–5.984 s of the video).
+  const LiveRun run = LiveWithStream(dir, port, 5.2, "--no-analysis");
+  ASSERT_EQ(run.status, 0) << run.out;
+  const std::vector<nlohmann::json> jumps = ReadLines(dir / "jumps.jsonl");
+  EXPECT_EQ(jumps.size(), 2u) << run.out;
+  const nlohmann::json live = ReadJson(dir / "live.json");
+  ASSERT_EQ(live.at("routines").size(), 1u) << live.dump(2);
+  EXPECT_TRUE(live.at("routines")[0].at("interrupted").get<bool>());
+  EXPECT_NE(run.out.find("interrupted"), std::string::npos) << run.out;
+  EXPECT_NE(run.out.find("stopped sending after 1.5 s"), std::string::npos) << run.out;
+  // Nothing recorded is lost: the recording holds every frame sent, playable.
+  const std::vector<std::uint64_t> source = Hashes(Sample("side_camera.mp4"));
+  std::vector<std::uint64_t> recorded;
+  for (const auto& s : live.at("sources")[0].at("segments")) {
+    const auto h = Hashes(dir / "recording" / s.get<std::string>());
+    recorded.insert(recorded.end(), h.begin(), h.end());
+  }
+  ASSERT_GT(recorded.size(), 150u);
+  for (size_t k = 0; k < recorded.size(); ++k) ASSERT_EQ(recorded[k], source[k]) << k;
+}
+
+TEST(LiveCli, BadSourcesAreOneLineEach) {
+  const auto dir = acro::testing::ScratchDir("live_bad");
+  const std::string cmd = fmt::format(
+      "'{}' live /dev/video-acrolab-none udp://127.0.0.1:{} --open-timeout 1 -o '{}' 2>&1",
+      ACROLAB_EXE,
+      20000 + (::getpid() * 19 + 7) % 20000,
+      (dir / "s").string());
+  FILE* pipe = popen(cmd.c_str(), "r");
+  std::string out;
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof buffer, pipe) != nullptr) out += buffer;
+  const int status = pclose(pipe);
+  EXPECT_EQ(WEXITSTATUS(status), 1) << out;
+  EXPECT_NE(out.find("video-acrolab-none: not recorded"), std::string::npos) << out;
+  EXPECT_NE(out.find("no such device"), std::string::npos) << out;
+  EXPECT_NE(out.find("sent nothing within 1 s"), std::string::npos) << out;
+  // A folder with an earlier session is never written over.
+  std::filesystem::create_directories(dir / "old");
+  std::ofstream(dir / "old" / "jumps.jsonl") << "{}\n";
+  const std::string again =
+      fmt::format("'{}' live /dev/null -o '{}' 2>&1", ACROLAB_EXE, (dir / "old").string());
+  EXPECT_NE(std::system(again.c_str()), 0);
+  std::ifstream in(dir / "old" / "jumps.jsonl");
+  std::string kept;
+  std::getline(in, kept);
+  EXPECT_EQ(kept, "{}");
+}
+
+}  // namespace
