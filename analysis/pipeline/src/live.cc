@@ -268,7 +268,9 @@ void WatchSource(Session& session, int index, const std::atomic<bool>& stop_all)
         session.Line(fmt::format("{}: recording only, no jumps: {}", summary.name, e.what()));
       }
     }
-    if (offsets.size() < 30) offsets.push_back(frame.arrival_s - frame.picture.time_s);
+    // Frames 30–149: past the burst FFmpeg reads to learn the stream (its arrival unknown).
+    if (frame.picture.index >= 30 && frame.picture.index < 150)
+      offsets.push_back(frame.arrival_s - frame.picture.time_s);
     if (!view.watcher) continue;
     std::vector<vision::MotionJump> landed;
     try {
@@ -345,7 +347,8 @@ void WriteSummary(const LiveRequest& request, const LiveSummary& summary) {
          {"ended_normally", s.ended_normally},
          {"bed", s.bed},
          {"failure", s.failure.empty() ? nlohmann::json() : nlohmann::json(s.failure)},
-         {"stream_to_clock_s", Number(s.stream_to_clock_s)}});
+         {"stream_to_clock_s", Number(s.stream_to_clock_s)},
+         {"offset_to_first_s", Number(s.offset_to_first_s)}});
   }
   nlohmann::json routines = nlohmann::json::array();
   for (const LiveRoutine& r : summary.routines)
@@ -415,6 +418,13 @@ LiveSummary RunLive(const LiveRequest& request, const std::atomic<bool>* stop) {
   done = true;
   monitor.join();
   ::close(session.jumps_fd);
+  // The sources on one time line: each one's stream time that arrived with the first source's
+  // stream time zero.
+  const LiveSourceSummary* first = nullptr;
+  for (const LiveSourceSummary& s : session.summary.sources)
+    if (first == nullptr && std::isfinite(s.stream_to_clock_s)) first = &s;
+  for (LiveSourceSummary& s : session.summary.sources)
+    s.offset_to_first_s = first != nullptr ? s.stream_to_clock_s - first->stream_to_clock_s : NaN();
   WriteSummary(request, session.summary);
   return std::move(session.summary);
 }

@@ -78,10 +78,15 @@ struct LiveSourceSummary {
   std::vector<std::filesystem::path> segments;
   std::string end_reason;
   bool ended_normally = false;
-  std::string bed;                 ///< how the bed and camera were found, or why not
-  std::string failure;             ///< the source could not be opened (one line)
-  double first_arrival_s = 0.0;    ///< its first frame on the shared clock
-  double stream_to_clock_s = 0.0;  ///< arrival − stream time, median over its first frames
+  std::string bed;               ///< how the bed and camera were found, or why not
+  std::string failure;           ///< the source could not be opened (one line)
+  double first_arrival_s = 0.0;  ///< its first frame on the shared clock
+  /// Arrival − stream time (s), the median over its frames 30–149 (before them FFmpeg reads ahead
+  /// to learn the stream, and those frames come out together); NaN with fewer frames.
+  double stream_to_clock_s = 0.0;
+  /// How much later this source's stream time 0 arrived than the first source's (s): the offset
+  /// that puts two cameras started apart side by side; 0 for the first source.
+  double offset_to_first_s = 0.0;
 };
 
 struct LiveSummary {
