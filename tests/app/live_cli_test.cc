@@ -144,6 +144,10 @@ TEST(LiveCli, TheSideVideoStreamedAtRealTime) {
   ASSERT_GT(clip.size(), 200u);
   for (size_t k = 0; k < clip.size(); ++k)
     ASSERT_EQ(clip[k], source.at(first + k)) << "clip frame " << k;
+  // The routine analysed in its folder by `acrolab analyze --video clip.ts --detect-bed`.
+  EXPECT_TRUE(std::filesystem::exists(routine_dir / "analysis" / "report.html")) << run.out;
+  EXPECT_TRUE(std::filesystem::exists(routine_dir / "analysis" / "jumps.json")) << run.out;
+  EXPECT_NE(run.out.find("routine 1 analysed in"), std::string::npos) << run.out;
   // The recording, every frame the source sent.
   std::vector<std::uint64_t> recorded;
   for (const auto& s : live.at("sources")[0].at("segments")) {
