@@ -23,7 +23,8 @@ namespace {
 struct LiveArguments {
   std::vector<std::string> sources;
   std::string out_dir;
-  double duration_s = 0, rest_s = 1.5, open_timeout_s = 10, stall_timeout_s = 5, segment_s = 60;
+  double duration_s = 0, rest_s = 1.5, open_timeout_s = 10, stall_timeout_s = 5, segment_s = 60,
+         reconnect_s = 30;
   bool unpaced = false, quiet = false, no_analysis = false;
 };
 
@@ -100,6 +101,7 @@ int RunLiveCommand(const LiveArguments& args) {
   request.source.open_timeout_s = args.open_timeout_s;
   request.source.stall_timeout_s = args.stall_timeout_s;
   request.source.segment_s = args.segment_s;
+  request.reconnect_s = args.reconnect_s;
   request.source.pace_files = !args.unpaced;
   if (args.duration_s > 0) request.duration_s = args.duration_s;
   std::mutex print;
@@ -168,6 +170,12 @@ void AddLiveCommand(CLI::App& app, CommandRunner* run) {
                    args->stall_timeout_s,
                    "a source that stops sending this long has ended (s, default 5)")
       ->check(CLI::Range(0.1, 3600.0));
+  command
+      ->add_option("--reconnect",
+                   args->reconnect_s,
+                   "a stream or camera that stopped is waited for this long to come back (s, "
+                   "default 30; 0: its stop is its end)")
+      ->check(CLI::Range(0.0, 3600.0));
   command
       ->add_option("--segment",
                    args->segment_s,

@@ -69,7 +69,7 @@ LiveRun LiveWithStream(const std::filesystem::path& dir,
     EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
   });
   const std::string cmd =
-      fmt::format("'{}' live udp://127.0.0.1:{} --stall-timeout 1.5 {} -o '{}' 2>&1",
+      fmt::format("'{}' live udp://127.0.0.1:{} --stall-timeout 1.5 --reconnect 0 {} -o '{}' 2>&1",
                   ACROLAB_EXE,
                   port,
                   extra,
@@ -184,6 +184,67 @@ TEST(LiveCli, TheStreamCutOffInTheAirInterruptsTheRoutine) {
   for (size_t k = 0; k + 3 < recorded.size(); ++k) ASSERT_EQ(recorded[k], source[k]) << k;
 }
 
+TEST(LiveCli, AStreamCutOffAndResumedLosesNothing) {
+  if (std::system("ffmpeg -version > /dev/null 2>&1") != 0)
+    GTEST_SKIP() << "the ffmpeg command is not installed";
+  const auto dir = acro::testing::ScratchDir("live_resume") / "session";
+  const int port = 20000 + (::getpid() * 29 + 3) % 20000;
+  // The stream cut at 5.2 s (in the third complete flight), back 2.7 s later with the whole video.
+  std::thread sender([&] {
+    const std::string send = "ffmpeg -v error -re -i '" + Sample("side_camera.mp4").string() + "'";
+    const std::string to =
+        " -c copy -f mpegts 'udp://127.0.0.1:" + std::to_string(port) + "?pkt_size=1316'";
+    std::this_thread::sleep_for(std::chrono::milliseconds(1000));
+    EXPECT_EQ(std::system((send + " -t 5.2" + to).c_str()), 0);
+    std::this_thread::sleep_for(std::chrono::milliseconds(2700));
+    EXPECT_EQ(std::system((send + to).c_str()), 0);
+  });
+  const std::string cmd = fmt::format(
+      "'{}' live udp://127.0.0.1:{} --stall-timeout 1.5 --reconnect 5 --no-analysis -o '{}' 2>&1",
+      ACROLAB_EXE,
+      port,
+      dir.string());
+  FILE* pipe = popen(cmd.c_str(), "r");
+  std::string out;
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof buffer, pipe) != nullptr) out += buffer;
+  const int status = pclose(pipe);
+  sender.join();
+  ASSERT_EQ(WEXITSTATUS(status), 0) << out;
+  std::printf("%s", out.c_str());
+  EXPECT_NE(out.find("waiting up to 5 s for it to come back"), std::string::npos) << out;
+  EXPECT_NE(out.find("sending again"), std::string::npos) << out;
+  // The routine the cut interrupted, then the next one whole.
+  const nlohmann::json live = ReadJson(dir / "live.json");
+  ASSERT_EQ(live.at("routines").size(), 2u) << live.dump(2);
+  EXPECT_TRUE(live.at("routines")[0].at("interrupted").get<bool>());
+  EXPECT_EQ(live.at("routines")[0].at("jumps").get<int>(), 2);
+  EXPECT_FALSE(live.at("routines")[1].at("interrupted").get<bool>());
+  EXPECT_EQ(live.at("routines")[1].at("jumps").get<int>(), 5);
+  // On one time line: the second stream began 5.2 + 2.7 s after the first (and an ffmpeg's
+  // start), so its first take-off (1.162 s into the video) is about 9.1 s on the first's clock.
+  EXPECT_NEAR(live.at("routines")[1].at("first_takeoff_s").get<double>(), 5.2 + 2.7 + 1.162, 0.5);
+  // Jumps numbered on through the gap.
+  const std::vector<nlohmann::json> jumps = ReadLines(dir / "jumps.jsonl");
+  ASSERT_EQ(jumps.size(), 7u);
+  for (size_t k = 0; k < jumps.size(); ++k) EXPECT_EQ(jumps[k].at("jump").get<int>(), int(k) + 1);
+  EXPECT_TRUE(std::filesystem::exists(dir / live.at("routines")[1].at("folder").get<std::string>() /
+                                      "clip.ts"));
+  // Nothing recorded is lost: both connections' frames, each the file's.
+  const std::vector<std::uint64_t> source = Hashes(Sample("side_camera.mp4"));
+  const auto& segments = live.at("sources")[0].at("segments");
+  ASSERT_GE(segments.size(), 2u);
+  std::vector<std::uint64_t> cut = Hashes(dir / "recording" / segments[0].get<std::string>());
+  ASSERT_GT(cut.size(), 150u);
+  for (size_t k = 0; k + 3 < cut.size(); ++k) ASSERT_EQ(cut[k], source[k]) << k;
+  std::vector<std::uint64_t> again;
+  for (size_t k = 1; k < segments.size(); ++k) {
+    const auto h = Hashes(dir / "recording" / segments[k].get<std::string>());
+    again.insert(again.end(), h.begin(), h.end());
+  }
+  EXPECT_EQ(again, source);
+}
+
 TEST(LiveCli, TwoSourcesStartedApartAreBothRecordedAndPutOnOneTimeLine) {
   if (std::system("ffmpeg -version > /dev/null 2>&1") != 0)
     GTEST_SKIP() << "the ffmpeg command is not installed";
@@ -200,7 +261,9 @@ TEST(LiveCli, TwoSourcesStartedApartAreBothRecordedAndPutOnOneTimeLine) {
   };
   std::thread first = send(a, 1000), second = send(b, 1300);
   const std::string cmd = fmt::format(
-      "'{}' live udp://127.0.0.1:{} udp://127.0.0.1:{} --stall-timeout 1.5 --no-analysis -o '{}' "
+      "'{}' live udp://127.0.0.1:{} udp://127.0.0.1:{} --stall-timeout 1.5 --reconnect 0 "
+      "--no-analysis "
+      "-o '{}' "
       "2>&1",
       ACROLAB_EXE,
       a,

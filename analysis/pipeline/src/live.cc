@@ -33,6 +33,7 @@ bool LiveRequest::IsValid(std::string* why) const {
   if (!(pre_roll_s >= 0 && pre_roll_s <= 30 && post_roll_s >= 0 && post_roll_s <= 30))
     return fail("the clip's pre- and post-roll must be in [0, 30] s");
   if (duration_s && !(*duration_s > 0)) return fail("the duration must be positive");
+  if (!(reconnect_s >= 0 && reconnect_s <= 3600)) return fail("reconnect_s must be in [0, 3600] s");
   return flights.IsValid(why);
 }
 
@@ -167,7 +168,8 @@ double AlongBed(const vision::Camera& camera, const Eigen::Vector2d& px) {
 void CloseRoutine(Session& session,
                   capture::LiveSource& source,
                   std::vector<LiveJump> jumps,
-                  bool interrupted) {
+                  bool interrupted,
+                  double offset_s) {
   const LiveRequest& request = *session.request;
   LiveRoutine r;
   r.source = source.name();
@@ -192,8 +194,9 @@ void CloseRoutine(Session& session,
   double clip_start = NaN();
   try {
     CreateOutputDirectory(r.folder);
-    clip_start = source.SaveClip(r.first_takeoff_s - request.pre_roll_s,
-                                 r.last_landing_s + request.post_roll_s,
+    // (the clip in the connection's own stream times)
+    clip_start = source.SaveClip(r.first_takeoff_s - request.pre_roll_s - offset_s,
+                                 r.last_landing_s + request.post_roll_s - offset_s,
                                  r.folder / "clip.ts");
   } catch (const InputError& e) {
     r.clip_error = e.what();
@@ -235,42 +238,41 @@ void CloseRoutine(Session& session,
   session.summary.routines.push_back(std::move(r));
 }
 
-void WatchSource(Session& session, int index, const std::atomic<bool>& stop_all) {
+bool CanComeBack(const std::string& url) {
+  return url.find("://") != std::string::npos || url.rfind("/dev/", 0) == 0;
+}
+
+// One connection to a source, its frames watched until it ends; `offset_s` puts its stream times
+// on the session's (the source's first connection's) time line. Returns the connection's end.
+void WatchConnection(Session& session,
+                     LiveSourceSummary& summary,
+                     capture::LiveSource& source,
+                     int connection,
+                     int* jumps_so_far,
+                     std::vector<double>* offsets) {
   const LiveRequest& request = *session.request;
-  LiveSourceSummary& summary = session.summary.sources[static_cast<size_t>(index)];
-  capture::LiveSourceOptions options = request.source;
-  options.name = summary.name;
-  options.record_prefix = request.out_dir / "recording" / summary.name;
-  std::unique_ptr<capture::LiveSource> source;
-  try {
-    source = std::make_unique<capture::LiveSource>(summary.url, options);
-  } catch (const InputError& e) {
-    summary.failure = e.what();
-    session.Line(fmt::format("{}: not recorded: {}", summary.name, e.what()));
-    return;
-  }
-  {
-    const std::lock_guard<std::mutex> lock(session.mutex);
-    session.running.push_back(source.get());
-  }
-  if (stop_all.load()) source->Stop();
   SourceView view;
   RoutineCutter cutter(request.rest_s);
-  std::vector<double> offsets;
+  double offset = 0.0;
   capture::LiveFrame frame;
-  while (source->Next(&frame)) {
+  while (source.Next(&frame)) {
     if (frame.picture.index == 0) {
-      summary.first_arrival_s = frame.arrival_s;
+      // A connection after the first: its stream time zero where its first frame arrived.
+      if (connection == 0)
+        summary.first_arrival_s = frame.arrival_s;
+      else
+        offset = frame.arrival_s - summary.first_arrival_s;
       try {
-        view = FindBed(*source, request, &summary.bed);
+        view = FindBed(source, request, &summary.bed);
       } catch (const InputError& e) {
         summary.bed = e.what();
         session.Line(fmt::format("{}: recording only, no jumps: {}", summary.name, e.what()));
       }
     }
     // Frames 30–149: past the burst FFmpeg reads to learn the stream (its arrival unknown).
-    if (frame.picture.index >= 30 && frame.picture.index < 150)
-      offsets.push_back(frame.arrival_s - frame.picture.time_s);
+    if (connection == 0 && frame.picture.index >= 30 && frame.picture.index < 150)
+      offsets->push_back(frame.arrival_s - frame.picture.time_s);
+    frame.picture.time_s += offset;
     if (!view.watcher) continue;
     std::vector<vision::MotionJump> landed;
     try {
@@ -284,32 +286,80 @@ void WatchSource(Session& session, int index, const std::atomic<bool>& stop_all)
       LiveJump j;
       j.source = summary.name;
       j.jump = m;
+      j.jump.number = ++*jumps_so_far;  // numbered on through a reconnection
       j.landing_along_bed_m = view.camera ? AlongBed(*view.camera, m.landing_px) : NaN();
       if (std::isfinite(j.landing_along_bed_m))
         j.deduction = fig::HdZones::Default().DeductionAt({j.landing_along_bed_m, 0.0}, &j.zone);
       j.latency_s = capture::LiveClockNow() - m.landing_arrival_s;
-      if (auto ended = cutter.AddJump(j)) CloseRoutine(session, *source, std::move(*ended), false);
+      if (auto ended = cutter.AddJump(j))
+        CloseRoutine(session, source, std::move(*ended), false, offset);
       session.AddJump(j);
     }
     if (!view.watcher->in_air())
       if (auto ended = cutter.OnBed(view.watcher->last_time_s()))
-        CloseRoutine(session, *source, std::move(*ended), false);
+        CloseRoutine(session, source, std::move(*ended), false, offset);
   }
   // A jump in the air when the source ended is lost: the routine is interrupted there. One
   // that ended on the bed is whole to its last landing, however soon after it the source stopped.
   const bool in_air = view.watcher && view.watcher->in_air();
-  if (auto open = cutter.Finish()) CloseRoutine(session, *source, std::move(*open), in_air);
-  std::sort(offsets.begin(), offsets.end());
-  {
-    const std::lock_guard<std::mutex> lock(session.mutex);
-    summary.frames = source->frames_decoded();
-    summary.packets_recorded = source->packets_recorded();
-    summary.segments = source->segments();
-    summary.end_reason = source->end_reason();
-    summary.ended_normally = source->ended_normally();
-    summary.stream_to_clock_s = offsets.empty() ? NaN() : offsets[offsets.size() / 2];
-    session.running.erase(std::find(session.running.begin(), session.running.end(), source.get()));
+  if (auto open = cutter.Finish()) CloseRoutine(session, source, std::move(*open), in_air, offset);
+}
+
+void WatchSource(Session& session, int index, const std::atomic<bool>& stop_all) {
+  const LiveRequest& request = *session.request;
+  LiveSourceSummary& summary = session.summary.sources[static_cast<size_t>(index)];
+  std::vector<double> offsets;
+  int jumps = 0;
+  for (int connection = 0;; ++connection) {
+    capture::LiveSourceOptions options = request.source;
+    options.name = summary.name;
+    options.record_prefix =
+        request.out_dir / "recording" /
+        (connection == 0 ? summary.name : fmt::format("{}-again{}", summary.name, connection));
+    if (connection > 0) options.open_timeout_s = request.reconnect_s;
+    std::unique_ptr<capture::LiveSource> source;
+    try {
+      source = std::make_unique<capture::LiveSource>(summary.url, options);
+    } catch (const InputError& e) {
+      if (connection == 0) {
+        summary.failure = e.what();
+        session.Line(fmt::format("{}: not recorded: {}", summary.name, e.what()));
+        return;
+      }
+      session.Line(fmt::format(
+          "{}: did not come back within {:g} s: {}", summary.name, request.reconnect_s, e.what()));
+      break;
+    }
+    if (connection > 0) session.Line(fmt::format("{}: sending again", summary.name));
+    {
+      const std::lock_guard<std::mutex> lock(session.mutex);
+      session.running.push_back(source.get());
+    }
+    if (stop_all.load()) source->Stop();
+    WatchConnection(session, summary, *source, connection, &jumps, &offsets);
+    {
+      const std::lock_guard<std::mutex> lock(session.mutex);
+      summary.frames += source->frames_decoded();
+      summary.packets_recorded += source->packets_recorded();
+      summary.segments.insert(
+          summary.segments.end(), source->segments().begin(), source->segments().end());
+      summary.end_reason = source->end_reason();
+      summary.ended_normally = source->ended_normally();
+      session.running.erase(
+          std::find(session.running.begin(), session.running.end(), source.get()));
+    }
+    // A stream or a camera that stopped may come back (a Wi-Fi drop, a cable put back): waited
+    // for, recorded and watched anew; a file's end, a Stop or the session's end is the end.
+    if (source->ended_normally() || stop_all.load() || source->end_reason() == "stopped" ||
+        !(request.reconnect_s > 0) || !CanComeBack(summary.url))
+      break;
+    session.Line(fmt::format("{}: {}; waiting up to {:g} s for it to come back",
+                             summary.name,
+                             source->end_reason(),
+                             request.reconnect_s));
   }
+  std::sort(offsets.begin(), offsets.end());
+  summary.stream_to_clock_s = offsets.empty() ? NaN() : offsets[offsets.size() / 2];
   session.Line(fmt::format("{}: {} ({} frames recorded in {} segment{})",
                            summary.name,
                            summary.end_reason,

@@ -42,7 +42,7 @@ struct LiveRoutine {
   std::vector<LiveJump> jumps;
   double first_takeoff_s = 0.0, last_landing_s = 0.0;
   /// The source stopped while the athlete was in the air: that jump is lost, the routine is
-  /// scored to its last landing.
+  /// scored to its last landing. (A routine never spans two connections to a source.)
   bool interrupted = false;
   std::filesystem::path folder;  ///< routines/<source>-NNN/ (clip.ts, routine.json)
   std::string clip_error;        ///< why the clip could not be written, if it could not
@@ -60,6 +60,10 @@ struct LiveRequest {
   double rest_s = 1.5;
   /// A routine's clip starts this long before its first take-off and ends after its last landing.
   double pre_roll_s = 1.0, post_roll_s = 1.0;
+  /// A stream or camera that stopped sending is waited for this long to come back (opened again:
+  /// recorded in new segments, watched anew, its times on the first connection's time line); 0:
+  /// its stop is its end. Files end at their end.
+  double reconnect_s = 30.0;
   /// Stop after this long (s of the shared clock), all sources; unset: until they end or Stop.
   std::optional<double> duration_s;
   /// Each line a person watching would read (a jump, a routine, a source's end), as it happens;
