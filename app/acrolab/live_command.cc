@@ -53,6 +53,14 @@ class RoutineAnalyses {
 
  private:
   void Work() {
+    // Nothing here may end the recording (an exception out of this thread would end the program).
+    try {
+      Loop();
+    } catch (const std::exception& e) {
+      line_(std::string("the routines' analyses stopped: ") + e.what());
+    }
+  }
+  void Loop() {
     for (;;) {
       pipeline::LiveRoutine r;
       {

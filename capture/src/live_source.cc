@@ -54,21 +54,37 @@ void InitialiseFfmpegInputs() {
   });
 }
 
-bool IsDevicePath(const std::string& url) {
-  return url.rfind("/dev/", 0) == 0;
-}
-
 bool IsNetworkUrl(const std::string& url) {
   return url.find("://") != std::string::npos;
 }
 
+// A camera device: a character device, or a name under /dev/ that is not there (a camera
+// unplugged). A regular file under /dev/shm is a file.
+bool IsDevicePath(const std::string& url) {
+  struct stat st {};
+  if (::stat(url.c_str(), &st) == 0) return S_ISCHR(st.st_mode);
+  return url.rfind("/dev/", 0) == 0;
+}
+
 }  // namespace
+
+std::string RedactedUrl(const std::string& url) {
+  const size_t scheme = url.find("://");
+  if (scheme == std::string::npos) return url;
+  const size_t host = scheme + 3;
+  const size_t end = url.find_first_of("/?#", host);
+  const size_t at = url.rfind('@', end == std::string::npos ? std::string::npos : end);
+  if (at == std::string::npos || at < host) return url;
+  return url.substr(0, host) + "***@" + url.substr(at + 1);
+}
 
 std::string LiveSourceName(const std::string& url) {
   std::string name;
   if (IsNetworkUrl(url)) {
+    // Host and port, never a user name or password given before an '@'.
     name = url.substr(url.find("://") + 3);
-    name = name.substr(0, name.find_first_of("/?@"));
+    name = name.substr(0, name.find_first_of("/?#"));
+    if (name.find('@') != std::string::npos) name = name.substr(name.rfind('@') + 1);
   } else {
     name = std::filesystem::path(url).stem().string();
   }
@@ -92,6 +108,27 @@ class TsWriter {
  public:
   TsWriter(const std::filesystem::path& path, const AVStream* in, bool exclusive)
       : path_(path), in_time_base_(in->time_base) {
+    try {
+      Open(in, exclusive);
+    } catch (...) {
+      Free();  // the destructor does not run for a constructor that throws
+      throw;
+    }
+  }
+  ~TsWriter() { Free(); }
+  TsWriter(const TsWriter&) = delete;
+  TsWriter& operator=(const TsWriter&) = delete;
+
+ private:
+  void Free() {
+    if (out_ != nullptr) {
+      if (out_->pb != nullptr) avio_closep(&out_->pb);
+      avformat_free_context(out_);
+      out_ = nullptr;
+    }
+  }
+  void Open(const AVStream* in, bool exclusive) {
+    const std::filesystem::path& path = path_;
     if (exclusive) {
       // Never replace what is there (a previous recording, a device, a link): created anew here.
       const int fd = ::open(path.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0644);
@@ -117,15 +154,8 @@ class TsWriter {
     if (rc < 0) Fail("cannot write the stream's header: " + AvError(rc));
     out_time_base_ = st->time_base;
   }
-  ~TsWriter() {
-    if (out_ != nullptr) {
-      if (out_->pb != nullptr) avio_closep(&out_->pb);
-      avformat_free_context(out_);
-    }
-  }
-  TsWriter(const TsWriter&) = delete;
-  TsWriter& operator=(const TsWriter&) = delete;
 
+ public:
   void Write(const AVPacket* packet) {
     AVPacket* p = av_packet_clone(packet);
     if (p == nullptr) Fail("out of memory for a packet");
@@ -189,10 +219,12 @@ struct LiveSource::Impl {
   double segment_start_s = 0.0;
   long long recorded = 0;
   std::deque<KeptPacket> kept;
+  std::int64_t kept_bytes = 0;
 
   int decoded = 0;
   std::string end_reason;
   bool ended_normally = false;
+  LiveEnd end_cause = LiveEnd::kRunning;
   bool draining = false;
 
   ~Impl() {
@@ -209,11 +241,14 @@ struct LiveSource::Impl {
     avformat_close_input(&format);
   }
 
-  [[noreturn]] void Fail(const std::string& problem) const { throw InputError(url, "", problem); }
+  [[noreturn]] void Fail(const std::string& problem) const {
+    throw InputError(RedactedUrl(url), "", problem);
+  }
 
+  bool Stopping() const { return stop.load() || (options.stop != nullptr && options.stop->load()); }
   static int Interrupt(void* opaque) {
     auto* self = static_cast<Impl*>(opaque);
-    if (self->stop.load()) return 1;
+    if (self->Stopping()) return 1;
     if (LiveClockNow() > self->deadline.load()) {
       self->timed_out = true;
       return 1;
@@ -234,10 +269,11 @@ struct LiveSource::Impl {
   bool ReadPacket();
   bool Receive(LiveFrame* out);
   void Convert(const AVFrame* f, int w, int h, bool rgb, SwsContext** ctx, VideoFrame* out);
-  void End(const std::string& reason, bool normal) {
+  void End(const std::string& reason, LiveEnd why) {
     if (end_reason.empty()) {
       end_reason = reason;
-      ended_normally = normal;
+      end_cause = why;
+      ended_normally = why == LiveEnd::kFileEnded;
     }
     if (writer) {
       writer->Close();
@@ -273,11 +309,12 @@ void LiveSource::Impl::Open() {
   format->interrupt_callback.callback = &Impl::Interrupt;
   format->interrupt_callback.opaque = this;
   deadline = LiveClockNow() + options.open_timeout_s;
+  timed_out = false;
   int rc = avformat_open_input(&format, url.c_str(), input_format, &opts);
   av_dict_free(&opts);
   if (rc < 0) {
     format = nullptr;  // freed by FFmpeg on failure
-    if (stop.load()) Fail("stopped before it opened");
+    if (Stopping()) Fail("stopped before it opened");
     if (timed_out)
       Fail(fmt::format("sent nothing within {:g} s (is it sending, to this address?)",
                        options.open_timeout_s));
@@ -298,6 +335,16 @@ void LiveSource::Impl::Open() {
   if (stream < 0 || codec == nullptr) Fail("no video stream that FFmpeg can decode");
   AVStream* st = format->streams[stream];
   time_base = st->time_base;
+  // The recording copies packets into MPEG-TS, which carries these (a webcam's raw YUYV or MJPEG
+  // it does not: such a recording would not read back as video).
+  const AVCodecID id = st->codecpar->codec_id;
+  if (!options.record_prefix.empty() && id != AV_CODEC_ID_H264 && id != AV_CODEC_ID_HEVC &&
+      id != AV_CODEC_ID_MPEG2VIDEO && id != AV_CODEC_ID_MPEG1VIDEO && id != AV_CODEC_ID_MPEG4)
+    Fail(
+        fmt::format("sends {} video, which a recording of the packets as they come (MPEG-TS) "
+                    "cannot hold: set the camera to H.264 (v4l2-ctl --set-fmt-video=…,"
+                    "pixelformat=H264) or stream it through an encoder",
+                    avcodec_get_name(id)));
   width = st->codecpar->width;
   height = st->codecpar->height;
   if (width <= 0 || height <= 0 || width > 16384 || height > 16384)
@@ -343,7 +390,20 @@ void LiveSource::Impl::Record(const AVPacket* p, double time_s) {
 void LiveSource::Impl::Keep(const AVPacket* p, double time_s) {
   KeptPacket k{av_packet_clone(p), time_s, (p->flags & AV_PKT_FLAG_KEY) != 0};
   if (k.packet == nullptr) Fail("out of memory for a packet");
+  // Time that runs backwards (an encoder restarted in the stream) starts the memory afresh.
+  if (!kept.empty() && time_s < kept.back().time_s - 1.0) {
+    for (KeptPacket& old : kept) av_packet_free(&old.packet);
+    kept.clear();
+    kept_bytes = 0;
+  }
   kept.push_back(k);
+  kept_bytes += k.packet->size;
+  // At most 256 MB whatever the stream's keyframes: the oldest packets go first.
+  while (kept.size() > 1 && kept_bytes > (std::int64_t(256) << 20)) {
+    kept_bytes -= kept.front().packet->size;
+    av_packet_free(&kept.front().packet);
+    kept.pop_front();
+  }
   // Keep from the last keyframe at or before (now − memory): a clip can start there.
   const double keep_from = time_s - options.clip_memory_s;
   while (kept.size() > 1) {
@@ -351,6 +411,7 @@ void LiveSource::Impl::Keep(const AVPacket* p, double time_s) {
         std::find_if(kept.begin() + 1, kept.end(), [](const KeptPacket& q) { return q.key; });
     if (second_key == kept.end() || second_key->time_s > keep_from) break;
     while (kept.begin() != second_key) {
+      kept_bytes -= kept.front().packet->size;
       av_packet_free(&kept.front().packet);
       kept.pop_front();
       second_key =
@@ -361,22 +422,24 @@ void LiveSource::Impl::Keep(const AVPacket* p, double time_s) {
 
 bool LiveSource::Impl::ReadPacket() {
   for (;;) {
+    // (timed_out stays set once the deadline has cut a read short: FFmpeg's I/O keeps that error
+    // and later reads return it without asking again)
     deadline = LiveClockNow() + (started ? options.stall_timeout_s : options.open_timeout_s);
     av_packet_unref(packet);
     const int rc = av_read_frame(format, packet);
     if (rc < 0) {
-      if (stop.load())
-        End("stopped", false);
+      if (Stopping())
+        End("stopped", LiveEnd::kStopped);
       else if (timed_out)
         End(fmt::format("stopped sending after {:g} s",
                         started ? options.stall_timeout_s : options.open_timeout_s),
-            false);
+            LiveEnd::kStalled);
       else if (rc == AVERROR_EOF && !IsNetworkUrl(url) && !IsDevicePath(url))
-        End("the file ended", true);
+        End("the file ended", LiveEnd::kFileEnded);
       else if (rc == AVERROR_EOF)
-        End("the stream ended", true);
+        End("the stream ended (the sender closed it)", LiveEnd::kStreamEnded);
       else
-        End("cannot be read: " + AvError(rc), false);
+        End("cannot be read: " + AvError(rc), LiveEnd::kReadError);
       return false;
     }
     if (packet->stream_index != stream || packet->size <= 0) continue;
@@ -391,13 +454,13 @@ bool LiveSource::Impl::ReadPacket() {
       const std::int64_t d = packet->dts != AV_NOPTS_VALUE ? packet->dts : p;
       const double due = StreamTime(d);
       if (pace_origin < 0) pace_origin = LiveClockNow() - due;
-      while (!stop.load()) {
+      while (!Stopping()) {
         const double wait = pace_origin + due - LiveClockNow();
         if (wait <= 0) break;
         std::this_thread::sleep_for(std::chrono::duration<double>(std::min(wait, 0.05)));
       }
-      if (stop.load()) {
-        End("stopped", false);
+      if (Stopping()) {
+        End("stopped", LiveEnd::kStopped);
         return false;
       }
     }
@@ -407,7 +470,7 @@ bool LiveSource::Impl::ReadPacket() {
       // A disk that fills, a file in the way: the recording stops here, closed, what is on disk
       // playable; the source ends with the line that names the file.
       writer.reset();
-      End(std::string("recording stopped: ") + e.what(), false);
+      End(std::string("recording stopped: ") + e.what(), LiveEnd::kRecordError);
       return false;
     }
     Keep(packet, t);
@@ -521,6 +584,9 @@ double LiveSource::nominal_fps() const {
 const std::string& LiveSource::end_reason() const {
   return impl_->end_reason;
 }
+LiveEnd LiveSource::end_cause() const {
+  return impl_->end_cause;
+}
 bool LiveSource::ended_normally() const {
   return impl_->ended_normally;
 }
@@ -534,7 +600,10 @@ long long LiveSource::packets_recorded() const {
   return impl_->recorded;
 }
 
-double LiveSource::SaveClip(double from_s, double to_s, const std::filesystem::path& path) const {
+double LiveSource::SaveClip(double from_s,
+                            double to_s,
+                            const std::filesystem::path& path,
+                            double* end_s) const {
   const Impl& m = *impl_;
   if (!(to_s >= from_s)) throw InputError(path.string(), "", "a clip that ends before it starts");
   // The keyframe at or before `from_s`.
@@ -557,10 +626,13 @@ double LiveSource::SaveClip(double from_s, double to_s, const std::filesystem::p
     // Whole groups of pictures in decode order, up to the first keyframe after the end: a frame
     // shown before the end may refer to a packet timed after it (B-frames), so a cut inside a
     // group would leave frames that do not decode.
+    double last = start->time_s;
     for (auto it = start; it != m.kept.end(); ++it) {
       if (it != start && it->key && it->time_s > to_s) break;
       clip.Write(it->packet);
+      last = std::max(last, it->time_s);
     }
+    if (end_s != nullptr) *end_s = last;
     clip.Close();
     RunUninterrupted([&] { PlaceFinishedOutput(temp, target); });
   } catch (...) {

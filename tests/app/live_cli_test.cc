@@ -21,6 +21,7 @@
 
 #include "acro/capture/video.h"
 #include "refdata.h"
+#include "udp_ports.h"
 
 namespace {
 
@@ -61,7 +62,7 @@ LiveRun LiveWithStream(const std::filesystem::path& dir,
                        double send_s,
                        const std::string& extra = "") {
   std::thread sender([&] {
-    std::this_thread::sleep_for(std::chrono::milliseconds(1000));
+    EXPECT_TRUE(acro::testing::WaitForUdpListener(port, 30.0)) << "nothing listens on " << port;
     const std::string cmd = "ffmpeg -v error -re -i '" + Sample("side_camera.mp4").string() + "'" +
                             (send_s > 0 ? fmt::format(" -t {}", send_s) : std::string()) +
                             " -c copy -f mpegts 'udp://127.0.0.1:" + std::to_string(port) +
@@ -87,7 +88,7 @@ TEST(LiveCli, TheSideVideoStreamedAtRealTime) {
   if (std::system("ffmpeg -version > /dev/null 2>&1") != 0)
     GTEST_SKIP() << "the ffmpeg command is not installed";
   const auto dir = acro::testing::ScratchDir("live_cli") / "session";
-  const int port = 20000 + (::getpid() * 13) % 20000;
+  const int port = acro::testing::FreeUdpPort();
   const LiveRun run = LiveWithStream(dir, port, 0);
   ASSERT_EQ(run.status, 0) << run.out;
   std::printf("%s", run.out.c_str());
@@ -161,7 +162,7 @@ TEST(LiveCli, TheStreamCutOffInTheAirInterruptsTheRoutine) {
   if (std::system("ffmpeg -version > /dev/null 2>&1") != 0)
     GTEST_SKIP() << "the ffmpeg command is not installed";
   const auto dir = acro::testing::ScratchDir("live_cut") / "session";
-  const int port = 20000 + (::getpid() * 17 + 5) % 20000;
+  const int port = acro::testing::FreeUdpPort();
   // 5.2 s: in the third complete flight (4.579–5.984 s of the video).
   const LiveRun run = LiveWithStream(dir, port, 5.2, "--no-analysis");
   ASSERT_EQ(run.status, 0) << run.out;
@@ -188,13 +189,13 @@ TEST(LiveCli, AStreamCutOffAndResumedLosesNothing) {
   if (std::system("ffmpeg -version > /dev/null 2>&1") != 0)
     GTEST_SKIP() << "the ffmpeg command is not installed";
   const auto dir = acro::testing::ScratchDir("live_resume") / "session";
-  const int port = 20000 + (::getpid() * 29 + 3) % 20000;
+  const int port = acro::testing::FreeUdpPort();
   // The stream cut at 5.2 s (in the third complete flight), back 2.7 s later with the whole video.
   std::thread sender([&] {
     const std::string send = "ffmpeg -v error -re -i '" + Sample("side_camera.mp4").string() + "'";
     const std::string to =
         " -c copy -f mpegts 'udp://127.0.0.1:" + std::to_string(port) + "?pkt_size=1316'";
-    std::this_thread::sleep_for(std::chrono::milliseconds(1000));
+    EXPECT_TRUE(acro::testing::WaitForUdpListener(port, 30.0));
     EXPECT_EQ(std::system((send + " -t 5.2" + to).c_str()), 0);
     std::this_thread::sleep_for(std::chrono::milliseconds(2700));
     EXPECT_EQ(std::system((send + to).c_str()), 0);
@@ -249,17 +250,26 @@ TEST(LiveCli, TwoSourcesStartedApartAreBothRecordedAndPutOnOneTimeLine) {
   if (std::system("ffmpeg -version > /dev/null 2>&1") != 0)
     GTEST_SKIP() << "the ffmpeg command is not installed";
   const auto dir = acro::testing::ScratchDir("live_two") / "session";
-  const int a = 20000 + (::getpid() * 23 + 11) % 20000, b = a + 1 > 39999 ? a - 1 : a + 1;
-  const auto send = [](int port, int delay_ms) {
+  const int a = acro::testing::FreeUdpPort();
+  int b = acro::testing::FreeUdpPort();
+  while (b == a) b = acro::testing::FreeUdpPort();
+  const auto send = [](int port) {
     return std::thread([=] {
-      std::this_thread::sleep_for(std::chrono::milliseconds(delay_ms));
       const std::string cmd = "ffmpeg -v error -re -i '" + Sample("side_camera.mp4").string() +
                               "' -t 5 -c copy -f mpegts 'udp://127.0.0.1:" + std::to_string(port) +
                               "?pkt_size=1316'";
       EXPECT_EQ(std::system(cmd.c_str()), 0) << cmd;
     });
   };
-  std::thread first = send(a, 1000), second = send(b, 1300);
+  // Both listening first, then the second sent 0.3 s after the first.
+  std::thread first, second;
+  std::thread starter([&] {
+    EXPECT_TRUE(acro::testing::WaitForUdpListener(a, 30.0));
+    EXPECT_TRUE(acro::testing::WaitForUdpListener(b, 30.0));
+    first = send(a);
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+    second = send(b);
+  });
   const std::string cmd = fmt::format(
       "'{}' live udp://127.0.0.1:{} udp://127.0.0.1:{} --stall-timeout 1.5 --reconnect 0 "
       "--no-analysis "
@@ -274,6 +284,7 @@ TEST(LiveCli, TwoSourcesStartedApartAreBothRecordedAndPutOnOneTimeLine) {
   char buffer[4096];
   while (std::fgets(buffer, sizeof buffer, pipe) != nullptr) out += buffer;
   const int status = pclose(pipe);
+  starter.join();
   first.join();
   second.join();
   ASSERT_EQ(WEXITSTATUS(status), 0) << out;
@@ -299,12 +310,40 @@ TEST(LiveCli, TwoSourcesStartedApartAreBothRecordedAndPutOnOneTimeLine) {
   EXPECT_NEAR(offset, 0.3, 1.0 / 30.0) << "synced within a frame";
 }
 
+// A disk that fills up, as a file-size limit makes it (ulimit -f, SIGXFSZ ignored: a write past it
+// fails with EFBIG as one past a full disk fails with ENOSPC): the recording stops with one line
+// naming its file, and what it holds plays.
+TEST(LiveCli, ARecordingThatCannotBeWrittenStopsWithOneLineAndStaysPlayable) {
+  const auto dir = acro::testing::ScratchDir("live_full") / "session";
+  const std::string cmd = fmt::format(
+      "bash -c \"trap '' XFSZ; ulimit -f 200; exec '{}' live '{}' --as-fast-as-decoded "
+      "--no-analysis -o '{}'\" 2>&1",
+      ACROLAB_EXE,
+      Sample("side_camera.mp4").string(),
+      dir.string());
+  FILE* pipe = popen(cmd.c_str(), "r");
+  std::string out;
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof buffer, pipe) != nullptr) out += buffer;
+  pclose(pipe);
+  const std::string file = (dir / "recording" / "side_camera-000.ts").string();
+  EXPECT_NE(out.find("recording stopped: " + file), std::string::npos) << out;
+  EXPECT_NE(out.find("File too large"), std::string::npos) << out;
+  // What was recorded (200 KB of the 470 KB) plays, and is the file's first frames.
+  const std::vector<std::uint64_t> source = Hashes(Sample("side_camera.mp4"));
+  const std::vector<std::uint64_t> recorded = Hashes(file);
+  ASSERT_GT(recorded.size(), 60u) << out;
+  ASSERT_LT(recorded.size(), 250u) << out;
+  for (size_t k = 0; k + 3 < recorded.size(); ++k) ASSERT_EQ(recorded[k], source[k]) << k;
+  EXPECT_TRUE(std::filesystem::exists(dir / "live.json"));
+}
+
 TEST(LiveCli, BadSourcesAreOneLineEach) {
   const auto dir = acro::testing::ScratchDir("live_bad");
   const std::string cmd = fmt::format(
       "'{}' live /dev/video-acrolab-none udp://127.0.0.1:{} --open-timeout 1 -o '{}' 2>&1",
       ACROLAB_EXE,
-      20000 + (::getpid() * 19 + 7) % 20000,
+      acro::testing::FreeUdpPort(),
       (dir / "s").string());
   FILE* pipe = popen(cmd.c_str(), "r");
   std::string out;
@@ -320,7 +359,11 @@ TEST(LiveCli, BadSourcesAreOneLineEach) {
   std::ofstream(dir / "old" / "jumps.jsonl") << "{}\n";
   const std::string again =
       fmt::format("'{}' live /dev/null -o '{}' 2>&1", ACROLAB_EXE, (dir / "old").string());
-  EXPECT_NE(std::system(again.c_str()), 0);
+  FILE* refused = popen(again.c_str(), "r");
+  std::string said;
+  while (std::fgets(buffer, sizeof buffer, refused) != nullptr) said += buffer;
+  EXPECT_NE(pclose(refused), 0);
+  EXPECT_NE(said.find("not empty: a live session never replaces"), std::string::npos) << said;
   std::ifstream in(dir / "old" / "jumps.jsonl");
   std::string kept;
   std::getline(in, kept);

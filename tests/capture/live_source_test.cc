@@ -22,6 +22,7 @@
 #include "acro/base/input_error.h"
 #include "acro/capture/video.h"
 #include "refdata.h"
+#include "udp_ports.h"
 
 namespace acro::capture {
 namespace {
@@ -34,9 +35,9 @@ bool HaveFfmpeg() {
   return std::system("ffmpeg -version > /dev/null 2>&1") == 0;
 }
 
-// A port of this process's own (tests run side by side).
-int Port(int k) {
-  return 20000 + (::getpid() * 7 + k * 101) % 20000;
+// A port the system gives free (tests run side by side).
+int Port() {
+  return acro::testing::FreeUdpPort();
 }
 
 // A thread joined however the test leaves its scope (a failed ASSERT, an exception).
@@ -49,9 +50,10 @@ struct Joined {
 };
 
 // Streams `video` to udp://127.0.0.1:port at its own pace (ffmpeg -re), `seconds` of it (0: all),
-// starting after `delay_s` (so that the receiver is listening), in a thread of its own.
+// once a receiver listens on the port and `delay_s` later, in a thread of its own.
 Joined Stream(const std::filesystem::path& video, int port, double delay_s, double seconds) {
   return Joined{std::thread([=] {
+    EXPECT_TRUE(acro::testing::WaitForUdpListener(port, 20.0)) << "nothing listens on " << port;
     std::this_thread::sleep_for(std::chrono::duration<double>(delay_s));
     const std::string cmd = "ffmpeg -v error -re -i '" + video.string() + "'" +
                             (seconds > 0 ? " -t " + std::to_string(seconds) : std::string()) +
@@ -72,8 +74,8 @@ std::vector<std::uint64_t> FrameHashes(const std::filesystem::path& video) {
 TEST(LiveSource, UdpStreamRecordedFrameExactInSegments) {
   if (!HaveFfmpeg()) GTEST_SKIP() << "the ffmpeg command is not installed";
   const auto dir = acro::testing::ScratchDir("live_udp");
-  const int port = Port(1);
-  Joined sender = Stream(SideVideo(), port, 0.5, 0);
+  const int port = Port();
+  Joined sender = Stream(SideVideo(), port, 0.0, 0);
   LiveSourceOptions options;
   options.record_prefix = dir / "side";
   options.segment_s = 3.0;
@@ -127,9 +129,10 @@ TEST(LiveSource, UdpStreamRecordedFrameExactInSegments) {
     ASSERT_EQ(clip[k], truth[first + k]) << "clip frame " << k;
   // An existing file is never replaced by a recording: the source ends naming it, no frame out.
   // (another port: the first source still holds its own)
-  Joined sender2 = Stream(SideVideo(), Port(4), 0.3, 1.0);
+  const int port2 = Port();
+  Joined sender2 = Stream(SideVideo(), port2, 0.0, 1.0);
   {
-    LiveSource s("udp://127.0.0.1:" + std::to_string(Port(4)), options);
+    LiveSource s("udp://127.0.0.1:" + std::to_string(port2), options);
     EXPECT_FALSE(s.Next(&frame));
     EXPECT_NE(s.end_reason().find((dir / "side-000.ts").string()), std::string::npos)
         << s.end_reason();
@@ -175,7 +178,7 @@ TEST(LiveSource, ARecordingCutOffAtAnyByteStillOpens) {
 TEST(LiveSource, RefusalsNameTheSource) {
   LiveSourceOptions options;
   options.open_timeout_s = 1.0;
-  const int port = Port(2);
+  const int port = Port();
   const std::string never = "udp://127.0.0.1:" + std::to_string(port);
   const auto t0 = std::chrono::steady_clock::now();
   try {
@@ -199,14 +202,23 @@ TEST(LiveSource, RefusalsNameTheSource) {
   } catch (const InputError& e) {
     EXPECT_NE(std::string(e.what()).find("/dev/null"), std::string::npos) << e.what();
   }
-  EXPECT_THROW(LiveSource("no-such-file.mp4", options), InputError);
+  try {
+    LiveSource s("no-such-file.mp4", options);
+    FAIL() << "a missing file was opened";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("no-such-file.mp4"), std::string::npos) << e.what();
+  }
+  // A camera's password never reaches a name or a message.
+  EXPECT_EQ(LiveSourceName("rtsp://admin:secret@10.0.0.7:554/stream1"), "10_0_0_7_554");
+  EXPECT_EQ(RedactedUrl("rtsp://admin:secret@10.0.0.7:554/s?x=@"), "rtsp://***@10.0.0.7:554/s?x=@");
+  EXPECT_EQ(RedactedUrl("udp://0.0.0.0:5000"), "udp://0.0.0.0:5000");
 }
 
 TEST(LiveSource, AStreamThatStopsEndsWithItsRecordingPlayable) {
   if (!HaveFfmpeg()) GTEST_SKIP() << "the ffmpeg command is not installed";
   const auto dir = acro::testing::ScratchDir("live_stop");
-  const int port = Port(3);
-  Joined sender = Stream(SideVideo(), port, 0.5, 3.0);  // the cable pulled after 3 s
+  const int port = Port();
+  Joined sender = Stream(SideVideo(), port, 0.0, 3.0);  // the cable pulled after 3 s
   LiveSourceOptions options;
   options.record_prefix = dir / "cam";
   options.stall_timeout_s = 1.0;

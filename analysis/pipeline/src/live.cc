@@ -113,18 +113,35 @@ struct Session {
   LiveSummary summary;
   std::vector<capture::LiveSource*> running;
 
+  std::mutex lines;  // on_line one call at a time, never under `mutex`
+
   void Line(const std::string& line) {
+    const std::lock_guard<std::mutex> lock(lines);
     if (request->on_line) request->on_line(line);
   }
-  void AddJump(const LiveJump& j) {
-    const std::lock_guard<std::mutex> lock(mutex);
-    const std::string text = JumpJson(j).dump() + "\n";
-    // One write per line, appended: a reader (or a crash) never sees half a line.
-    if (::write(jumps_fd, text.data(), text.size()) != static_cast<ssize_t>(text.size()))
-      Line(fmt::format("{}: a line could not be written: {}",
-                       (request->out_dir / "jumps.jsonl").string(),
-                       std::strerror(errno)));
-    summary.jumps.push_back(j);
+  void AddJump(LiveJump j) {
+    std::string failure;
+    {
+      const std::lock_guard<std::mutex> lock(mutex);
+      j.latency_s = capture::LiveClockNow() - j.jump.landing_arrival_s;
+      const std::string text =
+          JumpJson(j).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace) + "\n";
+      // One write per line, appended: a reader (or a crash) never sees half a line.
+      size_t done = 0;
+      while (done < text.size()) {
+        const ssize_t n = ::write(jumps_fd, text.data() + done, text.size() - done);
+        if (n < 0 && errno == EINTR) continue;
+        if (n <= 0) {
+          failure = fmt::format("{}: a line could not be written: {}",
+                                (request->out_dir / "jumps.jsonl").string(),
+                                n < 0 ? std::strerror(errno) : "nothing written");
+          break;
+        }
+        done += static_cast<size_t>(n);
+      }
+      summary.jumps.push_back(j);
+    }
+    if (!failure.empty()) Line(failure);
     Line(JumpLine(j));
   }
 };
@@ -191,13 +208,15 @@ void CloseRoutine(Session& session,
     sum += j.jump.time_of_flight_s();
     jumps_json.push_back(JumpJson(j));
   }
-  double clip_start = NaN();
+  double clip_start = NaN(), clip_end = NaN();
   try {
     CreateOutputDirectory(r.folder);
-    // (the clip in the connection's own stream times)
-    clip_start = source.SaveClip(r.first_takeoff_s - request.pre_roll_s - offset_s,
-                                 r.last_landing_s + request.post_roll_s - offset_s,
-                                 r.folder / "clip.ts");
+    // (the clip in the connection's own stream times; reported on the session's)
+    clip_start = offset_s + source.SaveClip(r.first_takeoff_s - request.pre_roll_s - offset_s,
+                                            r.last_landing_s + request.post_roll_s - offset_s,
+                                            r.folder / "clip.ts",
+                                            &clip_end);
+    clip_end += offset_s;
   } catch (const InputError& e) {
     r.clip_error = e.what();
   }
@@ -212,10 +231,12 @@ void CloseRoutine(Session& session,
       {"T", fig::TruncateTimeOfFlight(sum, 0.005)},
       {"clip", r.clip_error.empty() ? nlohmann::json("clip.ts") : nlohmann::json()},
       {"clip_start_s", Number(clip_start)},
+      {"clip_end_s", Number(clip_end)},
       {"clip_error", r.clip_error.empty() ? nlohmann::json() : nlohmann::json(r.clip_error)},
       {"method", "image motion: the athlete's silhouette against the bed's rest line, one camera"}};
   try {
-    WriteFileAtomically(r.folder / "routine.json", j.dump(2) + "\n");
+    WriteFileAtomically(r.folder / "routine.json",
+                        j.dump(2, ' ', false, nlohmann::json::error_handler_t::replace) + "\n");
   } catch (const InputError& e) {
     r.clip_error += (r.clip_error.empty() ? "" : "; ") + std::string(e.what());
   }
@@ -290,7 +311,6 @@ void WatchConnection(Session& session,
       j.landing_along_bed_m = view.camera ? AlongBed(*view.camera, m.landing_px) : NaN();
       if (std::isfinite(j.landing_along_bed_m))
         j.deduction = fig::HdZones::Default().DeductionAt({j.landing_along_bed_m, 0.0}, &j.zone);
-      j.latency_s = capture::LiveClockNow() - m.landing_arrival_s;
       if (auto ended = cutter.AddJump(j))
         CloseRoutine(session, source, std::move(*ended), false, offset);
       session.AddJump(j);
@@ -305,38 +325,84 @@ void WatchConnection(Session& session,
   if (auto open = cutter.Finish()) CloseRoutine(session, source, std::move(*open), in_air, offset);
 }
 
-void WatchSource(Session& session, int index, const std::atomic<bool>& stop_all) {
+// A source listed as running (for the monitor's Stop) for exactly as long as it exists.
+class Running {
+ public:
+  Running(Session& session, capture::LiveSource* source) : session_(session), source_(source) {
+    const std::lock_guard<std::mutex> lock(session_.mutex);
+    session_.running.push_back(source_);
+  }
+  ~Running() {
+    const std::lock_guard<std::mutex> lock(session_.mutex);
+    session_.running.erase(std::find(session_.running.begin(), session_.running.end(), source_));
+  }
+  Running(const Running&) = delete;
+  Running& operator=(const Running&) = delete;
+
+ private:
+  Session& session_;
+  capture::LiveSource* source_;
+};
+
+// Opens the source again until it sends or `reconnect_s` has passed (a camera plugged back in, a
+// server restarted: each may refuse at once for a while), or the session stops.
+std::unique_ptr<capture::LiveSource> OpenAgain(const LiveRequest& request,
+                                               const capture::LiveSourceOptions& options,
+                                               const std::string& url,
+                                               const std::atomic<bool>& stop_all,
+                                               std::string* why) {
+  const double deadline = capture::LiveClockNow() + request.reconnect_s;
+  for (;;) {
+    const double left = deadline - capture::LiveClockNow();
+    if (left <= 0 || stop_all.load()) return nullptr;
+    capture::LiveSourceOptions o = options;
+    o.open_timeout_s = left;
+    try {
+      return std::make_unique<capture::LiveSource>(url, o);
+    } catch (const InputError& e) {
+      *why = e.what();
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  }
+}
+
+void WatchSourceConnections(Session& session,
+                            LiveSourceSummary& summary,
+                            const std::atomic<bool>& stop_all) {
   const LiveRequest& request = *session.request;
-  LiveSourceSummary& summary = session.summary.sources[static_cast<size_t>(index)];
   std::vector<double> offsets;
   int jumps = 0;
   for (int connection = 0;; ++connection) {
     capture::LiveSourceOptions options = request.source;
     options.name = summary.name;
+    options.stop = &stop_all;
     options.record_prefix =
         request.out_dir / "recording" /
         (connection == 0 ? summary.name : fmt::format("{}-again{}", summary.name, connection));
-    if (connection > 0) options.open_timeout_s = request.reconnect_s;
     std::unique_ptr<capture::LiveSource> source;
-    try {
-      source = std::make_unique<capture::LiveSource>(summary.url, options);
-    } catch (const InputError& e) {
-      if (connection == 0) {
+    if (connection == 0) {
+      try {
+        source = std::make_unique<capture::LiveSource>(summary.url, options);
+      } catch (const InputError& e) {
         summary.failure = e.what();
         session.Line(fmt::format("{}: not recorded: {}", summary.name, e.what()));
         return;
       }
-      session.Line(fmt::format(
-          "{}: did not come back within {:g} s: {}", summary.name, request.reconnect_s, e.what()));
-      break;
+    } else {
+      std::string why;
+      source = OpenAgain(request, options, summary.url, stop_all, &why);
+      if (!source) {
+        if (!stop_all.load())
+          session.Line(fmt::format(
+              "{}: did not come back within {:g} s: {}", summary.name, request.reconnect_s, why));
+        break;
+      }
+      session.Line(fmt::format("{}: sending again", summary.name));
     }
-    if (connection > 0) session.Line(fmt::format("{}: sending again", summary.name));
     {
-      const std::lock_guard<std::mutex> lock(session.mutex);
-      session.running.push_back(source.get());
+      const Running running(session, source.get());
+      WatchConnection(session, summary, *source, connection, &jumps, &offsets);
     }
-    if (stop_all.load()) source->Stop();
-    WatchConnection(session, summary, *source, connection, &jumps, &offsets);
     {
       const std::lock_guard<std::mutex> lock(session.mutex);
       summary.frames += source->frames_decoded();
@@ -345,13 +411,16 @@ void WatchSource(Session& session, int index, const std::atomic<bool>& stop_all)
           summary.segments.end(), source->segments().begin(), source->segments().end());
       summary.end_reason = source->end_reason();
       summary.ended_normally = source->ended_normally();
-      session.running.erase(
-          std::find(session.running.begin(), session.running.end(), source.get()));
     }
     // A stream or a camera that stopped may come back (a Wi-Fi drop, a cable put back): waited
-    // for, recorded and watched anew; a file's end, a Stop or the session's end is the end.
-    if (source->ended_normally() || stop_all.load() || source->end_reason() == "stopped" ||
-        !(request.reconnect_s > 0) || !CanComeBack(summary.url))
+    // for, recorded and watched anew. A file's end, a stop, and a recording that cannot be
+    // written (a full disk) are the end.
+    const capture::LiveEnd cause = source->end_cause();
+    const bool may_come_back = cause == capture::LiveEnd::kStalled ||
+                               cause == capture::LiveEnd::kStreamEnded ||
+                               cause == capture::LiveEnd::kReadError;
+    if (!may_come_back || stop_all.load() || !(request.reconnect_s > 0) ||
+        !CanComeBack(summary.url))
       break;
     session.Line(fmt::format("{}: {}; waiting up to {:g} s for it to come back",
                              summary.name,
@@ -366,6 +435,21 @@ void WatchSource(Session& session, int index, const std::atomic<bool>& stop_all)
                            summary.frames,
                            summary.segments.size(),
                            summary.segments.size() == 1 ? "" : "s"));
+}
+
+void WatchSource(Session& session, int index, const std::atomic<bool>& stop_all) {
+  LiveSourceSummary& summary = session.summary.sources[static_cast<size_t>(index)];
+  // Nothing a source meets may end the others: whatever escapes is its one line.
+  try {
+    WatchSourceConnections(session, summary, stop_all);
+  } catch (const std::exception& e) {
+    {
+      const std::lock_guard<std::mutex> lock(session.mutex);
+      summary.end_reason = std::string("stopped by an error: ") + e.what();
+      summary.ended_normally = false;
+    }
+    session.Line(fmt::format("{}: {}", summary.name, summary.end_reason));
+  }
 }
 
 // Unique names for the sources' files: their own, with -2, -3 … where two would clash.
@@ -389,7 +473,7 @@ void WriteSummary(const LiveRequest& request, const LiveSummary& summary) {
     for (const auto& p : s.segments) segs.push_back(p.filename().string());
     sources.push_back(
         {{"name", s.name},
-         {"url", s.url},
+         {"url", capture::RedactedUrl(s.url)},
          {"frames", s.frames},
          {"packets_recorded", s.packets_recorded},
          {"segments", segs},
@@ -412,7 +496,7 @@ void WriteSummary(const LiveRequest& request, const LiveSummary& summary) {
   WriteFileAtomically(
       request.out_dir / "live.json",
       nlohmann::json{{"sources", sources}, {"jumps", summary.jumps.size()}, {"routines", routines}}
-              .dump(2) +
+              .dump(2, ' ', false, nlohmann::json::error_handler_t::replace) +
           "\n");
 }
 

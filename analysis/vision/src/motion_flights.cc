@@ -49,6 +49,9 @@ MotionFlightWatcher::MotionFlightWatcher(const BedDetection& bed,
     : options_(options), line_(RestLineOfBed(bed)) {
   std::string why;
   if (!options.IsValid(&why)) throw std::invalid_argument("MotionFlightOptions: " + why);
+  if (bed.width_px <= 0 || bed.height_px <= 0)
+    throw InputError(
+        bed.source, "bed", fmt::format("a picture {} x {} px", bed.width_px, bed.height_px));
   full_width_px_ = bed.width_px;
   bed_x_min_px_ = bed.corners_px[0].x();
   bed_x_max_px_ = bed.corners_px[0].x();
@@ -103,9 +106,12 @@ MotionFlightWatcher::Sole MotionFlightWatcher::FindSole(const capture::VideoFram
           ++moving[static_cast<size_t>(row[x])];
     }
   }
+  const double bed_length_px = fig::kBedLength_m / m_per_px_ * s;
+  const double min_area = options_.min_region_fraction * bed_length_px * bed_length_px;
   int best = -1, best_area = 0, best_moving = 0;
   for (int k = 1; k < n; ++k) {
     const int area = stats.at<int>(k, cv::CC_STAT_AREA);
+    if (area < min_area) continue;  // specks never outweigh a large, slow athlete
     const int moved = moving[static_cast<size_t>(k)];
     if (moved > best_moving || (moved == best_moving && area > best_area)) {
       best_area = area;
@@ -113,8 +119,7 @@ MotionFlightWatcher::Sole MotionFlightWatcher::FindSole(const capture::VideoFram
       best = k;
     }
   }
-  const double bed_px = fig::kBedLength_m / m_per_px_ * s;
-  if (best < 0 || best_area < options_.min_region_fraction * bed_px * bed_px) return sole;
+  if (best < 0) return sole;
   const int bottom =
       stats.at<int>(best, cv::CC_STAT_TOP) + stats.at<int>(best, cv::CC_STAT_HEIGHT) - 1;
   // The soles: the region's lowest rows (two, against a single pixel's noise), their mean column.
@@ -157,16 +162,6 @@ Mask MotionFlightWatcher::Foreground(const capture::VideoFrame& grey) const {
     cv::morphologyEx(m, m, cv::MORPH_CLOSE, kernel);
   }
   return mask;
-}
-
-const capture::VideoFrame* MotionFlightWatcher::HistoryAt(double time_s) const {
-  // The latest frame at or before `time_s`, if the history reaches back that far.
-  const capture::VideoFrame* found = nullptr;
-  for (const capture::VideoFrame& f : history_) {
-    if (f.time_s > time_s + 1e-9) break;
-    found = &f;
-  }
-  return found;
 }
 
 void MotionFlightWatcher::BuildBackground() {
@@ -256,6 +251,8 @@ std::vector<MotionJump> MotionFlightWatcher::Add(const capture::VideoFrame& grey
   if (background_.empty()) {
     Sample(grey, nullptr);
     waiting_.emplace_back(grey, arrival_s);
+    // A background that does not form (time that does not advance): the oldest frames go.
+    if (waiting_.size() > 900) waiting_.pop_front();
     if (background_.empty()) return {};
   }
   std::vector<MotionJump> out;
@@ -342,9 +339,8 @@ std::vector<MotionJump> MotionFlightWatcher::Step(const capture::VideoFrame& gre
                                                   Sole* found) {
   ++frames_seen_;
   last_time_s_ = grey.time_s;
-  const Sole sole = FindSole(grey, history_.empty() ? nullptr : &history_.back());
-  history_.push_back(grey);
-  while (history_.size() > 2 && history_[1].time_s <= grey.time_s - 0.45) history_.pop_front();
+  const Sole sole = FindSole(grey, previous_.pixels.empty() ? nullptr : &previous_);
+  previous_ = grey;
   if (found != nullptr) *found = sole;
   if (!sole.found) return {};
   ++frames_with_athlete_;
@@ -361,6 +357,7 @@ std::vector<MotionJump> MotionFlightWatcher::Step(const capture::VideoFrame& gre
       flight_.clear();
     } else {
       flight_.push_back({t, sole.y_px, line_.At(sole.x_px), h});
+      if (flight_.size() > 2000) flight_.erase(flight_.begin());  // hovering above the bed
       if (h > on_bed_m + options_.clearance_m && have_contact_) {
         in_air_ = true;
         apex_m_ = h;
@@ -370,6 +367,12 @@ std::vector<MotionJump> MotionFlightWatcher::Step(const capture::VideoFrame& gre
     if (h > on_bed_m) {
       flight_.push_back({t, sole.y_px, line_.At(sole.x_px), h});
       apex_m_ = std::max(apex_m_, h);
+      // No jump lasts 8 s: someone standing on a pad or the frame, not a flight.
+      if (t - flight_.front().t > 8.0) {
+        in_air_ = false;
+        have_contact_ = false;
+        flight_.clear();
+      }
     } else {
       in_air_ = false;
       const double frame_s = flight_.size() >= 2

@@ -9,6 +9,7 @@
 // cameras side by side. FFmpeg stays in capture/src. The frames are handed out scaled down (RGB or
 // grey) for the analyses that watch them.
 
+#include <atomic>
 #include <cstdint>
 #include <filesystem>
 #include <memory>
@@ -19,11 +20,27 @@
 
 namespace acro::capture {
 
+/// How a live source ended.
+enum class LiveEnd {
+  kRunning,      ///< it has not
+  kFileEnded,    ///< a file's end: the normal end
+  kStreamEnded,  ///< the sender closed the stream (it may come back)
+  kStalled,      ///< it stopped sending for the stall timeout (it may come back)
+  kStopped,      ///< Stop(), or the options' stop flag
+  kReadError,    ///< FFmpeg could not read it
+  kRecordError,  ///< the recording could not be written (a full disk): it stopped there
+};
+
+/// `url` with a user name and password given before an '@' replaced by "***" (for messages,
+/// names and files: a camera's password never reaches them).
+std::string RedactedUrl(const std::string& url);
+
 /// Seconds on the one steady clock of every live source of this process (from its first call).
 double LiveClockNow();
 
 /// A name for a source's messages and files from its URL: a file's stem, a device's last
-/// component, a network source's host and port ("127.0.0.1_5000"), letters, digits, - and _ only.
+/// component, a network source's host and port ("127.0.0.1_5000", never a user or password),
+/// letters, digits, - and _ only.
 std::string LiveSourceName(const std::string& url);
 
 struct LiveSourceOptions {
@@ -49,6 +66,9 @@ struct LiveSourceOptions {
   /// How much of the stream is kept in memory for clips (SaveClip), s.
   double clip_memory_s = 120.0;
   int decoder_threads = 1;
+  /// When set and true, opening and reading stop as soon as they can (as Stop() does): a session
+  /// stops a source that is still opening.
+  const std::atomic<bool>* stop = nullptr;
 };
 
 /// One frame as it came in.
@@ -89,6 +109,7 @@ class LiveSource {
   const std::string& end_reason() const;
   /// True when the source ended by its own end (a file's), not by a failure or a stall.
   bool ended_normally() const;
+  LiveEnd end_cause() const;
   const std::vector<std::filesystem::path>& segments() const;
   int frames_decoded() const;
   long long packets_recorded() const;
@@ -96,7 +117,12 @@ class LiveSource {
   /// Writes the packets from the keyframe at or before `from_s` up to `to_s` (stream times) as one
   /// MPEG-TS file, whole or not at all. Returns the stream time of the clip's first frame; throws
   /// acro::InputError naming `path` when that part is no longer in memory or cannot be written.
-  double SaveClip(double from_s, double to_s, const std::filesystem::path& path) const;
+  /// `*end_s` (when given): the stream time of the clip's last packet — earlier than `to_s` when
+  /// the stream has not sent that far yet.
+  double SaveClip(double from_s,
+                  double to_s,
+                  const std::filesystem::path& path,
+                  double* end_s = nullptr) const;
 
  private:
   struct Impl;

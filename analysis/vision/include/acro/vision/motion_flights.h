@@ -110,10 +110,8 @@ class MotionFlightWatcher {
   double bed_x_min_px_ = 0, bed_x_max_px_ = 0, full_width_px_ = 0;
   double m_per_px_ = 0;
   std::deque<BackgroundSample> samples_;
-  std::vector<std::uint8_t> background_;     ///< grey, the frames' size; empty until made
-  std::deque<capture::VideoFrame> history_;  ///< the frames of the last 0.45 s looked at
-  // (only the last one is used now: the region that moves)
-  const capture::VideoFrame* HistoryAt(double time_s) const;
+  std::vector<std::uint8_t> background_;  ///< grey, the frames' size; empty until made
+  capture::VideoFrame previous_;          ///< the frame looked at before (what moved since)
   double next_sample_s_ = -1e300;
   std::uint64_t sample_seed_ = 0x9E3779B97F4A7C15ULL;
   std::deque<std::pair<capture::VideoFrame, double>> waiting_;  // before the first background
