@@ -311,6 +311,8 @@ void WatchConnection(Session& session,
       j.landing_along_bed_m = view.camera ? AlongBed(*view.camera, m.landing_px) : NaN();
       if (std::isfinite(j.landing_along_bed_m))
         j.deduction = fig::HdZones::Default().DeductionAt({j.landing_along_bed_m, 0.0}, &j.zone);
+      // (measured again when its line is written; routine.json keeps this one)
+      j.latency_s = capture::LiveClockNow() - m.landing_arrival_s;
       if (auto ended = cutter.AddJump(j))
         CloseRoutine(session, source, std::move(*ended), false, offset);
       session.AddJump(j);
