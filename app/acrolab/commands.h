@@ -21,10 +21,10 @@
 #include "acro/pipeline/trial_input.h"
 #include "acro/pipeline/video_input.h"
 #include "acro/pipeline/views_input.h"
-#include "acro/vision/image_flights.h"
 #include "acro/reconstruct/reconstruction.h"
 #include "acro/report/skill_report.h"
 #include "acro/vision/camera.h"
+#include "acro/vision/image_flights.h"
 #include "acro/vision/video_sync.h"
 
 namespace acro::app {

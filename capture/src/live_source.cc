@@ -25,7 +25,6 @@ extern "C" {
 #include <deque>
 #include <map>
 #include <mutex>
-#include <optional>
 #include <thread>
 
 #include <fmt/format.h>
@@ -586,6 +585,11 @@ const std::string& LiveSource::end_reason() const {
 }
 LiveEnd LiveSource::end_cause() const {
   return impl_->end_cause;
+}
+bool LiveSource::may_come_back() const {
+  const LiveEnd c = impl_->end_cause;
+  return (c == LiveEnd::kStalled || c == LiveEnd::kStreamEnded || c == LiveEnd::kReadError) &&
+         (IsNetworkUrl(impl_->url) || IsDevicePath(impl_->url));
 }
 bool LiveSource::ended_normally() const {
   return impl_->ended_normally;

@@ -15,8 +15,8 @@ extern "C" {
 }
 
 #include <algorithm>
-#include <atomic>
 #include <array>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <thread>
@@ -419,11 +419,17 @@ namespace {
 std::atomic<long long> opened_count{0};
 }  // namespace
 
-long long VideoReader::OpenedCount() { return opened_count.load(); }
+long long VideoReader::OpenedCount() {
+  return opened_count.load();
+}
 
-void VideoReader::SetPixels(VideoPixels pixels) { impl_->pixels = pixels; }
+void VideoReader::SetPixels(VideoPixels pixels) {
+  impl_->pixels = pixels;
+}
 
-VideoPixels VideoReader::pixels() const { return impl_->pixels; }
+VideoPixels VideoReader::pixels() const {
+  return impl_->pixels;
+}
 
 VideoReader::VideoReader(const std::filesystem::path& path, const VideoReaderOptions& options)
     : impl_(std::make_unique<Impl>()) {

@@ -50,13 +50,38 @@ std::vector<std::uint64_t> Hashes(const std::filesystem::path& video) {
   return h;
 }
 
+// Every frame one source's segments hold (live.json's "segments", from `first` on), in order.
+std::vector<std::uint64_t> RecordedHashes(const std::filesystem::path& dir,
+                                          const nlohmann::json& source,
+                                          size_t first = 0) {
+  std::vector<std::uint64_t> out;
+  const auto& segments = source.at("segments");
+  for (size_t k = first; k < segments.size(); ++k) {
+    const auto h = Hashes(dir / "recording" / segments[k].get<std::string>());
+    out.insert(out.end(), h.begin(), h.end());
+  }
+  return out;
+}
+
 struct LiveRun {
-  int status = -1;
+  int status = -1;  ///< the exit status (128 + the signal that ended it)
   std::string out;
 };
 
-// Runs `acrolab live` on a UDP port while ffmpeg streams the side video to it at real time,
-// starting `delay_s` after the command (it is listening by then).
+// Runs a shell command, its standard output and error read whole.
+LiveRun Shell(const std::string& cmd) {
+  LiveRun run;
+  FILE* pipe = popen(cmd.c_str(), "r");
+  if (pipe == nullptr) return run;
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof buffer, pipe) != nullptr) run.out += buffer;
+  const int status = pclose(pipe);
+  run.status = WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status);
+  return run;
+}
+
+// Runs `acrolab live` on a UDP port while ffmpeg streams the side video to it at real time (the
+// first `send_s` seconds of it; 0: all), once it listens.
 LiveRun LiveWithStream(const std::filesystem::path& dir,
                        int port,
                        double send_s,
@@ -75,11 +100,7 @@ LiveRun LiveWithStream(const std::filesystem::path& dir,
                   port,
                   extra,
                   dir.string());
-  LiveRun run;
-  FILE* pipe = popen(cmd.c_str(), "r");
-  char buffer[4096];
-  while (pipe != nullptr && std::fgets(buffer, sizeof buffer, pipe) != nullptr) run.out += buffer;
-  run.status = pipe != nullptr ? pclose(pipe) : -1;
+  const LiveRun run = Shell(cmd);
   sender.join();
   return run;
 }
@@ -150,11 +171,7 @@ TEST(LiveCli, TheSideVideoStreamedAtRealTime) {
   EXPECT_TRUE(std::filesystem::exists(routine_dir / "analysis" / "jumps.json")) << run.out;
   EXPECT_NE(run.out.find("routine 1 analysed in"), std::string::npos) << run.out;
   // The recording, every frame the source sent.
-  std::vector<std::uint64_t> recorded;
-  for (const auto& s : live.at("sources")[0].at("segments")) {
-    const auto h = Hashes(dir / "recording" / s.get<std::string>());
-    recorded.insert(recorded.end(), h.begin(), h.end());
-  }
+  const std::vector<std::uint64_t> recorded = RecordedHashes(dir, live.at("sources")[0]);
   EXPECT_EQ(recorded, source);
 }
 
@@ -175,11 +192,7 @@ TEST(LiveCli, TheStreamCutOffInTheAirInterruptsTheRoutine) {
   EXPECT_NE(run.out.find("stopped sending after 1.5 s"), std::string::npos) << run.out;
   // Nothing recorded is lost: the recording holds every frame sent, playable.
   const std::vector<std::uint64_t> source = Hashes(Sample("side_camera.mp4"));
-  std::vector<std::uint64_t> recorded;
-  for (const auto& s : live.at("sources")[0].at("segments")) {
-    const auto h = Hashes(dir / "recording" / s.get<std::string>());
-    recorded.insert(recorded.end(), h.begin(), h.end());
-  }
+  const std::vector<std::uint64_t> recorded = RecordedHashes(dir, live.at("sources")[0]);
   ASSERT_GT(recorded.size(), 150u);
   // (the sender's own cut leaves its last frames without the later pictures they refer to)
   for (size_t k = 0; k + 3 < recorded.size(); ++k) ASSERT_EQ(recorded[k], source[k]) << k;
@@ -205,13 +218,10 @@ TEST(LiveCli, AStreamCutOffAndResumedLosesNothing) {
       ACROLAB_EXE,
       port,
       dir.string());
-  FILE* pipe = popen(cmd.c_str(), "r");
-  std::string out;
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof buffer, pipe) != nullptr) out += buffer;
-  const int status = pclose(pipe);
+  const LiveRun run = Shell(cmd);
+  const std::string& out = run.out;
   sender.join();
-  ASSERT_EQ(WEXITSTATUS(status), 0) << out;
+  ASSERT_EQ(run.status, 0) << out;
   std::printf("%s", out.c_str());
   EXPECT_NE(out.find("waiting up to 5 s for it to come back"), std::string::npos) << out;
   EXPECT_NE(out.find("sending again"), std::string::npos) << out;
@@ -238,12 +248,7 @@ TEST(LiveCli, AStreamCutOffAndResumedLosesNothing) {
   std::vector<std::uint64_t> cut = Hashes(dir / "recording" / segments[0].get<std::string>());
   ASSERT_GT(cut.size(), 150u);
   for (size_t k = 0; k + 3 < cut.size(); ++k) ASSERT_EQ(cut[k], source[k]) << k;
-  std::vector<std::uint64_t> again;
-  for (size_t k = 1; k < segments.size(); ++k) {
-    const auto h = Hashes(dir / "recording" / segments[k].get<std::string>());
-    again.insert(again.end(), h.begin(), h.end());
-  }
-  EXPECT_EQ(again, source);
+  EXPECT_EQ(RecordedHashes(dir, live.at("sources")[0], 1), source);
 }
 
 TEST(LiveCli, TwoSourcesStartedApartAreBothRecordedAndPutOnOneTimeLine) {
@@ -279,24 +284,17 @@ TEST(LiveCli, TwoSourcesStartedApartAreBothRecordedAndPutOnOneTimeLine) {
       a,
       b,
       dir.string());
-  FILE* pipe = popen(cmd.c_str(), "r");
-  std::string out;
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof buffer, pipe) != nullptr) out += buffer;
-  const int status = pclose(pipe);
+  const LiveRun run = Shell(cmd);
+  const std::string& out = run.out;
   starter.join();
   first.join();
   second.join();
-  ASSERT_EQ(WEXITSTATUS(status), 0) << out;
+  ASSERT_EQ(run.status, 0) << out;
   const nlohmann::json live = ReadJson(dir / "live.json");
   ASSERT_EQ(live.at("sources").size(), 2u);
   const std::vector<std::uint64_t> source = Hashes(Sample("side_camera.mp4"));
   for (const auto& s : live.at("sources")) {
-    std::vector<std::uint64_t> recorded;
-    for (const auto& seg : s.at("segments")) {
-      const auto h = Hashes(dir / "recording" / seg.get<std::string>());
-      recorded.insert(recorded.end(), h.begin(), h.end());
-    }
+    const std::vector<std::uint64_t> recorded = RecordedHashes(dir, s);
     ASSERT_GT(recorded.size(), 140u) << s.dump();
     // (the sender's own cut leaves its last frames without the later pictures they refer to)
     for (size_t k = 0; k + 3 < recorded.size(); ++k)
@@ -321,11 +319,7 @@ TEST(LiveCli, ARecordingThatCannotBeWrittenStopsWithOneLineAndStaysPlayable) {
       ACROLAB_EXE,
       Sample("side_camera.mp4").string(),
       dir.string());
-  FILE* pipe = popen(cmd.c_str(), "r");
-  std::string out;
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof buffer, pipe) != nullptr) out += buffer;
-  pclose(pipe);
+  const std::string out = Shell(cmd).out;
   const std::string file = (dir / "recording" / "side_camera-000.ts").string();
   EXPECT_NE(out.find("recording stopped: " + file), std::string::npos) << out;
   EXPECT_NE(out.find("File too large"), std::string::npos) << out;
@@ -345,12 +339,9 @@ TEST(LiveCli, BadSourcesAreOneLineEach) {
       ACROLAB_EXE,
       acro::testing::FreeUdpPort(),
       (dir / "s").string());
-  FILE* pipe = popen(cmd.c_str(), "r");
-  std::string out;
-  char buffer[4096];
-  while (std::fgets(buffer, sizeof buffer, pipe) != nullptr) out += buffer;
-  const int status = pclose(pipe);
-  EXPECT_EQ(WEXITSTATUS(status), 1) << out;
+  const LiveRun run = Shell(cmd);
+  const std::string& out = run.out;
+  EXPECT_EQ(run.status, 1) << out;
   EXPECT_NE(out.find("video-acrolab-none: not recorded"), std::string::npos) << out;
   EXPECT_NE(out.find("no such device"), std::string::npos) << out;
   EXPECT_NE(out.find("sent nothing within 1 s"), std::string::npos) << out;
@@ -359,11 +350,10 @@ TEST(LiveCli, BadSourcesAreOneLineEach) {
   std::ofstream(dir / "old" / "jumps.jsonl") << "{}\n";
   const std::string again =
       fmt::format("'{}' live /dev/null -o '{}' 2>&1", ACROLAB_EXE, (dir / "old").string());
-  FILE* refused = popen(again.c_str(), "r");
-  std::string said;
-  while (std::fgets(buffer, sizeof buffer, refused) != nullptr) said += buffer;
-  EXPECT_NE(pclose(refused), 0);
-  EXPECT_NE(said.find("not empty: a live session never replaces"), std::string::npos) << said;
+  const LiveRun refused = Shell(again);
+  EXPECT_NE(refused.status, 0);
+  EXPECT_NE(refused.out.find("not empty: a live session never replaces"), std::string::npos)
+      << refused.out;
   std::ifstream in(dir / "old" / "jumps.jsonl");
   std::string kept;
   std::getline(in, kept);

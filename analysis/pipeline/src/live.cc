@@ -259,10 +259,6 @@ void CloseRoutine(Session& session,
   session.summary.routines.push_back(std::move(r));
 }
 
-bool CanComeBack(const std::string& url) {
-  return url.find("://") != std::string::npos || url.rfind("/dev/", 0) == 0;
-}
-
 // One connection to a source, its frames watched until it ends; `offset_s` puts its stream times
 // on the session's (the source's first connection's) time line. Returns the connection's end.
 void WatchConnection(Session& session,
@@ -417,13 +413,7 @@ void WatchSourceConnections(Session& session,
     // A stream or a camera that stopped may come back (a Wi-Fi drop, a cable put back): waited
     // for, recorded and watched anew. A file's end, a stop, and a recording that cannot be
     // written (a full disk) are the end.
-    const capture::LiveEnd cause = source->end_cause();
-    const bool may_come_back = cause == capture::LiveEnd::kStalled ||
-                               cause == capture::LiveEnd::kStreamEnded ||
-                               cause == capture::LiveEnd::kReadError;
-    if (!may_come_back || stop_all.load() || !(request.reconnect_s > 0) ||
-        !CanComeBack(summary.url))
-      break;
+    if (!source->may_come_back() || stop_all.load() || !(request.reconnect_s > 0)) break;
     session.Line(fmt::format("{}: {}; waiting up to {:g} s for it to come back",
                              summary.name,
                              source->end_reason(),

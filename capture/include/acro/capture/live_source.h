@@ -110,6 +110,10 @@ class LiveSource {
   /// True when the source ended by its own end (a file's), not by a failure or a stall.
   bool ended_normally() const;
   LiveEnd end_cause() const;
+  /// True when what ended it may pass (a stream or a camera that stalled, closed or failed to
+  /// read): opened again, it may send. A file's end, a stop and a recording that cannot be written
+  /// are ends.
+  bool may_come_back() const;
   const std::vector<std::filesystem::path>& segments() const;
   int frames_decoded() const;
   long long packets_recorded() const;
