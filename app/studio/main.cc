@@ -3,6 +3,7 @@
 // Up to four videos: --video, --calib, --camera and --offset-s are given once per video, in the
 // same order
 // (--camera and --offset-s for all of them or for none).
+// `acrolab-studio --live SOURCE… --live-output DIR [--delay S]`: the live mode (docs/live.md).
 
 #include <cstdio>
 #include <string>
@@ -32,6 +33,23 @@ int main(int argc, char** argv) {
                  library,
                  "the season library (docs/library.md) for File → Open from library; without a "
                  "trial, its trials are shown to choose one");
+  std::vector<std::string> live;
+  std::string live_output;
+  acro::pipeline::LiveRequest request;  // its defaults are `acrolab live`'s
+  double delay_s = 5.0, stall_s = request.source.stall_timeout_s, reconnect_s = request.reconnect_s;
+  app.add_option("--live",
+                 live,
+                 "the live mode: cameras (/dev/video0), stream URLs (udp://, rtsp://, srt://, …) "
+                 "or files played at their own pace");
+  app.add_option("--live-output", live_output, "the live session's new or empty folder");
+  app.add_option("--delay", delay_s, "the live mode's delay (s, 0–60; default 5)")
+      ->check(CLI::Range(0.0, 60.0));
+  app.add_option("--stall-timeout", stall_s, "a live source silent this long has stopped (s)")
+      ->check(CLI::Range(0.1, 3600.0));
+  app.add_option("--reconnect",
+                 reconnect_s,
+                 "a live source that stopped is waited for this long (s; 0: not waited for)")
+      ->check(CLI::Range(0.0, 86400.0));
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -41,6 +59,18 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "acrolab-studio: %s\n", line.c_str());
     return 2;
   };
+  if (!live.empty()) {
+    if (live_output.empty()) return fail("--live needs --live-output, the session's folder");
+    if (!files.trial.empty() || !videos.empty() || !session.empty())
+      return fail("--live opens the live mode alone: no trial, video or session with it");
+    request.sources = live;
+    request.out_dir = live_output;
+    request.source.stall_timeout_s = stall_s;
+    request.reconnect_s = reconnect_s;
+    std::string why;
+    if (!request.IsValid(&why)) return fail(why);
+    return acro::studio::RunStudioLive(argc, argv, request, delay_s);
+  }
   if (videos.size() != calibrations.size())
     return fail("--video and --calib go together: " + std::to_string(videos.size()) + " videos, " +
                 std::to_string(calibrations.size()) + " calibrations");

@@ -211,6 +211,16 @@ struct LiveSource::Impl {
   bool paced = false;
   bool started = false;  // a keyframe has come: packets before it decode to nothing
   std::map<std::int64_t, double> arrival_by_pts;  // packets sent to the decoder, not yet out
+  // Where the input stood after each read (bytes taken from the stream) and when: a packet
+  // arrived when its first byte did. A demuxer hands a packet over only when it is whole, and
+  // MPEG-TS knows a picture is whole only when the next one begins — a frame later.
+  std::deque<std::pair<std::int64_t, double>> read_log;
+  double ArrivalOf(std::int64_t pos, double now) const {
+    if (pos < 0 || paced) return now;
+    for (const auto& [bytes, at] : read_log)
+      if (bytes > pos) return at;
+    return now;
+  }
 
   // Recording and clips.
   std::unique_ptr<TsWriter> writer;
@@ -441,6 +451,11 @@ bool LiveSource::Impl::ReadPacket() {
         End("cannot be read: " + AvError(rc), LiveEnd::kReadError);
       return false;
     }
+    const double now = LiveClockNow();
+    if (format->pb != nullptr) {
+      read_log.emplace_back(avio_tell(format->pb), now);
+      if (read_log.size() > 512) read_log.pop_front();
+    }
     if (packet->stream_index != stream || packet->size <= 0) continue;
     if (!started) {
       if (!(packet->flags & AV_PKT_FLAG_KEY)) continue;  // joined mid-GOP: wait for a keyframe
@@ -473,7 +488,7 @@ bool LiveSource::Impl::ReadPacket() {
       return false;
     }
     Keep(packet, t);
-    arrival_by_pts[p] = LiveClockNow();
+    arrival_by_pts[p] = ArrivalOf(packet->pos, LiveClockNow());
     if (arrival_by_pts.size() > 256) arrival_by_pts.erase(arrival_by_pts.begin());
     return true;
   }

@@ -4,6 +4,10 @@
 // the 3D view rendered, and both views repainted. Forward steps read on; backward steps find the
 // frame among the last eight decoded. The goal (issue "The workstation window"): ≤ 50 ms from key
 // press to both views updated.
+// The live mode's buffer (docs/live.md, "The window"): every frame of every camera is compressed
+// on its source's thread as it comes, every frame shown decompressed — a 640 × 360 frame of the
+// sample's side video. The goal (issue "In the hall"): both within 5 ms, so that two 60-fps
+// cameras cost under two thirds of one core.
 // Run: build/bench/studio_bench --benchmark_repetitions=3 (Xvfb or a display).
 
 #include <benchmark/benchmark.h>
@@ -13,7 +17,9 @@
 #include <QTest>
 #include <QThread>
 
+#include "acro/capture/video.h"
 #include "acro/views/display.h"
+#include "live_window.h"
 #include "main_window.h"
 #include "refdata.h"
 
@@ -74,6 +80,42 @@ void BM_StudioStep(benchmark::State& state, Qt::Key key) {
 }
 BENCHMARK_CAPTURE(BM_StudioStep, forward, Qt::Key_Right)->Unit(benchmark::kMillisecond);
 BENCHMARK_CAPTURE(BM_StudioStep, backward, Qt::Key_Left)->Unit(benchmark::kMillisecond);
+
+// The sample's side video, frame 100 (in the air), at the live analysis width.
+const acro::capture::VideoFrame& LiveFrame() {
+  static const acro::capture::VideoFrame frame = [] {
+    acro::capture::VideoReader reader(acro::testing::SourceDir() /
+                                      "samples/trials/trampoline_routine/side_camera.mp4");
+    const acro::capture::VideoFrame full = reader.Frame(100);
+    const QImage small =
+        QImage(full.pixels.data(), full.width, full.height, 3 * full.width, QImage::Format_RGB888)
+            .scaled(640, 360, Qt::IgnoreAspectRatio, Qt::SmoothTransformation)
+            .convertToFormat(QImage::Format_RGB888);
+    acro::capture::VideoFrame f;
+    f.width = small.width();
+    f.height = small.height();
+    f.channels = 3;
+    for (int y = 0; y < f.height; ++y)
+      f.pixels.insert(f.pixels.end(), small.constScanLine(y), small.constScanLine(y) + 3 * f.width);
+    return f;
+  }();
+  return frame;
+}
+
+void BM_LiveBufferCompress(benchmark::State& state) {
+  const acro::capture::VideoFrame& frame = LiveFrame();
+  size_t bytes = 0;
+  for (auto _ : state)
+    bytes = static_cast<size_t>(acro::studio::LiveWindow::Compress(frame).size());
+  state.counters["KB"] = double(bytes) / 1024.0;
+}
+BENCHMARK(BM_LiveBufferCompress)->Unit(benchmark::kMillisecond);
+
+void BM_LiveBufferDecompress(benchmark::State& state) {
+  const QByteArray jpeg = acro::studio::LiveWindow::Compress(LiveFrame());
+  for (auto _ : state) benchmark::DoNotOptimize(acro::studio::LiveWindow::Decompress(jpeg));
+}
+BENCHMARK(BM_LiveBufferDecompress)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

@@ -262,12 +262,13 @@ void CloseRoutine(Session& session,
 // One connection to a source, its frames watched until it ends; `offset_s` puts its stream times
 // on the session's (the source's first connection's) time line. Returns the connection's end.
 void WatchConnection(Session& session,
-                     LiveSourceSummary& summary,
+                     int index,
                      capture::LiveSource& source,
                      int connection,
                      int* jumps_so_far,
                      std::vector<double>* offsets) {
   const LiveRequest& request = *session.request;
+  LiveSourceSummary& summary = session.summary.sources[static_cast<size_t>(index)];
   SourceView view;
   RoutineCutter cutter(request.rest_s);
   double offset = 0.0;
@@ -290,15 +291,30 @@ void WatchConnection(Session& session,
     if (connection == 0 && frame.picture.index >= 30 && frame.picture.index < 150)
       offsets->push_back(frame.arrival_s - frame.picture.time_s);
     frame.picture.time_s += offset;
-    if (!view.watcher) continue;
     std::vector<vision::MotionJump> landed;
-    try {
-      landed = view.watcher->Add(frame.picture, frame.arrival_s);
-    } catch (const InputError& e) {
-      session.Line(fmt::format("{}: jumps no longer watched: {}", summary.name, e.what()));
-      view.watcher.reset();
-      continue;
+    if (view.watcher) {
+      try {
+        landed = view.watcher->Add(frame.picture, frame.arrival_s);
+      } catch (const InputError& e) {
+        session.Line(fmt::format("{}: jumps no longer watched: {}", summary.name, e.what()));
+        view.watcher.reset();
+      }
     }
+    if (request.on_frame) {
+      LiveFrameSeen seen;
+      seen.source_index = index;
+      seen.source = &summary.name;
+      seen.picture = &frame.picture;
+      seen.arrival_s = frame.arrival_s;
+      seen.picture_per_full_px = double(frame.picture.width) / std::max(1, source.width());
+      if (view.watcher) {
+        seen.rest_line = &view.watcher->rest_line();
+        seen.athlete = &view.watcher->last_sightings();
+        seen.in_air = view.watcher->in_air();
+      }
+      request.on_frame(seen);
+    }
+    if (!view.watcher) continue;
     for (const vision::MotionJump& m : landed) {
       LiveJump j;
       j.source = summary.name;
@@ -364,9 +380,8 @@ std::unique_ptr<capture::LiveSource> OpenAgain(const LiveRequest& request,
   }
 }
 
-void WatchSourceConnections(Session& session,
-                            LiveSourceSummary& summary,
-                            const std::atomic<bool>& stop_all) {
+void WatchSourceConnections(Session& session, int index, const std::atomic<bool>& stop_all) {
+  LiveSourceSummary& summary = session.summary.sources[static_cast<size_t>(index)];
   const LiveRequest& request = *session.request;
   std::vector<double> offsets;
   int jumps = 0;
@@ -399,7 +414,7 @@ void WatchSourceConnections(Session& session,
     }
     {
       const Running running(session, source.get());
-      WatchConnection(session, summary, *source, connection, &jumps, &offsets);
+      WatchConnection(session, index, *source, connection, &jumps, &offsets);
     }
     {
       const std::lock_guard<std::mutex> lock(session.mutex);
@@ -433,7 +448,7 @@ void WatchSource(Session& session, int index, const std::atomic<bool>& stop_all)
   LiveSourceSummary& summary = session.summary.sources[static_cast<size_t>(index)];
   // Nothing a source meets may end the others: whatever escapes is its one line.
   try {
-    WatchSourceConnections(session, summary, stop_all);
+    WatchSourceConnections(session, index, stop_all);
   } catch (const std::exception& e) {
     {
       const std::lock_guard<std::mutex> lock(session.mutex);

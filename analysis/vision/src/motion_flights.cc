@@ -248,6 +248,7 @@ std::vector<MotionJump> MotionFlightWatcher::Add(const capture::VideoFrame& grey
                                  grey.height,
                                  samples_.front().grey.width,
                                  samples_.front().grey.height));
+  sightings_.clear();
   if (background_.empty()) {
     Sample(grey, nullptr);
     waiting_.emplace_back(grey, arrival_s);
@@ -342,6 +343,13 @@ std::vector<MotionJump> MotionFlightWatcher::Step(const capture::VideoFrame& gre
   const Sole sole = FindSole(grey, previous_.pixels.empty() ? nullptr : &previous_);
   previous_ = grey;
   if (found != nullptr) *found = sole;
+  MotionSighting& seen = sightings_.emplace_back();
+  seen.time_s = grey.time_s;
+  seen.found = sole.found;
+  seen.sole_px = {sole.x_px, sole.y_px};
+  seen.height_m = sole.height_m;
+  const double full = full_width_px_ / grey.width;  // full px per analysis px
+  for (size_t k = 0; k < 4; ++k) seen.box_px[k] = sole.box[k] * full;
   if (!sole.found) return {};
   ++frames_with_athlete_;
   const double t = grey.time_s, h = sole.height_m;

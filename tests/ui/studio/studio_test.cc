@@ -41,6 +41,7 @@
 #include "library_window.h"
 #include "plot_view.h"
 #include "pose_model_cache.h"
+#include "qt_wait.h"
 #include "refdata.h"
 #include "routine_plan_window.h"
 #include "skill_window.h"
@@ -52,13 +53,7 @@ namespace {
 namespace fs = std::filesystem;
 
 bool WaitUntil(const std::function<bool()>& done, int ms) {
-  QElapsedTimer t;
-  t.start();
-  while (!done() && t.elapsed() < ms) {
-    QCoreApplication::processEvents(QEventLoop::AllEvents, 20);
-    QThread::msleep(5);
-  }
-  return done();
+  return acro::testing::WaitUntil(done, ms);
 }
 
 // Closes the message boxes left open (a test reads last_error(); a person presses OK).

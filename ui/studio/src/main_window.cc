@@ -3,6 +3,7 @@
 #include "routine_plan_window.h"
 
 #include "library_window.h"
+#include "live_window.h"
 
 #include <QAction>
 #include <QApplication>
@@ -636,6 +637,7 @@ void MainWindow::BuildMenus() {
   });
   file->addAction("Open s&kill (designer)…", this, [this] { OpenSkillDesigner(); });
   file->addAction("&Plan a routine…", this, [this] { OpenRoutinePlanner(); });
+  file->addAction("&Watch live…", this, [this] { AskWatchLive(); });
   file->addSeparator();
   file->addAction("&Compare two jumps…", this, [this] { AskCompare(); });
   QMenu* video_menu = menuBar()->addMenu("&Video");
@@ -745,6 +747,30 @@ void MainWindow::ResetOrbit() {
   orbit_azimuth_deg_ = orbit_elevation_deg_ = 0.0;
   orbit_distance_scale_ = 1.0;
   Redraw();
+}
+
+void MainWindow::AskWatchLive() {
+  bool ok = false;
+  const QString sources = QInputDialog::getText(
+      this,
+      "Watch live",
+      "Cameras or streams, separated by spaces (/dev/video0, udp://0.0.0.0:5000, rtsp://…):",
+      QLineEdit::Normal,
+      "/dev/video0",
+      &ok);
+  if (!ok || sources.trimmed().isEmpty()) return;
+  const QString folder = QFileDialog::getExistingDirectory(
+      this, "A new or empty folder for the session's recordings and routines");
+  if (folder.isEmpty()) return;
+  pipeline::LiveRequest request;
+  for (const QString& s : sources.split(' ', Qt::SkipEmptyParts))
+    request.sources.push_back(s.toStdString());
+  request.out_dir = folder.toStdString();
+  std::string why;
+  if (!request.IsValid(&why)) return ShowError(why);
+  auto* live = new LiveWindow(std::move(request), 5.0);
+  live->setAttribute(Qt::WA_DeleteOnClose);
+  live->show();
 }
 
 void MainWindow::ShowError(const std::string& message) {

@@ -187,6 +187,8 @@ class MainWindow : public QMainWindow {
                         std::function<void(std::shared_ptr<Session>)> done);
   bool ShowCompare(int a, const std::function<std::unique_ptr<CompareWindow>()>& make);
   void AskCompare();
+  /// File → Watch live…: the sources and a folder asked for, the live mode opened (docs/live.md).
+  void AskWatchLive();
   void Adopt(std::shared_ptr<Session> session, const SessionView& view);
   void ShowError(const std::string& message);
   void Redraw();

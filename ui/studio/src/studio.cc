@@ -1,7 +1,9 @@
 #include "acro/studio/studio.h"
 
 #include <QApplication>
+#include <QScreen>
 
+#include "live_window.h"
 #include "main_window.h"
 
 namespace acro::studio {
@@ -21,6 +23,20 @@ int RunStudio(int argc,
     window.OpenFiles(files);
   } else if (!library.empty()) {
     window.OpenFromLibrary(library, false);
+  }
+  return qt.exec();
+}
+
+int RunStudioLive(int argc, char** argv, const pipeline::LiveRequest& request, double delay_s) {
+  QApplication qt(argc, argv);
+  LiveWindow window(request, delay_s);
+  // The hall's screen: a second one when there is one (the first stays the operator's).
+  const QList<QScreen*> screens = QGuiApplication::screens();
+  if (screens.size() > 1) {
+    window.setGeometry(screens[1]->availableGeometry());
+    window.showMaximized();
+  } else {
+    window.show();
   }
   return qt.exec();
 }

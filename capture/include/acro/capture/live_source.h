@@ -76,7 +76,9 @@ struct LiveFrame {
   /// RGB or grey as the options say, scaled to the analysis width; index: frames since the first;
   /// time_s: stream time from the first frame.
   VideoFrame picture;
-  double arrival_s = 0.0;  ///< when its packet arrived, on LiveClockNow's clock
+  /// When its packet's first byte arrived (a stream: the read that took it; a played file: when
+  /// its time came), on LiveClockNow's clock.
+  double arrival_s = 0.0;
 };
 
 /// One live source. Not thread-safe except Stop(): one thread reads it.

@@ -7,7 +7,7 @@
 /// the camera from it (the focal length too), watches the frames for jumps
 /// (vision::MotionFlightWatcher) and cuts routines: a run of jumps whose contacts with the bed are
 /// short, ended when the athlete stays on the bed. `acrolab live` calls it, the studio's live mode
-/// will.
+/// too (docs/live.md).
 
 #include <atomic>
 #include <filesystem>
@@ -48,6 +48,26 @@ struct LiveRoutine {
   std::string clip_error;        ///< why the clip could not be written, if it could not
 };
 
+/// One frame as its source's thread saw it, for a window that shows the sources (the studio's
+/// live mode keeps them in its delay buffer). Everything pointed to lives for the call only.
+struct LiveFrameSeen {
+  int source_index = 0;  ///< in LiveRequest::sources
+  const std::string* source = nullptr;
+  /// RGB at the analysis width; time_s on the session's time line (the source's first
+  /// connection's stream time), index counted from each connection's first frame.
+  const capture::VideoFrame* picture = nullptr;
+  double arrival_s = 0.0;  ///< when its packet arrived (capture::LiveClockNow)
+  /// The picture's pixels per pixel of the full picture (the bed and the athlete are given in
+  /// the full picture's pixels).
+  double picture_per_full_px = 1.0;
+  const vision::BedLine* rest_line = nullptr;  ///< null without a bed
+  /// The athlete in the frames the watcher looked at with this one: none while it still makes
+  /// its background, then the frames that waited for it (earlier ones) and this one; null
+  /// without a bed.
+  const std::vector<vision::MotionSighting>* athlete = nullptr;
+  bool in_air = false;
+};
+
 struct LiveRequest {
   std::vector<std::string> sources;  ///< URLs, devices or files (LiveSource)
   /// A new or empty folder: recording/, jumps.jsonl, routines/, live.json. A session never
@@ -72,6 +92,9 @@ struct LiveRequest {
   /// Each routine as it is cut (its folder written), from the source's thread: a door queues its
   /// analysis here.
   std::function<void(const LiveRoutine&)> on_routine;
+  /// Every frame after it was watched, from its source's thread (a window's buffer: keep the
+  /// call short, the next frame waits for it).
+  std::function<void(const LiveFrameSeen&)> on_frame;
   bool IsValid(std::string* why) const;
 };
 

@@ -58,6 +58,16 @@ struct MotionJump {
   double apex_above_bed_m = 0.0;
 };
 
+/// Where the athlete was in the last frame looked at (a window draws it over the picture).
+struct MotionSighting {
+  double time_s = 0.0;  ///< the frame's stream time
+  bool found = false;
+  Eigen::Vector2d sole_px = Eigen::Vector2d::Zero();  ///< the soles' point, full picture px
+  double height_m = 0.0;                              ///< the soles above the rest line
+  /// The athlete's region in the full picture's px: x0, y0, x1, y1.
+  std::array<double, 4> box_px{};
+};
+
 /// Watches one camera's frames (RGB or grey, any size: the bed is given in the full picture's
 /// pixels and scaled) for jumps; in colour, a pixel is the athlete where its channel that differs
 /// most from the background differs by more than the colour threshold. Feed frames in order; each
@@ -79,6 +89,9 @@ class MotionFlightWatcher {
   int frames_seen() const { return frames_seen_; }
   int frames_with_athlete() const { return frames_with_athlete_; }
   const BedLine& rest_line() const { return line_; }
+  /// The athlete in the frames looked at by the last Add, in order: none while the background is
+  /// still being made, then the frames that waited for it and the frame given.
+  const std::vector<MotionSighting>& last_sightings() const { return sightings_; }
   /// Metres per pixel of the full picture at the bed (its length in the picture over 4.28 m).
   double metres_per_px() const { return m_per_px_; }
 
@@ -126,6 +139,7 @@ class MotionFlightWatcher {
   double takeoff_s_ = 0, apex_m_ = 0;
   double last_time_s_ = 0;
   int jumps_ = 0, frames_seen_ = 0, frames_with_athlete_ = 0;
+  std::vector<MotionSighting> sightings_;
 };
 
 }  // namespace acro::vision

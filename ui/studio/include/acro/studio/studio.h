@@ -5,6 +5,7 @@
 
 #include <string>
 
+#include "acro/pipeline/live.h"
 #include "acro/studio/session.h"
 
 namespace acro::studio {
@@ -18,5 +19,10 @@ int RunStudio(int argc,
               const SessionFiles& files,
               const std::string& session_file,
               const std::string& library = "");
+
+/// Runs the live mode (docs/live.md) until its window is closed: `request`'s sources watched and
+/// recorded into its folder (pipeline::RunLive), shown `delay_s` late, every routine replayed as it
+/// is cut; on a second screen when there is one.
+int RunStudioLive(int argc, char** argv, const pipeline::LiveRequest& request, double delay_s);
 
 }  // namespace acro::studio

@@ -1,0 +1,356 @@
+// The studio's live mode under Xvfb (docs/live.md, "The window"): the sample routine's side video
+// streamed over UDP on the loopback at real time (ffmpeg -re) into the live window set 5 s late.
+// ffmpeg's tee sends the same packets to a port of the test's own, whose first datagram is the
+// stream's start on the test's clock: stream time τ was sent at that instant + τ. Checked:
+// - every picture the window puts up while 5 s late is the frame sent 5 s before (± 1 frame), the
+//   frame told by its pixels against the file's own decoded frames, not by the window's word;
+// - slow motion falls behind by half the time it runs at ½×, a frame step is one frame, back to
+//   the delay is 5 s again;
+// - when the stream ends, the routine is cut and its replay starts by itself, with the overlay
+//   drawn over its frames (the numbers' box), and plays on.
+// With ACRO_STUDIO_SCREENSHOTS=DIR the window is saved there (docs/live.md).
+
+#include "live_window.h"
+
+#include <gtest/gtest.h>
+
+#include <QApplication>
+#include <QElapsedTimer>
+#include <QTest>
+#include <QThread>
+
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <mutex>
+#include <thread>
+
+#include <fmt/format.h>
+
+#include "acro/capture/live_source.h"
+#include "acro/capture/video.h"
+#include "acro/views/display.h"
+#include "qt_wait.h"
+#include "refdata.h"
+#include "udp_ports.h"
+
+namespace acro::studio {
+namespace {
+
+namespace fs = std::filesystem;
+
+fs::path SideVideo() {
+  return acro::testing::SourceDir() / "samples/trials/trampoline_routine/side_camera.mp4";
+}
+
+bool WaitUntil(const std::function<bool()>& done, int ms) {
+  return acro::testing::WaitUntil(done, ms, 10);
+}
+
+void Pump(int ms) {
+  WaitUntil([] { return false; }, ms);
+}
+
+void Shot(QWidget& window, const std::string& name) {
+  const char* dir = std::getenv("ACRO_STUDIO_SCREENSHOTS");
+  if (dir == nullptr || *dir == 0) return;
+  window.grab().save(QString::fromStdString((fs::path(dir) / (name + ".png")).string()));
+}
+
+// A picture as 320 × 180 grey: enough to tell a frame from the next by the athlete's motion.
+std::vector<int> Small(const QImage& image) {
+  const QImage small = image.convertToFormat(QImage::Format_RGB32)
+                           .scaled(320, 180, Qt::IgnoreAspectRatio, Qt::SmoothTransformation)
+                           .convertToFormat(QImage::Format_Grayscale8);
+  std::vector<int> v;
+  v.reserve(320 * 180);
+  for (int y = 0; y < 180; ++y)
+    for (int x = 0; x < 320; ++x) v.push_back(small.constScanLine(y)[x]);
+  return v;
+}
+
+double Distance(const std::vector<int>& a, const std::vector<int>& b) {
+  double d = 0;
+  for (size_t i = 0; i < a.size(); ++i) d += std::abs(a[i] - b[i]);
+  return d / double(a.size());
+}
+
+// The file's frames, decoded by the capture layer, as Small pictures.
+std::vector<std::vector<int>> ReferenceFrames() {
+  capture::VideoReader reader(SideVideo());
+  std::vector<std::vector<int>> frames;
+  for (int i = 0; i < reader.num_frames(); ++i) {
+    const capture::VideoFrame f = reader.Frame(i);
+    frames.push_back(
+        Small(QImage(f.pixels.data(), f.width, f.height, 3 * f.width, QImage::Format_RGB888)));
+  }
+  return frames;
+}
+
+// The frame of the file a picture is (the nearest of all by mean absolute grey difference).
+int WhichFrame(const std::vector<std::vector<int>>& frames, const QImage& picture) {
+  const std::vector<int> p = Small(picture);
+  int best = -1;
+  double best_d = 1e300;
+  for (size_t i = 0; i < frames.size(); ++i) {
+    const double d = Distance(frames[i], p);
+    if (d < best_d) {
+      best_d = d;
+      best = static_cast<int>(i);
+    }
+  }
+  return best;
+}
+
+// The sender's clock, read off the wire: every datagram on a UDP port of the test's own is
+// searched for the start of a video picture (an MPEG-TS packet that starts a PES of stream 0xE0–
+// 0xEF with a PTS) and its arrival noted (LiveClockNow). Stream time τ (from the first picture's
+// PTS) was sent at τ + origin(), where origin is the 95th percentile of arrival − τ over the
+// pictures (with B-frames, pictures are sent in decoding order, ahead of their time; the latest
+// are sent at it).
+class WireClock {
+ public:
+  explicit WireClock(int port) {
+    fd_ = ::socket(AF_INET, SOCK_DGRAM, 0);
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    a.sin_port = htons(static_cast<std::uint16_t>(port));
+    bound_ = fd_ >= 0 && ::bind(fd_, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0;
+    timeval tv{0, 100000};
+    ::setsockopt(fd_, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+    thread_ = std::thread([this] { Receive(); });
+  }
+  ~WireClock() {
+    done_ = true;
+    thread_.join();
+    ::close(fd_);
+  }
+  bool bound() const { return bound_; }
+  int pictures() const {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    return static_cast<int>(lateness_.size());
+  }
+  double origin() const {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    std::vector<double> v = lateness_;
+    if (v.empty()) return NAN;
+    const size_t k = std::min(v.size() - 1, static_cast<size_t>(0.95 * double(v.size())));
+    std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+    return v[k];
+  }
+
+ private:
+  void Receive() {
+    std::uint8_t d[65536];
+    while (!done_.load()) {
+      const ssize_t n = ::recv(fd_, d, sizeof d, 0);
+      if (n <= 0) continue;
+      const double now = capture::LiveClockNow();
+      for (ssize_t at = 0; at + 188 <= n; at += 188) {
+        const std::uint8_t* ts = d + at;
+        if (ts[0] != 0x47 || !(ts[1] & 0x40)) continue;  // sync byte, payload unit start
+        int payload = 4;
+        if (ts[3] & 0x20) payload += 1 + ts[4];  // adaptation field
+        if (!(ts[3] & 0x10) || payload + 14 > 188) continue;
+        const std::uint8_t* pes = ts + payload;
+        if (pes[0] != 0 || pes[1] != 0 || pes[2] != 1 || (pes[3] & 0xF0) != 0xE0) continue;
+        if (!(pes[7] & 0x80)) continue;  // no PTS
+        const std::int64_t pts = (std::int64_t(pes[9] & 0x0E) << 29) |
+                                 (std::int64_t(pes[10]) << 22) |
+                                 (std::int64_t(pes[11] & 0xFE) << 14) |
+                                 (std::int64_t(pes[12]) << 7) | (std::int64_t(pes[13]) >> 1);
+        const std::lock_guard<std::mutex> lock(mutex_);
+        if (first_pts_ < 0) first_pts_ = pts;
+        lateness_.push_back(now - double(pts - first_pts_) / 90000.0);
+      }
+    }
+  }
+  int fd_ = -1;
+  bool bound_ = false;
+  std::atomic<bool> done_{false};
+  mutable std::mutex mutex_;
+  std::int64_t first_pts_ = -1;
+  std::vector<double> lateness_;
+  std::thread thread_;
+};
+
+TEST(LiveWindow, ShowsTheFrameSentFiveSecondsEarlierAndReplaysTheRoutineByItself) {
+  if (std::system("ffmpeg -version > /dev/null 2>&1") != 0)
+    GTEST_SKIP() << "the ffmpeg command is not installed";
+  const std::vector<std::vector<int>> reference = ReferenceFrames();
+  ASSERT_EQ(reference.size(), 299u);
+  const int port = acro::testing::FreeUdpPort(), clock_port = acro::testing::FreeUdpPort();
+  ASSERT_GT(port, 0);
+  WireClock wire(clock_port);
+  ASSERT_TRUE(wire.bound());
+
+  const fs::path out = acro::testing::ScratchDir("studio_live") / "session";
+  fs::remove_all(out);
+  pipeline::LiveRequest request;
+  request.sources = {fmt::format("udp://127.0.0.1:{}", port)};
+  request.out_dir = out;
+  request.source.open_timeout_s = 30;
+  request.source.stall_timeout_s = 2;
+  request.reconnect_s = 0;
+  LiveWindow w(request, 5.0);
+  w.show();
+  ASSERT_TRUE(QTest::qWaitForWindowExposed(&w));
+  ASSERT_TRUE(acro::testing::WaitForUdpListener(port, 20));
+  std::thread sender([&] {
+    const std::string cmd = fmt::format(
+        "ffmpeg -v error -re -i '{}' -map 0:v -c copy -f tee "
+        "'[f=mpegts]udp://127.0.0.1:{}?pkt_size=1316|[f=mpegts]udp://127.0.0.1:{}?pkt_size=1316'",
+        SideVideo().string(),
+        port,
+        clock_port);
+    EXPECT_EQ(std::system(cmd.c_str()), 0);
+  });
+  ASSERT_TRUE(WaitUntil([&] { return wire.pictures() >= 60; }, 20000)) << "nothing was sent";
+  const double t0 = wire.origin();
+
+  // 5 s late: from 5.5 s to 11.5 s after the start, every new picture checked (the stream ends at
+  // 10 s; its last 1.5 s are shown from the buffer). The frame is told by its pixels, among the
+  // file's frames within half a second of the one expected.
+  constexpr double kFrame = 1.0 / 30;
+  int checked = 0, exact = 0, index_matches = 0;
+  double worst = 0, worst_distance = 0;
+  WaitUntil([&] { return capture::LiveClockNow() > t0 + 5.5; }, 20000);
+  int last_index = -1;
+  while (capture::LiveClockNow() < t0 + 11.5) {
+    Pump(5);
+    const LiveWindow::Shown s = w.shown(0);
+    if (s.index == last_index || s.index < 0) continue;
+    last_index = s.index;
+    // The frame the source was sending 5 s before the picture went up.
+    const double expected = (s.at_s - 5.0 - t0) / kFrame;
+    const std::vector<int> shown = Small(w.shown_image(0));
+    int k = -1;
+    double best = 1e300;
+    for (int i = std::max(0, int(expected) - 15); i <= std::min(298, int(expected) + 15); ++i) {
+      const double d = Distance(reference[size_t(i)], shown);
+      if (d < best) {
+        best = d;
+        k = i;
+      }
+    }
+    worst_distance = std::max(worst_distance, best);
+    const double off = k - expected;
+    worst = std::max(worst, std::abs(off));
+    EXPECT_LE(std::abs(off), 1.0) << "frame " << k << " up at " << s.at_s - t0
+                                  << " s, expected frame " << expected;
+    ++checked;
+    if (std::abs(off) < 0.5) ++exact;
+    if (k == s.index) ++index_matches;
+    if (checked == 60) Shot(w, "live_window_delay");
+  }
+  std::printf("the window's sent offset − the wire's: %.1f ms\n", 1e3 * (w.sent_offset(0) - t0));
+  std::printf(
+      "5 s late: %d pictures checked, %d within half a frame, worst %.2f frames, worst "
+      "grey difference %.2f; the window's own index agreed with the pixels %d times\n",
+      checked,
+      exact,
+      worst,
+      worst_distance,
+      index_matches);
+  EXPECT_GE(checked, 150);  // 6 s at 30 fps, a few missed by a busy machine at most
+  EXPECT_GE(index_matches, checked - 2);
+  EXPECT_LT(worst_distance, 4.0) << "a picture that is none of the file's frames around";
+
+  // Slow motion inside the delay: 1 s at ½× falls 0.5 s further behind.
+  const double before = w.shown_delay();
+  w.SetSpeed(0.5);
+  Pump(1000);
+  EXPECT_NEAR(w.shown_delay() - before, 0.5, 0.1);
+  // A frame at a time, paused.
+  w.StepFrame(1);
+  Pump(50);
+  const int at = w.shown(0).index;
+  w.StepFrame(1);
+  Pump(50);
+  EXPECT_EQ(w.shown(0).index, at + 1);
+  w.StepFrame(-1);
+  Pump(50);
+  EXPECT_EQ(w.shown(0).index, at);
+  EXPECT_EQ(WhichFrame(reference, w.shown_image(0)), at);
+  w.BackToLive();
+  Pump(100);
+  EXPECT_NEAR(w.shown_delay(), 5.0, 0.05);
+
+  // The routine cut when the stream stopped (2 s of silence), its replay started by itself.
+  ASSERT_TRUE(WaitUntil([&] { return w.replay_routine() == 1; }, 30000))
+      << w.lines().join("\n").toStdString();
+  ASSERT_TRUE(w.summary() || w.running());
+  const double first = w.replay_time_s();
+  Pump(700);
+  EXPECT_GT(w.replay_time_s(), first + 0.4) << "the replay does not play";
+  // Its frames are the routine's, with the numbers drawn over them: the box top left differs
+  // from the frame, the rest of the picture is the frame.
+  const QImage replay = w.replay_image();
+  ASSERT_FALSE(replay.isNull());
+  const int k = static_cast<int>(std::lround(w.replay_time_s() / kFrame));
+  const std::vector<int> drawn = Small(replay), frame = reference.at(size_t(std::min(k, 298)));
+  double in_box = 0, outside = 0;
+  int n_box = 0, n_out = 0;
+  for (int y = 0; y < 180; ++y)
+    for (int x = 0; x < 320; ++x) {
+      const double d = std::abs(drawn[size_t(y * 320 + x)] - frame[size_t(y * 320 + x)]);
+      if (x >= 8 && x < 150 && y >= 8 && y < 34) {
+        in_box += d;
+        ++n_box;
+      } else if (y < 120) {  // above the bed (its dashed line and the landing marks below)
+        outside += d;
+        ++n_out;
+      }
+    }
+  EXPECT_GT(in_box / n_box, 20.0) << "no numbers drawn over the replay";
+  EXPECT_LT(outside / n_out, 4.0) << "the replay is not the routine's frame " << k;
+  // For the documentation: the fourth jump in the air, three landings marked (the replay plays
+  // the routine in about 11 s, then again).
+  if (std::getenv("ACRO_STUDIO_SCREENSHOTS") != nullptr) {
+    WaitUntil([&] { return w.replay_time_s() > 6.9 && w.replay_time_s() < 7.3; }, 15000);
+    Shot(w, "live_window_replay");
+  }
+  sender.join();
+  w.Stop();
+  ASSERT_TRUE(WaitUntil([&] { return !w.running(); }, 20000));
+  Pump(100);
+  ASSERT_TRUE(w.summary().has_value());
+  EXPECT_EQ(w.summary()->routines.size(), 1u);
+  EXPECT_EQ(w.summary()->sources.at(0).packets_recorded, 299);
+  EXPECT_TRUE(w.last_error().empty()) << w.last_error();
+}
+
+// A session that cannot start (the folder holds an earlier one) is a dialog naming the folder;
+// the window stays.
+TEST(LiveWindow, AFolderInUseIsADialog) {
+  const fs::path out = acro::testing::ScratchDir("studio_live_used");
+  std::ofstream(out / "jumps.jsonl") << "{}\n";
+  pipeline::LiveRequest request;
+  request.sources = {SideVideo().string()};
+  request.out_dir = out;
+  LiveWindow w(request, 1.0);
+  w.show();
+  ASSERT_TRUE(WaitUntil([&] { return !w.last_error().empty(); }, 10000));
+  EXPECT_NE(w.last_error().find(out.string()), std::string::npos) << w.last_error();
+  EXPECT_TRUE(w.isVisible());
+  for (QWidget* top : QApplication::topLevelWidgets())
+    if (top != &w && top->isVisible()) top->close();
+}
+
+}  // namespace
+}  // namespace acro::studio
+
+int main(int argc, char** argv) {
+  ::testing::InitGoogleTest(&argc, argv);
+  const acro::ui::XDisplay display;
+  QApplication app(argc, argv);
+  return RUN_ALL_TESTS();
+}

@@ -1,0 +1,558 @@
+#include "live_window.h"
+
+#include <QBuffer>
+#include <QCloseEvent>
+#include <QComboBox>
+#include <QGridLayout>
+#include <QHBoxLayout>
+#include <QHeaderView>
+#include <QLabel>
+#include <QListWidget>
+#include <QMessageBox>
+#include <QPainter>
+#include <QPainterPath>
+#include <QPushButton>
+#include <QShortcut>
+#include <QSlider>
+#include <QSplitter>
+#include <QTableWidget>
+#include <QTimer>
+#include <QVBoxLayout>
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "acro/capture/live_source.h"
+#include "acro/fig/score_sheet.h"
+#include "image_view.h"
+
+namespace acro::studio {
+
+namespace {
+
+constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
+// The buffer keeps a little more than the longest delay (the replay copies its frames out).
+constexpr double kKeepS = LiveWindow::kMaxDelayS + 2.0;
+constexpr size_t kMaxFrames = 8000;  // 62 s at 120 fps
+constexpr double kHoldAtEndS = 1.5;  // a replay's last frame held before it starts again
+
+QString Q(const std::string& s) {
+  return QString::fromStdString(s);
+}
+
+}  // namespace
+
+QByteArray LiveWindow::Compress(const capture::VideoFrame& picture) {
+  const QImage image(picture.pixels.data(),
+                     picture.width,
+                     picture.height,
+                     picture.width * picture.channels,
+                     picture.channels == 3 ? QImage::Format_RGB888 : QImage::Format_Grayscale8);
+  QByteArray bytes;
+  QBuffer out(&bytes);
+  out.open(QIODevice::WriteOnly);
+  image.save(&out, "JPG", 90);
+  return bytes;
+}
+
+QImage LiveWindow::Decompress(const QByteArray& jpeg) {
+  QImage image;
+  image.loadFromData(jpeg, "JPG");
+  return image.convertToFormat(QImage::Format_RGB32);
+}
+
+LiveWindow::LiveWindow(pipeline::LiveRequest request, double delay_s, QWidget* parent)
+    : QWidget(parent, Qt::Window), request_(std::move(request)) {
+  setWindowTitle("Acrolab — live: " + Q(request_.out_dir.string()));
+  buffers_.resize(request_.sources.size());
+  shown_.resize(request_.sources.size());
+  for (size_t k = 0; k < buffers_.size(); ++k)
+    buffers_[k].name = capture::LiveSourceName(request_.sources[k]);
+
+  // The controls: the delay, the speed, a frame either way, back to live; the replay's speed.
+  auto* controls = new QHBoxLayout;
+  controls->addWidget(new QLabel("Delay"));
+  delay_slider_ = new QSlider(Qt::Horizontal);
+  delay_slider_->setRange(0, static_cast<int>(kMaxDelayS * 10));  // tenths of a second
+  delay_slider_->setMinimumWidth(240);
+  delay_slider_->setToolTip("How long after the cameras sent it the picture is shown (0–60 s)");
+  controls->addWidget(delay_slider_, 1);
+  delay_label_ = new QLabel;
+  delay_label_->setMinimumWidth(150);
+  controls->addWidget(delay_label_);
+  speed_box_ = new QComboBox;
+  for (const char* s : {"1×", "½×", "¼×", "⅛×"}) speed_box_->addItem(s);
+  speed_box_->setToolTip("Slow motion inside the delay: the picture falls further behind");
+  controls->addWidget(speed_box_);
+  auto* back = new QPushButton("◀ frame");
+  pause_button_ = new QPushButton("Pause");
+  auto* forward = new QPushButton("frame ▶");
+  auto* live = new QPushButton("Back to delay");
+  live->setToolTip("The slider's delay at normal speed (L)");
+  for (QPushButton* b : {back, pause_button_, forward, live}) controls->addWidget(b);
+  auto* stop = new QPushButton("Stop session");
+  controls->addWidget(stop);
+
+  // The sources, each late by the delay; the last routine's replay and its jumps beside them.
+  auto* sources = new QWidget;
+  auto* grid = new QGridLayout(sources);
+  grid->setContentsMargins(0, 0, 0, 0);
+  for (size_t k = 0; k < buffers_.size(); ++k) {
+    auto* label = new QLabel(Q(buffers_[k].name));
+    auto* view = new ImageView("waiting for " + Q(buffers_[k].name) + "…");
+    const int row = static_cast<int>(k / 2) * 2, column = static_cast<int>(k % 2);
+    grid->addWidget(label, row, column);
+    grid->addWidget(view, row + 1, column);
+    grid->setRowStretch(row + 1, 1);
+    views_.push_back(view);
+    view_labels_.push_back(label);
+  }
+  auto* replay = new QWidget;
+  auto* replay_layout = new QVBoxLayout(replay);
+  replay_layout->setContentsMargins(0, 0, 0, 0);
+  auto* replay_top = new QHBoxLayout;
+  replay_label_ = new QLabel("Replay: the last routine, as soon as it ends");
+  replay_top->addWidget(replay_label_, 1);
+  replay_speed_box_ = new QComboBox;
+  for (const char* s : {"1×", "½×", "¼×"}) replay_speed_box_->addItem(s);
+  replay_speed_box_->setToolTip("The replay's speed");
+  replay_top->addWidget(replay_speed_box_);
+  replay_layout->addLayout(replay_top);
+  replay_view_ = new ImageView("no routine yet");
+  replay_layout->addWidget(replay_view_, 2);
+  routine_table_ = new QTableWidget(0, 5);
+  routine_table_->setHorizontalHeaderLabels(
+      {"Jump", "Take-off (s)", "Time of flight (s)", "Landing (m)", "Zone"});
+  routine_table_->horizontalHeader()->setSectionResizeMode(QHeaderView::Stretch);
+  routine_table_->verticalHeader()->hide();
+  routine_table_->verticalHeader()->setDefaultSectionSize(22);
+  routine_table_->setEditTriggers(QAbstractItemView::NoEditTriggers);
+  replay_layout->addWidget(routine_table_, 1);
+
+  auto* split = new QSplitter(Qt::Horizontal);
+  split->addWidget(sources);
+  split->addWidget(replay);
+  split->setStretchFactor(0, 1);
+  split->setStretchFactor(1, 1);
+  line_list_ = new QListWidget;
+  line_list_->setMaximumHeight(130);
+  status_ = new QLabel("starting…");
+  auto* layout = new QVBoxLayout(this);
+  layout->addLayout(controls);
+  layout->addWidget(split, 1);
+  layout->addWidget(line_list_);
+  layout->addWidget(status_);
+  resize(1600, 900);
+
+  connect(delay_slider_, &QSlider::valueChanged, this, [this](int tenths) {
+    if (std::abs(tenths / 10.0 - delay_s_) > 1e-9) SetDelay(tenths / 10.0);
+  });
+  connect(speed_box_, QOverload<int>::of(&QComboBox::activated), this, [this](int i) {
+    SetSpeed(1.0 / (1 << i));
+  });
+  connect(replay_speed_box_, QOverload<int>::of(&QComboBox::activated), this, [this](int i) {
+    replay_rate_ = 1.0 / (1 << i);
+  });
+  connect(back, &QPushButton::clicked, this, [this] { StepFrame(-1); });
+  connect(forward, &QPushButton::clicked, this, [this] { StepFrame(1); });
+  connect(pause_button_, &QPushButton::clicked, this, [this] {
+    SetSpeed(rate_ > 0 ? 0.0 : 1.0 / (1 << std::max(0, speed_box_->currentIndex())));
+  });
+  connect(live, &QPushButton::clicked, this, [this] { BackToLive(); });
+  connect(stop, &QPushButton::clicked, this, [this] { Stop(); });
+  const auto key = [this](QKeySequence k, std::function<void()> f) {
+    connect(new QShortcut(k, this), &QShortcut::activated, this, std::move(f));
+  };
+  key(Qt::Key_Left, [this] { StepFrame(-1); });
+  key(Qt::Key_Right, [this] { StepFrame(1); });
+  key(Qt::Key_Space, [this] { pause_button_->click(); });
+  key(Qt::Key_L, [this] { BackToLive(); });
+
+  // The session: the pipeline's, its callbacks queued to this window's thread (the frames go
+  // into the buffer directly, under its lock).
+  request_.on_frame = [this](const pipeline::LiveFrameSeen& seen) { OnFrame(seen); };
+  request_.on_line = [this](const std::string& line) {
+    QMetaObject::invokeMethod(
+        this, [this, line] { AddLine(line); }, Qt::QueuedConnection);
+  };
+  request_.on_routine = [this](const pipeline::LiveRoutine& r) {
+    QMetaObject::invokeMethod(
+        this, [this, r] { OnRoutine(r); }, Qt::QueuedConnection);
+  };
+  thread_ = std::thread([this] {
+    try {
+      pipeline::LiveSummary s = pipeline::RunLive(request_, &stop_);
+      QMetaObject::invokeMethod(
+          this,
+          [this, s] {
+            summary_ = s;
+            status_->setText(Q(fmt::format("session ended: {} jumps, {} routines, in {}",
+                                           s.jumps.size(),
+                                           s.routines.size(),
+                                           request_.out_dir.string())));
+          },
+          Qt::QueuedConnection);
+    } catch (const std::exception& e) {
+      const std::string line = e.what();
+      QMetaObject::invokeMethod(
+          this, [this, line] { ShowError(line); }, Qt::QueuedConnection);
+    }
+    finished_ = true;
+  });
+  SetDelay(std::clamp(delay_s, 0.0, kMaxDelayS));
+  timer_ = new QTimer(this);
+  connect(timer_, &QTimer::timeout, this, [this] { Tick(); });
+  timer_->start(10);
+}
+
+LiveWindow::~LiveWindow() {
+  stop_ = true;
+  if (thread_.joinable()) thread_.join();
+}
+
+void LiveWindow::closeEvent(QCloseEvent* event) {
+  Stop();
+  event->accept();
+}
+
+void LiveWindow::Stop() {
+  stop_ = true;
+  status_->setText("stopping: the open routine cut, the recordings closed…");
+}
+
+void LiveWindow::OnFrame(const pipeline::LiveFrameSeen& seen) {
+  Buffered f;
+  f.index = seen.picture->index;
+  f.time_s = seen.picture->time_s;
+  f.arrival_s = seen.arrival_s;
+  f.jpeg = Compress(*seen.picture);  // outside the lock: the window's reads never wait for it
+  f.in_air = seen.in_air;
+  const std::lock_guard<std::mutex> lock(mutex_);
+  Buffer& b = buffers_.at(static_cast<size_t>(seen.source_index));
+  b.name = *seen.source;
+  b.picture_per_full_px = seen.picture_per_full_px;
+  if (seen.rest_line != nullptr)
+    b.rest_line = std::array<double, 2>{seen.rest_line->y0_px * seen.picture_per_full_px,
+                                        seen.rest_line->slope};
+  const double late = f.arrival_s - f.time_s;
+  b.max_lateness = std::max(b.max_lateness, late);
+  // The frames FFmpeg read to learn the stream come out together: their lateness is not the
+  // stream's.
+  if (f.index >= 30) {
+    b.lateness.push_back(late);
+    if (b.lateness.size() > 256) b.lateness.pop_front();
+  }
+  // Times that went back (a sender that restarted its clock): what would follow this frame goes.
+  while (!b.frames.empty() && b.frames.back().time_s >= f.time_s) b.frames.pop_back();
+  b.frames.push_back(std::move(f));
+  // Where the watcher saw the athlete: in this frame, and in those that waited for its
+  // background (already in the buffer).
+  if (seen.athlete != nullptr)
+    for (const vision::MotionSighting& a : *seen.athlete) {
+      if (!a.found) continue;
+      const auto it = std::lower_bound(
+          b.frames.begin(), b.frames.end(), a.time_s - 1e-6, [](const Buffered& g, double x) {
+            return g.time_s < x;
+          });
+      if (it == b.frames.end() || std::abs(it->time_s - a.time_s) > 1e-6) continue;
+      it->found = true;
+      it->sole_x = a.sole_px.x() * seen.picture_per_full_px;
+      it->sole_y = a.sole_px.y() * seen.picture_per_full_px;
+    }
+  while (b.frames.size() > kMaxFrames ||
+         (b.frames.size() > 1 && b.frames.back().time_s - b.frames.front().time_s > kKeepS))
+    b.frames.pop_front();
+}
+
+double LiveWindow::SentOffsetLocked(const Buffer& b) const {
+  if (b.lateness.size() < 20) return b.max_lateness;
+  std::vector<double> v(b.lateness.begin(), b.lateness.end());
+  const size_t k = std::min(v.size() - 1, static_cast<size_t>(0.95 * double(v.size())));
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+  return v[k];
+}
+
+double LiveWindow::sent_offset(int source) const {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  return SentOffsetLocked(buffers_.at(static_cast<size_t>(source)));
+}
+
+LiveWindow::Shown LiveWindow::shown(int source) const {
+  return shown_.at(size_t(source));
+}
+
+QImage LiveWindow::shown_image(int source) const {
+  return views_.at(size_t(source))->image();
+}
+
+double LiveWindow::shown_delay() const {
+  return std::isfinite(view_s_) ? capture::LiveClockNow() - view_s_ : delay_s_;
+}
+
+void LiveWindow::SetDelay(double seconds) {
+  delay_s_ = std::clamp(seconds, 0.0, kMaxDelayS);
+  const QSignalBlocker block(delay_slider_);
+  delay_slider_->setValue(static_cast<int>(std::lround(delay_s_ * 10)));
+  BackToLive();
+}
+
+void LiveWindow::BackToLive() {
+  rate_ = 1.0;
+  speed_box_->setCurrentIndex(0);
+  pause_button_->setText("Pause");
+  view_s_ = capture::LiveClockNow() - delay_s_;
+  last_tick_s_ = capture::LiveClockNow();
+  Tick();
+}
+
+void LiveWindow::SetSpeed(double rate) {
+  rate_ = std::clamp(rate, 0.0, 1.0);
+  pause_button_->setText(rate_ > 0 ? "Pause" : "Play");
+  if (rate_ > 0) speed_box_->setCurrentIndex(std::clamp(int(std::lround(-std::log2(rate_))), 0, 3));
+}
+
+void LiveWindow::StepFrame(int direction) {
+  SetSpeed(0.0);
+  if (buffers_.empty()) return;
+  const std::lock_guard<std::mutex> lock(mutex_);
+  const Buffer& b = buffers_[0];
+  if (b.frames.empty()) return;
+  const double offset = SentOffsetLocked(b);
+  const double t = std::isfinite(shown_[0].time_s) ? shown_[0].time_s : view_s_ - offset;
+  const auto it =
+      std::lower_bound(b.frames.begin(), b.frames.end(), t, [](const Buffered& f, double x) {
+        return f.time_s < x - 1e-9;
+      });
+  const std::ptrdiff_t k = std::clamp<std::ptrdiff_t>(
+      (it - b.frames.begin()) + direction, 0, static_cast<std::ptrdiff_t>(b.frames.size()) - 1);
+  view_s_ = b.frames[static_cast<size_t>(k)].time_s + offset + 1e-6;
+}
+
+void LiveWindow::Tick() {
+  const double now = capture::LiveClockNow();
+  const double dt = std::max(0.0, now - last_tick_s_);
+  last_tick_s_ = now;
+  if (!std::isfinite(view_s_)) view_s_ = now - delay_s_;
+  view_s_ += rate_ * dt;
+  // Never later than the slider's delay, never older than the buffer.
+  view_s_ = std::clamp(view_s_, now - kMaxDelayS, now - delay_s_);
+  for (int k = 0; k < source_count(); ++k) ShowSource(k, view_s_, now);
+  const double behind = now - view_s_;
+  delay_label_->setText(Q(fmt::format("{:.1f} s late{}",
+                                      behind,
+                                      rate_ == 0  ? ", paused"
+                                      : rate_ < 1 ? fmt::format(", {:g}×", rate_)
+                                                  : "")));
+  AdvanceReplay(dt);
+}
+
+void LiveWindow::ShowSource(int k, double view_s, double now) {
+  Buffered f;
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    const Buffer& b = buffers_[size_t(k)];
+    if (b.frames.empty()) return;
+    const double offset = SentOffsetLocked(b);
+    // The last frame sent by then (stream time + offset ≤ the clock shown).
+    const auto it = std::upper_bound(
+        b.frames.begin(), b.frames.end(), view_s - offset, [](double x, const Buffered& g) {
+          return x < g.time_s;
+        });
+    if (it == b.frames.begin()) return;  // not yet that far back
+    f = *std::prev(it);
+    view_labels_[size_t(k)]->setText(Q(b.name));
+  }
+  Shown& s = shown_[size_t(k)];
+  if (f.time_s == s.time_s && f.index == s.index) return;
+  views_[size_t(k)]->SetImage(Decompress(f.jpeg));
+  s = {f.index, f.time_s, now};
+}
+
+void LiveWindow::AddLine(const std::string& line) {
+  lines_.push_back(Q(line));
+  line_list_->addItem(Q(line));
+  line_list_->scrollToBottom();
+  status_->setText(Q(line));
+}
+
+void LiveWindow::ShowError(const std::string& line) {
+  last_error_ = line;
+  AddLine(line);
+  auto* box =
+      new QMessageBox(QMessageBox::Critical, "Acrolab live", Q(line), QMessageBox::Ok, this);
+  box->setAttribute(Qt::WA_DeleteOnClose);
+  box->open();
+}
+
+void LiveWindow::OnRoutine(const pipeline::LiveRoutine& routine) {
+  Replay r;
+  r.routine = routine;
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    const auto b = std::find_if(buffers_.begin(), buffers_.end(), [&](const Buffer& x) {
+      return x.name == routine.source;
+    });
+    if (b == buffers_.end()) return;
+    const double from = routine.first_takeoff_s - request_.pre_roll_s;
+    const double to = routine.last_landing_s + request_.post_roll_s;
+    for (const Buffered& f : b->frames)
+      if (f.time_s >= from && f.time_s <= to)
+        r.frames.push_back(f);  // the JPEGs shared, not copied
+    r.rest_line = b->rest_line;
+    r.picture_per_full_px = b->picture_per_full_px;
+  }
+  if (r.frames.empty()) return;  // older than the buffer
+  r.t_s = r.frames.front().time_s;
+  replay_ = std::move(r);
+  replay_label_->setText(Q(fmt::format("Replay: {} routine {}{} — {} jumps",
+                                       routine.source,
+                                       routine.number,
+                                       routine.interrupted ? " (interrupted)" : "",
+                                       routine.jumps.size())));
+  FillRoutineTable();
+  AdvanceReplay(0.0);
+}
+
+void LiveWindow::FillRoutineTable() {
+  const std::vector<pipeline::LiveJump>& jumps = replay_->routine.jumps;
+  routine_table_->setRowCount(static_cast<int>(jumps.size()) + 1);
+  double sum = 0;
+  const auto cell = [&](int row, int column, const std::string& text) {
+    routine_table_->setItem(row, column, new QTableWidgetItem(Q(text)));
+  };
+  for (size_t k = 0; k < jumps.size(); ++k) {
+    const pipeline::LiveJump& j = jumps[k];
+    const int row = static_cast<int>(k);
+    sum += j.jump.time_of_flight_s();
+    cell(row, 0, std::to_string(k + 1));
+    cell(row, 1, fmt::format("{:.3f}", j.jump.takeoff_s));
+    cell(row, 2, fmt::format("{:.3f}", j.jump.time_of_flight_s()));
+    cell(row,
+         3,
+         std::isfinite(j.landing_along_bed_m) ? fmt::format("{:+.2f}", j.landing_along_bed_m) : "");
+    cell(row, 4, j.zone);
+  }
+  const int last = static_cast<int>(jumps.size());
+  cell(last, 0, "all");
+  cell(last, 2, fmt::format("{:.3f} (T {:.3f})", sum, fig::TruncateTimeOfFlight(sum, 0.005)));
+}
+
+double LiveWindow::replay_time_s() const {
+  return replay_ ? replay_->t_s : kNaN;
+}
+
+QImage LiveWindow::replay_image() const {
+  return replay_view_->image();
+}
+
+void LiveWindow::AdvanceReplay(double dt) {
+  if (!replay_) return;
+  Replay& r = *replay_;
+  const double end = r.frames.back().time_s;
+  if (r.t_s >= end) {
+    r.held_s += dt;
+    if (r.held_s > kHoldAtEndS) {
+      r.held_s = 0;
+      r.t_s = r.frames.front().time_s;
+    }
+  } else {
+    r.t_s = std::min(end, r.t_s + replay_rate_ * dt);
+  }
+  const auto it =
+      std::upper_bound(r.frames.begin(), r.frames.end(), r.t_s, [](double x, const Buffered& g) {
+        return x < g.time_s;
+      });
+  const int k = static_cast<int>(std::max<std::ptrdiff_t>(0, (it - r.frames.begin()) - 1));
+  if (k == r.shown) return;
+  r.shown = k;
+  r.image = DrawReplayFrame(r, static_cast<size_t>(k));
+  replay_view_->SetImage(r.image);
+}
+
+// The frame with what the image motion measured over it: the bed's rest line, the soles' path
+// through the flight so far, every landing so far with its number, and the running numbers.
+QImage LiveWindow::DrawReplayFrame(const Replay& r, size_t k) const {
+  QImage image = Decompress(r.frames[k].jpeg);
+  const double t = r.frames[k].time_s;
+  QPainter p(&image);
+  p.setRenderHint(QPainter::Antialiasing);
+  const double scale = image.width() / 640.0;  // sizes chosen for a 640-px picture
+  if (r.rest_line) {
+    QPen pen(QColor(255, 255, 255, 200), 1.5 * scale, Qt::DashLine);
+    p.setPen(pen);
+    const double y0 = (*r.rest_line)[0], slope = (*r.rest_line)[1];
+    p.drawLine(QPointF(0, y0), QPointF(image.width(), y0 + slope * image.width()));
+  }
+  const std::vector<pipeline::LiveJump>& jumps = r.routine.jumps;
+  // The jump in the air now, or the last one landed.
+  const pipeline::LiveJump* current = nullptr;
+  int landed = 0;
+  double sum = 0;
+  for (const pipeline::LiveJump& j : jumps) {
+    if (j.jump.landing_s <= t) {
+      ++landed;
+      sum += j.jump.time_of_flight_s();
+    }
+    if (j.jump.takeoff_s <= t) current = &j;
+  }
+  if (current != nullptr && t < current->jump.landing_s) {
+    // The soles' path since the take-off.
+    p.setPen(Qt::NoPen);
+    p.setBrush(QColor(255, 210, 0));
+    for (size_t i = 0; i <= k; ++i) {
+      const Buffered& f = r.frames[i];
+      if (f.time_s >= current->jump.takeoff_s && f.found)
+        p.drawEllipse(QPointF(f.sole_x, f.sole_y), 2.5 * scale, 2.5 * scale);
+    }
+  }
+  QFont font = p.font();
+  font.setPixelSize(static_cast<int>(13 * scale));
+  font.setBold(true);
+  p.setFont(font);
+  for (size_t i = 0; i < jumps.size(); ++i) {
+    const pipeline::LiveJump& j = jumps[i];
+    if (j.jump.landing_s > t) continue;
+    const QPointF at(j.jump.landing_px.x() * r.picture_per_full_px,
+                     j.jump.landing_px.y() * r.picture_per_full_px);
+    const bool latest = static_cast<int>(i) + 1 == landed;
+    p.setPen(QPen(latest ? QColor(0, 230, 120) : QColor(0, 160, 255), 2 * scale));
+    p.setBrush(Qt::NoBrush);
+    p.drawEllipse(at, 6 * scale, 3 * scale);
+    p.drawText(at + QPointF((i % 2 == 0 ? -14.0 : 8.0) * scale, -6 * scale),
+               QString::number(i + 1));
+  }
+  // The numbers: what a coach reads on the hall's screen.
+  std::string top = fmt::format("{} · routine {}", r.routine.source, r.routine.number);
+  std::string middle;
+  if (current != nullptr && t < current->jump.landing_s) {
+    middle = fmt::format("jump {} of {} · in the air {:.2f} s",
+                         current - jumps.data() + 1,
+                         jumps.size(),
+                         t - current->jump.takeoff_s);
+  } else if (landed > 0) {
+    const pipeline::LiveJump& j = jumps[size_t(landed - 1)];
+    middle = fmt::format("jump {}: {:.3f} s{}",
+                         landed,
+                         j.jump.time_of_flight_s(),
+                         j.zone.empty() ? "" : "  zone " + j.zone);
+  } else {
+    middle = "before the first take-off";
+  }
+  const std::string bottom =
+      fmt::format("time of flight {:.3f} s over {} jump{}", sum, landed, landed == 1 ? "" : "s");
+  const QRectF box(8 * scale, 8 * scale, 300 * scale, 62 * scale);
+  p.setPen(Qt::NoPen);
+  p.setBrush(QColor(0, 0, 0, 160));
+  p.drawRoundedRect(box, 4 * scale, 4 * scale);
+  p.setPen(QColor(255, 255, 255));
+  p.drawText(box.adjusted(8 * scale, 4 * scale, 0, 0), Qt::AlignLeft | Qt::AlignTop, Q(top));
+  p.setPen(QColor(255, 210, 0));
+  p.drawText(box.adjusted(8 * scale, 22 * scale, 0, 0), Qt::AlignLeft | Qt::AlignTop, Q(middle));
+  p.setPen(QColor(200, 230, 255));
+  p.drawText(box.adjusted(8 * scale, 40 * scale, 0, 0), Qt::AlignLeft | Qt::AlignTop, Q(bottom));
+  return image;
+}
+
+}  // namespace acro::studio

@@ -1,0 +1,171 @@
+#pragma once
+
+// The studio's live mode (docs/live.md, "The window"): the hall's cameras shown N seconds late
+// (a slider, 0–60 s), in slow motion or a frame at a time inside that delay, and every routine
+// replayed by itself as soon as it is cut, with what the image motion measured drawn over it —
+// the soles' path, each landing's spot and number, each jump's time of flight and zone. The
+// session is pipeline::RunLive, as `acrolab live`'s: recorded frame-exact, jumps.jsonl, a folder
+// per routine.
+
+#include <QByteArray>
+#include <QImage>
+#include <QStringList>
+#include <QWidget>
+
+#include <array>
+#include <atomic>
+#include <deque>
+#include <limits>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "acro/pipeline/live.h"
+
+class QComboBox;
+class QLabel;
+class QListWidget;
+class QPushButton;
+class QSlider;
+class QTableWidget;
+class QTimer;
+
+namespace acro::studio {
+
+class ImageView;
+
+class LiveWindow : public QWidget {
+ public:
+  static constexpr double kMaxDelayS = 60.0;
+  /// A frame as the delay buffer keeps it (JPEG, quality 90), and back (the window's hot path on
+  /// the sources' threads and the display's: tests/bench/studio_bench).
+  static QByteArray Compress(const capture::VideoFrame& picture);
+  static QImage Decompress(const QByteArray& jpeg);
+
+  /// Starts the session at once, on a thread of its own: `request`'s sources, folder and options
+  /// (its callbacks are the window's). A session that cannot start (a folder in use) is a dialog.
+  LiveWindow(pipeline::LiveRequest request, double delay_s, QWidget* parent = nullptr);
+  /// Stops the session: the sources closed, what was recorded kept, the open routine cut.
+  ~LiveWindow() override;
+
+  /// The delay (s, 0–60): the sources shown that long after they sent, at normal speed.
+  void SetDelay(double seconds);
+  double delay() const { return delay_s_; }
+  /// How far behind the sources the picture is now (grows in slow motion, and when paused).
+  double shown_delay() const;
+  /// 1, ½, ¼, ⅛; 0 pauses. Slower than 1 falls behind, up to the buffer's 60 s.
+  void SetSpeed(double rate);
+  double speed() const { return rate_; }
+  /// A frame later (1) or earlier (−1) of the first source, paused.
+  void StepFrame(int direction);
+  /// Back to the slider's delay at normal speed.
+  void BackToLive();
+  /// Ends the session (the window stays, with what it holds).
+  void Stop();
+  bool running() const { return !finished_; }
+
+  int source_count() const { return static_cast<int>(buffers_.size()); }
+  /// The frame a source's view shows: its index (from the connection's first frame), stream time
+  /// on the session's time line, and when it was put up (capture::LiveClockNow).
+  struct Shown {
+    int index = -1;
+    double time_s = std::numeric_limits<double>::quiet_NaN();
+    double at_s = std::numeric_limits<double>::quiet_NaN();
+  };
+  Shown shown(int source) const;
+  QImage shown_image(int source) const;
+  /// The source's clock: stream time t was sent at t + this (s on LiveClockNow's clock), the 95th
+  /// percentile of arrival − stream time over its last 256 frames (a frame is only shown once it
+  /// has arrived; with B-frames, pictures are sent ahead of their time).
+  double sent_offset(int source) const;
+
+  /// The routine being replayed (0: none yet), its source, and the stream time of its frame up.
+  int replay_routine() const { return replay_ ? replay_->routine.number : 0; }
+  std::string replay_source() const { return replay_ ? replay_->routine.source : ""; }
+  double replay_time_s() const;
+  QImage replay_image() const;
+  /// Every line of the session so far (the jumps, routines, sources' ends), oldest first.
+  QStringList lines() const { return lines_; }
+  std::string last_error() const { return last_error_; }
+  /// After the session ended: what RunLive returned.
+  const std::optional<pipeline::LiveSummary>& summary() const { return summary_; }
+
+ protected:
+  void closeEvent(QCloseEvent* event) override;
+
+ private:
+  // One frame in the delay buffer: the picture as JPEG (about 30 KB at 640 px against 690 KB raw:
+  // a minute of two cameras in 120 MB), with what the watcher saw in it (the picture's px).
+  struct Buffered {
+    int index = 0;
+    double time_s = 0, arrival_s = 0;
+    QByteArray jpeg;
+    bool found = false, in_air = false;
+    double sole_x = 0, sole_y = 0;
+  };
+  struct Buffer {
+    std::string name;
+    std::deque<Buffered> frames;
+    std::deque<double> lateness;  // arrival − stream time, the last 256 frames past the 30th
+    double max_lateness = -std::numeric_limits<double>::infinity();
+    std::optional<std::array<double, 2>> rest_line;  // y0, slope in the picture's px
+    double picture_per_full_px = 1.0;
+  };
+  struct Replay {
+    pipeline::LiveRoutine routine;
+    std::vector<Buffered> frames;
+    std::optional<std::array<double, 2>> rest_line;
+    double picture_per_full_px = 1.0;
+    double t_s = 0;     // stream time of the frame up
+    double held_s = 0;  // at the end: how long it has been held before starting again
+    int shown = -1;
+    QImage image;
+  };
+
+  void OnFrame(const pipeline::LiveFrameSeen& seen);
+  void OnRoutine(const pipeline::LiveRoutine& routine);
+  void AddLine(const std::string& line);
+  void ShowError(const std::string& line);
+  void Tick();
+  void ShowSource(int k, double view_s, double now);
+  void AdvanceReplay(double dt);
+  QImage DrawReplayFrame(const Replay& r, size_t k) const;
+  void FillRoutineTable();
+  double SentOffsetLocked(const Buffer& b) const;
+
+  pipeline::LiveRequest request_;
+  std::atomic<bool> stop_{false};
+  std::atomic<bool> finished_{false};
+  std::thread thread_;
+  mutable std::mutex mutex_;  // the buffers (written by the sources' threads)
+  std::vector<Buffer> buffers_;
+
+  double delay_s_ = 5.0;
+  double rate_ = 1.0;
+  double view_s_ = std::numeric_limits<double>::quiet_NaN();  // the sent clock shown
+  double last_tick_s_ = 0;
+  std::vector<Shown> shown_;
+  std::optional<Replay> replay_;
+  double replay_rate_ = 1.0;
+  QStringList lines_;
+  std::string last_error_;
+  std::optional<pipeline::LiveSummary> summary_;
+
+  std::vector<ImageView*> views_;
+  std::vector<QLabel*> view_labels_;
+  ImageView* replay_view_ = nullptr;
+  QLabel* replay_label_ = nullptr;
+  QTableWidget* routine_table_ = nullptr;
+  QSlider* delay_slider_ = nullptr;
+  QLabel* delay_label_ = nullptr;
+  QComboBox* speed_box_ = nullptr;
+  QComboBox* replay_speed_box_ = nullptr;
+  QPushButton* pause_button_ = nullptr;
+  QListWidget* line_list_ = nullptr;
+  QLabel* status_ = nullptr;
+  QTimer* timer_ = nullptr;
+};
+
+}  // namespace acro::studio
