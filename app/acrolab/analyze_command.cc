@@ -20,6 +20,7 @@
 #include "acro/fig/rules.h"
 #include "acro/pipeline/monocular_input.h"
 #include "acro/pipeline/steps.h"
+#include "acro/pose/pose_models.h"
 #include "acro/report/analysis_report.h"
 #include "acro/scene/silhouette_check.h"
 #include "acro/scene/trial_scene.h"
@@ -54,6 +55,9 @@ struct AnalyzeArguments {
   // "The camera from the video alone"), the intrinsics from a checkerboard's file if given.
   bool detect_bed = false;
   std::string intrinsics;
+  // Videos without a trial: the detector (lite, full or heavy); the jumps' filmstrip videos.
+  std::string model = "heavy";
+  bool filmstrip_videos = true;
 };
 
 // The plotted joint must exist before any work is done (and before any file is written).
@@ -198,6 +202,7 @@ pipeline::MonocularInput OpenOneCameraFor(const AnalyzeArguments& args,
   request.camera = v.camera;
   request.detect_bed = args.detect_bed;
   request.intrinsics = args.intrinsics;
+  request.model = pose::ParseLandmarkModel(args.model);
   request.athlete = common.Request().athlete;
   pipeline::MonocularInput mono = pipeline::OpenMonocular(request, MakeStepProgress(common.quiet));
   if (!common.quiet) std::fputs(mono.Report().c_str(), stderr);
@@ -223,6 +228,7 @@ pipeline::ViewsInput OpenVideosFor(const AnalyzeArguments& args, const TrialArgu
     request.cameras.push_back(pipeline::VideoSource(path, cameras, v.calibration));
   request.calibration = v.calibration;
   request.up = common.up;
+  request.model = pose::ParseLandmarkModel(args.model);
   request.athlete = common.Request().athlete;
   request.use = "the analysis";
   return OpenViewsFor("analyze", request, common.quiet);
@@ -344,7 +350,8 @@ int RunAnalyze(AnalyzeArguments& args) {
   ui::AnalysisReportOptions& report = args.report;
   report.athlete = input.athlete.name;
   if (video) AnalyzeVideo(*video, input, &result, dir, &report, common.quiet);
-  if (args.images) AnalyzeFilmstrips(input, result, dir, video.has_value(), &report);
+  if (args.images)
+    AnalyzeFilmstrips(input, result, dir, video.has_value() && args.filmstrip_videos, &report);
   analysis::WriteAnalysisTables(result, dir);
   // Which Acrolab analysed which content (for acrolab library add --analysis).
   WriteFileAtomically(dir / "analysis.json", pipeline::FormatAnalysisProvenance(input));
@@ -409,6 +416,16 @@ void AddAnalyzeCommand(CLI::App& app, CommandRunner* run) {
       "phases from the body's centre of mass even when plates exist");
   command->add_flag_callback(
       "--no-images", [args] { args->images = false; }, "the report without charts");
+  command->add_flag_callback(
+      "--no-filmstrip-videos",
+      [args] { args->filmstrip_videos = false; },
+      "with a video: each jump's filmstrip as a picture only, not also as a video");
+  command
+      ->add_option("--model",
+                   args->model,
+                   "videos without TRIAL: the detector, lite, full or heavy (default heavy, the "
+                   "most accurate; full is about 3× faster, docs/pose.md)")
+      ->check(CLI::IsMember({"lite", "full", "heavy"}));
   args->video.Declare(command, false);
   command->add_option("--detections",
                       args->detections,

@@ -26,15 +26,17 @@ struct LiveArguments {
   double duration_s = 0, rest_s = 1.5, open_timeout_s = 10, stall_timeout_s = 5, segment_s = 60,
          reconnect_s = 30;
   bool unpaced = false, quiet = false, no_analysis = false;
+  std::string analysis_model = "heavy";
 };
 
 // Each routine's full analysis as its clip is written (`acrolab analyze --video clip.ts
-// --detect-bed`), one at a time in a process of its own — as `batch` runs its trials: a routine
+// --detect-bed --model heavy --no-filmstrip-videos`: no jump videos, the report sooner), one at a
+// time in a process of its own — as `batch` runs its trials: a routine
 // that cannot be analysed never stops the recording, and Ctrl-C stops the analysis with the rest.
 class RoutineAnalyses {
  public:
-  explicit RoutineAnalyses(std::function<void(const std::string&)> line)
-      : line_(std::move(line)), worker_([this] { Work(); }) {}
+  RoutineAnalyses(std::function<void(const std::string&)> line, std::string model)
+      : line_(std::move(line)), model_(std::move(model)), worker_([this] { Work(); }) {}
   ~RoutineAnalyses() {
     {
       const std::lock_guard<std::mutex> lock(mutex_);
@@ -76,6 +78,9 @@ class RoutineAnalyses {
                                                 "--video",
                                                 (r.folder / "clip.ts").string(),
                                                 "--detect-bed",
+                                                "--model",
+                                                model_,
+                                                "--no-filmstrip-videos",
                                                 "--quiet",
                                                 "-o",
                                                 out.string()};
@@ -94,6 +99,7 @@ class RoutineAnalyses {
     }
   }
   std::function<void(const std::string&)> line_;
+  std::string model_;
   std::mutex mutex_;
   std::condition_variable wake_;
   std::deque<pipeline::LiveRoutine> queue_;
@@ -123,7 +129,7 @@ int RunLiveCommand(const LiveArguments& args) {
   if (!request.IsValid(&why)) throw UsageError{why};
   std::optional<RoutineAnalyses> analyses;
   if (!args.no_analysis) {
-    analyses.emplace(line);
+    analyses.emplace(line, args.analysis_model);
     request.on_routine = [&analyses](const pipeline::LiveRoutine& r) {
       if (r.clip_error.empty()) analyses->Add(r);
     };
@@ -192,6 +198,13 @@ void AddLiveCommand(CLI::App& app, CommandRunner* run) {
   command->add_flag("--as-fast-as-decoded",
                     args->unpaced,
                     "read files as fast as they decode instead of at their own pace");
+  command
+      ->add_option("--analysis-model",
+                   args->analysis_model,
+                   "the detector of each routine's analysis: heavy (default, the most accurate), "
+                   "full (about 3× faster; on the sample its time of flight came 0.38 s longer) "
+                   "or lite (docs/live.md)")
+      ->check(CLI::IsMember({"lite", "full", "heavy"}));
   command->add_flag("--no-analysis",
                     args->no_analysis,
                     "cut routines but do not analyse them (`acrolab analyze --video clip.ts "
