@@ -27,6 +27,7 @@ struct LiveArguments {
          reconnect_s = 30;
   bool unpaced = false, quiet = false, no_analysis = false;
   std::string analysis_model = "heavy";
+  std::string athlete, library;  // each routine analysed for the athlete, stored in the library
 };
 
 // Each routine's full analysis as its clip is written (`acrolab analyze --video clip.ts
@@ -35,8 +36,8 @@ struct LiveArguments {
 // that cannot be analysed never stops the recording, and Ctrl-C stops the analysis with the rest.
 class RoutineAnalyses {
  public:
-  RoutineAnalyses(std::function<void(const std::string&)> line, std::string model)
-      : line_(std::move(line)), model_(std::move(model)), worker_([this] { Work(); }) {}
+  RoutineAnalyses(std::function<void(const std::string&)> line, const LiveArguments& args)
+      : line_(std::move(line)), args_(args), worker_([this] { Work(); }) {}
   ~RoutineAnalyses() {
     {
       const std::lock_guard<std::mutex> lock(mutex_);
@@ -73,18 +74,22 @@ class RoutineAnalyses {
         queue_.pop_front();
       }
       const std::filesystem::path out = r.folder / "analysis";
-      const std::vector<std::string> command = {CurrentExecutable(),
-                                                "analyze",
-                                                "--video",
-                                                (r.folder / "clip.ts").string(),
-                                                "--detect-bed",
-                                                "--model",
-                                                model_,
-                                                "--no-filmstrip-videos",
-                                                "--quiet",
-                                                "-o",
-                                                out.string()};
-      RunProcesses({command}, 1, [&](size_t, const ProcessOutcome& o) {
+      const std::string clip = (r.folder / "clip.ts").string();
+      std::vector<std::string> analyze = {CurrentExecutable(),
+                                          "analyze",
+                                          "--video",
+                                          clip,
+                                          "--detect-bed",
+                                          "--model",
+                                          args_.analysis_model,
+                                          "--no-filmstrip-videos",
+                                          "--quiet",
+                                          "-o",
+                                          out.string()};
+      if (!args_.athlete.empty()) analyze.insert(analyze.end(), {"--athlete", args_.athlete});
+      bool analysed = false;
+      RunProcesses({analyze}, 1, [&](size_t, const ProcessOutcome& o) {
+        analysed = o.ok();
         line_(o.ok() ? fmt::format("{}  routine {} analysed in {:.1f} s: {}",
                                    r.source,
                                    r.number,
@@ -96,10 +101,31 @@ class RoutineAnalyses {
                                    o.seconds,
                                    o.last_error_line));
       });
+      if (!analysed || args_.library.empty()) continue;
+      // The analysis stored as it is (library add --analysis: the clip is one of its inputs).
+      const std::vector<std::string> add = {CurrentExecutable(),
+                                            "library",
+                                            "add",
+                                            clip,
+                                            "--analysis",
+                                            out.string(),
+                                            "--athlete",
+                                            args_.athlete,
+                                            "--library",
+                                            args_.library,
+                                            "--quiet"};
+      RunProcesses({add}, 1, [&](size_t, const ProcessOutcome& o) {
+        line_(o.ok() ? fmt::format(
+                           "{}  routine {} in the library {}", r.source, r.number, args_.library)
+                     : fmt::format("{}  routine {} not added to the library: {}",
+                                   r.source,
+                                   r.number,
+                                   o.last_error_line));
+      });
     }
   }
   std::function<void(const std::string&)> line_;
-  std::string model_;
+  const LiveArguments& args_;
   std::mutex mutex_;
   std::condition_variable wake_;
   std::deque<pipeline::LiveRoutine> queue_;
@@ -127,9 +153,13 @@ int RunLiveCommand(const LiveArguments& args) {
   request.on_line = line;
   std::string why;
   if (!request.IsValid(&why)) throw UsageError{why};
+  if (!args.library.empty() && args.athlete.empty())
+    throw UsageError{"--library stores each routine under an athlete: give --athlete A.yaml"};
+  if (!args.library.empty() && args.no_analysis)
+    throw UsageError{"--library stores each routine's analysis: not with --no-analysis"};
   std::optional<RoutineAnalyses> analyses;
   if (!args.no_analysis) {
-    analyses.emplace(line, args.analysis_model);
+    analyses.emplace(line, args);
     request.on_routine = [&analyses](const pipeline::LiveRoutine& r) {
       if (r.clip_error.empty()) analyses->Add(r);
     };
@@ -205,6 +235,15 @@ void AddLiveCommand(CLI::App& app, CommandRunner* run) {
                    "full (about 3× faster; on the sample its time of flight came 0.38 s longer) "
                    "or lite (docs/live.md)")
       ->check(CLI::IsMember({"lite", "full", "heavy"}));
+  command
+      ->add_option("--athlete",
+                   args->athlete,
+                   "the athlete jumping (their profile, YAML): each routine analysed for them")
+      ->check(CLI::ExistingFile);
+  command->add_option(
+      "--library",
+      args->library,
+      "store each routine's analysis in this season library under --athlete (docs/library.md)");
   command->add_flag("--no-analysis",
                     args->no_analysis,
                     "cut routines but do not analyse them (`acrolab analyze --video clip.ts "

@@ -1,5 +1,6 @@
 #include "acro/library/add_trial.h"
 
+#include <algorithm>
 #include <chrono>
 #include <ctime>
 #include <system_error>
@@ -38,6 +39,9 @@ std::filesystem::path Absolute(const std::filesystem::path& p) {
 struct ImportedAnalysis {
   std::string version;
   std::string trial_sha256;
+  /// The files an analysis of videos or detections read, by their SHA-256 (analysis.json's
+  /// "inputs").
+  std::vector<std::string> input_sha256;
   std::string jumps_json;
 };
 
@@ -54,6 +58,17 @@ ImportedAnalysis ReadAnalysisDirectory(const std::filesystem::path& dir) {
       throw InputError(provenance.string(), key, "missing or not text");
   out.version = doc["acrolab_version"].get<std::string>();
   out.trial_sha256 = doc["trial_sha256"].get<std::string>();
+  if (doc.contains("inputs")) {
+    const Json& inputs = doc["inputs"];
+    if (!inputs.is_array()) throw InputError(provenance.string(), "inputs", "not a list");
+    for (size_t i = 0; i < inputs.size(); ++i) {
+      const Json& f = inputs[i];
+      if (!f.is_object() || !f.contains("sha256") || !f["sha256"].is_string())
+        throw InputError(
+            provenance.string(), fmt::format("inputs[{}].sha256", i), "missing or not text");
+      out.input_sha256.push_back(f["sha256"].get<std::string>());
+    }
+  }
   out.jumps_json = ReadText(dir / "jumps.json", std::int64_t(256) << 20);
   return out;
 }
@@ -129,7 +144,12 @@ AddResult AddTrial(Library& library, const AddRequest& request, const AddOptions
   if (!request.analysis_dir.empty()) {
     // An analysis made elsewhere: it must be of this content.
     const ImportedAnalysis imported = ReadAnalysisDirectory(request.analysis_dir);
-    if (imported.trial_sha256 != result.sha256)
+    // The trial's own analysis, or one of videos or detections of which this file is one.
+    const bool read_it =
+        imported.trial_sha256 == result.sha256 ||
+        std::find(imported.input_sha256.begin(), imported.input_sha256.end(), result.sha256) !=
+            imported.input_sha256.end();
+    if (!read_it)
       throw InputError((request.analysis_dir / "analysis.json").string(),
                        "trial_sha256",
                        fmt::format("{}… is not {}'s content ({}…): an analysis of another file",

@@ -305,8 +305,13 @@ MonocularInput OpenMonocular(const MonocularRequest& request, const Progress& pr
   // The bytes the camera came from (none when the video alone gave it) and the source's.
   const std::filesystem::path& camera_file =
       request.detect_bed ? request.intrinsics : request.calibration;
-  in.sha256 = Sha256Hex((camera_file.empty() ? std::string() : Sha256OfFile(camera_file)) +
-                        HashOfSource(source));
+  const std::string camera_hash = camera_file.empty() ? std::string() : Sha256OfFile(camera_file);
+  const std::string source_hash = HashOfSource(source);
+  in.sha256 = Sha256Hex(camera_hash + source_hash);
+  in.inputs.push_back({request.video.empty() ? "detections" : "video", source, source_hash});
+  if (!camera_file.empty())
+    in.inputs.push_back(
+        {request.detect_bed ? "intrinsics" : "calibration", camera_file, camera_hash});
   in.trial = points.ToTrial(
       rate,
       fmt::format("one camera's keypoints (camera from {}) on the plane {:.2f} m away",

@@ -63,6 +63,14 @@ std::string FormatAnalysisProvenance(const TrialInput& input) {
   const std::filesystem::path absolute = std::filesystem::weakly_canonical(input.path, ec);
   o["trial"] = (ec ? std::filesystem::absolute(input.path).lexically_normal() : absolute).string();
   o["trial_sha256"] = input.sha256;
+  if (!input.inputs.empty()) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const TrialInput::HashedFile& f : input.inputs)
+      list.push_back({{"path", std::filesystem::absolute(f.path).lexically_normal().string()},
+                      {"role", f.role},
+                      {"sha256", f.sha256}});
+    o["inputs"] = list;
+  }
   o["athlete"] = input.athlete.name;
   const std::time_t now = std::time(nullptr);
   std::tm tm{};

@@ -143,6 +143,8 @@ ViewsInput OpenViews(const ViewsRequest& request, const Progress& progress) {
   std::vector<analysis::CameraView> views;
   std::vector<double> rates;
   std::string provenance = Sha256OfFile(request.calibration) + "\n";
+  out.input.inputs.push_back(
+      {"calibration", request.calibration, provenance.substr(0, provenance.size() - 1)});
   // The cameras given by their videos: detected first, side by side (cached beside each video).
   std::vector<std::filesystem::path> videos;
   for (const CameraSource& s : request.cameras)
@@ -175,10 +177,14 @@ ViewsInput OpenViews(const ViewsRequest& request, const Progress& progress) {
       if (p.frames_with_pose() == 0)
         warnings.push_back(
             fmt::format("camera {}: the detector found nobody in {}", s.camera, s.video.string()));
-      provenance += s.camera + " " + Sha256OfFile(s.video) + "\n";
+      const std::string hash = Sha256OfFile(s.video);
+      provenance += s.camera + " " + hash + "\n";
+      out.input.inputs.push_back({"video " + s.camera, s.video, hash});
     } else {
       view.detections = capture::ReadDetections(s.detections, request.keypoint_set);
-      provenance += s.camera + " " + HashOfSource(s.detections) + "\n";
+      const std::string hash = HashOfSource(s.detections);
+      provenance += s.camera + " " + hash + "\n";
+      out.input.inputs.push_back({"detections " + s.camera, s.detections, hash});
     }
     for (const std::string& w : view.detections.warnings) warnings.push_back(s.camera + ": " + w);
     if (!views.empty())

@@ -58,9 +58,9 @@ struct TrialRequest {
   /// The file's up axis: "auto" (found from the head and the feet), or "x", "-y", … (up_axis.h).
   std::string up = "auto";
   AthleteChoice athlete;
-  /// What the door needs of the trial, checked once when it is opened (capture::DemandUsableContent):
-  /// at least this many frames holding a marker position, and a marker with one. Two for what
-  /// measures motion (a velocity needs two); `reconstruct` takes one.
+  /// What the door needs of the trial, checked once when it is opened
+  /// (capture::DemandUsableContent): at least this many frames holding a marker position, and a
+  /// marker with one. Two for what measures motion (a velocity needs two); `reconstruct` takes one.
   int min_frames = 2;
   std::string use = "the analysis";
 };
@@ -69,8 +69,19 @@ struct TrialInput {
   std::filesystem::path path;  ///< as given
   capture::Trial trial;        ///< Z up
   std::optional<capture::Trial> static_trial;
-  /// SHA-256 of the bytes parsed (read once: a file changed afterwards does not change it).
+  /// SHA-256 of the bytes parsed (read once: a file changed afterwards does not change it); for
+  /// an input made from videos or detections, of `inputs`' hashes.
   std::string sha256;
+  /// An input made from other files (videos, detections, a calibration): each file read, its
+  /// role ("video", "video side", "detections", "calibration", "intrinsics") and its SHA-256 —
+  /// what analysis.json lists, so that `library add FILE --analysis DIR` knows the analysis is
+  /// of FILE. Empty for a trial read from its own file.
+  struct HashedFile {
+    std::string role;
+    std::filesystem::path path;
+    std::string sha256;
+  };
+  std::vector<HashedFile> inputs;
   std::int64_t size_bytes = 0;
   analysis::UpAxis up;  ///< what OrientTrialUp found
   Athlete athlete;
