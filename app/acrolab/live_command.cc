@@ -2,19 +2,17 @@
 // [--segment S] [--as-fast-as-decoded]: live cameras and streams recorded, every jump's line as it
 // lands, every routine cut into its own folder (docs/live.md).
 
-#include <condition_variable>
 #include <cstdio>
-#include <deque>
 #include <memory>
 #include <mutex>
 #include <optional>
-#include <thread>
 
 #include <fmt/format.h>
 
 #include "acro/base/process.h"
 #include "acro/base/text.h"
 #include "acro/pipeline/live.h"
+#include "acro/pipeline/live_analyses.h"
 #include "commands.h"
 
 namespace acro::app {
@@ -28,109 +26,6 @@ struct LiveArguments {
   bool unpaced = false, quiet = false, no_analysis = false;
   std::string analysis_model = "heavy";
   std::string athlete, library;  // each routine analysed for the athlete, stored in the library
-};
-
-// Each routine's full analysis as its clip is written (`acrolab analyze --video clip.ts
-// --detect-bed --model heavy --no-filmstrip-videos`: no jump videos, the report sooner), one at a
-// time in a process of its own — as `batch` runs its trials: a routine
-// that cannot be analysed never stops the recording, and Ctrl-C stops the analysis with the rest.
-class RoutineAnalyses {
- public:
-  RoutineAnalyses(std::function<void(const std::string&)> line, const LiveArguments& args)
-      : line_(std::move(line)), args_(args), worker_([this] { Work(); }) {}
-  ~RoutineAnalyses() {
-    {
-      const std::lock_guard<std::mutex> lock(mutex_);
-      closing_ = true;
-    }
-    wake_.notify_all();
-    worker_.join();
-  }
-  void Add(const pipeline::LiveRoutine& routine) {
-    {
-      const std::lock_guard<std::mutex> lock(mutex_);
-      queue_.push_back(routine);
-    }
-    wake_.notify_all();
-  }
-
- private:
-  void Work() {
-    // Nothing here may end the recording (an exception out of this thread would end the program).
-    try {
-      Loop();
-    } catch (const std::exception& e) {
-      line_(std::string("the routines' analyses stopped: ") + e.what());
-    }
-  }
-  void Loop() {
-    for (;;) {
-      pipeline::LiveRoutine r;
-      {
-        std::unique_lock<std::mutex> lock(mutex_);
-        wake_.wait(lock, [this] { return closing_ || !queue_.empty(); });
-        if (queue_.empty()) return;
-        r = queue_.front();
-        queue_.pop_front();
-      }
-      const std::filesystem::path out = r.folder / "analysis";
-      const std::string clip = (r.folder / "clip.ts").string();
-      std::vector<std::string> analyze = {CurrentExecutable(),
-                                          "analyze",
-                                          "--video",
-                                          clip,
-                                          "--detect-bed",
-                                          "--model",
-                                          args_.analysis_model,
-                                          "--no-filmstrip-videos",
-                                          "--quiet",
-                                          "-o",
-                                          out.string()};
-      if (!args_.athlete.empty()) analyze.insert(analyze.end(), {"--athlete", args_.athlete});
-      bool analysed = false;
-      RunProcesses({analyze}, 1, [&](size_t, const ProcessOutcome& o) {
-        analysed = o.ok();
-        line_(o.ok() ? fmt::format("{}  routine {} analysed in {:.1f} s: {}",
-                                   r.source,
-                                   r.number,
-                                   o.seconds,
-                                   (out / "report.html").string())
-                     : fmt::format("{}  routine {} not analysed ({:.1f} s): {}",
-                                   r.source,
-                                   r.number,
-                                   o.seconds,
-                                   o.last_error_line));
-      });
-      if (!analysed || args_.library.empty()) continue;
-      // The analysis stored as it is (library add --analysis: the clip is one of its inputs).
-      const std::vector<std::string> add = {CurrentExecutable(),
-                                            "library",
-                                            "add",
-                                            clip,
-                                            "--analysis",
-                                            out.string(),
-                                            "--athlete",
-                                            args_.athlete,
-                                            "--library",
-                                            args_.library,
-                                            "--quiet"};
-      RunProcesses({add}, 1, [&](size_t, const ProcessOutcome& o) {
-        line_(o.ok() ? fmt::format(
-                           "{}  routine {} in the library {}", r.source, r.number, args_.library)
-                     : fmt::format("{}  routine {} not added to the library: {}",
-                                   r.source,
-                                   r.number,
-                                   o.last_error_line));
-      });
-    }
-  }
-  std::function<void(const std::string&)> line_;
-  const LiveArguments& args_;
-  std::mutex mutex_;
-  std::condition_variable wake_;
-  std::deque<pipeline::LiveRoutine> queue_;
-  bool closing_ = false;
-  std::thread worker_;
 };
 
 int RunLiveCommand(const LiveArguments& args) {
@@ -157,12 +52,16 @@ int RunLiveCommand(const LiveArguments& args) {
     throw UsageError{"--library stores each routine under an athlete: give --athlete A.yaml"};
   if (!args.library.empty() && args.no_analysis)
     throw UsageError{"--library stores each routine's analysis: not with --no-analysis"};
-  std::optional<RoutineAnalyses> analyses;
+  std::optional<pipeline::RoutineAnalysisQueue> analyses;
   if (!args.no_analysis) {
-    analyses.emplace(line, args);
-    request.on_routine = [&analyses](const pipeline::LiveRoutine& r) {
-      if (r.clip_error.empty()) analyses->Add(r);
-    };
+    pipeline::RoutineAnalysisOptions o;
+    o.acrolab = CurrentExecutable();
+    o.model = args.analysis_model;
+    o.athlete = args.athlete;
+    o.library = args.library;
+    o.on_line = line;
+    analyses.emplace(o);
+    request.on_routine = [&analyses](const pipeline::LiveRoutine& r) { analyses->Add(r); };
   }
   const pipeline::LiveSummary summary = pipeline::RunLive(request);
   analyses.reset();  // the routines' analyses finished

@@ -69,7 +69,9 @@ int main(int argc, char** argv) {
     request.reconnect_s = reconnect_s;
     std::string why;
     if (!request.IsValid(&why)) return fail(why);
-    return acro::studio::RunStudioLive(argc, argv, request, delay_s);
+    if (!library.empty() && files.athlete.empty())
+      return fail("--live --library stores each routine under an athlete: give --athlete");
+    return acro::studio::RunStudioLive(argc, argv, request, delay_s, files.athlete, library);
   }
   if (videos.size() != calibrations.size())
     return fail("--video and --calib go together: " + std::to_string(videos.size()) + " videos, " +

@@ -7,7 +7,8 @@
 // - slow motion falls behind by half the time it runs at ½×, a frame step is one frame, back to
 //   the delay is 5 s again;
 // - when the stream ends, the routine is cut and its replay starts by itself, with the overlay
-//   drawn over its frames (the numbers' box), and plays on.
+//   drawn over its frames (the numbers' box), and plays on; the routine is analysed in the
+//   background (acrolab, the lite detector) and its report offered beside the replay.
 // With ACRO_STUDIO_SCREENSHOTS=DIR the window is saved there (docs/live.md).
 
 #include "live_window.h"
@@ -200,7 +201,11 @@ TEST(LiveWindow, ShowsTheFrameSentFiveSecondsEarlierAndReplaysTheRoutineByItself
   request.source.open_timeout_s = 30;
   request.source.stall_timeout_s = 2;
   request.reconnect_s = 0;
-  LiveWindow w(request, 5.0);
+  // Each routine analysed by acrolab as it is cut (the lite detector: the quickest).
+  pipeline::RoutineAnalysisOptions analyses;
+  analyses.acrolab = ACROLAB_EXE;
+  analyses.model = "lite";
+  LiveWindow w(request, 5.0, analyses);
   w.show();
   ASSERT_TRUE(QTest::qWaitForWindowExposed(&w));
   ASSERT_TRUE(acro::testing::WaitForUdpListener(port, 20));
@@ -318,6 +323,11 @@ TEST(LiveWindow, ShowsTheFrameSentFiveSecondsEarlierAndReplaysTheRoutineByItself
     WaitUntil([&] { return w.replay_time_s() > 6.9 && w.replay_time_s() < 7.3; }, 15000);
     Shot(w, "live_window_replay");
   }
+  // The routine's analysis done in the background, its report offered beside the replay.
+  ASSERT_TRUE(WaitUntil([&] { return !w.replay_report().empty(); }, 180000))
+      << w.lines().join("\n").toStdString();
+  EXPECT_TRUE(fs::exists(w.replay_report())) << w.replay_report();
+  EXPECT_TRUE(w.lines().join("\n").contains("routine 1 analysed in"));
   sender.join();
   w.Stop();
   ASSERT_TRUE(WaitUntil([&] { return !w.running(); }, 20000));

@@ -3,6 +3,7 @@
 #include <QBuffer>
 #include <QCloseEvent>
 #include <QComboBox>
+#include <QDesktopServices>
 #include <QGridLayout>
 #include <QHBoxLayout>
 #include <QHeaderView>
@@ -17,6 +18,7 @@
 #include <QSplitter>
 #include <QTableWidget>
 #include <QTimer>
+#include <QUrl>
 #include <QVBoxLayout>
 
 #include <algorithm>
@@ -63,7 +65,18 @@ QImage LiveWindow::Decompress(const QByteArray& jpeg) {
   return image.convertToFormat(QImage::Format_RGB32);
 }
 
-LiveWindow::LiveWindow(pipeline::LiveRequest request, double delay_s, QWidget* parent)
+namespace {
+
+std::string RoutineKey(const std::string& source, int number) {
+  return source + " " + std::to_string(number);
+}
+
+}  // namespace
+
+LiveWindow::LiveWindow(pipeline::LiveRequest request,
+                       double delay_s,
+                       std::optional<pipeline::RoutineAnalysisOptions> analyses,
+                       QWidget* parent)
     : QWidget(parent, Qt::Window), request_(std::move(request)) {
   setWindowTitle("Acrolab — live: " + Q(request_.out_dir.string()));
   buffers_.resize(request_.sources.size());
@@ -119,6 +132,10 @@ LiveWindow::LiveWindow(pipeline::LiveRequest request, double delay_s, QWidget* p
   for (const char* s : {"1×", "½×", "¼×"}) replay_speed_box_->addItem(s);
   replay_speed_box_->setToolTip("The replay's speed");
   replay_top->addWidget(replay_speed_box_);
+  report_button_ = new QPushButton("Open its report");
+  report_button_->setEnabled(false);
+  report_button_->setToolTip("The routine's full analysis, once it is done (its report page)");
+  replay_top->addWidget(report_button_);
   replay_layout->addLayout(replay_top);
   replay_view_ = new ImageView("no routine yet");
   replay_layout->addWidget(replay_view_, 2);
@@ -162,6 +179,11 @@ LiveWindow::LiveWindow(pipeline::LiveRequest request, double delay_s, QWidget* p
   });
   connect(live, &QPushButton::clicked, this, [this] { BackToLive(); });
   connect(stop, &QPushButton::clicked, this, [this] { Stop(); });
+  connect(report_button_, &QPushButton::clicked, this, [this] {
+    const std::filesystem::path report = replay_report();
+    if (!report.empty())
+      QDesktopServices::openUrl(QUrl::fromLocalFile(QString::fromStdString(report.string())));
+  });
   const auto key = [this](QKeySequence k, std::function<void()> f) {
     connect(new QShortcut(k, this), &QShortcut::activated, this, std::move(f));
   };
@@ -177,7 +199,22 @@ LiveWindow::LiveWindow(pipeline::LiveRequest request, double delay_s, QWidget* p
     QMetaObject::invokeMethod(
         this, [this, line] { AddLine(line); }, Qt::QueuedConnection);
   };
+  if (analyses) {
+    analyses->on_line = request_.on_line;
+    analyses->on_analysed = [this](const pipeline::LiveRoutine& r,
+                                   const std::filesystem::path& report) {
+      QMetaObject::invokeMethod(
+          this,
+          [this, key = RoutineKey(r.source, r.number), report] {
+            reports_[key] = report;
+            report_button_->setEnabled(!replay_report().empty());
+          },
+          Qt::QueuedConnection);
+    };
+    analyses_.emplace(*analyses);
+  }
   request_.on_routine = [this](const pipeline::LiveRoutine& r) {
+    if (analyses_) analyses_->Add(r);
     QMetaObject::invokeMethod(
         this, [this, r] { OnRoutine(r); }, Qt::QueuedConnection);
   };
@@ -210,6 +247,10 @@ LiveWindow::LiveWindow(pipeline::LiveRequest request, double delay_s, QWidget* p
 LiveWindow::~LiveWindow() {
   stop_ = true;
   if (thread_.joinable()) thread_.join();
+  // The routine being analysed finishes (its folder whole); those waiting are left for
+  // `acrolab analyze` (their clips are written).
+  if (analyses_) analyses_->DropWaiting();
+  analyses_.reset();
 }
 
 void LiveWindow::closeEvent(QCloseEvent* event) {
@@ -412,6 +453,7 @@ void LiveWindow::OnRoutine(const pipeline::LiveRoutine& routine) {
                                        routine.interrupted ? " (interrupted)" : "",
                                        routine.jumps.size())));
   FillRoutineTable();
+  report_button_->setEnabled(!replay_report().empty());
   AdvanceReplay(0.0);
 }
 
@@ -437,6 +479,12 @@ void LiveWindow::FillRoutineTable() {
   const int last = static_cast<int>(jumps.size());
   cell(last, 0, "all");
   cell(last, 2, fmt::format("{:.3f} (T {:.3f})", sum, fig::TruncateTimeOfFlight(sum, 0.005)));
+}
+
+std::filesystem::path LiveWindow::replay_report() const {
+  if (!replay_) return {};
+  const auto it = reports_.find(RoutineKey(replay_->routine.source, replay_->routine.number));
+  return it == reports_.end() ? std::filesystem::path() : it->second;
 }
 
 double LiveWindow::replay_time_s() const {

@@ -16,6 +16,7 @@
 #include <atomic>
 #include <deque>
 #include <limits>
+#include <map>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -23,6 +24,7 @@
 #include <vector>
 
 #include "acro/pipeline/live.h"
+#include "acro/pipeline/live_analyses.h"
 
 class QComboBox;
 class QLabel;
@@ -46,7 +48,12 @@ class LiveWindow : public QWidget {
 
   /// Starts the session at once, on a thread of its own: `request`'s sources, folder and options
   /// (its callbacks are the window's). A session that cannot start (a folder in use) is a dialog.
-  LiveWindow(pipeline::LiveRequest request, double delay_s, QWidget* parent = nullptr);
+  /// With `analyses`, each routine is analysed as it is cut (pipeline::RoutineAnalysisQueue, its
+  /// callbacks the window's) and its report offered beside its replay.
+  LiveWindow(pipeline::LiveRequest request,
+             double delay_s,
+             std::optional<pipeline::RoutineAnalysisOptions> analyses = {},
+             QWidget* parent = nullptr);
   /// Stops the session: the sources closed, what was recorded kept, the open routine cut.
   ~LiveWindow() override;
 
@@ -86,6 +93,9 @@ class LiveWindow : public QWidget {
   std::string replay_source() const { return replay_ ? replay_->routine.source : ""; }
   double replay_time_s() const;
   QImage replay_image() const;
+  /// The report of the routine replayed, once its analysis is done (empty before, or without
+  /// analyses).
+  std::filesystem::path replay_report() const;
   /// Every line of the session so far (the jumps, routines, sources' ends), oldest first.
   QStringList lines() const { return lines_; }
   std::string last_error() const { return last_error_; }
@@ -152,6 +162,10 @@ class LiveWindow : public QWidget {
   QStringList lines_;
   std::string last_error_;
   std::optional<pipeline::LiveSummary> summary_;
+  std::optional<pipeline::RoutineAnalysisQueue> analyses_;
+  // Each routine's report once analysed, by "source number".
+  std::map<std::string, std::filesystem::path> reports_;
+  QPushButton* report_button_ = nullptr;
 
   std::vector<ImageView*> views_;
   std::vector<QLabel*> view_labels_;

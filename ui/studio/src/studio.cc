@@ -3,6 +3,12 @@
 #include <QApplication>
 #include <QScreen>
 
+#include <unistd.h>
+
+#include <filesystem>
+#include <optional>
+
+#include "acro/base/process.h"
 #include "live_window.h"
 #include "main_window.h"
 
@@ -27,9 +33,24 @@ int RunStudio(int argc,
   return qt.exec();
 }
 
-int RunStudioLive(int argc, char** argv, const pipeline::LiveRequest& request, double delay_s) {
+int RunStudioLive(int argc,
+                  char** argv,
+                  const pipeline::LiveRequest& request,
+                  double delay_s,
+                  const std::string& athlete,
+                  const std::string& library) {
   QApplication qt(argc, argv);
-  LiveWindow window(request, delay_s);
+  // Each routine analysed by the acrolab program installed beside this one, when it is there.
+  std::optional<pipeline::RoutineAnalysisOptions> analyses;
+  const std::filesystem::path acrolab =
+      std::filesystem::path(CurrentExecutable()).parent_path() / "acrolab";
+  if (::access(acrolab.c_str(), X_OK) == 0) {
+    analyses.emplace();
+    analyses->acrolab = acrolab;
+    analyses->athlete = athlete;
+    analyses->library = library;
+  }
+  LiveWindow window(request, delay_s, analyses);
   // The hall's screen: a second one when there is one (the first stays the operator's).
   const QList<QScreen*> screens = QGuiApplication::screens();
   if (screens.size() > 1) {

@@ -22,7 +22,13 @@ int RunStudio(int argc,
 
 /// Runs the live mode (docs/live.md) until its window is closed: `request`'s sources watched and
 /// recorded into its folder (pipeline::RunLive), shown `delay_s` late, every routine replayed as it
-/// is cut; on a second screen when there is one.
-int RunStudioLive(int argc, char** argv, const pipeline::LiveRequest& request, double delay_s);
+/// is cut and analysed by the `acrolab` program beside this one (for `athlete`, stored in
+/// `library` when given); on a second screen when there is one.
+int RunStudioLive(int argc,
+                  char** argv,
+                  const pipeline::LiveRequest& request,
+                  double delay_s,
+                  const std::string& athlete = "",
+                  const std::string& library = "");
 
 }  // namespace acro::studio

@@ -1,0 +1,145 @@
+#include "acro/pipeline/live_analyses.h"
+
+#include <sys/resource.h>
+#include <sys/syscall.h>
+#include <unistd.h>
+
+#include <stdexcept>
+#include <vector>
+
+#include <fmt/format.h>
+
+#include "acro/base/process.h"
+
+namespace acro::pipeline {
+
+bool RoutineAnalysisOptions::IsValid(std::string* why) const {
+  const auto fail = [why](const std::string& text) {
+    if (why != nullptr) *why = text;
+    return false;
+  };
+  if (acrolab.empty()) return fail("the acrolab program to analyse with is not given");
+  if (model != "heavy" && model != "full" && model != "lite")
+    return fail("the detector '" + model + "' is none of heavy, full, lite");
+  if (!library.empty() && athlete.empty())
+    return fail("a library stores each routine under an athlete: give the athlete's profile");
+  return true;
+}
+
+RoutineAnalysisQueue::RoutineAnalysisQueue(RoutineAnalysisOptions options)
+    : options_(std::move(options)) {
+  std::string why;
+  if (!options_.IsValid(&why)) throw std::invalid_argument("RoutineAnalysisQueue: " + why);
+  worker_ = std::thread([this] { Work(); });
+}
+
+RoutineAnalysisQueue::~RoutineAnalysisQueue() {
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    closing_ = true;
+  }
+  wake_.notify_all();
+  worker_.join();
+}
+
+void RoutineAnalysisQueue::Add(const LiveRoutine& routine) {
+  if (!routine.clip_error.empty()) return;
+  {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    queue_.push_back(routine);
+  }
+  wake_.notify_all();
+}
+
+int RoutineAnalysisQueue::DropWaiting() {
+  const std::lock_guard<std::mutex> lock(mutex_);
+  const int n = static_cast<int>(queue_.size());
+  queue_.clear();
+  return n;
+}
+
+void RoutineAnalysisQueue::Work() {
+  // Linux's nice value is a thread's, and the processes this thread starts inherit it: the
+  // analyses yield to the recording.
+  ::setpriority(PRIO_PROCESS, static_cast<id_t>(::syscall(SYS_gettid)), 10);
+  // Nothing here may end the recording (an exception out of this thread would end the program).
+  try {
+    for (;;) {
+      LiveRoutine r;
+      {
+        std::unique_lock<std::mutex> lock(mutex_);
+        wake_.wait(lock, [this] { return closing_ || !queue_.empty(); });
+        if (queue_.empty()) return;
+        r = queue_.front();
+        queue_.pop_front();
+      }
+      Analyse(r);
+    }
+  } catch (const std::exception& e) {
+    if (options_.on_line)
+      options_.on_line(std::string("the routines' analyses stopped: ") + e.what());
+  }
+}
+
+void RoutineAnalysisQueue::Analyse(const LiveRoutine& r) {
+  const auto line = [this](const std::string& text) {
+    if (options_.on_line) options_.on_line(text);
+  };
+  const std::filesystem::path out = r.folder / "analysis";
+  const std::string clip = (r.folder / "clip.ts").string();
+  std::vector<std::string> analyze = {options_.acrolab.string(),
+                                      "analyze",
+                                      "--video",
+                                      clip,
+                                      "--detect-bed",
+                                      "--model",
+                                      options_.model,
+                                      "--no-filmstrip-videos",
+                                      "--quiet",
+                                      "-o",
+                                      out.string()};
+  if (!options_.athlete.empty())
+    analyze.insert(analyze.end(), {"--athlete", options_.athlete.string()});
+  bool analysed = false;
+  RunProcesses({analyze}, 1, [&](size_t, const ProcessOutcome& o) {
+    analysed = o.ok();
+    line(o.ok() ? fmt::format("{}  routine {} analysed in {:.1f} s: {}",
+                              r.source,
+                              r.number,
+                              o.seconds,
+                              (out / "report.html").string())
+                : fmt::format("{}  routine {} not analysed ({:.1f} s): {}",
+                              r.source,
+                              r.number,
+                              o.seconds,
+                              o.last_error_line));
+  });
+  if (!analysed) return;
+  if (!options_.library.empty()) {
+    // The analysis stored as it is (library add --analysis: the clip is one of its inputs).
+    const std::vector<std::string> add = {options_.acrolab.string(),
+                                          "library",
+                                          "add",
+                                          clip,
+                                          "--analysis",
+                                          out.string(),
+                                          "--athlete",
+                                          options_.athlete.string(),
+                                          "--library",
+                                          options_.library.string(),
+                                          "--quiet"};
+    RunProcesses({add}, 1, [&](size_t, const ProcessOutcome& o) {
+      line(o.ok() ? fmt::format("{}  routine {} in the library {}",
+                                r.source,
+                                r.number,
+                                options_.library.string())
+                  : fmt::format("{}  routine {} not added to the library: {}",
+                                r.source,
+                                r.number,
+                                o.last_error_line));
+    });
+  }
+  if (options_.on_analysed) options_.on_analysed(r, out / "report.html");
+}
+
+}  // namespace acro::pipeline
