@@ -54,7 +54,7 @@ struct AnalyzeArguments {
   // One video with no calibration: the camera from the bed in its first frame (docs/one-camera.md,
   // "The camera from the video alone"), the intrinsics from a checkerboard's file if given.
   bool detect_bed = false;
-  std::string intrinsics;
+  std::string intrinsics, bed_picture;
   // Videos without a trial: the detector (lite, full or heavy); the jumps' filmstrip videos.
   std::string model = "heavy";
   bool filmstrip_videos = true;
@@ -196,12 +196,15 @@ pipeline::MonocularInput OpenOneCameraFor(const AnalyzeArguments& args,
       throw UsageError{"--detect-bed finds the bed's line itself: --bed-line goes without it"};
   } else if (!args.intrinsics.empty()) {
     throw UsageError{"--intrinsics goes with --detect-bed (with --calib, the camera is known)"};
+  } else if (!args.bed_picture.empty()) {
+    throw UsageError{"--bed-picture goes with --detect-bed"};
   }
   CheckVideosWithoutTrial(v, common, args.detect_bed);
   request.calibration = v.calibration;
   request.camera = v.camera;
   request.detect_bed = args.detect_bed;
   request.intrinsics = args.intrinsics;
+  request.bed_picture = args.bed_picture;
   request.model = pose::ParseLandmarkModel(args.model);
   request.athlete = common.Request().athlete;
   pipeline::MonocularInput mono = pipeline::OpenMonocular(request, MakeStepProgress(common.quiet));
@@ -446,6 +449,12 @@ void AddAnalyzeCommand(CLI::App& app, CommandRunner* run) {
                       args->intrinsics,
                       "with --detect-bed: the camera's intrinsics from a checkerboard "
                       "(acrolab calibrate intrinsics), --camera naming it in a file of several");
+  command
+      ->add_option("--bed-picture",
+                   args->bed_picture,
+                   "with --detect-bed: find the bed in this picture (or video) of the same camera "
+                   "instead of the video's first frame — a still of the empty trampoline")
+      ->check(CLI::ExistingFile);
   command->add_option("--bed-line",
                       args->bed_line,
                       "with --detections (or one video whose first frame does not show the bed): "

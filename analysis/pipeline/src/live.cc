@@ -15,6 +15,7 @@
 
 #include "acro/base/file_io.h"
 #include "acro/base/input_error.h"
+#include "acro/capture/frame_output.h"
 #include "acro/fig/score_sheet.h"
 #include "acro/fig/trampoline.h"
 #include "acro/vision/bed_detection.h"
@@ -150,6 +151,7 @@ struct Session {
 struct SourceView {
   std::optional<vision::MotionFlightWatcher> watcher;
   std::optional<vision::Camera> camera;
+  std::filesystem::path picture;  // where the bed was found (written for the routines' analyses)
 };
 
 SourceView FindBed(capture::LiveSource& source, const LiveRequest& request, std::string* how) {
@@ -159,6 +161,20 @@ SourceView FindBed(capture::LiveSource& source, const LiveRequest& request, std:
       vision::DetectBed(full, fmt::format("{}@frame 0", source.name()));
   view.watcher.emplace(bed, request.flights);
   *how = fmt::format("the bed found in {}", bed.source);
+  // The frame kept as a picture: each routine's clip begins with the athlete on the bed, and its
+  // analysis finds the bed here instead.
+  try {
+    std::vector<std::uint8_t> rgb;
+    rgb.reserve(full.pixels.size() * 3);
+    for (const std::uint8_t g : full.pixels) rgb.insert(rgb.end(), {g, g, g});
+    const std::filesystem::path picture = request.out_dir / "bed" / (source.name() + ".png");
+    CreateOutputDirectory(picture.parent_path());
+    const std::vector<std::uint8_t> png = capture::EncodeRgbPng(full.width, full.height, rgb);
+    WriteFileAtomically(picture, std::string(png.begin(), png.end()));
+    view.picture = picture;
+  } catch (const InputError& e) {
+    *how += fmt::format(" (its picture not kept: {})", e.what());
+  }
   try {
     const vision::BedFocalCalibration cam = vision::CalibrateFromBedUnknownFocal(
         full.width, full.height, vision::FigTrampolinePoints(), bed);
@@ -186,10 +202,12 @@ void CloseRoutine(Session& session,
                   capture::LiveSource& source,
                   std::vector<LiveJump> jumps,
                   bool interrupted,
-                  double offset_s) {
+                  double offset_s,
+                  const std::filesystem::path& bed_picture) {
   const LiveRequest& request = *session.request;
   LiveRoutine r;
   r.source = source.name();
+  r.bed_picture = bed_picture;
   r.jumps = std::move(jumps);
   r.first_takeoff_s = r.jumps.front().jump.takeoff_s;
   r.last_landing_s = r.jumps.back().jump.landing_s;
@@ -282,6 +300,7 @@ void WatchConnection(Session& session,
         offset = frame.arrival_s - summary.first_arrival_s;
       try {
         view = FindBed(source, request, &summary.bed);
+        if (connection == 0) summary.bed_picture = view.picture;
       } catch (const InputError& e) {
         summary.bed = e.what();
         session.Line(fmt::format("{}: recording only, no jumps: {}", summary.name, e.what()));
@@ -326,17 +345,18 @@ void WatchConnection(Session& session,
       // (measured again when its line is written; routine.json keeps this one)
       j.latency_s = capture::LiveClockNow() - m.landing_arrival_s;
       if (auto ended = cutter.AddJump(j))
-        CloseRoutine(session, source, std::move(*ended), false, offset);
+        CloseRoutine(session, source, std::move(*ended), false, offset, view.picture);
       session.AddJump(j);
     }
     if (!view.watcher->in_air())
       if (auto ended = cutter.OnBed(view.watcher->last_time_s()))
-        CloseRoutine(session, source, std::move(*ended), false, offset);
+        CloseRoutine(session, source, std::move(*ended), false, offset, view.picture);
   }
   // A jump in the air when the source ended is lost: the routine is interrupted there. One
   // that ended on the bed is whole to its last landing, however soon after it the source stopped.
   const bool in_air = view.watcher && view.watcher->in_air();
-  if (auto open = cutter.Finish()) CloseRoutine(session, source, std::move(*open), in_air, offset);
+  if (auto open = cutter.Finish())
+    CloseRoutine(session, source, std::move(*open), in_air, offset, view.picture);
 }
 
 // A source listed as running (for the monitor's Stop) for exactly as long as it exists.
@@ -487,6 +507,10 @@ void WriteSummary(const LiveRequest& request, const LiveSummary& summary) {
          {"end", s.end_reason},
          {"ended_normally", s.ended_normally},
          {"bed", s.bed},
+         {"bed_picture",
+          s.bed_picture.empty()
+              ? nlohmann::json()
+              : nlohmann::json(std::filesystem::relative(s.bed_picture, request.out_dir).string())},
          {"failure", s.failure.empty() ? nlohmann::json() : nlohmann::json(s.failure)},
          {"stream_to_clock_s", Number(s.stream_to_clock_s)},
          {"offset_to_first_s", Number(s.offset_to_first_s)}});

@@ -100,6 +100,8 @@ void RoutineAnalysisQueue::Analyse(const LiveRoutine& r) {
                                       out.string()};
   if (!options_.athlete.empty())
     analyze.insert(analyze.end(), {"--athlete", options_.athlete.string()});
+  if (!r.bed_picture.empty())
+    analyze.insert(analyze.end(), {"--bed-picture", r.bed_picture.string()});
   bool analysed = false;
   RunProcesses({analyze}, 1, [&](size_t, const ProcessOutcome& o) {
     analysed = o.ok();

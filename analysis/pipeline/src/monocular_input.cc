@@ -122,7 +122,17 @@ MonocularInput OpenMonocular(const MonocularRequest& request, const Progress& pr
                        "detections have no picture to find the bed in: give their camera's "
                        "calibration");
     info = capture::VideoReader(request.video).info();
-    bed = vision::DetectBed(request.video, 0);
+    bed = vision::DetectBed(request.bed_picture.empty() ? request.video : request.bed_picture, 0);
+    if (!request.bed_picture.empty() &&
+        (bed->width_px != info.width || bed->height_px != info.height))
+      throw InputError(request.bed_picture.string(),
+                       "bed",
+                       fmt::format("{} x {} px, the video {} x {}: the bed's picture must be the "
+                                   "same camera's, the same size",
+                                   bed->width_px,
+                                   bed->height_px,
+                                   info.width,
+                                   info.height));
     camera = CameraFromBed(request, *bed, info, &out);
   } else {
     const std::vector<vision::Camera> cameras = vision::ReadCameras(request.calibration);

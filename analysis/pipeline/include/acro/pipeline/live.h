@@ -45,7 +45,11 @@ struct LiveRoutine {
   /// scored to its last landing. (A routine never spans two connections to a source.)
   bool interrupted = false;
   std::filesystem::path folder;  ///< routines/<source>-NNN/ (clip.ts, routine.json)
-  std::string clip_error;        ///< why the clip could not be written, if it could not
+  /// The picture the session found its source's bed in (bed/<source>.png: its first frame), for
+  /// the routine's analysis (the clip's own first frame has the athlete standing on the bed);
+  /// empty when none was found.
+  std::filesystem::path bed_picture;
+  std::string clip_error;  ///< why the clip could not be written, if it could not
 };
 
 /// One frame as its source's thread saw it, for a window that shows the sources (the studio's
@@ -105,9 +109,10 @@ struct LiveSourceSummary {
   std::vector<std::filesystem::path> segments;
   std::string end_reason;
   bool ended_normally = false;
-  std::string bed;               ///< how the bed and camera were found, or why not
-  std::string failure;           ///< the source could not be opened (one line)
-  double first_arrival_s = 0.0;  ///< its first frame on the shared clock
+  std::string bed;                    ///< how the bed and camera were found, or why not
+  std::filesystem::path bed_picture;  ///< bed/<name>.png, the frame it was found in
+  std::string failure;                ///< the source could not be opened (one line)
+  double first_arrival_s = 0.0;       ///< its first frame on the shared clock
   /// Arrival − stream time (s), the median over its frames 30–149 (before them FFmpeg reads ahead
   /// to learn the stream, and those frames come out together); NaN with fewer frames.
   double stream_to_clock_s = 0.0;

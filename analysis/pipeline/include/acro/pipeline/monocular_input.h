@@ -45,6 +45,10 @@ struct MonocularRequest {
   /// then the bed's: its centre at the origin, its long axis x, Z up.
   bool detect_bed = false;
   std::filesystem::path intrinsics;
+  /// With `detect_bed`: the bed found in this picture (or this video's first frame) of the same
+  /// camera, the same size — a still of the empty trampoline — instead of the video's first frame
+  /// (where an athlete may stand on it).
+  std::filesystem::path bed_picture;
   pose::LandmarkModel model = pose::LandmarkModel::kHeavy;
   vision::ImageFlightOptions flights;
   AthleteChoice athlete;
