@@ -240,6 +240,13 @@ pipeline::ViewsInput OpenVideosFor(const AnalyzeArguments& args, const TrialArgu
 int RunAnalyze(AnalyzeArguments& args) {
   const TrialArguments& common = args.common;
   DemandValidCommandLine(args.options);
+  // The options of videos without a trial, refused where nothing would read them.
+  const bool one_video = common.trial_path.empty() && args.video.more_videos.empty() &&
+                         !args.video.video.empty();
+  if (!args.bed_picture.empty() && !(one_video && args.detect_bed))
+    throw UsageError{"--bed-picture goes with one video and --detect-bed"};
+  if (args.model != "heavy" && !(common.trial_path.empty() && !args.video.video.empty()))
+    throw UsageError{"--model chooses the detector of videos analysed without a trial"};
   CheckOutputDirectory(common.out_dir);  // before any work: a bad -o costs nothing
   if (!args.rules.empty()) args.options.rules = fig::LoadRules(args.rules);
   // The input: a trial, or several calibrated cameras' videos (docs/markerless.md) — the athlete
@@ -272,7 +279,9 @@ int RunAnalyze(AnalyzeArguments& args) {
         bed.long_axis_W = Eigen::Vector3d::UnitX();
         bed.length_m = fig::kBedLength_m;
         bed.width_m = fig::kBedWidth_m;
-        bed.source = "the FIG bed the camera was posed on (its first frame)";
+        bed.source = args.bed_picture.empty()
+                         ? "the FIG bed the camera was posed on (its first frame)"
+                         : "the FIG bed the camera was posed on (in " + args.bed_picture + ")";
         args.options.bed = bed;
       }
     } else {

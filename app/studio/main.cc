@@ -20,7 +20,8 @@ int main(int argc, char** argv) {
   std::vector<std::string> videos, calibrations, cameras;
   std::vector<double> offsets;
   app.add_option("TRIAL", files.trial, "a trial to open: C3D, TRC or CSV");
-  app.add_option("--athlete", files.athlete, "the athlete's profile (YAML)");
+  app.add_option("--athlete", files.athlete, "the athlete's profile (YAML)")
+      ->check(CLI::ExistingFile);
   app.add_option("--video", videos, "a video of the trial (up to four, each with --calib)");
   app.add_option("--calib", calibrations, "the video's camera calibration");
   app.add_option("--camera", cameras, "the camera's name in the calibration");
@@ -59,6 +60,9 @@ int main(int argc, char** argv) {
     std::fprintf(stderr, "acrolab-studio: %s\n", line.c_str());
     return 2;
   };
+  if (live.empty())
+    for (const char* option : {"--live-output", "--delay", "--stall-timeout", "--reconnect"})
+      if (app.count(option) > 0) return fail(std::string(option) + " goes with --live");
   if (!live.empty()) {
     if (live_output.empty()) return fail("--live needs --live-output, the session's folder");
     if (!files.trial.empty() || !videos.empty() || !session.empty())

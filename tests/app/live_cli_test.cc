@@ -198,6 +198,18 @@ TEST(LiveCli, TheSideVideoStreamedAtRealTime) {
     EXPECT_GE(stored->num_jumps, 5);
   }
   EXPECT_NE(run.out.find("routine 1 in the library"), std::string::npos) << run.out;
+  // The analysis is the clip's: another file it read (the bed's picture) cannot pass for it.
+  const std::string bed_picture =
+      (dir / live.at("sources")[0].at("bed_picture").get<std::string>()).string();
+  const LiveRun other = Shell(fmt::format(
+      "'{}' library add '{}' --analysis '{}' --athlete '{}' --library '{}' 2>&1",
+      ACROLAB_EXE,
+      bed_picture,
+      (routine_dir / "analysis").string(),
+      athlete.string(),
+      (dir.parent_path() / "other.sqlite").string()));
+  EXPECT_EQ(other.status, 1) << other.out;
+  EXPECT_NE(other.out.find("an analysis of another file"), std::string::npos) << other.out;
   // The recording, every frame the source sent.
   const std::vector<std::uint64_t> recorded = RecordedHashes(dir, live.at("sources")[0]);
   EXPECT_EQ(recorded, source);

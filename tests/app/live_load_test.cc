@@ -85,7 +85,16 @@ TEST(LiveLoad, RoutinesWithRestsStreamedAtRealTimeAreAllRecordedCutAnalysedAndSt
   const fs::path dir = root / "session", library = root / "season.sqlite";
   const fs::path athlete = acro::testing::SourceDir() / "samples/athletes/sample_athlete.yaml";
   const int port = acro::testing::FreeUdpPort();
-  std::thread sender([&] {
+  std::thread sender;
+  // A failed assertion returns with the sender (and the session) still running: joined, never
+  // left to terminate().
+  struct Join {
+    std::thread& t;
+    ~Join() {
+      if (t.joinable()) t.join();
+    }
+  } join_sender{sender};
+  sender = std::thread([&] {
     EXPECT_TRUE(acro::testing::WaitForUdpListener(port, 30.0));
     const std::string cmd = fmt::format(
         "ffmpeg -v error -re -stream_loop {} -i '{}' -c copy -omit_video_pes_length 0 -f mpegts "

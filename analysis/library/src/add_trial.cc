@@ -39,9 +39,10 @@ std::filesystem::path Absolute(const std::filesystem::path& p) {
 struct ImportedAnalysis {
   std::string version;
   std::string trial_sha256;
-  /// The files an analysis of videos or detections read, by their SHA-256 (analysis.json's
-  /// "inputs").
-  std::vector<std::string> input_sha256;
+  /// An analysis of videos or detections: the SHA-256 of its primary input (analysis.json's
+  /// "inputs" entry whose path is its "trial": the one video, or the first camera's), empty for
+  /// a trial's own analysis.
+  std::string primary_sha256;
   std::string jumps_json;
 };
 
@@ -66,7 +67,8 @@ ImportedAnalysis ReadAnalysisDirectory(const std::filesystem::path& dir) {
       if (!f.is_object() || !f.contains("sha256") || !f["sha256"].is_string())
         throw InputError(
             provenance.string(), fmt::format("inputs[{}].sha256", i), "missing or not text");
-      out.input_sha256.push_back(f["sha256"].get<std::string>());
+      if (f.contains("path") && doc.contains("trial") && f["path"] == doc["trial"])
+        out.primary_sha256 = f["sha256"].get<std::string>();
     }
   }
   out.jumps_json = ReadText(dir / "jumps.json", std::int64_t(256) << 20);
@@ -144,15 +146,16 @@ AddResult AddTrial(Library& library, const AddRequest& request, const AddOptions
   if (!request.analysis_dir.empty()) {
     // An analysis made elsewhere: it must be of this content.
     const ImportedAnalysis imported = ReadAnalysisDirectory(request.analysis_dir);
-    // The trial's own analysis, or one of videos or detections of which this file is one.
-    const bool read_it =
-        imported.trial_sha256 == result.sha256 ||
-        std::find(imported.input_sha256.begin(), imported.input_sha256.end(), result.sha256) !=
-            imported.input_sha256.end();
+    // The trial's own analysis, or one of videos or detections whose primary input (the one
+    // video, the first camera's — not a calibration, not the other cameras: a routine is stored
+    // once) is this file.
+    const bool read_it = imported.trial_sha256 == result.sha256 ||
+                         (!imported.primary_sha256.empty() && imported.primary_sha256 == result.sha256);
     if (!read_it)
       throw InputError((request.analysis_dir / "analysis.json").string(),
                        "trial_sha256",
-                       fmt::format("{}… is not {}'s content ({}…): an analysis of another file",
+                       fmt::format("{}… is not {}'s content ({}…), nor is its primary input: an "
+                                   "analysis of another file",
                                    imported.trial_sha256.substr(0, 12),
                                    result.path,
                                    result.sha256.substr(0, 12)));

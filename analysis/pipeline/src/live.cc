@@ -154,7 +154,10 @@ struct SourceView {
   std::filesystem::path picture;  // where the bed was found (written for the routines' analyses)
 };
 
-SourceView FindBed(capture::LiveSource& source, const LiveRequest& request, std::string* how) {
+SourceView FindBed(capture::LiveSource& source,
+                   const LiveRequest& request,
+                   int connection,
+                   std::string* how) {
   SourceView view;
   const capture::VideoFrame full = source.FullSizeGrey();
   const vision::BedDetection bed =
@@ -167,7 +170,11 @@ SourceView FindBed(capture::LiveSource& source, const LiveRequest& request, std:
     std::vector<std::uint8_t> rgb;
     rgb.reserve(full.pixels.size() * 3);
     for (const std::uint8_t g : full.pixels) rgb.insert(rgb.end(), {g, g, g});
-    const std::filesystem::path picture = request.out_dir / "bed" / (source.name() + ".png");
+    // (one per connection: a routine of an earlier one may still wait for its analysis)
+    const std::filesystem::path picture =
+        request.out_dir / "bed" /
+        (connection == 0 ? source.name() + ".png"
+                         : fmt::format("{}-again{}.png", source.name(), connection));
     CreateOutputDirectory(picture.parent_path());
     const std::vector<std::uint8_t> png = capture::EncodeRgbPng(full.width, full.height, rgb);
     WriteFileAtomically(picture, std::string(png.begin(), png.end()));
@@ -299,7 +306,7 @@ void WatchConnection(Session& session,
       else
         offset = frame.arrival_s - summary.first_arrival_s;
       try {
-        view = FindBed(source, request, &summary.bed);
+        view = FindBed(source, request, connection, &summary.bed);
         if (connection == 0) summary.bed_picture = view.picture;
       } catch (const InputError& e) {
         summary.bed = e.what();

@@ -62,22 +62,24 @@ void RoutineAnalysisQueue::Work() {
   // Linux's nice value is a thread's, and the processes this thread starts inherit it: the
   // analyses yield to the recording.
   ::setpriority(PRIO_PROCESS, static_cast<id_t>(::syscall(SYS_gettid)), 10);
-  // Nothing here may end the recording (an exception out of this thread would end the program).
-  try {
-    for (;;) {
-      LiveRoutine r;
-      {
-        std::unique_lock<std::mutex> lock(mutex_);
-        wake_.wait(lock, [this] { return closing_ || !queue_.empty(); });
-        if (queue_.empty()) return;
-        r = queue_.front();
-        queue_.pop_front();
-      }
-      Analyse(r);
+  for (;;) {
+    LiveRoutine r;
+    {
+      std::unique_lock<std::mutex> lock(mutex_);
+      wake_.wait(lock, [this] { return closing_ || !queue_.empty(); });
+      if (queue_.empty()) return;
+      r = queue_.front();
+      queue_.pop_front();
     }
-  } catch (const std::exception& e) {
-    if (options_.on_line)
-      options_.on_line(std::string("the routines' analyses stopped: ") + e.what());
+    // Nothing here may end the recording (an exception out of this thread would end the
+    // program), nor the next routines' analyses.
+    try {
+      Analyse(r);
+    } catch (const std::exception& e) {
+      if (options_.on_line)
+        options_.on_line(
+            fmt::format("{}  routine {} not analysed: {}", r.source, r.number, e.what()));
+    }
   }
 }
 

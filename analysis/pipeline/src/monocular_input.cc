@@ -322,6 +322,8 @@ MonocularInput OpenMonocular(const MonocularRequest& request, const Progress& pr
   if (!camera_file.empty())
     in.inputs.push_back(
         {request.detect_bed ? "intrinsics" : "calibration", camera_file, camera_hash});
+  if (request.detect_bed && !request.bed_picture.empty())
+    in.inputs.push_back({"bed picture", request.bed_picture, Sha256OfFile(request.bed_picture)});
   in.trial = points.ToTrial(
       rate,
       fmt::format("one camera's keypoints (camera from {}) on the plane {:.2f} m away",

@@ -59,14 +59,17 @@ VideoCheck AttachVideo(VideoInput& video,
 std::string FormatAnalysisProvenance(const TrialInput& input) {
   nlohmann::json o;  // keys in alphabetical order, as library add reads them
   o["acrolab_version"] = AcrolabVersion();
-  std::error_code ec;
-  const std::filesystem::path absolute = std::filesystem::weakly_canonical(input.path, ec);
-  o["trial"] = (ec ? std::filesystem::absolute(input.path).lexically_normal() : absolute).string();
+  const auto canonical = [](const std::filesystem::path& p) {
+    std::error_code ec;
+    const std::filesystem::path c = std::filesystem::weakly_canonical(p, ec);
+    return (ec ? std::filesystem::absolute(p).lexically_normal() : c).string();
+  };
+  o["trial"] = canonical(input.path);
   o["trial_sha256"] = input.sha256;
   if (!input.inputs.empty()) {
     nlohmann::json list = nlohmann::json::array();
     for (const TrialInput::HashedFile& f : input.inputs)
-      list.push_back({{"path", std::filesystem::absolute(f.path).lexically_normal().string()},
+      list.push_back({{"path", canonical(f.path)},
                       {"role", f.role},
                       {"sha256", f.sha256}});
     o["inputs"] = list;

@@ -23,6 +23,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 #include <fmt/format.h>
 
@@ -37,7 +38,8 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // The buffer keeps a little more than the longest delay (the replay copies its frames out).
 constexpr double kKeepS = LiveWindow::kMaxDelayS + 2.0;
-constexpr size_t kMaxFrames = 8000;  // 62 s at 120 fps
+constexpr size_t kMaxFrames = 8000;                    // 62 s at 129 fps
+constexpr std::int64_t kMaxBytes = std::int64_t(512) << 20;  // a source's JPEGs
 constexpr double kHoldAtEndS = 1.5;  // a replay's last frame held before it starts again
 
 QString Q(const std::string& s) {
@@ -249,7 +251,16 @@ LiveWindow::~LiveWindow() {
   if (thread_.joinable()) thread_.join();
   // The routine being analysed finishes (its folder whole); those waiting are left for
   // `acrolab analyze` (their clips are written).
-  if (analyses_) analyses_->DropWaiting();
+  if (analyses_) {
+    const int dropped = analyses_->DropWaiting();
+    if (dropped > 0)
+      std::fprintf(stderr,
+                   "acrolab-studio: %d routine%s of %s left unanalysed (their clips are there: "
+                   "acrolab analyze --video clip.ts --detect-bed)\n",
+                   dropped,
+                   dropped == 1 ? "" : "s",
+                   request_.out_dir.string().c_str());
+  }
   analyses_.reset();
 }
 
@@ -286,7 +297,11 @@ void LiveWindow::OnFrame(const pipeline::LiveFrameSeen& seen) {
     if (b.lateness.size() > 256) b.lateness.pop_front();
   }
   // Times that went back (a sender that restarted its clock): what would follow this frame goes.
-  while (!b.frames.empty() && b.frames.back().time_s >= f.time_s) b.frames.pop_back();
+  while (!b.frames.empty() && b.frames.back().time_s >= f.time_s) {
+    b.bytes -= b.frames.back().jpeg.size();
+    b.frames.pop_back();
+  }
+  b.bytes += f.jpeg.size();
   b.frames.push_back(std::move(f));
   // Where the watcher saw the athlete: in this frame, and in those that waited for its
   // background (already in the buffer).
@@ -302,9 +317,12 @@ void LiveWindow::OnFrame(const pipeline::LiveFrameSeen& seen) {
       it->sole_x = a.sole_px.x() * seen.picture_per_full_px;
       it->sole_y = a.sole_px.y() * seen.picture_per_full_px;
     }
-  while (b.frames.size() > kMaxFrames ||
-         (b.frames.size() > 1 && b.frames.back().time_s - b.frames.front().time_s > kKeepS))
+  while (b.frames.size() > 1 &&
+         (b.frames.size() > kMaxFrames || b.bytes > kMaxBytes ||
+          b.frames.back().time_s - b.frames.front().time_s > kKeepS)) {
+    b.bytes -= b.frames.front().jpeg.size();
     b.frames.pop_front();
+  }
 }
 
 double LiveWindow::SentOffsetLocked(const Buffer& b) const {
@@ -349,9 +367,16 @@ void LiveWindow::BackToLive() {
 }
 
 void LiveWindow::SetSpeed(double rate) {
+  const bool was_paused = rate_ == 0;
   rate_ = std::clamp(rate, 0.0, 1.0);
   pause_button_->setText(rate_ > 0 ? "Pause" : "Play");
-  if (rate_ > 0) speed_box_->setCurrentIndex(std::clamp(int(std::lround(-std::log2(rate_))), 0, 3));
+  if (rate_ > 0)
+    speed_box_->setCurrentIndex(std::clamp(int(std::lround(-std::log2(rate_))), 0, 3));
+  if (rate_ == 0 && !was_paused) {
+    const std::lock_guard<std::mutex> lock(mutex_);
+    paused_offset_.clear();
+    for (const Buffer& b : buffers_) paused_offset_.push_back(SentOffsetLocked(b));
+  }
 }
 
 void LiveWindow::StepFrame(int direction) {
@@ -359,16 +384,20 @@ void LiveWindow::StepFrame(int direction) {
   if (buffers_.empty()) return;
   const std::lock_guard<std::mutex> lock(mutex_);
   const Buffer& b = buffers_[0];
-  if (b.frames.empty()) return;
-  const double offset = SentOffsetLocked(b);
+  if (b.frames.empty() || paused_offset_.empty()) return;
+  const double offset = paused_offset_[0];
   const double t = std::isfinite(shown_[0].time_s) ? shown_[0].time_s : view_s_ - offset;
-  const auto it =
-      std::lower_bound(b.frames.begin(), b.frames.end(), t, [](const Buffered& f, double x) {
+  const auto it = std::lower_bound(
+      b.frames.begin(), b.frames.end(), t, [](const Buffered& f, double x) {
         return f.time_s < x - 1e-9;
       });
-  const std::ptrdiff_t k = std::clamp<std::ptrdiff_t>(
-      (it - b.frames.begin()) + direction, 0, static_cast<std::ptrdiff_t>(b.frames.size()) - 1);
-  view_s_ = b.frames[static_cast<size_t>(k)].time_s + offset + 1e-6;
+  const std::ptrdiff_t last = static_cast<std::ptrdiff_t>(b.frames.size()) - 1;
+  const std::ptrdiff_t k =
+      std::clamp<std::ptrdiff_t>((it - b.frames.begin()) + direction, 0, last);
+  // Halfway to the next frame: the frame stays up whatever the clock's rounding.
+  const double next =
+      k < last ? b.frames[size_t(k + 1)].time_s : b.frames[size_t(k)].time_s + 1.0 / 30;
+  view_s_ = (b.frames[size_t(k)].time_s + next) / 2 + offset;
 }
 
 void LiveWindow::Tick() {
@@ -377,13 +406,16 @@ void LiveWindow::Tick() {
   last_tick_s_ = now;
   if (!std::isfinite(view_s_)) view_s_ = now - delay_s_;
   view_s_ += rate_ * dt;
-  // Never later than the slider's delay, never older than the buffer.
+  // Never later than the slider's delay, never older than the buffer (a pause held for a minute
+  // moves on with the buffer's end: said).
+  const bool at_end = view_s_ < now - kMaxDelayS;
   view_s_ = std::clamp(view_s_, now - kMaxDelayS, now - delay_s_);
   for (int k = 0; k < source_count(); ++k) ShowSource(k, view_s_, now);
   const double behind = now - view_s_;
   delay_label_->setText(Q(fmt::format("{:.1f} s late{}",
                                       behind,
-                                      rate_ == 0  ? ", paused"
+                                      rate_ == 0  ? (at_end ? ", paused at the buffer's end"
+                                                            : ", paused")
                                       : rate_ < 1 ? fmt::format(", {:g}×", rate_)
                                                   : "")));
   AdvanceReplay(dt);
@@ -395,7 +427,9 @@ void LiveWindow::ShowSource(int k, double view_s, double now) {
     const std::lock_guard<std::mutex> lock(mutex_);
     const Buffer& b = buffers_[size_t(k)];
     if (b.frames.empty()) return;
-    const double offset = SentOffsetLocked(b);
+    const double offset = rate_ == 0 && size_t(k) < paused_offset_.size()
+                              ? paused_offset_[size_t(k)]
+                              : SentOffsetLocked(b);
     // The last frame sent by then (stream time + offset ≤ the clock shown).
     const auto it = std::upper_bound(
         b.frames.begin(), b.frames.end(), view_s - offset, [](double x, const Buffered& g) {

@@ -118,6 +118,7 @@ class LiveWindow : public QWidget {
   struct Buffer {
     std::string name;
     std::deque<Buffered> frames;
+    std::int64_t bytes = 0;  // the frames' JPEG
     std::deque<double> lateness;  // arrival − stream time, the last 256 frames past the 30th
     double max_lateness = -std::numeric_limits<double>::infinity();
     std::optional<std::array<double, 2>> rest_line;  // y0, slope in the picture's px
@@ -155,6 +156,9 @@ class LiveWindow : public QWidget {
   double delay_s_ = 5.0;
   double rate_ = 1.0;
   double view_s_ = std::numeric_limits<double>::quiet_NaN();  // the sent clock shown
+  // Paused: each source's offset as it was (the 95th percentile moves as frames come, and a
+  // paused picture must not).
+  std::vector<double> paused_offset_;
   double last_tick_s_ = 0;
   std::vector<Shown> shown_;
   std::optional<Replay> replay_;

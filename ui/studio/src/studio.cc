@@ -5,6 +5,7 @@
 
 #include <unistd.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <optional>
 
@@ -44,6 +45,13 @@ int RunStudioLive(int argc,
   std::optional<pipeline::RoutineAnalysisOptions> analyses;
   const std::filesystem::path acrolab =
       std::filesystem::path(CurrentExecutable()).parent_path() / "acrolab";
+  if (::access(acrolab.c_str(), X_OK) != 0 && (!athlete.empty() || !library.empty())) {
+    std::fprintf(stderr,
+                 "acrolab-studio: %s: not there, and the routines' analyses (--athlete, "
+                 "--library) need it\n",
+                 acrolab.c_str());
+    return 2;
+  }
   if (::access(acrolab.c_str(), X_OK) == 0) {
     analyses.emplace();
     analyses->acrolab = acrolab;
