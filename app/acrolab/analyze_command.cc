@@ -241,8 +241,8 @@ int RunAnalyze(AnalyzeArguments& args) {
   const TrialArguments& common = args.common;
   DemandValidCommandLine(args.options);
   // The options of videos without a trial, refused where nothing would read them.
-  const bool one_video = common.trial_path.empty() && args.video.more_videos.empty() &&
-                         !args.video.video.empty();
+  const bool one_video =
+      common.trial_path.empty() && args.video.more_videos.empty() && !args.video.video.empty();
   if (!args.bed_picture.empty() && !(one_video && args.detect_bed))
     throw UsageError{"--bed-picture goes with one video and --detect-bed"};
   if (args.model != "heavy" && !(common.trial_path.empty() && !args.video.video.empty()))

@@ -51,8 +51,9 @@ int RunLiveCommand(const LiveArguments& args) {
   if (!args.library.empty() && args.athlete.empty())
     throw UsageError{"--library stores each routine under an athlete: give --athlete A.yaml"};
   if (args.no_analysis && (!args.library.empty() || !args.athlete.empty()))
-    throw UsageError{"--athlete and --library are for each routine's analysis: not with "
-                     "--no-analysis"};
+    throw UsageError{
+        "--athlete and --library are for each routine's analysis: not with "
+        "--no-analysis"};
   std::optional<pipeline::RoutineAnalysisQueue> analyses;
   if (!args.no_analysis) {
     pipeline::RoutineAnalysisOptions o;

@@ -201,13 +201,13 @@ TEST(LiveCli, TheSideVideoStreamedAtRealTime) {
   // The analysis is the clip's: another file it read (the bed's picture) cannot pass for it.
   const std::string bed_picture =
       (dir / live.at("sources")[0].at("bed_picture").get<std::string>()).string();
-  const LiveRun other = Shell(fmt::format(
-      "'{}' library add '{}' --analysis '{}' --athlete '{}' --library '{}' 2>&1",
-      ACROLAB_EXE,
-      bed_picture,
-      (routine_dir / "analysis").string(),
-      athlete.string(),
-      (dir.parent_path() / "other.sqlite").string()));
+  const LiveRun other =
+      Shell(fmt::format("'{}' library add '{}' --analysis '{}' --athlete '{}' --library '{}' 2>&1",
+                        ACROLAB_EXE,
+                        bed_picture,
+                        (routine_dir / "analysis").string(),
+                        athlete.string(),
+                        (dir.parent_path() / "other.sqlite").string()));
   EXPECT_EQ(other.status, 1) << other.out;
   EXPECT_NE(other.out.find("an analysis of another file"), std::string::npos) << other.out;
   // The recording, every frame the source sent.

@@ -26,6 +26,7 @@
 #include <nlohmann/json.hpp>
 
 #include "acro/library/library.h"
+#include "join_on_exit.h"
 #include "refdata.h"
 #include "udp_ports.h"
 
@@ -88,12 +89,7 @@ TEST(LiveLoad, RoutinesWithRestsStreamedAtRealTimeAreAllRecordedCutAnalysedAndSt
   std::thread sender;
   // A failed assertion returns with the sender (and the session) still running: joined, never
   // left to terminate().
-  struct Join {
-    std::thread& t;
-    ~Join() {
-      if (t.joinable()) t.join();
-    }
-  } join_sender{sender};
+  const acro::testing::JoinOnExit join_sender(sender);
   sender = std::thread([&] {
     EXPECT_TRUE(acro::testing::WaitForUdpListener(port, 30.0));
     const std::string cmd = fmt::format(

@@ -149,8 +149,9 @@ AddResult AddTrial(Library& library, const AddRequest& request, const AddOptions
     // The trial's own analysis, or one of videos or detections whose primary input (the one
     // video, the first camera's — not a calibration, not the other cameras: a routine is stored
     // once) is this file.
-    const bool read_it = imported.trial_sha256 == result.sha256 ||
-                         (!imported.primary_sha256.empty() && imported.primary_sha256 == result.sha256);
+    const bool read_it =
+        imported.trial_sha256 == result.sha256 ||
+        (!imported.primary_sha256.empty() && imported.primary_sha256 == result.sha256);
     if (!read_it)
       throw InputError((request.analysis_dir / "analysis.json").string(),
                        "trial_sha256",

@@ -69,9 +69,7 @@ std::string FormatAnalysisProvenance(const TrialInput& input) {
   if (!input.inputs.empty()) {
     nlohmann::json list = nlohmann::json::array();
     for (const TrialInput::HashedFile& f : input.inputs)
-      list.push_back({{"path", canonical(f.path)},
-                      {"role", f.role},
-                      {"sha256", f.sha256}});
+      list.push_back({{"path", canonical(f.path)}, {"role", f.role}, {"sha256", f.sha256}});
     o["inputs"] = list;
   }
   o["athlete"] = input.athlete.name;

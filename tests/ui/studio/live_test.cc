@@ -38,6 +38,7 @@
 #include "acro/capture/live_source.h"
 #include "acro/capture/video.h"
 #include "acro/views/display.h"
+#include "join_on_exit.h"
 #include "qt_wait.h"
 #include "refdata.h"
 #include "udp_ports.h"
@@ -211,12 +212,7 @@ TEST(LiveWindow, ShowsTheFrameSentFiveSecondsEarlierAndReplaysTheRoutineByItself
   ASSERT_TRUE(acro::testing::WaitForUdpListener(port, 20));
   std::thread sender;
   // A failed assertion returns with the sender still running: joined, never left to terminate().
-  struct Join {
-    std::thread& t;
-    ~Join() {
-      if (t.joinable()) t.join();
-    }
-  } join_sender{sender};
+  const acro::testing::JoinOnExit join_sender(sender);
   sender = std::thread([&] {
     const std::string cmd = fmt::format(
         "ffmpeg -v error -re -i '{}' -map 0:v -c copy -f tee "

@@ -38,9 +38,19 @@ namespace {
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 // The buffer keeps a little more than the longest delay (the replay copies its frames out).
 constexpr double kKeepS = LiveWindow::kMaxDelayS + 2.0;
-constexpr size_t kMaxFrames = 8000;                    // 62 s at 129 fps
+constexpr size_t kMaxFrames = 8000;                          // 62 s at 129 fps
 constexpr std::int64_t kMaxBytes = std::int64_t(512) << 20;  // a source's JPEGs
 constexpr double kHoldAtEndS = 1.5;  // a replay's last frame held before it starts again
+
+// Stream time t was sent at t + this: the 95th percentile of the frames' lateness (measured
+// once per frame as it comes, read by every tick).
+double SentOffset(const std::deque<double>& lateness, double max_lateness) {
+  if (lateness.size() < 20) return max_lateness;
+  std::vector<double> v(lateness.begin(), lateness.end());
+  const size_t k = std::min(v.size() - 1, static_cast<size_t>(0.95 * double(v.size())));
+  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
+  return v[k];
+}
 
 QString Q(const std::string& s) {
   return QString::fromStdString(s);
@@ -296,6 +306,7 @@ void LiveWindow::OnFrame(const pipeline::LiveFrameSeen& seen) {
     b.lateness.push_back(late);
     if (b.lateness.size() > 256) b.lateness.pop_front();
   }
+  b.sent_offset = SentOffset(b.lateness, b.max_lateness);
   // Times that went back (a sender that restarted its clock): what would follow this frame goes.
   while (!b.frames.empty() && b.frames.back().time_s >= f.time_s) {
     b.bytes -= b.frames.back().jpeg.size();
@@ -317,25 +328,16 @@ void LiveWindow::OnFrame(const pipeline::LiveFrameSeen& seen) {
       it->sole_x = a.sole_px.x() * seen.picture_per_full_px;
       it->sole_y = a.sole_px.y() * seen.picture_per_full_px;
     }
-  while (b.frames.size() > 1 &&
-         (b.frames.size() > kMaxFrames || b.bytes > kMaxBytes ||
-          b.frames.back().time_s - b.frames.front().time_s > kKeepS)) {
+  while (b.frames.size() > 1 && (b.frames.size() > kMaxFrames || b.bytes > kMaxBytes ||
+                                 b.frames.back().time_s - b.frames.front().time_s > kKeepS)) {
     b.bytes -= b.frames.front().jpeg.size();
     b.frames.pop_front();
   }
 }
 
-double LiveWindow::SentOffsetLocked(const Buffer& b) const {
-  if (b.lateness.size() < 20) return b.max_lateness;
-  std::vector<double> v(b.lateness.begin(), b.lateness.end());
-  const size_t k = std::min(v.size() - 1, static_cast<size_t>(0.95 * double(v.size())));
-  std::nth_element(v.begin(), v.begin() + static_cast<std::ptrdiff_t>(k), v.end());
-  return v[k];
-}
-
 double LiveWindow::sent_offset(int source) const {
   const std::lock_guard<std::mutex> lock(mutex_);
-  return SentOffsetLocked(buffers_.at(static_cast<size_t>(source)));
+  return buffers_.at(static_cast<size_t>(source)).sent_offset;
 }
 
 LiveWindow::Shown LiveWindow::shown(int source) const {
@@ -370,12 +372,11 @@ void LiveWindow::SetSpeed(double rate) {
   const bool was_paused = rate_ == 0;
   rate_ = std::clamp(rate, 0.0, 1.0);
   pause_button_->setText(rate_ > 0 ? "Pause" : "Play");
-  if (rate_ > 0)
-    speed_box_->setCurrentIndex(std::clamp(int(std::lround(-std::log2(rate_))), 0, 3));
+  if (rate_ > 0) speed_box_->setCurrentIndex(std::clamp(int(std::lround(-std::log2(rate_))), 0, 3));
   if (rate_ == 0 && !was_paused) {
     const std::lock_guard<std::mutex> lock(mutex_);
     paused_offset_.clear();
-    for (const Buffer& b : buffers_) paused_offset_.push_back(SentOffsetLocked(b));
+    for (const Buffer& b : buffers_) paused_offset_.push_back(b.sent_offset);
   }
 }
 
@@ -387,13 +388,12 @@ void LiveWindow::StepFrame(int direction) {
   if (b.frames.empty() || paused_offset_.empty()) return;
   const double offset = paused_offset_[0];
   const double t = std::isfinite(shown_[0].time_s) ? shown_[0].time_s : view_s_ - offset;
-  const auto it = std::lower_bound(
-      b.frames.begin(), b.frames.end(), t, [](const Buffered& f, double x) {
+  const auto it =
+      std::lower_bound(b.frames.begin(), b.frames.end(), t, [](const Buffered& f, double x) {
         return f.time_s < x - 1e-9;
       });
   const std::ptrdiff_t last = static_cast<std::ptrdiff_t>(b.frames.size()) - 1;
-  const std::ptrdiff_t k =
-      std::clamp<std::ptrdiff_t>((it - b.frames.begin()) + direction, 0, last);
+  const std::ptrdiff_t k = std::clamp<std::ptrdiff_t>((it - b.frames.begin()) + direction, 0, last);
   // Halfway to the next frame: the frame stays up whatever the clock's rounding.
   const double next =
       k < last ? b.frames[size_t(k + 1)].time_s : b.frames[size_t(k)].time_s + 1.0 / 30;
@@ -412,12 +412,12 @@ void LiveWindow::Tick() {
   view_s_ = std::clamp(view_s_, now - kMaxDelayS, now - delay_s_);
   for (int k = 0; k < source_count(); ++k) ShowSource(k, view_s_, now);
   const double behind = now - view_s_;
-  delay_label_->setText(Q(fmt::format("{:.1f} s late{}",
-                                      behind,
-                                      rate_ == 0  ? (at_end ? ", paused at the buffer's end"
-                                                            : ", paused")
-                                      : rate_ < 1 ? fmt::format(", {:g}×", rate_)
-                                                  : "")));
+  delay_label_->setText(
+      Q(fmt::format("{:.1f} s late{}",
+                    behind,
+                    rate_ == 0  ? (at_end ? ", paused at the buffer's end" : ", paused")
+                    : rate_ < 1 ? fmt::format(", {:g}×", rate_)
+                                : "")));
   AdvanceReplay(dt);
 }
 
@@ -427,9 +427,8 @@ void LiveWindow::ShowSource(int k, double view_s, double now) {
     const std::lock_guard<std::mutex> lock(mutex_);
     const Buffer& b = buffers_[size_t(k)];
     if (b.frames.empty()) return;
-    const double offset = rate_ == 0 && size_t(k) < paused_offset_.size()
-                              ? paused_offset_[size_t(k)]
-                              : SentOffsetLocked(b);
+    const double offset =
+        rate_ == 0 && size_t(k) < paused_offset_.size() ? paused_offset_[size_t(k)] : b.sent_offset;
     // The last frame sent by then (stream time + offset ≤ the clock shown).
     const auto it = std::upper_bound(
         b.frames.begin(), b.frames.end(), view_s - offset, [](double x, const Buffered& g) {

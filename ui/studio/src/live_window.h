@@ -118,9 +118,10 @@ class LiveWindow : public QWidget {
   struct Buffer {
     std::string name;
     std::deque<Buffered> frames;
-    std::int64_t bytes = 0;  // the frames' JPEG
+    std::int64_t bytes = 0;       // the frames' JPEG
     std::deque<double> lateness;  // arrival − stream time, the last 256 frames past the 30th
     double max_lateness = -std::numeric_limits<double>::infinity();
+    double sent_offset = 0;                          // see sent_offset()
     std::optional<std::array<double, 2>> rest_line;  // y0, slope in the picture's px
     double picture_per_full_px = 1.0;
   };
@@ -144,7 +145,6 @@ class LiveWindow : public QWidget {
   void AdvanceReplay(double dt);
   QImage DrawReplayFrame(const Replay& r, size_t k) const;
   void FillRoutineTable();
-  double SentOffsetLocked(const Buffer& b) const;
 
   pipeline::LiveRequest request_;
   std::atomic<bool> stop_{false};
