@@ -22,9 +22,11 @@
 #include "acro/athlete/body_mesh.h"
 #include "acro/capture/trial_io.h"
 #include "acro/capture/video.h"
+#include "acro/scene/silhouette_check.h"
 #include "acro/scene/trial_scene.h"
 #include "acro/views/display.h"
 #include "acro/views/scene_overlay.h"
+#include "acro/vision/silhouette.h"
 #include "bench_video.h"
 #include "refdata.h"
 
@@ -114,6 +116,51 @@ BENCHMARK_CAPTURE(BM_Overlay, mesh, "mesh,com")
     ->Unit(benchmark::kSecond)
     ->Iterations(1)
     ->UseRealTime();
+
+// One flight frame's silhouette check (what `analyze`'s silhouettes and the overlay's mismatch do
+// per frame): the video's foreground against the athlete drawn through the camera. Argument 0:
+// the foreground of the whole 1080p frame, then the comparison (before 2026-12-08); 1: the
+// foreground in the compared box only (CompareSilhouettes with the background, now). Same IoU.
+void BM_SilhouetteCheckFrame(benchmark::State& state) {
+  const fs::path video_path = acro::testing::Generated1080pVideo();
+  if (video_path.empty() || !fs::exists(video_path)) {
+    state.SkipWithError("the input video could not be made (is ffmpeg installed?)");
+    return;
+  }
+  const Routine& routine = SampleRoutine();
+  acro::analysis::TrialScene scene(routine.trial,
+                                   routine.analysis,
+                                   routine.body,
+                                   acro::analysis::MakeEllipsoidBodyMesh(
+                                       routine.body, acro::analysis::OverlayBodyMeshOptions()));
+  int sample = 0;
+  while (sample < scene.num_samples() && scene.FlightAt(sample) < 0) ++sample;
+  sample += 60;  // into the flight
+  acro::analysis::TrialFrame tf;
+  scene.Frame(sample, &tf);
+  acro::capture::VideoReader video(video_path);
+  const acro::vision::BackgroundModel background(video, 15);
+  const acro::capture::VideoFrame frame = video.Frame(100);
+  const acro::vision::BackgroundOptions options;
+  acro::vision::Mask real;
+  acro::analysis::SilhouetteFrame compared;
+  for (auto _ : state) {
+    if (state.range(0) == 0) {
+      real = background.Foreground(frame, options);
+      acro::analysis::CompareSilhouettes(real, tf, routine.camera, 0.1, &compared);
+    } else {
+      acro::analysis::CompareSilhouettes(
+          background, frame, options, tf, routine.camera, 0.1, &real, &compared);
+    }
+    // (read only: benchmark 1.7's DoNotOptimize of a writable double puts it through an integer
+    // register and writes garbage back)
+    const double iou = compared.iou;
+    benchmark::DoNotOptimize(iou);
+  }
+  state.counters["iou"] = compared.iou;
+  state.counters["box_px"] = double(compared.x1 - compared.x0) * (compared.y1 - compared.y0);
+}
+BENCHMARK(BM_SilhouetteCheckFrame)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 

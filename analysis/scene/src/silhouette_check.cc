@@ -47,36 +47,54 @@ double AthleteIoU(const vision::Mask& real,
 
 }  // namespace
 
+namespace {
+
+// The athlete of `tf` drawn through `camera` into out->athlete, and the box the two silhouettes are
+// compared in: the drawn pixels' box grown by `margin` of its size (+2 px) on each side.
+void DrawAthleteAndBox(const TrialFrame& tf,
+                       const vision::Camera& camera,
+                       double margin,
+                       SilhouetteFrame* out) {
+  vision::PixelRect drawn;
+  out->athlete = vision::RenderSilhouette(
+      camera, tf.athlete.mesh.vertices_W, tf.athlete.mesh.triangles, &drawn);
+  out->x0 = out->y0 = out->x1 = out->y1 = 0;
+  out->iou = 0.0;
+  if (drawn.empty()) return;
+  const int W = camera.width_px, H = camera.height_px;
+  const int gx = static_cast<int>(margin * (drawn.x1 - drawn.x0)) + 2;
+  const int gy = static_cast<int>(margin * (drawn.y1 - drawn.y0)) + 2;
+  out->x0 = std::max(0, drawn.x0 - gx);
+  out->y0 = std::max(0, drawn.y0 - gy);
+  out->x1 = std::min(W, drawn.x1 + gx);
+  out->y1 = std::min(H, drawn.y1 + gy);
+}
+
+}  // namespace
+
 void CompareSilhouettes(const vision::Mask& real,
                         const TrialFrame& tf,
                         const vision::Camera& camera,
                         double margin,
                         SilhouetteFrame* out) {
-  out->athlete =
-      vision::RenderSilhouette(camera, tf.athlete.mesh.vertices_W, tf.athlete.mesh.triangles);
-  const vision::Mask& athlete = out->athlete;
-  const int W = camera.width_px, H = camera.height_px;
-  int x0 = W, y0 = H, x1 = 0, y1 = 0;
-  for (int y = 0; y < H; ++y) {
-    const std::uint8_t* row = athlete.pixels.data() + size_t(y) * size_t(W);
-    for (int x = 0; x < W; ++x) {
-      if (row[x] == 0) continue;
-      x0 = std::min(x0, x);
-      x1 = std::max(x1, x + 1);
-      y0 = std::min(y0, y);
-      y1 = std::max(y1, y + 1);
-    }
-  }
-  out->x0 = out->y0 = out->x1 = out->y1 = 0;
-  out->iou = 0.0;
-  if (x1 <= x0) return;
-  const int gx = static_cast<int>(margin * (x1 - x0)) + 2;
-  const int gy = static_cast<int>(margin * (y1 - y0)) + 2;
-  out->x0 = std::max(0, x0 - gx);
-  out->y0 = std::max(0, y0 - gy);
-  out->x1 = std::min(W, x1 + gx);
-  out->y1 = std::min(H, y1 + gy);
-  out->iou = BoxIoU(real, athlete, out->x0, out->y0, out->x1, out->y1);
+  DrawAthleteAndBox(tf, camera, margin, out);
+  if (out->x1 <= out->x0) return;
+  out->iou = BoxIoU(real, out->athlete, out->x0, out->y0, out->x1, out->y1);
+}
+
+void CompareSilhouettes(const vision::BackgroundModel& background,
+                        const capture::VideoFrame& frame,
+                        const vision::BackgroundOptions& options,
+                        const TrialFrame& tf,
+                        const vision::Camera& camera,
+                        double margin,
+                        vision::Mask* real,
+                        SilhouetteFrame* out) {
+  DrawAthleteAndBox(tf, camera, margin, out);
+  *real =
+      background.Foreground(frame, options, vision::PixelRect{out->x0, out->y0, out->x1, out->y1});
+  if (out->x1 <= out->x0) return;
+  out->iou = BoxIoU(*real, out->athlete, out->x0, out->y0, out->x1, out->y1);
 }
 
 SilhouetteCheck CheckSilhouettes(capture::VideoReader& video,
@@ -107,6 +125,8 @@ SilhouetteCheck CheckSilhouettes(capture::VideoReader& video,
   }
   TrialFrame tf;
   capture::VideoFrame frame;
+  vision::Mask real;
+  SilhouetteFrame compared;
   int done = 0;
   // A fresh sequential pass (the background model read frames out of order).
   if (total > 0) {
@@ -117,8 +137,10 @@ SilhouetteCheck CheckSilhouettes(capture::VideoReader& video,
       const int sample = wanted[size_t(frame.index)];
       if (sample < 0) continue;
       scene.Frame(sample, &tf);
-      const double iou = AthleteIoU(
-          background.Foreground(frame, options.background), tf, camera, options.box_margin);
+      // The foreground in the athlete's box only: all the comparison reads.
+      CompareSilhouettes(
+          background, frame, options.background, tf, camera, options.box_margin, &real, &compared);
+      const double iou = compared.iou;
       out.frames.push_back(frame.index);
       out.samples.push_back(sample);
       out.flights.push_back(scene.FlightAt(sample));

@@ -34,7 +34,9 @@ int Mask::CountInside() const {
 
 Mask RenderSilhouette(const Camera& camera,
                       const Eigen::Matrix3Xd& vertices_W,
-                      const Eigen::Matrix3Xi& triangles) {
+                      const Eigen::Matrix3Xi& triangles,
+                      PixelRect* drawn) {
+  PixelRect box{camera.width_px, camera.height_px, 0, 0};
   Mask mask;
   mask.width = camera.width_px;
   mask.height = camera.height_px;
@@ -79,11 +81,17 @@ Mask RenderSilhouette(const Camera& camera,
       for (int x = x0; x <= x1; ++x) {
         const double e0 = edge(a, b, x, y), e1 = edge(b, c, x, y), e2 = edge(c, a, x, y);
         if ((e0 > 0 || (e0 == 0 && own_ab)) && (e1 > 0 || (e1 == 0 && own_bc)) &&
-            (e2 > 0 || (e2 == 0 && own_ca)))
+            (e2 > 0 || (e2 == 0 && own_ca))) {
           row[x] = 255;
+          box.x0 = std::min(box.x0, x);
+          box.x1 = std::max(box.x1, x + 1);
+          box.y0 = std::min(box.y0, y);
+          box.y1 = std::max(box.y1, y + 1);
+        }
       }
     }
   }
+  if (drawn != nullptr) *drawn = box.empty() ? PixelRect{} : box;
   return mask;
 }
 
@@ -103,7 +111,9 @@ namespace {
 std::atomic<long long> built_count{0};
 }  // namespace
 
-long long BackgroundModel::BuiltCount() { return built_count.load(); }
+long long BackgroundModel::BuiltCount() {
+  return built_count.load();
+}
 
 BackgroundModel::BackgroundModel(capture::VideoReader& video, int num_samples) {
   ++built_count;
@@ -146,35 +156,62 @@ BackgroundModel::BackgroundModel(const std::vector<capture::VideoFrame>& frames)
 
 Mask BackgroundModel::Foreground(const capture::VideoFrame& frame,
                                  const BackgroundOptions& options) const {
+  return Foreground(frame, options, PixelRect{0, 0, width_, height_});
+}
+
+Mask BackgroundModel::Foreground(const capture::VideoFrame& frame,
+                                 const BackgroundOptions& options,
+                                 const PixelRect& region) const {
   if (frame.width != width_ || frame.height != height_)
     throw std::invalid_argument("a frame of another size than the background");
   Mask mask;
   mask.width = width_;
   mask.height = height_;
-  mask.pixels.resize(static_cast<size_t>(width_) * height_);
+  mask.pixels.assign(static_cast<size_t>(width_) * height_, 0);
+  const PixelRect inside{std::max(0, region.x0),
+                         std::max(0, region.y0),
+                         std::min(width_, region.x1),
+                         std::min(height_, region.y1)};
+  if (inside.empty()) return mask;
+  // The pixels the cleaning (an opening then a closing: four passes of a clean_px square) lets
+  // reach the region: worked out on the region grown by that much, as the whole frame would be.
+  const int reach = options.clean_px > 0 ? 2 * options.clean_px + 1 : 0;
+  const cv::Rect work(std::max(0, inside.x0 - reach),
+                      std::max(0, inside.y0 - reach),
+                      std::min(width_, inside.x1 + reach) - std::max(0, inside.x0 - reach),
+                      std::min(height_, inside.y1 + reach) - std::max(0, inside.y0 - reach));
+  cv::Mat m;
   if (channels_ == 3 && frame.channels == 3) {
     // Colour: the largest difference over the three channels (skin on a grey wall can have the
-    // wall's grey level).
-    for (size_t i = 0; i < mask.pixels.size(); ++i) {
-      const std::uint8_t* p = frame.pixels.data() + 3 * i;
-      const std::uint8_t* q = median_.data() + 3 * i;
-      const int d = std::max({std::abs(int(p[0]) - int(q[0])),
-                              std::abs(int(p[1]) - int(q[1])),
-                              std::abs(int(p[2]) - int(q[2]))});
-      mask.pixels[i] = d > options.colour_threshold ? 255 : 0;
-    }
+    // wall's grey level). OpenCV's vectorised absdiff and max.
+    const cv::Mat f(height_, width_, CV_8UC3, const_cast<std::uint8_t*>(frame.pixels.data()));
+    const cv::Mat b(height_, width_, CV_8UC3, const_cast<std::uint8_t*>(median_.data()));
+    cv::Mat diff;
+    cv::absdiff(f(work), b(work), diff);
+    cv::Mat planes[3];
+    cv::split(diff, planes);
+    cv::max(planes[0], planes[1], m);
+    cv::max(m, planes[2], m);
   } else {
-    const std::vector<std::uint8_t> g = GreyOf(frame);
-    for (size_t i = 0; i < g.size(); ++i)
-      mask.pixels[i] = std::abs(int(g[i]) - int(grey_[i])) > options.threshold ? 255 : 0;
+    const std::vector<std::uint8_t> g = frame.channels == 1 ? frame.pixels : GreyOf(frame);
+    const cv::Mat f(height_, width_, CV_8UC1, const_cast<std::uint8_t*>(g.data()));
+    const cv::Mat b(height_, width_, CV_8UC1, const_cast<std::uint8_t*>(grey_.data()));
+    cv::absdiff(f(work), b(work), m);
   }
+  const int threshold =
+      channels_ == 3 && frame.channels == 3 ? options.colour_threshold : options.threshold;
+  cv::threshold(m, m, threshold, 255, cv::THRESH_BINARY);  // > threshold: 255
   if (options.clean_px > 0) {
-    cv::Mat m(height_, width_, CV_8UC1, mask.pixels.data());
+    // (m is its own matrix, not a view into the frame: the cleaning sees the work rectangle's
+    // edge as the frame's edge only where it is one.)
     const cv::Mat kernel =
         cv::getStructuringElement(cv::MORPH_RECT, cv::Size(options.clean_px, options.clean_px));
     cv::morphologyEx(m, m, cv::MORPH_OPEN, kernel);
     cv::morphologyEx(m, m, cv::MORPH_CLOSE, kernel);
   }
+  cv::Mat out(height_, width_, CV_8UC1, mask.pixels.data());
+  const cv::Rect keep(inside.x0, inside.y0, inside.x1 - inside.x0, inside.y1 - inside.y0);
+  m(cv::Rect(keep.x - work.x, keep.y - work.y, keep.width, keep.height)).copyTo(out(keep));
   return mask;
 }
 

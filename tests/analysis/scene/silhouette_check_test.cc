@@ -105,5 +105,44 @@ TEST(SilhouetteCheck, TheReconstructionMatchesTheVideoAndAWrongSyncShows) {
   EXPECT_LE(early.median_iou, right.median_iou - 0.1);
 }
 
+// The comparison with the foreground worked out in the athlete's box alone (what the check and the
+// overlay do) gives the IoU, the box and the masks in it of the whole frame's foreground.
+TEST(SilhouetteCheck, TheForegroundInTheBoxGivesTheWholeFramesComparison) {
+  const Sample& s = TheSample();
+  TrialScene scene(s.trial, s.analysis, s.body, MakeEllipsoidBodyMesh(s.body));
+  capture::VideoReader video(s.video);
+  const vision::BackgroundModel background(video, 25);
+  vision::VideoSync sync;
+  sync.offset_s = s.offset_s;
+  int compared = 0;
+  for (int k = 20; k < video.num_frames(); k += 23) {
+    const int sample = sync.NearestSample(s.trial, video.frame_times_s()[size_t(k)]);
+    if (sample < 0) continue;
+    TrialFrame tf;
+    scene.Frame(sample, &tf);
+    const capture::VideoFrame frame = video.Frame(k);
+    const vision::BackgroundOptions options;
+    SilhouetteFrame whole, boxed;
+    const vision::Mask all = background.Foreground(frame, options);
+    CompareSilhouettes(all, tf, s.camera, 0.1, &whole);
+    vision::Mask part;
+    CompareSilhouettes(background, frame, options, tf, s.camera, 0.1, &part, &boxed);
+    ASSERT_GT(whole.x1, whole.x0) << "frame " << k;
+    EXPECT_EQ(boxed.iou, whole.iou) << "frame " << k;
+    EXPECT_GT(boxed.iou, 0.3) << "frame " << k;
+    EXPECT_EQ(boxed.x0, whole.x0);
+    EXPECT_EQ(boxed.y0, whole.y0);
+    EXPECT_EQ(boxed.x1, whole.x1);
+    EXPECT_EQ(boxed.y1, whole.y1);
+    for (int y = whole.y0; y < whole.y1; ++y)
+      for (int x = whole.x0; x < whole.x1; ++x)
+        ASSERT_EQ(part.pixels[size_t(y) * size_t(part.width) + size_t(x)],
+                  all.pixels[size_t(y) * size_t(all.width) + size_t(x)])
+            << "frame " << k << " pixel " << x << "," << y;
+    ++compared;
+  }
+  EXPECT_GE(compared, 8);
+}
+
 }  // namespace
 }  // namespace acro::analysis

@@ -193,8 +193,14 @@ void TrialOverlay::Draw(int sample, capture::VideoFrame* frame, OverlayTiming* t
   // The silhouettes are compared on the frame as filmed, the mismatch drawn over the render.
   const bool mismatch = m.options.show.mismatch && in_flight;
   if (mismatch) {
-    m.real = m.options.background->Foreground(*frame, m.options.background_options);
-    analysis::CompareSilhouettes(m.real, m.tf, m.camera, m.options.box_margin, &m.silhouettes);
+    analysis::CompareSilhouettes(*m.options.background,
+                                 *frame,
+                                 m.options.background_options,
+                                 m.tf,
+                                 m.camera,
+                                 m.options.box_margin,
+                                 &m.real,
+                                 &m.silhouettes);
   }
   if (!box.empty()) m.composite.Composite(m.render, box, &frame->pixels);
   m.heads_up = m.tf.heads_up;

@@ -68,6 +68,17 @@ void CompareSilhouettes(const vision::Mask& real,
                         double margin,
                         SilhouetteFrame* out);
 
+/// The same with the video's frame: its foreground (`real`) worked out in the compared box only,
+/// every pixel outside it 0 — the same IoU for a tenth of the work on a 1080p frame.
+void CompareSilhouettes(const vision::BackgroundModel& background,
+                        const capture::VideoFrame& frame,
+                        const vision::BackgroundOptions& options,
+                        const TrialFrame& tf,
+                        const vision::Camera& camera,
+                        double margin,
+                        vision::Mask* real,
+                        SilhouetteFrame* out);
+
 /// Compares the video (an RGB reader: the background model and the foreground in colour; a grey
 /// one works, less well) with the scene's athlete through `camera`. Throws std::invalid_argument
 /// when the scene has no athlete, acro::InputError for video trouble, acro::Cancelled when the

@@ -24,12 +24,20 @@ struct Mask {
   int CountInside() const;
 };
 
+/// A rectangle of pixels, [x0, x1) × [y0, y1); empty when x1 ≤ x0 or y1 ≤ y0.
+struct PixelRect {
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  bool empty() const { return x1 <= x0 || y1 <= y0; }
+};
+
 /// The silhouette of a triangle mesh (vertices in W, 3 × V; triangles 3 × T) in the camera's
 /// image: every triangle with all three vertices in front of the camera, its vertices projected
 /// (distortion applied) and the triangle filled. Triangles crossing the camera plane are left out.
+/// `drawn`, when given, gets the smallest rectangle holding every pixel set (empty: none).
 Mask RenderSilhouette(const Camera& camera,
                       const Eigen::Matrix3Xd& vertices_W,
-                      const Eigen::Matrix3Xi& triangles);
+                      const Eigen::Matrix3Xi& triangles,
+                      PixelRect* drawn = nullptr);
 
 /// |A ∩ B| / |A ∪ B| of two masks of one size (1 when both are empty). Throws
 /// std::invalid_argument for masks of different sizes.
@@ -70,6 +78,13 @@ class BackgroundModel {
   /// The foreground of one frame (the background's size): by colour when both are RGB, else by
   /// grey level.
   Mask Foreground(const capture::VideoFrame& frame, const BackgroundOptions& options = {}) const;
+  /// The same inside `region` only (clipped to the frame), every pixel outside it 0: inside, each
+  /// pixel equals Foreground(frame, options)'s (the cleaning sees the pixels around the region it
+  /// reaches). For a check that looks at the athlete's box alone: a 1080p frame's foreground costs
+  /// ~5 ms, the athlete's box a tenth of it.
+  Mask Foreground(const capture::VideoFrame& frame,
+                  const BackgroundOptions& options,
+                  const PixelRect& region) const;
 
  private:
   int width_ = 0;
