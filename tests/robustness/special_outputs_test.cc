@@ -73,11 +73,10 @@ const fs::path& Library() {
   static const fs::path path = [] {
     const fs::path lib = acro::testing::TempDir() / "special_outputs_library.sqlite";
     fs::remove(lib);
-    const ProcessResult add = Execute(std::string(ACROLAB_EXE) + " library add --library " +
-                                      Quote(lib) + " --athlete " +
-                                      Quote(Samples() / "athletes/sample_athlete.yaml") + " " +
-                                      Quote(Samples() / "trials/straight_jump/straight_jump.c3d") +
-                                      " >/dev/null");
+    const ProcessResult add =
+        Execute(std::string(ACROLAB_EXE) + " library add --library " + Quote(lib) + " --athlete " +
+                Quote(Samples() / "athletes/sample_athlete.yaml") + " " +
+                Quote(Samples() / "trials/straight_jump/straight_jump.c3d") + " >/dev/null");
     EXPECT_EQ(add.status, 0) << add.err;
     return lib;
   }();
@@ -177,6 +176,12 @@ std::vector<Writer> Writers() {
   const std::string trial = Quote(routine / "trampoline_routine.c3d");
   const std::string calib = Quote(routine / "side_camera.toml");
   const std::string video = Quote(routine / "side_camera.mp4");
+  // The side camera posed on the bed it sees (calibrate extrinsics --detect-bed).
+  const std::string bed_camera = "calibrate extrinsics --points3d " + trial + " --intrinsics " +
+                                 calib + " --detect-bed " + video + " --frame 100";
+  const auto jump = [&](int k) {
+    return Quote(fs::path((routine / "trampoline_routine.c3d").string() + ":" + std::to_string(k)));
+  };
   return {
       {"convert", "convert " + trial + " {OUT}", ".trc", "PathFileType"},
       {"video_frame", "video frame " + video + " --frame 3 -o {OUT}", ".png", "\x89PNG"},
@@ -190,13 +195,30 @@ std::vector<Writer> Writers() {
        ".mp4",
        ""},
       {"library_export", "library export --library " + Quote(Library()) + " -o {OUT}", ".csv", ""},
+      {"library_query",
+       "library query --library " + Quote(Library()) + " --csv -o {OUT}",
+       ".csv",
+       ""},
+      {"calibrate_extrinsics", bed_camera + " -o {OUT}", ".toml", "[side]"},
+      {"calibrate_corners",
+       bed_camera + " --corners-csv {OUT} -o " +
+           Quote(acro::testing::TempDir() / "special_outputs_corners_camera.toml"),
+       ".csv",
+       "name,u_px,v_px"},
+      {"compare",
+       "compare " + jump(2) + " " + jump(3) + " --athlete " +
+           Quote(Samples() / "athletes/sample_athlete.yaml") + " -o {OUT}",
+       ".mp4",
+       ""},
   };
 }
 
 INSTANTIATE_TEST_SUITE_P(EveryWriter,
                          SpecialOutputs,
                          ::testing::ValuesIn(Writers()),
-                         [](const ::testing::TestParamInfo<Writer>& param) { return param.param.name; });
+                         [](const ::testing::TestParamInfo<Writer>& param) {
+                           return param.param.name;
+                         });
 
 // A command whose outputs are a folder (analyze's OutputTransaction): a file in it that is a link
 // stays a link, its target rewritten.
@@ -207,10 +229,9 @@ TEST(SpecialOutputsInAFolder, ALinkedFileInTheOutputFolderStaysALink) {
   fs::create_directories(dir / "kept");
   { std::ofstream(dir / "kept/jumps.json") << "old"; }
   fs::create_symlink(dir / "kept/jumps.json", dir / "out/jumps.json");
-  const ProcessResult run =
-      Execute(std::string(ACROLAB_EXE) + " analyze " +
-              Quote(Samples() / "trials/straight_jump/straight_jump.c3d") + " -o " +
-              Quote(dir / "out") + " >/dev/null");
+  const ProcessResult run = Execute(std::string(ACROLAB_EXE) + " analyze " +
+                                    Quote(Samples() / "trials/straight_jump/straight_jump.c3d") +
+                                    " -o " + Quote(dir / "out") + " >/dev/null");
   EXPECT_EQ(run.status, 0) << run.err;
   EXPECT_TRUE(fs::is_symlink(fs::symlink_status(dir / "out/jumps.json")));
   EXPECT_EQ(ReadAll(dir / "kept/jumps.json").substr(0, 1), "[");  // the jumps, not "old"
