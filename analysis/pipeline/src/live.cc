@@ -242,6 +242,7 @@ void CloseRoutine(Session& session,
                                             r.folder / "clip.ts",
                                             &clip_end);
     clip_end += offset_s;
+    r.clip_start_s = clip_start;
   } catch (const InputError& e) {
     r.clip_error = e.what();
   }

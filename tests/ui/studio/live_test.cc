@@ -34,6 +34,7 @@
 #include <thread>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
 #include "acro/capture/live_source.h"
 #include "acro/capture/video.h"
@@ -272,6 +273,56 @@ TEST(LiveWindow, ShowsTheFrameSentFiveSecondsEarlierAndReplaysTheRoutineByItself
       << w.lines().join("\n").toStdString();
   EXPECT_TRUE(fs::exists(w.replay_report())) << w.replay_report();
   EXPECT_TRUE(w.lines().join("\n").contains("routine 1 analysed in"));
+  // Then the replay shows the full analysis: the analysis's overlay video (the athlete's model
+  // drawn over the picture) with its skills in the table.
+  ASSERT_TRUE(WaitUntil([&] { return w.replay_shows_analysis(); }, 30000))
+      << w.lines().join("\n").toStdString();
+  {
+    const fs::path dir = w.replay_report().parent_path();
+    // The overlay's frames, read by the test itself, and the clip's start on the session's line.
+    capture::VideoReader overlay(dir / "overlay.mp4");
+    std::vector<std::vector<int>> drawn_frames;
+    for (int i = 0; i < overlay.num_frames(); ++i) {
+      const capture::VideoFrame f = overlay.Frame(i);
+      drawn_frames.push_back(
+          Small(QImage(f.pixels.data(), f.width, f.height, 3 * f.width, QImage::Format_RGB888)));
+    }
+    std::ifstream routine_json(dir.parent_path() / "routine.json");
+    const double clip_start = nlohmann::json::parse(routine_json).at("clip_start_s").get<double>();
+    Pump(300);
+    const int j = static_cast<int>(std::floor((w.replay_time_s() - clip_start) / kFrame + 1e-6));
+    const std::vector<int> shown = Small(w.replay_image());
+    const std::vector<int>& expected =
+        drawn_frames.at(size_t(std::clamp(j, 0, overlay.num_frames() - 1)));
+    double off = 0;
+    int n = 0;
+    for (int y = 0; y < 140; ++y)  // above the numbers' box
+      for (int x = 0; x < 320; ++x, ++n)
+        off += std::abs(shown[size_t(y * 320 + x)] - expected[size_t(y * 320 + x)]);
+    EXPECT_LT(off / n, 4.0) << "the replay is not the analysis's overlay frame " << j;
+    // …and not the plain clip: the overlay's drawing differs from the camera's frame.
+    const std::vector<int>& plain = reference.at(size_t(
+        std::clamp(static_cast<int>(std::floor(w.replay_time_s() / kFrame + 1e-6)), 0, 298)));
+    double from_plain = 0;
+    for (int y = 40; y < 180; ++y)
+      for (int x = 0; x < 320; ++x)
+        from_plain += std::abs(shown[size_t(y * 320 + x)] - plain[size_t(y * 320 + x)]);
+    EXPECT_GT(from_plain / n, off / n + 0.5) << "the overlay's drawing is not seen";
+    // The table: each complete jump's skill as the analysis named it, and the score sheet.
+    std::ifstream jumps_json(dir / "jumps.json");
+    std::vector<std::string> codes;
+    for (const nlohmann::json& jump : nlohmann::json::parse(jumps_json))
+      if (!jump.at("partial").get<bool>()) codes.push_back(jump.at("fig_code").get<std::string>());
+    const std::vector<std::vector<std::string>> table = w.replay_table();
+    ASSERT_EQ(table.size(), codes.size() + 1);
+    for (size_t i = 0; i < codes.size(); ++i)
+      EXPECT_EQ(table[i].at(1).substr(0, codes[i].size() + 1), codes[i] + " ") << i;
+    EXPECT_NE(table.back().at(1).find("T "), std::string::npos) << table.back().at(1);
+    if (std::getenv("ACRO_STUDIO_SCREENSHOTS") != nullptr) {
+      WaitUntil([&] { return w.replay_time_s() > 6.9 && w.replay_time_s() < 7.3; }, 15000);
+      Shot(w, "live_window_analysed");
+    }
+  }
   sender.join();
   w.Stop();
   ASSERT_TRUE(WaitUntil([&] { return !w.running(); }, 20000));

@@ -26,9 +26,14 @@
 #include <cstdio>
 
 #include <fmt/format.h>
+#include <nlohmann/json.hpp>
 
+#include "acro/base/file_io.h"
+#include "acro/base/input_error.h"
 #include "acro/capture/live_source.h"
+#include "acro/capture/video.h"
 #include "acro/fig/score_sheet.h"
+#include "acro/library/library.h"
 #include "image_view.h"
 
 namespace acro::studio {
@@ -56,19 +61,46 @@ QString Q(const std::string& s) {
   return QString::fromStdString(s);
 }
 
-}  // namespace
-
-QByteArray LiveWindow::Compress(const capture::VideoFrame& picture) {
-  const QImage image(picture.pixels.data(),
-                     picture.width,
-                     picture.height,
-                     picture.width * picture.channels,
-                     picture.channels == 3 ? QImage::Format_RGB888 : QImage::Format_Grayscale8);
+QByteArray Jpeg(const QImage& image) {
   QByteArray bytes;
   QBuffer out(&bytes);
   out.open(QIODevice::WriteOnly);
   image.save(&out, "JPG", 90);
   return bytes;
+}
+
+// The numbers' box a coach reads on the hall's screen: three lines, top left of the picture.
+void DrawNumbersBox(QPainter& p,
+                    double scale,
+                    double width,
+                    double top_px,
+                    const std::string& top,
+                    const std::string& middle,
+                    const std::string& bottom) {
+  QFont font = p.font();
+  font.setPixelSize(static_cast<int>(13 * scale));
+  font.setBold(true);
+  p.setFont(font);
+  const QRectF box(8 * scale, top_px, width * scale, 62 * scale);
+  p.setPen(Qt::NoPen);
+  p.setBrush(QColor(0, 0, 0, 160));
+  p.drawRoundedRect(box, 4 * scale, 4 * scale);
+  p.setPen(QColor(255, 255, 255));
+  p.drawText(box.adjusted(8 * scale, 4 * scale, 0, 0), Qt::AlignLeft | Qt::AlignTop, Q(top));
+  p.setPen(QColor(255, 210, 0));
+  p.drawText(box.adjusted(8 * scale, 22 * scale, 0, 0), Qt::AlignLeft | Qt::AlignTop, Q(middle));
+  p.setPen(QColor(200, 230, 255));
+  p.drawText(box.adjusted(8 * scale, 40 * scale, 0, 0), Qt::AlignLeft | Qt::AlignTop, Q(bottom));
+}
+
+}  // namespace
+
+QByteArray LiveWindow::Compress(const capture::VideoFrame& picture) {
+  return Jpeg(QImage(picture.pixels.data(),
+                     picture.width,
+                     picture.height,
+                     picture.width * picture.channels,
+                     picture.channels == 3 ? QImage::Format_RGB888 : QImage::Format_Grayscale8));
 }
 
 QImage LiveWindow::Decompress(const QByteArray& jpeg) {
@@ -216,12 +248,7 @@ LiveWindow::LiveWindow(pipeline::LiveRequest request,
     analyses->on_analysed = [this](const pipeline::LiveRoutine& r,
                                    const std::filesystem::path& report) {
       QMetaObject::invokeMethod(
-          this,
-          [this, key = RoutineKey(r.source, r.number), report] {
-            reports_[key] = report;
-            report_button_->setEnabled(!replay_report().empty());
-          },
-          Qt::QueuedConnection);
+          this, [this, r, report] { OnAnalysed(r, report); }, Qt::QueuedConnection);
     };
     analyses_.emplace(*analyses);
   }
@@ -272,6 +299,8 @@ LiveWindow::~LiveWindow() {
                    request_.out_dir.string().c_str());
   }
   analyses_.reset();
+  closing_ = true;
+  for (std::thread& t : loaders_) t.join();
 }
 
 void LiveWindow::closeEvent(QCloseEvent* event) {
@@ -478,25 +507,70 @@ void LiveWindow::OnRoutine(const pipeline::LiveRoutine& routine) {
     r.picture_per_full_px = b->picture_per_full_px;
   }
   if (r.frames.empty()) return;  // older than the buffer
-  r.t_s = r.frames.front().time_s;
+  picture_width_ = Decompress(r.frames.front().jpeg).width();
+  const auto done = analysed_.find(RoutineKey(routine.source, routine.number));
+  if (done != analysed_.end()) r.analysed = done->second;
+  r.t_s = (r.analysed ? r.analysed->frames : r.frames).front().time_s;
   replay_ = std::move(r);
-  replay_label_->setText(Q(fmt::format("Replay: {} routine {}{} — {} jumps",
-                                       routine.source,
-                                       routine.number,
-                                       routine.interrupted ? " (interrupted)" : "",
-                                       routine.jumps.size())));
+  ReplayLabel();
   FillRoutineTable();
   report_button_->setEnabled(!replay_report().empty());
   AdvanceReplay(0.0);
 }
 
+void LiveWindow::ReplayLabel() {
+  const pipeline::LiveRoutine& routine = replay_->routine;
+  replay_label_->setText(
+      Q(fmt::format("Replay: {} routine {}{} — {} jumps{}",
+                    routine.source,
+                    routine.number,
+                    routine.interrupted ? " (interrupted)" : "",
+                    routine.jumps.size(),
+                    replay_->analysed ? " — its full analysis" : " — from the image motion")));
+}
+
 void LiveWindow::FillRoutineTable() {
+  const auto cell = [&](int row, int column, const std::string& text) {
+    auto* item = new QTableWidgetItem(Q(text));
+    item->setToolTip(Q(text));
+    routine_table_->setItem(row, column, item);
+  };
+  routine_table_->clearSpans();
+  routine_table_->clearContents();
+  if (replay_->analysed) {
+    // The full analysis: each element's skill, difficulty, time of flight, landing and the faults
+    // measured; the score sheet's numbers below.
+    const Analysed& a = *replay_->analysed;
+    routine_table_->setColumnCount(6);
+    routine_table_->setHorizontalHeaderLabels(
+        {"Jump", "Skill", "DD", "Time of flight (s)", "Landing", "Faults"});
+    routine_table_->setRowCount(static_cast<int>(a.jumps.size()) + 1);
+    double sum = 0;
+    for (size_t k = 0; k < a.jumps.size(); ++k) {
+      const Analysed::Jump& j = a.jumps[k];
+      sum += j.time_of_flight_s;
+      const int row = static_cast<int>(k);
+      cell(row, 0, std::to_string(k + 1));
+      cell(row, 1, j.code + " " + j.name);
+      cell(row, 2, fmt::format("{:.1f}", j.difficulty));
+      cell(row, 3, fmt::format("{:.3f}", j.time_of_flight_s));
+      cell(row, 4, j.zone);
+      std::string faults;
+      for (const std::string& f : j.faults) faults += (faults.empty() ? "" : ", ") + f;
+      cell(row, 5, faults);
+    }
+    const int last = static_cast<int>(a.jumps.size());
+    cell(last, 0, "all");
+    cell(last, 1, a.score.empty() ? fmt::format("time of flight {:.3f} s", sum) : a.score);
+    routine_table_->setSpan(last, 1, 1, 5);
+    return;
+  }
+  routine_table_->setColumnCount(5);
+  routine_table_->setHorizontalHeaderLabels(
+      {"Jump", "Take-off (s)", "Time of flight (s)", "Landing (m)", "Zone"});
   const std::vector<pipeline::LiveJump>& jumps = replay_->routine.jumps;
   routine_table_->setRowCount(static_cast<int>(jumps.size()) + 1);
   double sum = 0;
-  const auto cell = [&](int row, int column, const std::string& text) {
-    routine_table_->setItem(row, column, new QTableWidgetItem(Q(text)));
-  };
   for (size_t k = 0; k < jumps.size(); ++k) {
     const pipeline::LiveJump& j = jumps[k];
     const int row = static_cast<int>(k);
@@ -512,6 +586,118 @@ void LiveWindow::FillRoutineTable() {
   const int last = static_cast<int>(jumps.size());
   cell(last, 0, "all");
   cell(last, 2, fmt::format("{:.3f} (T {:.3f})", sum, fig::TruncateTimeOfFlight(sum, 0.005)));
+}
+
+std::vector<std::vector<std::string>> LiveWindow::replay_table() const {
+  std::vector<std::vector<std::string>> rows;
+  for (int r = 0; r < routine_table_->rowCount(); ++r) {
+    rows.emplace_back();
+    for (int c = 0; c < routine_table_->columnCount(); ++c) {
+      const QTableWidgetItem* item = routine_table_->item(r, c);
+      rows.back().push_back(item != nullptr ? item->text().toStdString() : "");
+    }
+  }
+  return rows;
+}
+
+void LiveWindow::OnAnalysed(const pipeline::LiveRoutine& routine,
+                            const std::filesystem::path& report) {
+  const std::string key = RoutineKey(routine.source, routine.number);
+  reports_[key] = report;
+  report_button_->setEnabled(!replay_report().empty());
+  // Its overlay video and score sheet read for the replay on a thread of their own (a second or
+  // two for a routine: the picture goes on meanwhile).
+  const double clip_start = routine.clip_start_s;
+  const int width = picture_width_;
+  loaders_.emplace_back([this, key, report, clip_start, width] {
+    try {
+      std::shared_ptr<const Analysed> a = LoadAnalysed(report, clip_start, width, closing_);
+      if (a == nullptr) return;
+      QMetaObject::invokeMethod(
+          this, [this, key, a] { ShowAnalysed(key, a); }, Qt::QueuedConnection);
+    } catch (const std::exception& e) {
+      const std::string line =
+          fmt::format("routine {}: its analysis cannot be replayed: {}", key, e.what());
+      QMetaObject::invokeMethod(
+          this, [this, line] { AddLine(line); }, Qt::QueuedConnection);
+    }
+  });
+}
+
+void LiveWindow::ShowAnalysed(const std::string& key, std::shared_ptr<const Analysed> analysed) {
+  analysed_[key] = analysed;
+  if (!replay_ || RoutineKey(replay_->routine.source, replay_->routine.number) != key) return;
+  // The replay goes on from where it was, in the analysis's video.
+  replay_->analysed = std::move(analysed);
+  replay_->shown = -1;
+  const std::vector<Buffered>& frames = replay_->analysed->frames;
+  replay_->t_s = std::clamp(replay_->t_s, frames.front().time_s, frames.back().time_s);
+  ReplayLabel();
+  FillRoutineTable();
+  AdvanceReplay(0.0);
+}
+
+std::shared_ptr<const LiveWindow::Analysed> LiveWindow::LoadAnalysed(
+    const std::filesystem::path& report,
+    double clip_start_s,
+    int width,
+    const std::atomic<bool>& stop) {
+  const std::filesystem::path dir = report.parent_path();
+  auto a = std::make_shared<Analysed>();
+  const std::filesystem::path jumps_file = dir / "jumps.json";
+  const std::vector<std::uint8_t> jumps_bytes = ReadFileBytes(jumps_file, std::int64_t(64) << 20);
+  for (const library::JumpRecord& j : library::ParseJumpsJson(
+           std::string(jumps_bytes.begin(), jumps_bytes.end()), jumps_file.string())) {
+    if (j.partial) continue;
+    Analysed::Jump out;
+    out.takeoff_s = clip_start_s + j.takeoff_s;
+    out.time_of_flight_s = j.time_of_flight_s;
+    out.landing_s = out.takeoff_s + j.time_of_flight_s;
+    out.difficulty = j.difficulty;
+    out.code = j.fig_code;
+    out.name = j.skill_name;
+    out.element = j.element;
+    if (j.landing_in_zone_a) out.zone = *j.landing_in_zone_a ? "zone A" : "outside A";
+    for (std::string fault : j.faults) {  // "legs_apart": "legs apart"
+      std::replace(fault.begin(), fault.end(), '_', ' ');
+      out.faults.push_back(fault);
+    }
+    a->jumps.push_back(std::move(out));
+  }
+  const std::filesystem::path score_file = dir / "score.json";
+  if (std::filesystem::exists(score_file)) {
+    const std::vector<std::uint8_t> bytes = ReadFileBytes(score_file, std::int64_t(64) << 20);
+    const nlohmann::json score =
+        nlohmann::json::parse(bytes.begin(), bytes.end(), nullptr, /*allow_exceptions=*/false);
+    const auto number = [&](const char* key) {
+      return score.is_object() && score.contains(key) && score[key].is_number()
+                 ? score[key].get<double>()
+                 : kNaN;
+    };
+    const double D = number("D"), T = number("T"), H = number("H"),
+                 E = number("execution_deductions_suggested");
+    if (std::isfinite(D) && std::isfinite(T))
+      a->score = fmt::format("D {:.1f} · T {:.3f}{}{}",
+                             D,
+                             T,
+                             std::isfinite(H) ? fmt::format(" · H {:.2f}", H) : "",
+                             std::isfinite(E) ? fmt::format(" · faults measured −{:.1f}", E) : "");
+  }
+  capture::VideoReader video(dir / "overlay.mp4");
+  if (video.num_frames() < 1)
+    throw InputError((dir / "overlay.mp4").string(), "", "holds no frame");
+  capture::VideoFrame f = video.Frame(0);
+  do {
+    if (stop.load()) return nullptr;
+    const QImage image(f.pixels.data(), f.width, f.height, f.width * 3, QImage::Format_RGB888);
+    Buffered b;
+    b.index = f.index;
+    b.time_s = clip_start_s + f.time_s;
+    b.jpeg =
+        Jpeg(image.width() > width ? image.scaledToWidth(width, Qt::SmoothTransformation) : image);
+    a->frames.push_back(std::move(b));
+  } while (video.ReadNext(&f));
+  return a;
 }
 
 std::filesystem::path LiveWindow::replay_report() const {
@@ -531,24 +717,26 @@ QImage LiveWindow::replay_image() const {
 void LiveWindow::AdvanceReplay(double dt) {
   if (!replay_) return;
   Replay& r = *replay_;
-  const double end = r.frames.back().time_s;
+  const std::vector<Buffered>& frames = r.analysed ? r.analysed->frames : r.frames;
+  const double end = frames.back().time_s;
   if (r.t_s >= end) {
     r.held_s += dt;
     if (r.held_s > kHoldAtEndS) {
       r.held_s = 0;
-      r.t_s = r.frames.front().time_s;
+      r.t_s = frames.front().time_s;
     }
   } else {
     r.t_s = std::min(end, r.t_s + replay_rate_ * dt);
   }
   const auto it =
-      std::upper_bound(r.frames.begin(), r.frames.end(), r.t_s, [](double x, const Buffered& g) {
+      std::upper_bound(frames.begin(), frames.end(), r.t_s, [](double x, const Buffered& g) {
         return x < g.time_s;
       });
-  const int k = static_cast<int>(std::max<std::ptrdiff_t>(0, (it - r.frames.begin()) - 1));
+  const int k = static_cast<int>(std::max<std::ptrdiff_t>(0, (it - frames.begin()) - 1));
   if (k == r.shown) return;
   r.shown = k;
-  r.image = DrawReplayFrame(r, static_cast<size_t>(k));
+  r.image = r.analysed ? DrawAnalysedFrame(r, static_cast<size_t>(k))
+                       : DrawReplayFrame(r, static_cast<size_t>(k));
   replay_view_->SetImage(r.image);
 }
 
@@ -623,16 +811,51 @@ QImage LiveWindow::DrawReplayFrame(const Replay& r, size_t k) const {
   }
   const std::string bottom =
       fmt::format("time of flight {:.3f} s over {} jump{}", sum, landed, landed == 1 ? "" : "s");
-  const QRectF box(8 * scale, 8 * scale, 300 * scale, 62 * scale);
-  p.setPen(Qt::NoPen);
-  p.setBrush(QColor(0, 0, 0, 160));
-  p.drawRoundedRect(box, 4 * scale, 4 * scale);
-  p.setPen(QColor(255, 255, 255));
-  p.drawText(box.adjusted(8 * scale, 4 * scale, 0, 0), Qt::AlignLeft | Qt::AlignTop, Q(top));
-  p.setPen(QColor(255, 210, 0));
-  p.drawText(box.adjusted(8 * scale, 22 * scale, 0, 0), Qt::AlignLeft | Qt::AlignTop, Q(middle));
-  p.setPen(QColor(200, 230, 255));
-  p.drawText(box.adjusted(8 * scale, 40 * scale, 0, 0), Qt::AlignLeft | Qt::AlignTop, Q(bottom));
+  DrawNumbersBox(p, scale, 300, 8 * scale, top, middle, bottom);
+  return image;
+}
+
+// A frame of the analysis's overlay video (the athlete's model over the picture, drawn by
+// `analyze`) with the score sheet's numbers: the element in the air or the last one landed.
+QImage LiveWindow::DrawAnalysedFrame(const Replay& r, size_t k) const {
+  const Analysed& a = *r.analysed;
+  QImage image = Decompress(a.frames[k].jpeg);
+  const double t = a.frames[k].time_s;
+  QPainter p(&image);
+  p.setRenderHint(QPainter::Antialiasing);
+  const double scale = image.width() / 640.0;
+  const Analysed::Jump* current = nullptr;
+  int landed = 0;
+  for (const Analysed::Jump& j : a.jumps) {
+    if (j.landing_s <= t) ++landed;
+    if (j.takeoff_s <= t) current = &j;
+  }
+  std::string middle;
+  if (current != nullptr && t < current->landing_s) {
+    middle = fmt::format("jump {} of {} · {} {} · DD {:.1f}",
+                         current - a.jumps.data() + 1,
+                         a.jumps.size(),
+                         current->code,
+                         current->name,
+                         current->difficulty);
+  } else if (landed > 0) {
+    const Analysed::Jump& j = a.jumps[size_t(landed - 1)];
+    middle = fmt::format("jump {}: {} · {:.3f} s{}",
+                         landed,
+                         j.code,
+                         j.time_of_flight_s,
+                         j.zone.empty() ? "" : " · " + j.zone);
+  } else {
+    middle = "before the first take-off";
+  }
+  // (bottom left: the overlay video has its own line of numbers along its top)
+  DrawNumbersBox(p,
+                 scale,
+                 380,
+                 image.height() - 70 * scale,
+                 fmt::format("{} · routine {} · full analysis", r.routine.source, r.routine.number),
+                 middle,
+                 a.score.empty() ? "no score sheet" : a.score);
   return image;
 }
 

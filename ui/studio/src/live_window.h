@@ -17,6 +17,7 @@
 #include <deque>
 #include <limits>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -96,6 +97,12 @@ class LiveWindow : public QWidget {
   /// The report of the routine replayed, once its analysis is done (empty before, or without
   /// analyses).
   std::filesystem::path replay_report() const;
+  /// Whether the replay shows the routine's full analysis: its overlay video (the athlete's model
+  /// over the picture) and its score sheet's elements, in place of the image motion's marks — as
+  /// soon as the analysis is done and its video read.
+  bool replay_shows_analysis() const { return replay_ && replay_->analysed != nullptr; }
+  /// The replay's table as shown (rows of cells), for the tests.
+  std::vector<std::vector<std::string>> replay_table() const;
   /// Every line of the session so far (the jumps, routines, sources' ends), oldest first.
   QStringList lines() const { return lines_; }
   std::string last_error() const { return last_error_; }
@@ -125,8 +132,29 @@ class LiveWindow : public QWidget {
     std::optional<std::array<double, 2>> rest_line;  // y0, slope in the picture's px
     double picture_per_full_px = 1.0;
   };
+  // A routine's full analysis, for its replay: its overlay video's frames (JPEG at the live
+  // pictures' width, times on the session's time line) and its jumps and score sheet.
+  struct Analysed {
+    std::vector<Buffered> frames;
+    struct Jump {
+      double takeoff_s = 0, landing_s = 0, time_of_flight_s = 0, difficulty = 0;
+      std::string code, name;
+      int element = 0;
+      std::string zone;  // "A" or outside it, "" without a bed
+      std::vector<std::string> faults;
+    };
+    std::vector<Jump> jumps;  // complete flights
+    std::string score;        // "D 3.4 · T 7.305 · H 4.80 · E suggested −1.2"
+  };
+  // Reads `report`'s folder (overlay.mp4, jumps.json, score.json) off the window's thread.
+  // Throws acro::InputError for what cannot be read; returns null when stopped.
+  static std::shared_ptr<const Analysed> LoadAnalysed(const std::filesystem::path& report,
+                                                      double clip_start_s,
+                                                      int width,
+                                                      const std::atomic<bool>& stop);
   struct Replay {
     pipeline::LiveRoutine routine;
+    std::shared_ptr<const Analysed> analysed;  // once the routine's analysis is read
     std::vector<Buffered> frames;
     std::optional<std::array<double, 2>> rest_line;
     double picture_per_full_px = 1.0;
@@ -144,11 +172,16 @@ class LiveWindow : public QWidget {
   void ShowSource(int k, double view_s, double now);
   void AdvanceReplay(double dt);
   QImage DrawReplayFrame(const Replay& r, size_t k) const;
+  QImage DrawAnalysedFrame(const Replay& r, size_t k) const;
+  void OnAnalysed(const pipeline::LiveRoutine& routine, const std::filesystem::path& report);
+  void ShowAnalysed(const std::string& key, std::shared_ptr<const Analysed> analysed);
   void FillRoutineTable();
+  void ReplayLabel();
 
   pipeline::LiveRequest request_;
   std::atomic<bool> stop_{false};
   std::atomic<bool> finished_{false};
+  std::atomic<bool> closing_{false};  // the window going: the analyses' readers stop
   std::thread thread_;
   mutable std::mutex mutex_;  // the buffers (written by the sources' threads)
   std::vector<Buffer> buffers_;
@@ -169,6 +202,10 @@ class LiveWindow : public QWidget {
   std::optional<pipeline::RoutineAnalysisQueue> analyses_;
   // Each routine's report once analysed, by "source number".
   std::map<std::string, std::filesystem::path> reports_;
+  // Each routine's analysis read for its replay, by the same key; the threads that read them.
+  std::map<std::string, std::shared_ptr<const Analysed>> analysed_;
+  std::vector<std::thread> loaders_;
+  int picture_width_ = 640;  // the live pictures' width (the analysis's video is scaled to it)
   QPushButton* report_button_ = nullptr;
 
   std::vector<ImageView*> views_;

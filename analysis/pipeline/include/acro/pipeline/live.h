@@ -12,6 +12,7 @@
 #include <atomic>
 #include <filesystem>
 #include <functional>
+#include <limits>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -45,6 +46,9 @@ struct LiveRoutine {
   /// scored to its last landing. (A routine never spans two connections to a source.)
   bool interrupted = false;
   std::filesystem::path folder;  ///< routines/<source>-NNN/ (clip.ts, routine.json)
+  /// The clip's first frame on the session's time line (s): a time t of the clip (its analysis's
+  /// times) is clip_start_s + t there. NaN without a clip.
+  double clip_start_s = std::numeric_limits<double>::quiet_NaN();
   /// The picture the session found its source's bed in (bed/<source>.png: its first frame), for
   /// the routine's analysis (the clip's own first frame has the athlete standing on the bed);
   /// empty when none was found.
