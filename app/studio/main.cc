@@ -73,8 +73,8 @@ int main(int argc, char** argv) {
     request.reconnect_s = reconnect_s;
     std::string why;
     if (!request.IsValid(&why)) return fail(why);
-    if (!library.empty() && files.athlete.empty())
-      return fail("--live --library stores each routine under an athlete: give --athlete");
+    // (--library without --athlete: the athlete is chosen on the window's screen, from the
+    // library's athletes)
     return acro::studio::RunStudioLive(argc, argv, request, delay_s, files.athlete, library);
   }
   if (videos.size() != calibrations.size())

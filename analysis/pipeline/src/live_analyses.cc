@@ -21,8 +21,6 @@ bool RoutineAnalysisOptions::IsValid(std::string* why) const {
   if (acrolab.empty()) return fail("the acrolab program to analyse with is not given");
   if (model != "heavy" && model != "full" && model != "lite")
     return fail("the detector '" + model + "' is none of heavy, full, lite");
-  if (!library.empty() && athlete.empty())
-    return fail("a library stores each routine under an athlete: give the athlete's profile");
   return true;
 }
 
@@ -43,10 +41,14 @@ RoutineAnalysisQueue::~RoutineAnalysisQueue() {
 }
 
 void RoutineAnalysisQueue::Add(const LiveRoutine& routine) {
+  Add(routine, options_.athlete);
+}
+
+void RoutineAnalysisQueue::Add(const LiveRoutine& routine, const std::filesystem::path& athlete) {
   if (!routine.clip_error.empty()) return;
   {
     const std::lock_guard<std::mutex> lock(mutex_);
-    queue_.push_back(routine);
+    queue_.push_back({routine, athlete});
   }
   wake_.notify_all();
 }
@@ -64,17 +66,19 @@ void RoutineAnalysisQueue::Work() {
   ::setpriority(PRIO_PROCESS, static_cast<id_t>(::syscall(SYS_gettid)), 10);
   for (;;) {
     LiveRoutine r;
+    std::filesystem::path athlete;
     {
       std::unique_lock<std::mutex> lock(mutex_);
       wake_.wait(lock, [this] { return closing_ || !queue_.empty(); });
       if (queue_.empty()) return;
-      r = queue_.front();
+      r = queue_.front().first;
+      athlete = queue_.front().second;
       queue_.pop_front();
     }
     // Nothing here may end the recording (an exception out of this thread would end the
     // program), nor the next routines' analyses.
     try {
-      Analyse(r);
+      Analyse(r, athlete);
     } catch (const std::exception& e) {
       if (options_.on_line)
         options_.on_line(
@@ -83,7 +87,7 @@ void RoutineAnalysisQueue::Work() {
   }
 }
 
-void RoutineAnalysisQueue::Analyse(const LiveRoutine& r) {
+void RoutineAnalysisQueue::Analyse(const LiveRoutine& r, const std::filesystem::path& athlete) {
   const auto line = [this](const std::string& text) {
     if (options_.on_line) options_.on_line(text);
   };
@@ -100,8 +104,7 @@ void RoutineAnalysisQueue::Analyse(const LiveRoutine& r) {
                                       "--quiet",
                                       "-o",
                                       out.string()};
-  if (!options_.athlete.empty())
-    analyze.insert(analyze.end(), {"--athlete", options_.athlete.string()});
+  if (!athlete.empty()) analyze.insert(analyze.end(), {"--athlete", athlete.string()});
   if (!r.bed_picture.empty())
     analyze.insert(analyze.end(), {"--bed-picture", r.bed_picture.string()});
   bool analysed = false;
@@ -119,7 +122,11 @@ void RoutineAnalysisQueue::Analyse(const LiveRoutine& r) {
                               o.last_error_line));
   });
   if (!analysed) return;
-  if (!options_.library.empty()) {
+  if (!options_.library.empty() && athlete.empty()) {
+    line(fmt::format("{}  routine {} not stored in the library: no athlete was chosen for it",
+                     r.source,
+                     r.number));
+  } else if (!options_.library.empty()) {
     // The analysis stored as it is (library add --analysis: the clip is one of its inputs).
     const std::vector<std::string> add = {options_.acrolab.string(),
                                           "library",
@@ -128,7 +135,7 @@ void RoutineAnalysisQueue::Analyse(const LiveRoutine& r) {
                                           "--analysis",
                                           out.string(),
                                           "--athlete",
-                                          options_.athlete.string(),
+                                          athlete.string(),
                                           "--library",
                                           options_.library.string(),
                                           "--quiet"};

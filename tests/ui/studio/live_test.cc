@@ -38,6 +38,7 @@
 
 #include "acro/capture/live_source.h"
 #include "acro/capture/video.h"
+#include "acro/library/library.h"
 #include "acro/views/display.h"
 #include "join_on_exit.h"
 #include "qt_wait.h"
@@ -135,9 +136,21 @@ TEST(LiveWindow, ShowsTheFrameSentFiveSecondsEarlierAndReplaysTheRoutineByItself
   pipeline::RoutineAnalysisOptions analyses;
   analyses.acrolab = ACROLAB_EXE;
   analyses.model = "lite";
+  // Stored in a season library under the athlete chosen on screen: given the sample athlete, the
+  // coach picks the other profile beside it before the routine.
+  const fs::path athletes = acro::testing::SourceDir() / "samples/athletes";
+  analyses.athlete = athletes / "sample_athlete.yaml";
+  analyses.library = out.parent_path() / "season.sqlite";
+  fs::remove(analyses.library);
   LiveWindow w(request, 5.0, analyses);
   w.show();
   ASSERT_TRUE(QTest::qWaitForWindowExposed(&w));
+  const QStringList choices = w.athlete_choices();
+  EXPECT_EQ(choices.size(), 4) << choices.join(" | ").toStdString();
+  EXPECT_TRUE(choices.join("|").contains("Sample Athlete (Yeadon measurements)"))
+      << choices.join(" | ").toStdString();
+  EXPECT_EQ(w.athlete(), athletes / "sample_athlete.yaml");
+  w.SetAthlete(athletes / "sample_athlete_yeadon.yaml");
   ASSERT_TRUE(acro::testing::WaitForUdpListener(port, 20));
   std::thread sender;
   // A failed assertion returns with the sender still running: joined, never left to terminate().
@@ -273,6 +286,15 @@ TEST(LiveWindow, ShowsTheFrameSentFiveSecondsEarlierAndReplaysTheRoutineByItself
       << w.lines().join("\n").toStdString();
   EXPECT_TRUE(fs::exists(w.replay_report())) << w.replay_report();
   EXPECT_TRUE(w.lines().join("\n").contains("routine 1 analysed in"));
+  // Stored under the athlete chosen on screen.
+  ASSERT_TRUE(WaitUntil([&] { return w.lines().join("\n").contains("in the library"); }, 60000))
+      << w.lines().join("\n").toStdString();
+  {
+    const library::Library season(analyses.library, library::Library::Mode::kReadOnly);
+    const std::vector<library::TrialSummary> trials = season.ListTrials();
+    ASSERT_EQ(trials.size(), 1u);
+    EXPECT_EQ(trials[0].athlete, "Sample Athlete (Yeadon measurements)");
+  }
   // Then the replay shows the full analysis: the analysis's overlay video (the athlete's model
   // drawn over the picture) with its skills in the table.
   ASSERT_TRUE(WaitUntil([&] { return w.replay_shows_analysis(); }, 30000))

@@ -4,6 +4,7 @@
 #include <QCloseEvent>
 #include <QComboBox>
 #include <QDesktopServices>
+#include <QFileDialog>
 #include <QGridLayout>
 #include <QHBoxLayout>
 #include <QHeaderView>
@@ -28,6 +29,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include "acro/athlete/athlete_profile.h"
 #include "acro/base/file_io.h"
 #include "acro/base/input_error.h"
 #include "acro/capture/live_source.h"
@@ -115,6 +117,24 @@ std::string RoutineKey(const std::string& source, int number) {
   return source + " " + std::to_string(number);
 }
 
+// The profile each athlete of the library was last stored with, where it still is (read only; a
+// library that is not there yet, locked or unreadable offers none).
+std::vector<std::filesystem::path> LibraryProfiles(const std::filesystem::path& path) {
+  std::vector<std::filesystem::path> out;
+  if (path.empty() || !std::filesystem::exists(path)) return out;
+  try {
+    const library::Library lib(path, library::Library::Mode::kReadOnly, 2000);
+    for (const library::AthleteSummary& a : lib.ListAthletes())
+      for (const library::TrialSummary& t : lib.ListTrials(a.name))  // newest first
+        if (!t.athlete_profile_path.empty() && std::filesystem::exists(t.athlete_profile_path)) {
+          out.push_back(t.athlete_profile_path);
+          break;
+        }
+  } catch (const std::exception&) {
+  }
+  return out;
+}
+
 }  // namespace
 
 LiveWindow::LiveWindow(pipeline::LiveRequest request,
@@ -151,6 +171,16 @@ LiveWindow::LiveWindow(pipeline::LiveRequest request,
   for (QPushButton* b : {back, pause_button_, forward, live}) controls->addWidget(b);
   auto* stop = new QPushButton("Stop session");
   controls->addWidget(stop);
+  if (analyses) {
+    // Who is jumping: each routine cut is analysed for them and stored under their name.
+    controls->addWidget(new QLabel("Athlete"));
+    athlete_box_ = new QComboBox;
+    athlete_box_->setMinimumWidth(220);
+    athlete_box_->setToolTip(
+        "Each routine cut from now on is analysed for this athlete (and stored under them in the "
+        "library)");
+    controls->addWidget(athlete_box_);
+  }
 
   // The sources, each late by the delay; the last routine's replay and its jumps beside them.
   auto* sources = new QWidget;
@@ -251,9 +281,45 @@ LiveWindow::LiveWindow(pipeline::LiveRequest request,
           this, [this, r, report] { OnAnalysed(r, report); }, Qt::QueuedConnection);
     };
     analyses_.emplace(*analyses);
+    // The list: the profile given, the others beside it, the library's athletes; then none, and
+    // any other file.
+    std::vector<std::filesystem::path> profiles;
+    if (!analyses->athlete.empty()) {
+      profiles.push_back(analyses->athlete);
+      std::error_code ec;
+      std::vector<std::filesystem::path> beside;
+      for (const auto& e : std::filesystem::directory_iterator(
+               std::filesystem::absolute(analyses->athlete).parent_path(), ec)) {
+        const std::string ext = e.path().extension().string();
+        if (e.is_regular_file(ec) && (ext == ".yaml" || ext == ".yml")) beside.push_back(e.path());
+      }
+      std::sort(beside.begin(), beside.end());
+      profiles.insert(profiles.end(), beside.begin(), beside.end());
+    }
+    for (const std::filesystem::path& p : LibraryProfiles(analyses->library)) profiles.push_back(p);
+    for (const std::filesystem::path& p : profiles) AddAthleteChoice(p);
+    athlete_box_->addItem("No athlete (a default body, not stored)");
+    athlete_box_->addItem("Another profile…");
+    athlete_box_->setCurrentIndex(analyses->athlete.empty() ? athlete_box_->count() - 2 : 0);
+    athlete_ = analyses->athlete;
+    connect(athlete_box_, QOverload<int>::of(&QComboBox::activated), this, [this](int i) {
+      if (i < static_cast<int>(athlete_paths_.size())) {
+        SetAthlete(athlete_paths_[size_t(i)]);
+      } else if (i == athlete_box_->count() - 2) {
+        SetAthlete({});
+      } else {
+        const QString file = QFileDialog::getOpenFileName(
+            this, "The athlete's profile", QString(), "Athlete profiles (*.yaml *.yml)");
+        if (!file.isEmpty()) {
+          SetAthlete(file.toStdString());
+        } else {
+          SetAthlete(athlete());  // back to the one chosen
+        }
+      }
+    });
   }
   request_.on_routine = [this](const pipeline::LiveRoutine& r) {
-    if (analyses_) analyses_->Add(r);
+    if (analyses_) analyses_->Add(r, athlete());
     QMetaObject::invokeMethod(
         this, [this, r] { OnRoutine(r); }, Qt::QueuedConnection);
   };
@@ -306,6 +372,55 @@ LiveWindow::~LiveWindow() {
 void LiveWindow::closeEvent(QCloseEvent* event) {
   Stop();
   event->accept();
+}
+
+void LiveWindow::AddAthleteChoice(const std::filesystem::path& profile) {
+  std::error_code ec;
+  const std::filesystem::path canonical = std::filesystem::weakly_canonical(profile, ec);
+  for (const std::filesystem::path& p : athlete_paths_)
+    if (std::filesystem::weakly_canonical(p, ec) == canonical) return;
+  std::string name = profile.stem().string();
+  try {
+    name = analysis::ReadAthleteProfile(profile).name;
+  } catch (const std::exception&) {
+    // (its file's name: the analysis will say what is wrong with it)
+  }
+  athlete_box_->insertItem(static_cast<int>(athlete_paths_.size()),
+                           Q(fmt::format("{} ({})", name, profile.filename().string())));
+  athlete_paths_.push_back(profile);
+}
+
+void LiveWindow::SetAthlete(const std::filesystem::path& profile) {
+  {
+    const std::lock_guard<std::mutex> lock(athlete_mutex_);
+    athlete_ = profile;
+  }
+  if (athlete_box_ == nullptr) return;
+  if (profile.empty()) {
+    athlete_box_->setCurrentIndex(athlete_box_->count() - 2);
+    AddLine("the next routines: no athlete (a default body, not stored in a library)");
+    return;
+  }
+  AddAthleteChoice(profile);
+  std::error_code ec;
+  for (size_t i = 0; i < athlete_paths_.size(); ++i)
+    if (std::filesystem::weakly_canonical(athlete_paths_[i], ec) ==
+        std::filesystem::weakly_canonical(profile, ec)) {
+      athlete_box_->setCurrentIndex(static_cast<int>(i));
+      AddLine("the next routines: " + athlete_box_->itemText(static_cast<int>(i)).toStdString());
+    }
+}
+
+std::filesystem::path LiveWindow::athlete() const {
+  const std::lock_guard<std::mutex> lock(athlete_mutex_);
+  return athlete_;
+}
+
+QStringList LiveWindow::athlete_choices() const {
+  QStringList out;
+  if (athlete_box_ != nullptr)
+    for (int i = 0; i < athlete_box_->count(); ++i) out << athlete_box_->itemText(i);
+  return out;
 }
 
 void LiveWindow::Stop() {

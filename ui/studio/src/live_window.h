@@ -70,6 +70,13 @@ class LiveWindow : public QWidget {
   void StepFrame(int direction);
   /// Back to the slider's delay at normal speed.
   void BackToLive();
+  /// The athlete each routine cut from now on is analysed for, and stored under with a library:
+  /// a profile's path; empty: a default body, not stored. The list on screen offers the profile
+  /// given, the others in its folder, the library's athletes and any other file.
+  void SetAthlete(const std::filesystem::path& profile);
+  std::filesystem::path athlete() const;
+  /// The list's entries as shown, for the tests.
+  QStringList athlete_choices() const;
   /// Ends the session (the window stays, with what it holds).
   void Stop();
   bool running() const { return !finished_; }
@@ -207,6 +214,11 @@ class LiveWindow : public QWidget {
   std::vector<std::thread> loaders_;
   int picture_width_ = 640;  // the live pictures' width (the analysis's video is scaled to it)
   QPushButton* report_button_ = nullptr;
+  mutable std::mutex athlete_mutex_;  // the athlete (read by the session's thread)
+  std::filesystem::path athlete_;
+  std::vector<std::filesystem::path> athlete_paths_;  // the list's profiles, in its order
+  QComboBox* athlete_box_ = nullptr;
+  void AddAthleteChoice(const std::filesystem::path& profile);
 
   std::vector<ImageView*> views_;
   std::vector<QLabel*> view_labels_;

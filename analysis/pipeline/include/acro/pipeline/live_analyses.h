@@ -16,6 +16,7 @@
 #include <mutex>
 #include <string>
 #include <thread>
+#include <utility>
 
 #include "acro/pipeline/live.h"
 
@@ -26,7 +27,9 @@ struct RoutineAnalysisOptions {
   std::filesystem::path acrolab;
   std::string model = "heavy";    ///< the detector: heavy, full or lite
   std::filesystem::path athlete;  ///< the athlete's profile; empty: a default athlete
-  std::filesystem::path library;  ///< store each analysis there (needs `athlete`)
+  /// Store each analysis there, under its athlete (a routine analysed for no athlete is not
+  /// stored, and the line says so).
+  std::filesystem::path library;
   /// Each outcome as a line ("… routine 2 analysed in 49.9 s: …/report.html", "… not analysed:
   /// why", "… in the library …"), from the queue's thread.
   std::function<void(const std::string&)> on_line;
@@ -45,20 +48,24 @@ class RoutineAnalysisQueue {
   RoutineAnalysisQueue(const RoutineAnalysisQueue&) = delete;
   RoutineAnalysisQueue& operator=(const RoutineAnalysisQueue&) = delete;
 
-  /// Queues a routine whose clip was written (one without a clip is ignored).
+  /// Queues a routine whose clip was written (one without a clip is ignored), for the options'
+  /// athlete.
   void Add(const LiveRoutine& routine);
+  /// The same for `athlete` (a profile; empty: a default body, and not stored in a library): the
+  /// athlete chosen on the window's screen when the routine was cut.
+  void Add(const LiveRoutine& routine, const std::filesystem::path& athlete);
   /// Forgets the routines not yet started (a window closing: the one running finishes); returns
   /// how many.
   int DropWaiting();
 
  private:
   void Work();
-  void Analyse(const LiveRoutine& r);
+  void Analyse(const LiveRoutine& r, const std::filesystem::path& athlete);
 
   RoutineAnalysisOptions options_;
   std::mutex mutex_;
   std::condition_variable wake_;
-  std::deque<LiveRoutine> queue_;
+  std::deque<std::pair<LiveRoutine, std::filesystem::path>> queue_;  // and its athlete
   bool closing_ = false;
   std::thread worker_;
 };
