@@ -11,6 +11,7 @@ extern "C" {
 #include <libavdevice/avdevice.h>
 #include <libavformat/avformat.h>
 #include <libavutil/error.h>
+#include <libavutil/opt.h>
 #include <libswscale/swscale.h>
 }
 
@@ -105,8 +106,11 @@ struct KeptPacket {
 // always a playable stream (a TS reader resynchronises on the next packet start).
 class TsWriter {
  public:
-  TsWriter(const std::filesystem::path& path, const AVStream* in, bool exclusive)
-      : path_(path), in_time_base_(in->time_base) {
+  TsWriter(const std::filesystem::path& path,
+           const AVCodecParameters* in,
+           AVRational in_time_base,
+           bool exclusive)
+      : path_(path), in_time_base_(in_time_base) {
     try {
       Open(in, exclusive);
     } catch (...) {
@@ -126,7 +130,7 @@ class TsWriter {
       out_ = nullptr;
     }
   }
-  void Open(const AVStream* in, bool exclusive) {
+  void Open(const AVCodecParameters* in, bool exclusive) {
     const std::filesystem::path& path = path_;
     if (exclusive) {
       // Never replace what is there (a previous recording, a device, a link): created anew here.
@@ -142,10 +146,10 @@ class TsWriter {
     if (rc < 0 || out_ == nullptr) Fail("cannot make an MPEG-TS muxer: " + AvError(rc));
     AVStream* st = avformat_new_stream(out_, nullptr);
     if (st == nullptr) Fail("out of memory for the stream");
-    rc = avcodec_parameters_copy(st->codecpar, in->codecpar);
+    rc = avcodec_parameters_copy(st->codecpar, in);
     if (rc < 0) Fail("cannot copy the stream's parameters: " + AvError(rc));
     st->codecpar->codec_tag = 0;
-    st->time_base = in->time_base;
+    st->time_base = in_time_base_;
     rc = avio_open(&out_->pb, path.c_str(), AVIO_FLAG_WRITE);
     if (rc < 0) Fail("cannot be opened for writing: " + AvError(rc));
     out_->flags |= AVFMT_FLAG_FLUSH_PACKETS;
@@ -222,6 +226,18 @@ struct LiveSource::Impl {
     return now;
   }
 
+  // A source whose video MPEG-TS cannot carry (a webcam's raw YUYV or MJPEG) is encoded for the
+  // recording and the clips: H.264 from the decoded frames, at full size.
+  AVCodecContext* encoder = nullptr;
+  AVCodecParameters* recorded_params = nullptr;  // what the recording and clips hold
+  SwsContext* encode_scaler = nullptr;
+  AVFrame* encode_frame = nullptr;
+  AVPacket* encoded = nullptr;
+  bool writer_ok = true;  // false once the recording could not be written
+  void OpenEncoder(const AVStream* st);
+  void Encode(const AVFrame* f);  // a decoded frame into the recording and the clips' memory
+  void StoreEncoded();
+
   // Recording and clips.
   std::unique_ptr<TsWriter> writer;
   std::vector<std::filesystem::path> segments;
@@ -242,6 +258,11 @@ struct LiveSource::Impl {
     } catch (...) {
     }
     for (KeptPacket& k : kept) av_packet_free(&k.packet);
+    avcodec_free_context(&encoder);
+    avcodec_parameters_free(&recorded_params);
+    sws_freeContext(encode_scaler);
+    av_frame_free(&encode_frame);
+    av_packet_free(&encoded);
     sws_freeContext(scaler);
     sws_freeContext(full_scaler);
     av_frame_free(&frame);
@@ -284,10 +305,18 @@ struct LiveSource::Impl {
       end_cause = why;
       ended_normally = why == LiveEnd::kFileEnded;
     }
+    if (encoder != nullptr && why != LiveEnd::kRecordError) {
+      // What the encoder still holds (nothing, tuned for no latency; said for safety).
+      try {
+        if (avcodec_send_frame(encoder, nullptr) >= 0) StoreEncoded();
+      } catch (const InputError&) {
+      }
+    }
     if (writer) {
       writer->Close();
       writer.reset();
     }
+    writer_ok = false;  // (frames the decoder still gives are not recorded after the end)
   }
 };
 
@@ -344,16 +373,6 @@ void LiveSource::Impl::Open() {
   if (stream < 0 || codec == nullptr) Fail("no video stream that FFmpeg can decode");
   AVStream* st = format->streams[stream];
   time_base = st->time_base;
-  // The recording copies packets into MPEG-TS, which carries these (a webcam's raw YUYV or MJPEG
-  // it does not: such a recording would not read back as video).
-  const AVCodecID id = st->codecpar->codec_id;
-  if (!options.record_prefix.empty() && id != AV_CODEC_ID_H264 && id != AV_CODEC_ID_HEVC &&
-      id != AV_CODEC_ID_MPEG2VIDEO && id != AV_CODEC_ID_MPEG1VIDEO && id != AV_CODEC_ID_MPEG4)
-    Fail(
-        fmt::format("sends {} video, which a recording of the packets as they come (MPEG-TS) "
-                    "cannot hold: set the camera to H.264 (v4l2-ctl --set-fmt-video=…,"
-                    "pixelformat=H264) or stream it through an encoder",
-                    avcodec_get_name(id)));
   width = st->codecpar->width;
   height = st->codecpar->height;
   if (width <= 0 || height <= 0 || width > 16384 || height > 16384)
@@ -371,9 +390,97 @@ void LiveSource::Impl::Open() {
   packet = av_packet_alloc();
   frame = av_frame_alloc();
   if (packet == nullptr || frame == nullptr) Fail("out of memory");
+  // The recording and the clips copy packets into MPEG-TS, which carries these; a webcam's raw
+  // YUYV or MJPEG it does not (such a recording would not read back as video): those are encoded.
+  const AVCodecID id = st->codecpar->codec_id;
+  if (id != AV_CODEC_ID_H264 && id != AV_CODEC_ID_HEVC && id != AV_CODEC_ID_MPEG2VIDEO &&
+      id != AV_CODEC_ID_MPEG1VIDEO && id != AV_CODEC_ID_MPEG4)
+    OpenEncoder(st);
+  recorded_params = avcodec_parameters_alloc();
+  if (recorded_params == nullptr) Fail("out of memory");
+  rc = encoder != nullptr ? avcodec_parameters_from_context(recorded_params, encoder)
+                          : avcodec_parameters_copy(recorded_params, st->codecpar);
+  if (rc < 0) Fail("cannot copy the stream's parameters: " + AvError(rc));
   if (!options.record_prefix.empty()) {
     std::error_code ec;
     std::filesystem::create_directories(options.record_prefix.parent_path(), ec);
+  }
+}
+
+// H.264 for a source MPEG-TS cannot carry: x264 at CRF 18 (visually lossless), tuned for no
+// latency (no B-frames, no look-ahead: each frame's packet comes out with it), a keyframe a second
+// (where segments and clips can start), at the picture's full size (even: 4:2:0 needs it).
+void LiveSource::Impl::OpenEncoder(const AVStream* st) {
+  const AVCodec* h264 = avcodec_find_encoder_by_name("libx264");
+  if (h264 == nullptr) h264 = avcodec_find_encoder(AV_CODEC_ID_H264);
+  if (h264 == nullptr)
+    Fail(
+        fmt::format("sends {} video, which is recorded encoded as H.264, and this FFmpeg has no "
+                    "H.264 encoder",
+                    avcodec_get_name(st->codecpar->codec_id)));
+  encoder = avcodec_alloc_context3(h264);
+  encode_frame = av_frame_alloc();
+  encoded = av_packet_alloc();
+  if (encoder == nullptr || encode_frame == nullptr || encoded == nullptr)
+    Fail("out of memory for the encoder");
+  encoder->width = width & ~1;
+  encoder->height = height & ~1;
+  encoder->pix_fmt = AV_PIX_FMT_YUV420P;
+  encoder->time_base = time_base;
+  const AVRational rate =
+      st->r_frame_rate.num > 0 && st->r_frame_rate.den > 0 ? st->r_frame_rate : AVRational{30, 1};
+  encoder->framerate = rate;
+  encoder->gop_size = std::max(1, static_cast<int>(std::lround(av_q2d(rate))));
+  encoder->max_b_frames = 0;
+  encoder->thread_count = 1;
+  av_opt_set(encoder->priv_data, "preset", "ultrafast", 0);
+  av_opt_set(encoder->priv_data, "tune", "zerolatency", 0);
+  av_opt_set(encoder->priv_data, "crf", "18", 0);
+  const int rc = avcodec_open2(encoder, h264, nullptr);
+  if (rc < 0) Fail("cannot open the H.264 encoder for its recording: " + AvError(rc));
+  encode_frame->format = encoder->pix_fmt;
+  encode_frame->width = encoder->width;
+  encode_frame->height = encoder->height;
+  if (av_frame_get_buffer(encode_frame, 0) < 0) Fail("out of memory for the encoder's picture");
+}
+
+void LiveSource::Impl::Encode(const AVFrame* f) {
+  if (av_frame_make_writable(encode_frame) < 0) Fail("out of memory for the encoder's picture");
+  // (an odd last column and row cut off, not the picture resampled: the source's size read over
+  // the encoder's)
+  encode_scaler = sws_getCachedContext(encode_scaler,
+                                       encoder->width,
+                                       encoder->height,
+                                       static_cast<AVPixelFormat>(f->format),
+                                       encoder->width,
+                                       encoder->height,
+                                       AV_PIX_FMT_YUV420P,
+                                       SWS_POINT,  // the same size: a conversion, no filter
+                                       nullptr,
+                                       nullptr,
+                                       nullptr);
+  if (encode_scaler == nullptr) Fail("cannot convert its pictures for the recording");
+  sws_scale(encode_scaler,
+            f->data,
+            f->linesize,
+            0,
+            encoder->height,
+            encode_frame->data,
+            encode_frame->linesize);
+  encode_frame->pts =
+      f->best_effort_timestamp != AV_NOPTS_VALUE ? f->best_effort_timestamp : f->pts;
+  const int rc = avcodec_send_frame(encoder, encode_frame);
+  if (rc < 0) Fail("cannot encode a frame for its recording: " + AvError(rc));
+  StoreEncoded();
+}
+
+void LiveSource::Impl::StoreEncoded() {
+  while (avcodec_receive_packet(encoder, encoded) >= 0) {
+    const std::int64_t p = encoded->pts != AV_NOPTS_VALUE ? encoded->pts : encoded->dts;
+    const double t = StreamTime(p);
+    Record(encoded, t);  // an InputError: the recording cannot be written (the caller ends)
+    Keep(encoded, t);
+    av_packet_unref(encoded);
   }
 }
 
@@ -381,7 +488,7 @@ void LiveSource::Impl::OpenSegment() {
   if (writer) writer->Close();
   const std::filesystem::path path =
       options.record_prefix.string() + fmt::format("-{:03d}.ts", static_cast<int>(segments.size()));
-  writer = std::make_unique<TsWriter>(path, format->streams[stream], true);
+  writer = std::make_unique<TsWriter>(path, recorded_params, time_base, true);
   segments.push_back(path);
 }
 
@@ -478,16 +585,18 @@ bool LiveSource::Impl::ReadPacket() {
         return false;
       }
     }
-    try {
-      Record(packet, t);
-    } catch (const InputError& e) {
-      // A disk that fills, a file in the way: the recording stops here, closed, what is on disk
-      // playable; the source ends with the line that names the file.
-      writer.reset();
-      End(std::string("recording stopped: ") + e.what(), LiveEnd::kRecordError);
-      return false;
+    if (encoder == nullptr) {  // (encoded sources are recorded as they are decoded)
+      try {
+        Record(packet, t);
+      } catch (const InputError& e) {
+        // A disk that fills, a file in the way: the recording stops here, closed, what is on disk
+        // playable; the source ends with the line that names the file.
+        writer.reset();
+        End(std::string("recording stopped: ") + e.what(), LiveEnd::kRecordError);
+        return false;
+      }
+      Keep(packet, t);
     }
-    Keep(packet, t);
     arrival_by_pts[p] = ArrivalOf(packet->pos, LiveClockNow());
     if (arrival_by_pts.size() > 256) arrival_by_pts.erase(arrival_by_pts.begin());
     return true;
@@ -524,6 +633,17 @@ bool LiveSource::Impl::Receive(LiveFrame* out) {
       frame->best_effort_timestamp != AV_NOPTS_VALUE ? frame->best_effort_timestamp : frame->pts;
   out->picture.index = decoded++;
   out->picture.time_s = StreamTime(p);
+  if (encoder != nullptr && writer_ok) {
+    try {
+      Encode(frame);
+    } catch (const InputError& e) {
+      // As for a copied packet: the recording stops here, closed and playable; the source ends
+      // after this frame with the line that names the file.
+      writer_ok = false;
+      writer.reset();
+      End(std::string("recording stopped: ") + e.what(), LiveEnd::kRecordError);
+    }
+  }
   const auto a = arrival_by_pts.find(p);
   out->arrival_s = a != arrival_by_pts.end() ? a->second : LiveClockNow();
   if (a != arrival_by_pts.end()) arrival_by_pts.erase(arrival_by_pts.begin(), std::next(a));
@@ -641,7 +761,7 @@ double LiveSource::SaveClip(double from_s,
   const std::filesystem::path temp = TemporaryPathFor(target, ".ts");
   const ScopedTemporary registered(temp);
   try {
-    TsWriter clip(temp, m.format->streams[m.stream], false);
+    TsWriter clip(temp, m.recorded_params, m.time_base, false);
     // Whole groups of pictures in decode order, up to the first keyframe after the end: a frame
     // shown before the end may refer to a packet timed after it (B-frames), so a cut inside a
     // group would leave frames that do not decode.

@@ -8,8 +8,10 @@
 
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -172,6 +174,87 @@ TEST(LiveSource, ARecordingCutOffAtAnyByteStillOpens) {
     size_t equal = 0;
     while (equal < h.size() && h[equal] == truth[equal]) ++equal;
     EXPECT_GE(equal + 3, h.size()) << "cut at byte " << cut << ": frames differ from " << equal;
+  }
+}
+
+// PSNR (dB) of `b` against `a`, over the RGB bytes of two frames of one size.
+double Psnr(const VideoFrame& a, const VideoFrame& b) {
+  double se = 0;
+  for (size_t i = 0; i < a.pixels.size(); ++i) {
+    const double d = double(a.pixels[i]) - double(b.pixels[i]);
+    se += d * d;
+  }
+  const double mse = se / double(a.pixels.size());
+  return mse == 0 ? 99.0 : 10 * std::log10(255.0 * 255.0 / mse);
+}
+
+// Most USB webcams send MJPEG or raw YUYV, which MPEG-TS cannot carry: such a source is recorded
+// encoded as H.264 (x264, CRF 18) — every frame, each close to the camera's, in segments and clips
+// that read back as video — while the frames handed out are the camera's own. Here as files the
+// ffmpeg command writes in those formats (no camera on the test machine).
+TEST(LiveSource, AWebcamsMjpegOrRawVideoIsRecordedAsH264) {
+  if (!HaveFfmpeg()) GTEST_SKIP() << "the ffmpeg command is not installed";
+  const auto dir = acro::testing::ScratchDir("live_webcam");
+  struct Kind {
+    const char* name;
+    const char* encode;
+  };
+  for (const Kind& kind : {Kind{"mjpeg.avi", "-c:v mjpeg -q:v 3"},
+                           Kind{"yuyv.nut", "-vf scale=1279:719 -c:v rawvideo -pix_fmt yuyv422"}}) {
+    const std::filesystem::path camera = dir / kind.name;
+    const std::string make = "ffmpeg -v error -y -ss 2 -i '" + SideVideo().string() +
+                             "' -t 3 -an " + kind.encode + " '" + camera.string() + "'";
+    ASSERT_EQ(std::system(make.c_str()), 0) << make;
+    LiveSourceOptions options;
+    options.record_prefix = dir / (std::string(kind.name) + "-rec");
+    options.pace_files = false;
+    options.analysis_width = 0;  // the frames handed out at full size, to compare
+    std::vector<VideoFrame> handed;
+    {
+      LiveSource source(camera.string(), options);
+      LiveFrame frame;
+      while (source.Next(&frame)) handed.push_back(frame.picture);
+      EXPECT_EQ(source.end_reason(), "the file ended");
+      ASSERT_EQ(source.segments().size(), 1u);
+      // A clip of the middle second, from the keyframe before it (one a second).
+      const double first = source.SaveClip(1.0, 2.0, dir / (std::string(kind.name) + "-clip.ts"));
+      EXPECT_LE(first, 1.0);
+      EXPECT_GE(first, 0.0);
+    }
+    VideoReader in(camera);
+    ASSERT_EQ(static_cast<int>(handed.size()), in.num_frames()) << kind.name;
+    // The frames handed out are the camera's own, decoded (not the recording's: the same pixels
+    // but for the RGB conversion's rounding).
+    double handed_worst = 99;
+    for (size_t k = 0; k < handed.size(); k += 7)
+      handed_worst = std::min(handed_worst, Psnr(in.Frame(static_cast<int>(k)), handed[k]));
+    std::printf("%s: the frames handed out within %.1f dB\n", kind.name, handed_worst);
+    EXPECT_GT(handed_worst, 50.0) << kind.name;
+    // The recording: H.264, every frame, each within CRF 18's loss of the camera's — "visually
+    // lossless", 40–47 dB here; 38 dB is where a loss starts to show (an even size: an odd column
+    // and row are cut).
+    VideoReader recorded(options.record_prefix.string() + "-000.ts");
+    EXPECT_EQ(recorded.info().codec, "h264");
+    ASSERT_EQ(recorded.num_frames(), in.num_frames()) << kind.name;
+    double worst = 99;
+    for (int k = 0; k < recorded.num_frames(); k += 5) {
+      const VideoFrame r = recorded.Frame(k), c = in.Frame(k);
+      ASSERT_EQ(r.width, c.width & ~1);
+      ASSERT_EQ(r.height, c.height & ~1);
+      VideoFrame cropped = r;
+      for (int y = 0; y < r.height; ++y)
+        std::copy_n(c.pixels.begin() + size_t(y) * c.width * 3,
+                    size_t(r.width) * 3,
+                    cropped.pixels.begin() + size_t(y) * r.width * 3);
+      worst = std::min(worst, Psnr(cropped, r));
+    }
+    std::printf("%s: %d frames recorded as H.264, worst PSNR %.1f dB\n",
+                kind.name,
+                recorded.num_frames(),
+                worst);
+    EXPECT_GT(worst, 38.0) << kind.name;
+    VideoReader clip(dir / (std::string(kind.name) + "-clip.ts"));
+    EXPECT_GE(clip.num_frames(), 30) << kind.name;
   }
 }
 
