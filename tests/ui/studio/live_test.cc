@@ -355,6 +355,55 @@ TEST(LiveWindow, ShowsTheFrameSentFiveSecondsEarlierAndReplaysTheRoutineByItself
   EXPECT_TRUE(w.last_error().empty()) << w.last_error();
 }
 
+// Paused while the source goes on sending: the picture holds still — the same frame, pixel for
+// pixel, for 1.5 s while frames keep coming into the buffer (the sources' offsets frozen: the 95th
+// percentile they come from moves with each frame) — a step moves it one frame either way, and
+// playing on falls behind by the pause; back to the delay, the slider's again.
+TEST(LiveWindow, APauseHoldsStillWhileTheSourceSends) {
+  const fs::path out = acro::testing::ScratchDir("studio_live_pause") / "session";
+  fs::remove_all(out);
+  pipeline::LiveRequest request;
+  request.sources = {SideVideo().string()};  // played at its own pace: a camera's
+  request.out_dir = out;
+  LiveWindow w(request, 1.0);
+  w.show();
+  ASSERT_TRUE(QTest::qWaitForWindowExposed(&w));
+  ASSERT_TRUE(WaitUntil([&] { return w.shown(0).index >= 45; }, 20000)) << "nothing shown";
+  w.SetSpeed(0.0);
+  Pump(50);
+  const LiveWindow::Shown held = w.shown(0);
+  const QImage picture = w.shown_image(0);
+  const double behind = w.shown_delay();
+  int checks = 0;
+  const double until = capture::LiveClockNow() + 1.5;
+  while (capture::LiveClockNow() < until) {
+    Pump(50);
+    ASSERT_EQ(w.shown(0).index, held.index) << "the paused picture moved";
+    ASSERT_TRUE(w.shown_image(0) == picture) << "the paused picture changed";
+    ++checks;
+  }
+  EXPECT_GE(checks, 20);
+  EXPECT_NEAR(w.shown_delay() - behind, 1.5, 0.15) << "a pause falls behind by its length";
+  EXPECT_TRUE(w.running()) << "the source stopped sending";
+  w.StepFrame(1);
+  Pump(30);
+  EXPECT_EQ(w.shown(0).index, held.index + 1);
+  w.StepFrame(-1);
+  w.StepFrame(-1);
+  Pump(30);
+  EXPECT_EQ(w.shown(0).index, held.index - 1);
+  const double paused_behind = w.shown_delay();
+  w.SetSpeed(1.0);
+  Pump(500);
+  EXPECT_NEAR(w.shown_delay(), paused_behind, 0.1) << "playing on keeps the pause's lateness";
+  EXPECT_GT(w.shown(0).index, held.index + 5) << "it does not play on";
+  w.BackToLive();
+  Pump(300);
+  EXPECT_NEAR(w.shown_delay(), 1.0, 0.1);
+  w.Stop();
+  ASSERT_TRUE(WaitUntil([&] { return !w.running(); }, 20000));
+}
+
 // A session that cannot start (the folder holds an earlier one) is a dialog naming the folder;
 // the window stays.
 TEST(LiveWindow, AFolderInUseIsADialog) {

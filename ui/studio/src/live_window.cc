@@ -530,14 +530,17 @@ void LiveWindow::StepFrame(int direction) {
   const std::lock_guard<std::mutex> lock(mutex_);
   const Buffer& b = buffers_[0];
   if (b.frames.empty() || paused_offset_.empty()) return;
+  if (!std::isfinite(view_s_)) return;
   const double offset = paused_offset_[0];
-  const double t = std::isfinite(shown_[0].time_s) ? shown_[0].time_s : view_s_ - offset;
-  const auto it =
-      std::lower_bound(b.frames.begin(), b.frames.end(), t, [](const Buffered& f, double x) {
-        return f.time_s < x - 1e-9;
+  // The frame the view's clock selects now (as ShowSource picks it: the last sent by then) — not
+  // the one on screen, which the next tick updates: two steps before it are two frames.
+  const auto it = std::upper_bound(
+      b.frames.begin(), b.frames.end(), view_s_ - offset, [](double x, const Buffered& g) {
+        return x < g.time_s;
       });
   const std::ptrdiff_t last = static_cast<std::ptrdiff_t>(b.frames.size()) - 1;
-  const std::ptrdiff_t k = std::clamp<std::ptrdiff_t>((it - b.frames.begin()) + direction, 0, last);
+  const std::ptrdiff_t at = std::max<std::ptrdiff_t>(0, (it - b.frames.begin()) - 1);
+  const std::ptrdiff_t k = std::clamp<std::ptrdiff_t>(at + direction, 0, last);
   // Halfway to the next frame: the frame stays up whatever the clock's rounding.
   const double next =
       k < last ? b.frames[size_t(k + 1)].time_s : b.frames[size_t(k)].time_s + 1.0 / 30;
