@@ -25,7 +25,8 @@ struct LiveArguments {
          reconnect_s = 30;
   bool unpaced = false, quiet = false, no_analysis = false;
   std::string analysis_model = "heavy";
-  std::string athlete, library;  // each routine analysed for the athlete, stored in the library
+  std::string athlete, library;    // each routine analysed for the athlete, stored in the library
+  std::string intrinsics, camera;  // the cameras' intrinsics (their poses from the bed)
 };
 
 int RunLiveCommand(const LiveArguments& args) {
@@ -38,6 +39,8 @@ int RunLiveCommand(const LiveArguments& args) {
   request.source.segment_s = args.segment_s;
   request.reconnect_s = args.reconnect_s;
   request.source.pace_files = !args.unpaced;
+  request.intrinsics = args.intrinsics;
+  request.camera = args.camera;
   if (args.duration_s > 0) request.duration_s = args.duration_s;
   std::mutex print;
   const auto line = [&print](const std::string& text) {
@@ -54,6 +57,8 @@ int RunLiveCommand(const LiveArguments& args) {
     throw UsageError{
         "--athlete and --library are for each routine's analysis: not with "
         "--no-analysis"};
+  if (!args.camera.empty() && args.intrinsics.empty())
+    throw UsageError{"--camera names a camera of --intrinsics: give --intrinsics C"};
   std::optional<pipeline::RoutineAnalysisQueue> analyses;
   if (!args.no_analysis) {
     pipeline::RoutineAnalysisOptions o;
@@ -61,6 +66,8 @@ int RunLiveCommand(const LiveArguments& args) {
     o.model = args.analysis_model;
     o.athlete = args.athlete;
     o.library = args.library;
+    o.intrinsics = args.intrinsics;
+    o.camera = args.camera;
     o.on_line = line;
     analyses.emplace(o);
     request.on_routine = [&analyses](const pipeline::LiveRoutine& r) { analyses->Add(r); };
@@ -145,6 +152,15 @@ void AddLiveCommand(CLI::App& app, CommandRunner* run) {
       "--library",
       args->library,
       "store each routine's analysis in this season library under --athlete (docs/library.md)");
+  command
+      ->add_option("--intrinsics",
+                   args->intrinsics,
+                   "the cameras' intrinsics (a calibration in any format, e.g. calibrate "
+                   "intrinsics' from a checkerboard): focal length and distortion known, the pose "
+                   "found on the bed; without it the focal length is estimated from the bed too")
+      ->check(CLI::ExistingFile);
+  command->add_option(
+      "--camera", args->camera, "which camera of --intrinsics (when it has several)");
   command->add_flag("--no-analysis",
                     args->no_analysis,
                     "cut routines but do not analyse them (`acrolab analyze --video clip.ts "

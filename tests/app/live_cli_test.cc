@@ -386,6 +386,59 @@ TEST(LiveCli, ARecordingThatCannotBeWrittenStopsWithOneLineAndStaysPlayable) {
   EXPECT_TRUE(std::filesystem::exists(dir / "live.json"));
 }
 
+// The camera's intrinsics from a calibration (here the sample's side camera file): the focal length
+// known, the pose found on the bed — every landing spot along the bed within 10 cm of where the
+// motion capture's feet came down (truth.json, against the bed's centre). A calibration that
+// cannot be read is one line before anything is written; --camera needs --intrinsics.
+TEST(LiveCli, TheCamerasIntrinsicsWithItsPoseFromTheBed) {
+  const auto dir = acro::testing::ScratchDir("live_intrinsics");
+  const std::string calib = Sample("side_camera.toml").string();
+  const LiveRun run = Shell(fmt::format(
+      "'{}' live '{}' --as-fast-as-decoded --no-analysis --intrinsics '{}' -o '{}' 2>&1",
+      ACROLAB_EXE,
+      Sample("side_camera.mp4").string(),
+      calib,
+      (dir / "s").string()));
+  ASSERT_EQ(run.status, 0) << run.out;
+  const nlohmann::json live = ReadJson(dir / "s" / "live.json");
+  const std::string bed = live.at("sources")[0].at("bed").get<std::string>();
+  EXPECT_NE(bed.find("posed on it with the intrinsics of " + calib), std::string::npos) << bed;
+  std::ifstream truth_file(Sample("truth.json"));
+  const nlohmann::json truth = nlohmann::json::parse(truth_file);
+  const double centre_x = truth.at("bed").at("centre_m")[0].get<double>();
+  const std::vector<nlohmann::json> jumps = ReadLines(dir / "s" / "jumps.jsonl");
+  ASSERT_EQ(jumps.size(), 5u);
+  for (size_t k = 0; k < jumps.size(); ++k) {
+    // The video's jumps are the trial's flights 2–6 (it starts in the first).
+    const double expected =
+        truth.at("flights")[k + 1].at("landing_feet_m")[0].get<double>() - centre_x;
+    const double along = jumps[k].at("landing_along_bed_m").get<double>();
+    std::printf("jump %zu: landed %+.3f m along the bed, the motion capture's feet %+.3f m\n",
+                k + 1,
+                along,
+                expected);
+    EXPECT_NEAR(along, expected, 0.10) << "jump " << k + 1;
+  }
+  // Refusals: one line each, nothing written.
+  const std::filesystem::path bad = dir / "bad.toml";
+  std::ofstream(bad) << "[cam]\nsize = [ 1920.0 ]\n";
+  const LiveRun unreadable = Shell(fmt::format("'{}' live '{}' --intrinsics '{}' -o '{}' 2>&1",
+                                               ACROLAB_EXE,
+                                               Sample("side_camera.mp4").string(),
+                                               bad.string(),
+                                               (dir / "t").string()));
+  EXPECT_EQ(unreadable.status, 1) << unreadable.out;
+  EXPECT_NE(unreadable.out.find(bad.string()), std::string::npos) << unreadable.out;
+  EXPECT_FALSE(std::filesystem::exists(dir / "t"));
+  const LiveRun camera_alone = Shell(fmt::format("'{}' live '{}' --camera side -o '{}' 2>&1",
+                                                 ACROLAB_EXE,
+                                                 Sample("side_camera.mp4").string(),
+                                                 (dir / "u").string()));
+  EXPECT_EQ(camera_alone.status, 2) << camera_alone.out;
+  EXPECT_NE(camera_alone.out.find("--camera names a camera of --intrinsics"), std::string::npos)
+      << camera_alone.out;
+}
+
 TEST(LiveCli, BadSourcesAreOneLineEach) {
   const auto dir = acro::testing::ScratchDir("live_bad");
   const std::string cmd = fmt::format(

@@ -109,6 +109,7 @@ std::string JumpLine(const LiveJump& j) {
 // What every source's thread shares: the output folder's files, the lines, the results.
 struct Session {
   const LiveRequest* request = nullptr;
+  std::optional<vision::Camera> intrinsics;  // read from request->intrinsics
   std::mutex mutex;
   int jumps_fd = -1;
   LiveSummary summary;
@@ -156,6 +157,7 @@ struct SourceView {
 
 SourceView FindBed(capture::LiveSource& source,
                    const LiveRequest& request,
+                   const vision::Camera* intrinsics,
                    int connection,
                    std::string* how) {
   SourceView view;
@@ -183,12 +185,29 @@ SourceView FindBed(capture::LiveSource& source,
     *how += fmt::format(" (its picture not kept: {})", e.what());
   }
   try {
-    const vision::BedFocalCalibration cam = vision::CalibrateFromBedUnknownFocal(
-        full.width, full.height, vision::FigTrampolinePoints(), bed);
-    view.camera = cam.bed.calibration.camera;
-    *how += fmt::format(", the camera from it (focal length {:.0f} px, {:.2f} px RMS)",
-                        cam.focal_px,
-                        cam.bed.calibration.rms_px);
+    if (intrinsics != nullptr) {
+      // The calibration's intrinsics (fitted to this source's picture size), the pose from the bed.
+      std::string note;
+      const vision::Camera fitted =
+          vision::FitCameraToVideo(*intrinsics, full.width, full.height, source.name(), &note);
+      const vision::BedCalibration pose =
+          vision::CalibrateFromBed(fitted, vision::FigTrampolinePoints(), bed);
+      view.camera = pose.calibration.camera;
+      *how += fmt::format(
+          ", the camera posed on it with the intrinsics of {} (camera {}; {:.2f} px "
+          "RMS){}",
+          request.intrinsics.string(),
+          intrinsics->name,
+          pose.calibration.rms_px,
+          note.empty() ? "" : "; " + note);
+    } else {
+      const vision::BedFocalCalibration cam = vision::CalibrateFromBedUnknownFocal(
+          full.width, full.height, vision::FigTrampolinePoints(), bed);
+      view.camera = cam.bed.calibration.camera;
+      *how += fmt::format(", the camera from it (focal length {:.0f} px, {:.2f} px RMS)",
+                          cam.focal_px,
+                          cam.bed.calibration.rms_px);
+    }
   } catch (const InputError& e) {
     *how += fmt::format("; no camera from it ({}): landing spots not measured", e.what());
   }
@@ -307,7 +326,11 @@ void WatchConnection(Session& session,
       else
         offset = frame.arrival_s - summary.first_arrival_s;
       try {
-        view = FindBed(source, request, connection, &summary.bed);
+        view = FindBed(source,
+                       request,
+                       session.intrinsics ? &*session.intrinsics : nullptr,
+                       connection,
+                       &summary.bed);
         if (connection == 0) summary.bed_picture = view.picture;
       } catch (const InputError& e) {
         summary.bed = e.what();
@@ -552,9 +575,18 @@ LiveSummary RunLive(const LiveRequest& request, const std::atomic<bool>* stop) {
                      "",
                      "not empty: a live session never replaces an earlier one's recordings "
                      "(name a new folder)");
+  // The intrinsics read before anything is written: a bad file costs nothing.
+  std::optional<vision::Camera> intrinsics;
+  if (!request.intrinsics.empty()) {
+    const std::vector<vision::Camera> cameras = vision::ReadCameras(request.intrinsics);
+    intrinsics = request.camera.empty() && cameras.size() == 1
+                     ? cameras[0]
+                     : vision::FindCamera(cameras, request.camera, request.intrinsics.string());
+  }
   CreateOutputDirectory(request.out_dir);
   Session session;
   session.request = &request;
+  session.intrinsics = intrinsics;
   const std::filesystem::path jumps = request.out_dir / "jumps.jsonl";
   session.jumps_fd =
       ::open(jumps.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_APPEND | O_CLOEXEC, 0644);

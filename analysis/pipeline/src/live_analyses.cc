@@ -105,6 +105,9 @@ void RoutineAnalysisQueue::Analyse(const LiveRoutine& r, const std::filesystem::
                                       "-o",
                                       out.string()};
   if (!athlete.empty()) analyze.insert(analyze.end(), {"--athlete", athlete.string()});
+  if (!options_.intrinsics.empty())
+    analyze.insert(analyze.end(), {"--intrinsics", options_.intrinsics.string()});
+  if (!options_.camera.empty()) analyze.insert(analyze.end(), {"--camera", options_.camera});
   if (!r.bed_picture.empty())
     analyze.insert(analyze.end(), {"--bed-picture", r.bed_picture.string()});
   bool analysed = false;

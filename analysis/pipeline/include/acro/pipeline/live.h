@@ -83,6 +83,13 @@ struct LiveRequest {
   std::filesystem::path out_dir;
   capture::LiveSourceOptions source;  ///< timeouts, pace, segment length (name/prefix per source)
   vision::MotionFlightOptions flights;
+  /// The cameras' intrinsics (a calibration file in any format `acrolab` reads, e.g. from
+  /// `calibrate intrinsics` with a checkerboard; `camera` names one of several): the focal length,
+  /// principal point and distortion used, the pose still found on the bed each source sees (the
+  /// hall's world is the bed's). Empty: the focal length too from the bed's perspective. Every
+  /// source uses it (a session of several cameras of one model, or one camera).
+  std::filesystem::path intrinsics;
+  std::string camera;
   /// A routine ends when the athlete has stayed on the bed this long after a landing (s); the
   /// contacts between a routine's jumps are shorter (about 0.3–0.6 s on a competition bed).
   double rest_s = 1.5;

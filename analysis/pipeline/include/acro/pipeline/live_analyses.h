@@ -25,7 +25,11 @@ namespace acro::pipeline {
 struct RoutineAnalysisOptions {
   /// The acrolab program that analyses (the door's own executable, or the one beside it).
   std::filesystem::path acrolab;
-  std::string model = "heavy";    ///< the detector: heavy, full or lite
+  std::string model = "heavy";  ///< the detector: heavy, full or lite
+  /// The camera's intrinsics for each analysis (`analyze --detect-bed --intrinsics C --camera N`:
+  /// the pose from the bed); empty: the focal length from the bed too.
+  std::filesystem::path intrinsics;
+  std::string camera;
   std::filesystem::path athlete;  ///< the athlete's profile; empty: a default athlete
   /// Store each analysis there, under its athlete (a routine analysed for no athlete is not
   /// stored, and the line says so).
