@@ -69,6 +69,13 @@ int main(int argc, char** argv) {
       return fail("--live opens the live mode alone: no trial, video or session with it");
     request.sources = live;
     request.out_dir = live_output;
+    // --calib C [--camera N]: the cameras' intrinsics (their poses found on the bed).
+    if (calibrations.size() > 1 || cameras.size() > 1)
+      return fail("--live takes one --calib (the cameras' intrinsics) and at most one --camera");
+    if (!cameras.empty() && calibrations.empty())
+      return fail("--camera names a camera of --calib");
+    if (!calibrations.empty()) request.intrinsics = calibrations[0];
+    if (!cameras.empty()) request.camera = cameras[0];
     request.source.stall_timeout_s = stall_s;
     request.reconnect_s = reconnect_s;
     std::string why;

@@ -57,6 +57,8 @@ int RunStudioLive(int argc,
     analyses->acrolab = acrolab;
     analyses->athlete = athlete;
     analyses->library = library;
+    analyses->intrinsics = request.intrinsics;
+    analyses->camera = request.camera;
   }
   LiveWindow window(request, delay_s, analyses);
   // The hall's screen: a second one when there is one (the first stays the operator's).
