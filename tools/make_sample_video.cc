@@ -10,8 +10,15 @@
 // (end_camera.mp4, corner_camera.mp4, far_camera.mp4), each started at its own moment, and
 // views.toml (the side camera and the phones) with views_truth.json (each video's first sample).
 //
+// With --faults large, the routine with the execution assistant's large faults put in (the
+// generator's SampleFault, as tests/analysis/assess/execution_faults does it from the markers):
+// knees bent 45° in the back pike (skill 2), legs 40 cm apart in the barani (skill 3), the double
+// back's tuck opened to 110° (skill 5) — for the faults found from video (docs/scoring.md), with
+// faults.json saying what was put where.
+//
 // usage: make_sample_video ATHLETE.yaml OUT_DIR [--frame K OUT.png]   (--frame: that frame only)
 //        make_sample_video ATHLETE.yaml OUT_DIR --views [CAMERA K OUT.png]
+//        make_sample_video ATHLETE.yaml OUT_DIR --faults large
 // (from the repository root: build/bin/make_sample_video samples/athletes/sample_athlete.yaml
 //  samples/trials/trampoline_routine)
 
@@ -32,6 +39,9 @@
 #include "acro/base/input_error.h"
 #include "acro/capture/frame_output.h"
 #include "acro/capture/video.h"
+#include "acro/dynamics/configuration.h"
+#include "acro/dynamics/kinematics.h"
+#include "acro/dynamics/workspace.h"
 #include "acro/scene/athlete_scene.h"
 #include "acro/scene/place_scene.h"
 #include "acro/views/camera_composite.h"
@@ -284,20 +294,74 @@ static acro::vision::Camera Phone(const std::string& name,
   return c;
 }
 
+// The large faults (above): each hip abducted so that the ankles are `spread_m` further apart than
+// the hips (2·L·sin a, L hip to ankle of the generator's athlete standing).
+std::vector<acro::samples::SampleFault> LargeFaults(const std::filesystem::path& athlete,
+                                                    const std::string& label,
+                                                    double spread_m,
+                                                    double* abduction_deg) {
+  acro::samples::SampleRoutineOptions one;
+  one.num_skills = 1;
+  const acro::samples::SampleRoutine clean = acro::samples::MakeSampleRoutine(athlete, label, one);
+  const auto& model = clean.model;
+  acro::dynamics::Workspace<double> ws(model);
+  acro::dynamics::CalcForwardKinematics(model, ws, acro::dynamics::MakeNeutralConfiguration(model));
+  const auto point = [&](const char* name) {
+    const auto& p = model.point(model.FindPoint(name));
+    const auto& X = ws.X_WB[static_cast<size_t>(p.segment)];
+    return Eigen::Vector3d(X.rotation() * p.p_BoP_B + X.translation());
+  };
+  const double leg = (point("r_ankle_jc") - point("r_hip_jc")).norm();
+  *abduction_deg = std::asin(spread_m / (2 * leg)) * 180 / M_PI;
+  using Kind = acro::samples::SampleFault::Kind;
+  const auto fault = [](int skill, Kind kind, double value) {
+    acro::samples::SampleFault f;
+    f.skill = skill;
+    f.kind = kind;
+    f.value = value;
+    return f;
+  };
+  return {fault(2, Kind::kKneesBent, 45),
+          fault(3, Kind::kLegsApart, *abduction_deg),
+          fault(5, Kind::kTuckAngle, 110)};
+}
+
 int main(int argc, char** argv) {
   const bool preview = argc == 6 && std::string(argv[3]) == "--frame";
   const bool views = argc >= 4 && std::string(argv[3]) == "--views";
-  if (argc != 3 && !preview && !(views && (argc == 4 || argc == 7))) {
+  const bool faults =
+      argc == 5 && std::string(argv[3]) == "--faults" && std::string(argv[4]) == "large";
+  if (argc != 3 && !preview && !faults && !(views && (argc == 4 || argc == 7))) {
     std::fprintf(stderr,
                  "usage: make_sample_video ATHLETE.yaml OUT_DIR [--frame K OUT.png]\n"
-                 "       make_sample_video ATHLETE.yaml OUT_DIR --views [CAMERA K OUT.png]\n");
+                 "       make_sample_video ATHLETE.yaml OUT_DIR --views [CAMERA K OUT.png]\n"
+                 "       make_sample_video ATHLETE.yaml OUT_DIR --faults large\n");
     return 2;
   }
   const std::filesystem::path athlete = argv[1];
   const std::filesystem::path dir = argv[2];
   try {
     const std::string label = "samples/athletes/" + athlete.filename().string();
-    const acro::samples::SampleRoutine routine = acro::samples::MakeSampleRoutine(athlete, label);
+    acro::samples::SampleRoutineOptions routine_options;
+    double abduction_deg = 0;
+    if (faults) routine_options.faults = LargeFaults(athlete, label, 0.40, &abduction_deg);
+    const acro::samples::SampleRoutine routine =
+        acro::samples::MakeSampleRoutine(athlete, label, routine_options);
+    if (faults) {
+      std::filesystem::create_directories(dir);
+      acro::WriteFileAtomically(
+          dir / "faults.json",
+          fmt::format("{{\n  \"note\": \"the large faults put into the sample routine (skills "
+                      "0-based: 0 the straight jump, the video's partial first flight)\",\n"
+                      "  \"faults\": [\n"
+                      "    {{\"skill\": 2, \"fault\": \"knees_bent\", \"value\": 45, "
+                      "\"unit\": \"deg\"}},\n"
+                      "    {{\"skill\": 3, \"fault\": \"legs_apart\", \"value\": 0.40, "
+                      "\"unit\": \"m\", \"abduction_deg\": {:.3f}}},\n"
+                      "    {{\"skill\": 5, \"fault\": \"tuck_open\", \"value\": 110, "
+                      "\"unit\": \"deg\"}}\n  ]\n}}\n",
+                      abduction_deg));
+    }
     const acro::analysis::AthleteBody body =
         acro::analysis::MakeAthleteBody(acro::analysis::ReadAthleteProfile(athlete));
     acro::analysis::Motion motion;
