@@ -65,6 +65,7 @@ int main(int argc, char** argv) {
       if (app.count(option) > 0) return fail(std::string(option) + " goes with --live");
   if (!live.empty()) {
     if (live_output.empty()) return fail("--live needs --live-output, the session's folder");
+    if (app.count("--offset-s") > 0) return fail("--offset-s is for a trial's video, not --live");
     if (!files.trial.empty() || !videos.empty() || !session.empty())
       return fail("--live opens the live mode alone: no trial, video or session with it");
     request.sources = live;
@@ -72,8 +73,7 @@ int main(int argc, char** argv) {
     // --calib C [--camera N]: the cameras' intrinsics (their poses found on the bed).
     if (calibrations.size() > 1 || cameras.size() > 1)
       return fail("--live takes one --calib (the cameras' intrinsics) and at most one --camera");
-    if (!cameras.empty() && calibrations.empty())
-      return fail("--camera names a camera of --calib");
+    if (!cameras.empty() && calibrations.empty()) return fail("--camera names a camera of --calib");
     if (!calibrations.empty()) request.intrinsics = calibrations[0];
     if (!cameras.empty()) request.camera = cameras[0];
     request.source.stall_timeout_s = stall_s;

@@ -305,8 +305,15 @@ struct LiveSource::Impl {
       end_cause = why;
       ended_normally = why == LiveEnd::kFileEnded;
     }
-    if (encoder != nullptr && why != LiveEnd::kRecordError) {
-      // What the encoder still holds (nothing, tuned for no latency; said for safety).
+    // A copied stream's packets are all written: its recording closes now. An encoded source's
+    // last frames may still come out of its decoder (Next drains it): its recording closes after
+    // them — unless it cannot be written.
+    if (encoder == nullptr || why == LiveEnd::kRecordError) CloseRecording();
+  }
+  // The encoder's last packets (none, tuned for no latency; asked for all the same) written, and
+  // the recording closed. Once.
+  void CloseRecording() {
+    if (encoder != nullptr && writer_ok) {
       try {
         if (avcodec_send_frame(encoder, nullptr) >= 0) StoreEncoded();
       } catch (const InputError&) {
@@ -316,7 +323,7 @@ struct LiveSource::Impl {
       writer->Close();
       writer.reset();
     }
-    writer_ok = false;  // (frames the decoder still gives are not recorded after the end)
+    writer_ok = false;
   }
 };
 
@@ -445,6 +452,15 @@ void LiveSource::Impl::OpenEncoder(const AVStream* st) {
 }
 
 void LiveSource::Impl::Encode(const AVFrame* f) {
+  if (f->width < encoder->width || f->height < encoder->height)
+    throw InputError(RedactedUrl(url),
+                     "",
+                     fmt::format("its pictures changed size, {} x {} px to {} x {}: the recording "
+                                 "stops here",
+                                 width,
+                                 height,
+                                 f->width,
+                                 f->height));
   if (av_frame_make_writable(encode_frame) < 0) Fail("out of memory for the encoder's picture");
   // (an odd last column and row cut off, not the picture resampled: the source's size read over
   // the encoder's)
@@ -674,8 +690,10 @@ bool LiveSource::Next(LiveFrame* out) {
   Impl& m = *impl_;
   for (;;) {
     if (m.Receive(out)) return true;
-    if (m.draining) return false;
-    if (!m.end_reason.empty()) return false;
+    if (m.draining || !m.end_reason.empty()) {
+      m.CloseRecording();  // (an encoded source's: after the decoder's last frames)
+      return false;
+    }
     if (!m.ReadPacket()) {
       // Drain the decoder: the frames it still holds are part of what was sent.
       avcodec_send_packet(m.decoder, nullptr);
@@ -693,6 +711,20 @@ VideoFrame LiveSource::FullSizeGrey() {
   if (m.frame->width <= 0) return out;
   m.Convert(m.frame, m.frame->width, m.frame->height, false, &m.full_scaler, &out);
   out.index = m.decoded - 1;
+  if (m.encoder != nullptr && (out.width != m.encoder->width || out.height != m.encoder->height)) {
+    // The size recorded (an odd last column and row cut for the H.264 encoding): the bed found
+    // here must fit the clips' frames.
+    const int w = std::min(out.width, m.encoder->width),
+              h = std::min(out.height, m.encoder->height);
+    std::vector<std::uint8_t> cut(static_cast<size_t>(w) * h);
+    for (int y = 0; y < h; ++y)
+      std::copy_n(out.pixels.begin() + static_cast<std::ptrdiff_t>(y) * out.width,
+                  w,
+                  cut.begin() + static_cast<std::ptrdiff_t>(y) * w);
+    out.width = w;
+    out.height = h;
+    out.pixels = std::move(cut);
+  }
   return out;
 }
 

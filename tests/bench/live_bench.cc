@@ -55,8 +55,11 @@ void BM_WebcamMjpeg(benchmark::State& state) {
   const std::filesystem::path mjpeg =
       std::filesystem::temp_directory_path() / "acrolab_live_bench_webcam.avi";
   if (!std::filesystem::exists(mjpeg)) {
+    // (made under another name and renamed whole: an interrupted run leaves no half file)
+    const std::filesystem::path part = mjpeg.string() + ".part.avi";
     const std::string make = "ffmpeg -v error -y -i '" + SideVideo().string() +
-                             "' -an -c:v mjpeg -q:v 3 '" + mjpeg.string() + "'";
+                             "' -an -c:v mjpeg -q:v 3 '" + part.string() + "' && mv '" +
+                             part.string() + "' '" + mjpeg.string() + "'";
     if (std::system(make.c_str()) != 0) {
       state.SkipWithError("the MJPEG input could not be made (is ffmpeg installed?)");
       return;

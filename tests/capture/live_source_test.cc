@@ -213,8 +213,16 @@ TEST(LiveSource, AWebcamsMjpegOrRawVideoIsRecordedAsH264) {
     {
       LiveSource source(camera.string(), options);
       LiveFrame frame;
-      while (source.Next(&frame)) handed.push_back(frame.picture);
+      VideoFrame grey;
+      while (source.Next(&frame)) {
+        handed.push_back(frame.picture);
+        if (handed.size() == 1) grey = source.FullSizeGrey();
+      }
       EXPECT_EQ(source.end_reason(), "the file ended");
+      // The full-size picture (where the bed is found, kept for the clips' analyses) has the
+      // recording's size, so that the bed found in it fits the clips.
+      EXPECT_EQ(grey.width, handed.front().width & ~1) << kind.name;
+      EXPECT_EQ(grey.height, handed.front().height & ~1) << kind.name;
       ASSERT_EQ(source.segments().size(), 1u);
       // A clip of the middle second, from the keyframe before it (one a second).
       const double first = source.SaveClip(1.0, 2.0, dir / (std::string(kind.name) + "-clip.ts"));

@@ -90,6 +90,8 @@ void CompareSilhouettes(const vision::BackgroundModel& background,
                         double margin,
                         vision::Mask* real,
                         SilhouetteFrame* out) {
+  if (camera.width_px != frame.width || camera.height_px != frame.height)
+    throw std::invalid_argument("CompareSilhouettes: the camera's picture is not the frame's size");
   DrawAthleteAndBox(tf, camera, margin, out);
   *real =
       background.Foreground(frame, options, vision::PixelRect{out->x0, out->y0, out->x1, out->y1});

@@ -193,8 +193,11 @@ Mask BackgroundModel::Foreground(const capture::VideoFrame& frame,
     cv::max(planes[0], planes[1], m);
     cv::max(m, planes[2], m);
   } else {
-    const std::vector<std::uint8_t> g = frame.channels == 1 ? frame.pixels : GreyOf(frame);
-    const cv::Mat f(height_, width_, CV_8UC1, const_cast<std::uint8_t*>(g.data()));
+    // (a grey frame read in place; a colour one against a grey background made grey first)
+    std::vector<std::uint8_t> converted;
+    if (frame.channels != 1) converted = GreyOf(frame);
+    const std::uint8_t* g = frame.channels == 1 ? frame.pixels.data() : converted.data();
+    const cv::Mat f(height_, width_, CV_8UC1, const_cast<std::uint8_t*>(g));
     const cv::Mat b(height_, width_, CV_8UC1, const_cast<std::uint8_t*>(grey_.data()));
     cv::absdiff(f(work), b(work), m);
   }

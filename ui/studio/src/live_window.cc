@@ -364,9 +364,9 @@ LiveWindow::~LiveWindow() {
                    dropped == 1 ? "" : "s",
                    request_.out_dir.string().c_str());
   }
+  closing_ = true;  // (the readers of analyses stop while the running analysis finishes)
   analyses_.reset();
-  closing_ = true;
-  for (std::thread& t : loaders_) t.join();
+  for (Loader& l : loaders_) l.thread.join();
 }
 
 void LiveWindow::closeEvent(QCloseEvent* event) {
@@ -539,7 +539,8 @@ void LiveWindow::StepFrame(int direction) {
         return x < g.time_s;
       });
   const std::ptrdiff_t last = static_cast<std::ptrdiff_t>(b.frames.size()) - 1;
-  const std::ptrdiff_t at = std::max<std::ptrdiff_t>(0, (it - b.frames.begin()) - 1);
+  // (−1: the clock before the oldest frame kept; a step forward shows that frame)
+  const std::ptrdiff_t at = (it - b.frames.begin()) - 1;
   const std::ptrdiff_t k = std::clamp<std::ptrdiff_t>(at + direction, 0, last);
   // Halfway to the next frame: the frame stays up whatever the clock's rounding.
   const double next =
@@ -626,8 +627,8 @@ void LiveWindow::OnRoutine(const pipeline::LiveRoutine& routine) {
   }
   if (r.frames.empty()) return;  // older than the buffer
   picture_width_ = Decompress(r.frames.front().jpeg).width();
-  const auto done = analysed_.find(RoutineKey(routine.source, routine.number));
-  if (done != analysed_.end()) r.analysed = done->second;
+  if (analysed_last_ && analysed_key_ == RoutineKey(routine.source, routine.number))
+    r.analysed = analysed_last_;
   r.t_s = (r.analysed ? r.analysed->frames : r.frames).front().time_s;
   replay_ = std::move(r);
   ReplayLabel();
@@ -727,23 +728,36 @@ void LiveWindow::OnAnalysed(const pipeline::LiveRoutine& routine,
   // two for a routine: the picture goes on meanwhile).
   const double clip_start = routine.clip_start_s;
   const int width = picture_width_;
-  loaders_.emplace_back([this, key, report, clip_start, width] {
+  // (the readers that have finished joined first: one thread a routine, not one a session)
+  loaders_.erase(std::remove_if(loaders_.begin(),
+                                loaders_.end(),
+                                [](Loader& l) {
+                                  if (!l.done->load()) return false;
+                                  l.thread.join();
+                                  return true;
+                                }),
+                 loaders_.end());
+  auto done = std::make_shared<std::atomic<bool>>(false);
+  std::thread reader([this, key, report, clip_start, width, done] {
     try {
       std::shared_ptr<const Analysed> a = LoadAnalysed(report, clip_start, width, closing_);
-      if (a == nullptr) return;
-      QMetaObject::invokeMethod(
-          this, [this, key, a] { ShowAnalysed(key, a); }, Qt::QueuedConnection);
+      if (a != nullptr)
+        QMetaObject::invokeMethod(
+            this, [this, key, a] { ShowAnalysed(key, a); }, Qt::QueuedConnection);
     } catch (const std::exception& e) {
       const std::string line =
           fmt::format("routine {}: its analysis cannot be replayed: {}", key, e.what());
       QMetaObject::invokeMethod(
           this, [this, line] { AddLine(line); }, Qt::QueuedConnection);
     }
+    done->store(true);
   });
+  loaders_.push_back({std::move(reader), done});
 }
 
 void LiveWindow::ShowAnalysed(const std::string& key, std::shared_ptr<const Analysed> analysed) {
-  analysed_[key] = analysed;
+  analysed_key_ = key;
+  analysed_last_ = analysed;
   if (!replay_ || RoutineKey(replay_->routine.source, replay_->routine.number) != key) return;
   // The replay goes on from where it was, in the analysis's video.
   replay_->analysed = std::move(analysed);

@@ -209,9 +209,15 @@ class LiveWindow : public QWidget {
   std::optional<pipeline::RoutineAnalysisQueue> analyses_;
   // Each routine's report once analysed, by "source number".
   std::map<std::string, std::filesystem::path> reports_;
-  // Each routine's analysis read for its replay, by the same key; the threads that read them.
-  std::map<std::string, std::shared_ptr<const Analysed>> analysed_;
-  std::vector<std::thread> loaders_;
+  // The last routine's analysis read for its replay (one at most: a routine's overlay video is
+  // 30–40 MB of JPEG), by the same key; the threads that read them, each with its end.
+  std::string analysed_key_;
+  std::shared_ptr<const Analysed> analysed_last_;
+  struct Loader {
+    std::thread thread;
+    std::shared_ptr<std::atomic<bool>> done;
+  };
+  std::vector<Loader> loaders_;
   int picture_width_ = 640;  // the live pictures' width (the analysis's video is scaled to it)
   QPushButton* report_button_ = nullptr;
   mutable std::mutex athlete_mutex_;  // the athlete (read by the session's thread)
