@@ -18,7 +18,7 @@
 //
 // usage: make_sample_video ATHLETE.yaml OUT_DIR [--frame K OUT.png]   (--frame: that frame only)
 //        make_sample_video ATHLETE.yaml OUT_DIR --views [CAMERA K OUT.png]
-//        make_sample_video ATHLETE.yaml OUT_DIR --faults large
+//        make_sample_video ATHLETE.yaml OUT_DIR --faults large [--views]
 // (from the repository root: build/bin/make_sample_video samples/athletes/sample_athlete.yaml
 //  samples/trials/trampoline_routine)
 
@@ -328,14 +328,14 @@ std::vector<acro::samples::SampleFault> LargeFaults(const std::filesystem::path&
 
 int main(int argc, char** argv) {
   const bool preview = argc == 6 && std::string(argv[3]) == "--frame";
-  const bool views = argc >= 4 && std::string(argv[3]) == "--views";
-  const bool faults =
-      argc == 5 && std::string(argv[3]) == "--faults" && std::string(argv[4]) == "large";
+  const bool faults = (argc == 5 || (argc == 6 && std::string(argv[5]) == "--views")) &&
+                      std::string(argv[3]) == "--faults" && std::string(argv[4]) == "large";
+  const bool views = (argc >= 4 && std::string(argv[3]) == "--views") || (faults && argc == 6);
   if (argc != 3 && !preview && !faults && !(views && (argc == 4 || argc == 7))) {
     std::fprintf(stderr,
                  "usage: make_sample_video ATHLETE.yaml OUT_DIR [--frame K OUT.png]\n"
                  "       make_sample_video ATHLETE.yaml OUT_DIR --views [CAMERA K OUT.png]\n"
-                 "       make_sample_video ATHLETE.yaml OUT_DIR --faults large\n");
+                 "       make_sample_video ATHLETE.yaml OUT_DIR --faults large [--views]\n");
     return 2;
   }
   const std::filesystem::path athlete = argv[1];
