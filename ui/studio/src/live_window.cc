@@ -148,7 +148,29 @@ LiveWindow::LiveWindow(pipeline::LiveRequest request,
   for (size_t k = 0; k < buffers_.size(); ++k)
     buffers_[k].name = capture::LiveSourceName(request_.sources[k]);
 
-  // The controls: the delay, the speed, a frame either way, back to live; the replay's speed.
+  auto* split = new QSplitter(Qt::Horizontal);
+  split->addWidget(MakeSources());
+  split->addWidget(MakeReplayPane());
+  split->setStretchFactor(0, 1);
+  split->setStretchFactor(1, 1);
+  line_list_ = new QListWidget;
+  line_list_->setMaximumHeight(130);
+  status_ = new QLabel("starting…");
+  auto* layout = new QVBoxLayout(this);
+  layout->addLayout(MakeControls(analyses.has_value()));
+  layout->addWidget(split, 1);
+  layout->addWidget(line_list_);
+  layout->addWidget(status_);
+  resize(1600, 900);
+  StartSession(std::move(analyses));
+  SetDelay(std::clamp(delay_s, 0.0, kMaxDelayS));
+  timer_ = new QTimer(this);
+  connect(timer_, &QTimer::timeout, this, [this] { Tick(); });
+  timer_->start(10);
+}
+
+// The controls: the delay, the speed, a frame either way, back to live, stop; who is jumping.
+QHBoxLayout* LiveWindow::MakeControls(bool choose_athlete) {
   auto* controls = new QHBoxLayout;
   controls->addWidget(new QLabel("Delay"));
   delay_slider_ = new QSlider(Qt::Horizontal);
@@ -171,7 +193,7 @@ LiveWindow::LiveWindow(pipeline::LiveRequest request,
   for (QPushButton* b : {back, pause_button_, forward, live}) controls->addWidget(b);
   auto* stop = new QPushButton("Stop session");
   controls->addWidget(stop);
-  if (analyses) {
+  if (choose_athlete) {
     // Who is jumping: each routine cut is analysed for them and stored under their name.
     controls->addWidget(new QLabel("Athlete"));
     athlete_box_ = new QComboBox;
@@ -181,8 +203,31 @@ LiveWindow::LiveWindow(pipeline::LiveRequest request,
         "library)");
     controls->addWidget(athlete_box_);
   }
+  connect(delay_slider_, &QSlider::valueChanged, this, [this](int tenths) {
+    if (std::abs(tenths / 10.0 - delay_s_) > 1e-9) SetDelay(tenths / 10.0);
+  });
+  connect(speed_box_, QOverload<int>::of(&QComboBox::activated), this, [this](int i) {
+    SetSpeed(1.0 / (1 << i));
+  });
+  connect(back, &QPushButton::clicked, this, [this] { StepFrame(-1); });
+  connect(forward, &QPushButton::clicked, this, [this] { StepFrame(1); });
+  connect(pause_button_, &QPushButton::clicked, this, [this] {
+    SetSpeed(rate_ > 0 ? 0.0 : 1.0 / (1 << std::max(0, speed_box_->currentIndex())));
+  });
+  connect(live, &QPushButton::clicked, this, [this] { BackToLive(); });
+  connect(stop, &QPushButton::clicked, this, [this] { Stop(); });
+  const auto key = [this](QKeySequence k, std::function<void()> f) {
+    connect(new QShortcut(k, this), &QShortcut::activated, this, std::move(f));
+  };
+  key(Qt::Key_Left, [this] { StepFrame(-1); });
+  key(Qt::Key_Right, [this] { StepFrame(1); });
+  key(Qt::Key_Space, [this] { pause_button_->click(); });
+  key(Qt::Key_L, [this] { BackToLive(); });
+  return controls;
+}
 
-  // The sources, each late by the delay; the last routine's replay and its jumps beside them.
+// The sources, each late by the delay, two a row.
+QWidget* LiveWindow::MakeSources() {
   auto* sources = new QWidget;
   auto* grid = new QGridLayout(sources);
   grid->setContentsMargins(0, 0, 0, 0);
@@ -196,6 +241,11 @@ LiveWindow::LiveWindow(pipeline::LiveRequest request,
     views_.push_back(view);
     view_labels_.push_back(label);
   }
+  return sources;
+}
+
+// The last routine's replay, its speed and report, and its table.
+QWidget* LiveWindow::MakeReplayPane() {
   auto* replay = new QWidget;
   auto* replay_layout = new QVBoxLayout(replay);
   replay_layout->setContentsMargins(0, 0, 0, 0);
@@ -221,53 +271,20 @@ LiveWindow::LiveWindow(pipeline::LiveRequest request,
   routine_table_->verticalHeader()->setDefaultSectionSize(22);
   routine_table_->setEditTriggers(QAbstractItemView::NoEditTriggers);
   replay_layout->addWidget(routine_table_, 1);
-
-  auto* split = new QSplitter(Qt::Horizontal);
-  split->addWidget(sources);
-  split->addWidget(replay);
-  split->setStretchFactor(0, 1);
-  split->setStretchFactor(1, 1);
-  line_list_ = new QListWidget;
-  line_list_->setMaximumHeight(130);
-  status_ = new QLabel("starting…");
-  auto* layout = new QVBoxLayout(this);
-  layout->addLayout(controls);
-  layout->addWidget(split, 1);
-  layout->addWidget(line_list_);
-  layout->addWidget(status_);
-  resize(1600, 900);
-
-  connect(delay_slider_, &QSlider::valueChanged, this, [this](int tenths) {
-    if (std::abs(tenths / 10.0 - delay_s_) > 1e-9) SetDelay(tenths / 10.0);
-  });
-  connect(speed_box_, QOverload<int>::of(&QComboBox::activated), this, [this](int i) {
-    SetSpeed(1.0 / (1 << i));
-  });
   connect(replay_speed_box_, QOverload<int>::of(&QComboBox::activated), this, [this](int i) {
     replay_rate_ = 1.0 / (1 << i);
   });
-  connect(back, &QPushButton::clicked, this, [this] { StepFrame(-1); });
-  connect(forward, &QPushButton::clicked, this, [this] { StepFrame(1); });
-  connect(pause_button_, &QPushButton::clicked, this, [this] {
-    SetSpeed(rate_ > 0 ? 0.0 : 1.0 / (1 << std::max(0, speed_box_->currentIndex())));
-  });
-  connect(live, &QPushButton::clicked, this, [this] { BackToLive(); });
-  connect(stop, &QPushButton::clicked, this, [this] { Stop(); });
   connect(report_button_, &QPushButton::clicked, this, [this] {
     const std::filesystem::path report = replay_report();
     if (!report.empty())
       QDesktopServices::openUrl(QUrl::fromLocalFile(QString::fromStdString(report.string())));
   });
-  const auto key = [this](QKeySequence k, std::function<void()> f) {
-    connect(new QShortcut(k, this), &QShortcut::activated, this, std::move(f));
-  };
-  key(Qt::Key_Left, [this] { StepFrame(-1); });
-  key(Qt::Key_Right, [this] { StepFrame(1); });
-  key(Qt::Key_Space, [this] { pause_button_->click(); });
-  key(Qt::Key_L, [this] { BackToLive(); });
+  return replay;
+}
 
-  // The session: the pipeline's, its callbacks queued to this window's thread (the frames go
-  // into the buffer directly, under its lock).
+// The session: the pipeline's, on a thread of its own, its callbacks queued to this window's
+// thread (the frames go into the buffer directly, under its lock); each routine analysed.
+void LiveWindow::StartSession(std::optional<pipeline::RoutineAnalysisOptions> analyses) {
   request_.on_frame = [this](const pipeline::LiveFrameSeen& seen) { OnFrame(seen); };
   request_.on_line = [this](const std::string& line) {
     QMetaObject::invokeMethod(
@@ -281,42 +298,7 @@ LiveWindow::LiveWindow(pipeline::LiveRequest request,
           this, [this, r, report] { OnAnalysed(r, report); }, Qt::QueuedConnection);
     };
     analyses_.emplace(*analyses);
-    // The list: the profile given, the others beside it, the library's athletes; then none, and
-    // any other file.
-    std::vector<std::filesystem::path> profiles;
-    if (!analyses->athlete.empty()) {
-      profiles.push_back(analyses->athlete);
-      std::error_code ec;
-      std::vector<std::filesystem::path> beside;
-      for (const auto& e : std::filesystem::directory_iterator(
-               std::filesystem::absolute(analyses->athlete).parent_path(), ec)) {
-        const std::string ext = e.path().extension().string();
-        if (e.is_regular_file(ec) && (ext == ".yaml" || ext == ".yml")) beside.push_back(e.path());
-      }
-      std::sort(beside.begin(), beside.end());
-      profiles.insert(profiles.end(), beside.begin(), beside.end());
-    }
-    for (const std::filesystem::path& p : LibraryProfiles(analyses->library)) profiles.push_back(p);
-    for (const std::filesystem::path& p : profiles) AddAthleteChoice(p);
-    athlete_box_->addItem("No athlete (a default body, not stored)");
-    athlete_box_->addItem("Another profile…");
-    athlete_box_->setCurrentIndex(analyses->athlete.empty() ? athlete_box_->count() - 2 : 0);
-    athlete_ = analyses->athlete;
-    connect(athlete_box_, QOverload<int>::of(&QComboBox::activated), this, [this](int i) {
-      if (i < static_cast<int>(athlete_paths_.size())) {
-        SetAthlete(athlete_paths_[size_t(i)]);
-      } else if (i == athlete_box_->count() - 2) {
-        SetAthlete({});
-      } else {
-        const QString file = QFileDialog::getOpenFileName(
-            this, "The athlete's profile", QString(), "Athlete profiles (*.yaml *.yml)");
-        if (!file.isEmpty()) {
-          SetAthlete(file.toStdString());
-        } else {
-          SetAthlete(athlete());  // back to the one chosen
-        }
-      }
-    });
+    FillAthleteList(*analyses);
   }
   request_.on_routine = [this](const pipeline::LiveRoutine& r) {
     if (analyses_) analyses_->Add(r, athlete());
@@ -343,10 +325,45 @@ LiveWindow::LiveWindow(pipeline::LiveRequest request,
     }
     finished_ = true;
   });
-  SetDelay(std::clamp(delay_s, 0.0, kMaxDelayS));
-  timer_ = new QTimer(this);
-  connect(timer_, &QTimer::timeout, this, [this] { Tick(); });
-  timer_->start(10);
+}
+
+// The athletes offered: the profile given, the others beside it, the library's athletes; then
+// none, and any other file.
+void LiveWindow::FillAthleteList(const pipeline::RoutineAnalysisOptions& analyses) {
+  std::vector<std::filesystem::path> profiles;
+  if (!analyses.athlete.empty()) {
+    profiles.push_back(analyses.athlete);
+    std::error_code ec;
+    std::vector<std::filesystem::path> beside;
+    for (const auto& e : std::filesystem::directory_iterator(
+             std::filesystem::absolute(analyses.athlete).parent_path(), ec)) {
+      const std::string ext = e.path().extension().string();
+      if (e.is_regular_file(ec) && (ext == ".yaml" || ext == ".yml")) beside.push_back(e.path());
+    }
+    std::sort(beside.begin(), beside.end());
+    profiles.insert(profiles.end(), beside.begin(), beside.end());
+  }
+  for (const std::filesystem::path& p : LibraryProfiles(analyses.library)) profiles.push_back(p);
+  for (const std::filesystem::path& p : profiles) AddAthleteChoice(p);
+  athlete_box_->addItem("No athlete (a default body, not stored)");
+  athlete_box_->addItem("Another profile…");
+  athlete_box_->setCurrentIndex(analyses.athlete.empty() ? athlete_box_->count() - 2 : 0);
+  athlete_ = analyses.athlete;
+  connect(athlete_box_, QOverload<int>::of(&QComboBox::activated), this, [this](int i) {
+    if (i < static_cast<int>(athlete_paths_.size())) {
+      SetAthlete(athlete_paths_[size_t(i)]);
+    } else if (i == athlete_box_->count() - 2) {
+      SetAthlete({});
+    } else {
+      const QString file = QFileDialog::getOpenFileName(
+          this, "The athlete's profile", QString(), "Athlete profiles (*.yaml *.yml)");
+      if (!file.isEmpty()) {
+        SetAthlete(file.toStdString());
+      } else {
+        SetAthlete(athlete());  // back to the one chosen
+      }
+    }
+  });
 }
 
 LiveWindow::~LiveWindow() {

@@ -28,6 +28,7 @@
 #include "acro/pipeline/live_analyses.h"
 
 class QComboBox;
+class QHBoxLayout;
 class QLabel;
 class QListWidget;
 class QPushButton;
@@ -171,6 +172,11 @@ class LiveWindow : public QWidget {
     QImage image;
   };
 
+  QHBoxLayout* MakeControls(bool choose_athlete);
+  QWidget* MakeSources();
+  QWidget* MakeReplayPane();
+  void StartSession(std::optional<pipeline::RoutineAnalysisOptions> analyses);
+  void FillAthleteList(const pipeline::RoutineAnalysisOptions& analyses);
   void OnFrame(const pipeline::LiveFrameSeen& seen);
   void OnRoutine(const pipeline::LiveRoutine& routine);
   void AddLine(const std::string& line);
