@@ -20,6 +20,7 @@
 #include "acro/dynamics/kinematics.h"
 #include "acro/dynamics/workspace.h"
 #include "acro/reconstruct/motion_export.h"
+#include "acro/reconstruct/view_fit.h"
 #include "score_json.h"
 
 namespace acro::analysis {
@@ -531,6 +532,8 @@ TrialAnalysis AnalyzeTrial(const capture::Trial& trial,
   out.execution_options = options.execution.scale_with_noise
                               ? options.execution.WithNoise(out.check.noise_rms_m)
                               : options.execution;
+  if (const auto& views = options.reconstruction.views; views && views->views.size() == 1)
+    out.execution_options.single_camera_centre_W = views->views[0].camera.CentreInWorld();
   for (size_t k = 0; k < out.jumps.size(); ++k)
     out.jumps[k].execution =
         MeasureExecution(out, k, options.rules.execution, out.execution_options);

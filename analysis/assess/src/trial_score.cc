@@ -63,14 +63,16 @@ nlohmann::ordered_json ElementScoreJson(const fig::ScoredElement& e) {
   for (const fig::MeasuredFault& f : e.faults)
     faults.push_back({{"fault", f.fault},
                       {"quantity", f.quantity},
-                      {"value", f.value},
+                      {"value", f.Measured() ? Json(f.value) : Json(nullptr)},
                       {"unit", f.unit},
                       {"uncertainty", f.uncertainty},
                       {"threshold", std::isfinite(f.threshold) ? Json(f.threshold) : Json(nullptr)},
                       {"time_s", std::isfinite(f.time_s) ? Json(f.time_s) : Json(nullptr)},
                       {"frame", f.frame},
                       {"reported", f.reported},
-                      {"deduction", f.deduction}});
+                      {"deduction", f.deduction},
+                      {"frames", f.frames},
+                      {"frames_seen", f.frames_seen}});
   o["execution"] = std::move(faults);
   o["execution_deduction"] = e.execution_deduction;
   return o;

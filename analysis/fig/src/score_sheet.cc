@@ -70,6 +70,18 @@ double MeasuredFault::ThresholdRatio() const {
   return value > 0 ? threshold / value : std::numeric_limits<double>::infinity();
 }
 
+std::string DescribeUnmeasured(const ScoredElement& element) {
+  std::string out;
+  for (const MeasuredFault& f : element.faults)
+    if (!f.Measured())
+      out += fmt::format("{}{} (seen in {} of {} frames)",
+                         out.empty() ? "" : ", ",
+                         f.fault,
+                         f.frames_seen,
+                         f.frames);
+  return out;
+}
+
 std::vector<PerformedFlight> PlannedFlights(std::string_view codes) {
   std::vector<PerformedFlight> out;
   size_t k = 0;

@@ -298,9 +298,23 @@ TEST(TrialAnalysis, InjectedExecutionFaultsAreFoundWhereTheyAre) {
     TrialAnalysis a = clean;
     Motion& m = a.reconstruction.motion;
     const Flight& f = a.jumps[target].flight;
-    for (int k = f.takeoff_frame; k <= f.landing_frame; ++k)
+    // The markers moved with the body, as a faulty athlete's would be recorded: a fault the
+    // motion holds and its markers do not is the fit's guess, not measured (execution_faults_test,
+    // OnlyWhatWasSeenIsMeasured).
+    ReconstructionResult& r = a.reconstruction;
+    const int num_markers = static_cast<int>(r.markers.size());
+    for (int k = f.takeoff_frame; k <= f.landing_frame; ++k) {
       for (const auto& [name, deg] : inj.set_deg)
         m.q(column(name), k) = deg * std::numbers::pi / 180;
+      const Eigen::VectorXd q = m.q.col(k);
+      dynamics::CalcForwardKinematics(model, ws, q);
+      for (int mk = 0; mk < num_markers; ++mk) {
+        const ModelMarker& marker = r.markers[static_cast<size_t>(mk)];
+        const auto& X = ws.X_WB[static_cast<size_t>(marker.segment)];
+        r.marker_positions.col(Eigen::Index(k) * num_markers + mk) =
+            X.rotation() * marker.p_BoM_B + X.translation();
+      }
+    }
     for (size_t j = 0; j < a.jumps.size(); ++j) {
       const std::vector<fig::MeasuredFault> faults =
           MeasureExecution(a, j, fig::ExecutionRules::Default(), {});

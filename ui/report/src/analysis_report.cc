@@ -465,7 +465,10 @@ std::string FaultsCell(const fig::ScoredElement& e) {
             (f.unit == "deg" ? "°" : " " + f.unit) + " ±" + Fixed(f.uncertainty, digits) + " at " +
             Fixed(f.time_s, 2) + " s (−" + Fixed(f.deduction, 1) + ")";
   }
-  return cell.empty() ? "none beyond the measurement's uncertainty" : cell;
+  if (cell.empty()) cell = "none beyond the measurement's uncertainty";
+  if (const std::string unseen = fig::DescribeUnmeasured(e); !unseen.empty())
+    cell += "; not measured: " + unseen;
+  return cell;
 }
 
 // The score sheet by the analysis's rules (docs/scoring.md): per element its difficulty (struck

@@ -314,6 +314,8 @@ void MainWindow::FillScoreSheet() {
                                  worst->value,
                                  Unit(worst->unit),
                                  worst->threshold);
+    if (const std::string unseen = fig::DescribeUnmeasured(e); !unseen.empty())
+      faults += "; not measured: " + unseen;
     std::vector<std::string> cells = {
         std::to_string(e.element),
         std::to_string(e.flight),

@@ -6,7 +6,10 @@
 // landing, travel and loss of height — with the instant where it is worst, and the deduction the
 // rules suggest when it is past their first threshold by more than the measurement's uncertainty.
 
+#include <optional>
 #include <vector>
+
+#include <Eigen/Core>
 
 #include "acro/fig/rules.h"
 #include "acro/fig/score_sheet.h"
@@ -34,6 +37,12 @@ struct ExecutionOptions {
   /// The opening before landing is measured up to the landing itself.
   double takeoff_edge_s = 0.05;
   double landing_edge_s = 0.35;
+  /// The camera's centre (the trial's world) when one camera alone saw the motion: along its rays
+  /// the fitted body is the fit's guess, not a measurement. A joint angle is then measured only
+  /// where its limb's plane faces the camera (within 60° of the picture's plane), the legs' spread
+  /// across the view only (where the hips' axis is within 60° of the picture's plane), and a
+  /// keypoint agrees with the fit by its distance across the ray. Empty: several cameras, markers.
+  std::optional<Eigen::Vector3d> single_camera_centre_W;
   bool IsValid(std::string* why) const;
   /// The uncertainties for a trial whose noise is `noise_rms_m` per coordinate (the physical
   /// check's Winter estimate): each grows by its sensitivity times the noise beyond 2 mm (motion

@@ -5,6 +5,7 @@
 // routine's D, T (truncated as the Code says) and H, the special requirements met and missed, and
 // where the routine was interrupted. Works from measured flights, whatever measured them.
 
+#include <cmath>
 #include <limits>
 #include <optional>
 #include <string>
@@ -40,6 +41,13 @@ struct MeasuredFault {
   /// Past the rules' first threshold by more than the uncertainty: a fault, whatever the noise.
   bool reported = false;
   double deduction = 0;  ///< suggested by the rules when reported, else 0
+  /// The element's frames it was measured over, and of those the frames where the points it needs
+  /// were seen (not filled in by the fit: a keypoint no two cameras agreed on, a marker's gap);
+  /// 0 and 0 for a quantity of the whole flight (travel, height, the shape's hold). Seen in too
+  /// few frames, it is not measured: `value` is NaN and it is never reported.
+  int frames = 0;
+  int frames_seen = 0;
+  bool Measured() const { return std::isfinite(value); }
 };
 
 /// One flight as measured, in the order performed.
@@ -123,5 +131,9 @@ std::vector<PerformedFlight> PlannedFlights(std::string_view codes);
 
 /// T from the flights' sum: 1 s = 1 point, truncated to `step` (0.005 by the Code).
 double TruncateTimeOfFlight(double sum_s, double step);
+
+/// The element's quantities that could not be measured, in words, "" when there are none:
+/// "legs_apart (seen in 1 of 38 frames)" — for a sheet to say what it did not see.
+std::string DescribeUnmeasured(const ScoredElement& element);
 
 }  // namespace acro::fig
