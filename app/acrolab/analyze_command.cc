@@ -165,9 +165,10 @@ void CheckVideosWithoutTrial(const VideoArguments& v,
 // One calibrated camera as the pipeline opens it (docs/one-camera.md): its video, or its
 // detections made elsewhere (with their rate and the bed's line: no picture to find it in).
 pipeline::MonocularInput OpenOneCameraFor(const AnalyzeArguments& args,
-                                          const TrialArguments& common) {
+                                          const TrialArguments& common,
+                                          pipeline::MonocularRequest* opened) {
   const VideoArguments& v = args.video;
-  pipeline::MonocularRequest request;
+  pipeline::MonocularRequest& request = *opened;
   if (!args.detections.empty()) {
     if (!v.video.empty())
       throw UsageError{"give --detections or --video, not both: the detections are of one camera"};
@@ -254,6 +255,7 @@ int RunAnalyze(AnalyzeArguments& args) {
   std::optional<pipeline::VideoInput> video;
   std::optional<pipeline::ViewsInput> views;
   std::optional<pipeline::MonocularInput> mono;
+  pipeline::MonocularRequest mono_request;
   pipeline::TrialInput input;
   if (common.trial_path.empty()) {
     if (args.video.video.empty() && args.detections.empty())
@@ -262,53 +264,16 @@ int RunAnalyze(AnalyzeArguments& args) {
           "--calib C), or one camera's detections (--detections DIR --calib C --fps HZ "
           "--bed-line Y0,SLOPE)"};
     if (!args.detections.empty() || args.video.more_videos.empty()) {
-      mono = OpenOneCameraFor(args, common);
+      mono = OpenOneCameraFor(args, common, &mono_request);
       input = std::move(mono->input);
-      args.options.reconstruction.views = mono->views;
-      if (!args.options.bed && !args.options.surface_height_m)
-        args.options.surface_height_m = mono->bed_height_m;
-      // The flights as the picture's soles time them (the trial's clock is the video's).
-      for (const vision::ImageFlight& f : mono->flights.flights)
-        args.options.given_flights_s.emplace_back(f.takeoff_s, f.landing_s);
-      args.options.reconstruction.ballistic_flights_s = args.options.given_flights_s;
-      args.options.given_flights_source = "picture's soles against the bed's line";
-      if (args.detect_bed && !args.options.bed) {
-        // The camera's world is the FIG bed's: centred, its long side along x, at rest at z 0.
-        analysis::BedGeometry bed;
-        bed.centre_W = Eigen::Vector3d::Zero();
-        bed.long_axis_W = Eigen::Vector3d::UnitX();
-        bed.length_m = fig::kBedLength_m;
-        bed.width_m = fig::kBedWidth_m;
-        bed.source = args.bed_picture.empty()
-                         ? "the FIG bed the camera was posed on (its first frame)"
-                         : "the FIG bed the camera was posed on (in " + args.bed_picture + ")";
-        args.options.bed = bed;
-      }
+      pipeline::UseOneCamera(*mono, mono_request, &args.options);
     } else {
       views = OpenVideosFor(args, common);
+      const std::string bed = pipeline::UseViews(*views, &args.options);
+      if (!common.quiet && !bed.empty()) std::fprintf(stderr, "%s\n", bed.c_str());
+      // The first camera's video, on the time line the triangulation made.
+      video.emplace(pipeline::FirstViewVideo(*views, args.video.calibration));
       input = std::move(views->input);
-      args.options.reconstruction.views = views->views;
-    }
-    if (views && views->bed && !args.options.bed) {
-      analysis::BedGeometry bed;
-      bed.centre_W = views->bed->centre_W;
-      bed.long_axis_W = views->bed->long_axis_W;
-      bed.length_m = views->bed->length_m;
-      bed.width_m = views->bed->width_m;
-      bed.source = fmt::format(
-          "the bed in {} videos' first frames ({:.2f} × {:.2f} m, centres within {:.1f} cm)",
-          views->bed->views,
-          bed.length_m,
-          bed.width_m,
-          100 * views->bed->spread_m);
-      if (!common.quiet)
-        std::fprintf(stderr,
-                     "bed: %s at (%.3f, %.3f, %.3f) m\n",
-                     bed.source.c_str(),
-                     bed.centre_W.x(),
-                     bed.centre_W.y(),
-                     bed.centre_W.z());
-      args.options.bed = bed;
     }
   } else {
     if (!args.detections.empty())
@@ -317,30 +282,10 @@ int RunAnalyze(AnalyzeArguments& args) {
   }
   CheckCutoffBelowNyquist(args.options.reconstruction, input.trial);
   CheckJoint(input.athlete.body, args.report.joint);
-  // The video and its camera before the work: a mistyped name costs nothing. From several
-  // cameras, the first one's video, on the time line the triangulation made.
-  if (views) {
-    pipeline::VideoRequest request;
-    request.video = input.path;
-    request.calibration = args.video.calibration;
-    request.camera = views->offsets[0].camera;
-    request.sync.kind = pipeline::SyncRequest::Kind::kOffset;
-    request.sync.offset_s = views->first_frame[0] / views->rates_hz[0];
-    request.sync.rate = 1.0;
-    video.emplace(request);
-  } else if (mono) {
-    if (args.detections.empty()) {  // the one camera's video (detections made elsewhere: none)
-      pipeline::VideoRequest request;
-      request.video = input.path;
-      request.calibration = args.video.calibration;
-      request.camera = mono->camera.name;
-      if (args.detect_bed) request.camera_given = mono->camera;
-      request.sync.kind = pipeline::SyncRequest::Kind::kOffset;
-      request.sync.offset_s = 0;
-      request.sync.rate = 1.0;
-      video.emplace(request);
-    }
-  } else if (!args.video.video.empty() || !args.video.calibration.empty()) {
+  // The video and its camera before the work: a mistyped name costs nothing.
+  if (mono) {
+    if (auto request = pipeline::OneCameraVideo(*mono, mono_request)) video.emplace(*request);
+  } else if (!views && (!args.video.video.empty() || !args.video.calibration.empty())) {
     video.emplace(OpenVideoFor(args.video));
   }
 

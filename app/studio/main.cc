@@ -3,6 +3,8 @@
 // Up to four videos: --video, --calib, --camera and --offset-s are given once per video, in the
 // same order
 // (--camera and --offset-s for all of them or for none).
+// `acrolab-studio --video V [--calib C [--camera NAME]] [--athlete A]`: one video analysed alone
+// (docs/one-camera.md), its camera from the calibration or from the bed in its first frame.
 // `acrolab-studio --live SOURCE… --live-output DIR [--delay S]`: the live mode (docs/live.md).
 
 #include <cstdio>
@@ -84,9 +86,14 @@ int main(int argc, char** argv) {
     // library's athletes)
     return acro::studio::RunStudioLive(argc, argv, request, delay_s, files.athlete, library);
   }
-  if (videos.size() != calibrations.size())
+  // No trial and one video: the video analysed alone, its camera from --calib or from the bed.
+  const bool alone = files.trial.empty() && session.empty() && videos.size() == 1;
+  if (alone && !offsets.empty()) return fail("--offset-s is for a trial's video");
+  if (videos.size() != calibrations.size() && !(alone && calibrations.empty()))
     return fail("--video and --calib go together: " + std::to_string(videos.size()) + " videos, " +
                 std::to_string(calibrations.size()) + " calibrations");
+  if (files.trial.empty() && session.empty() && videos.size() > 1)
+    return fail("several videos go with a trial (one video alone is analysed by itself)");
   if (videos.size() > size_t(acro::studio::kMaxVideos))
     return fail(std::to_string(videos.size()) + " videos: at most 4");
   if (!cameras.empty() && cameras.size() != videos.size())
@@ -96,7 +103,7 @@ int main(int argc, char** argv) {
   for (size_t k = 0; k < videos.size(); ++k) {
     acro::studio::VideoFiles v;
     v.video = videos[k];
-    v.calibration = calibrations[k];
+    if (k < calibrations.size()) v.calibration = calibrations[k];
     if (!cameras.empty()) v.camera = cameras[k];
     if (!offsets.empty()) v.offset_s = offsets[k];
     files.videos.push_back(v);

@@ -10,6 +10,7 @@
 #include "acro/base/input_error.h"
 #include "acro/capture/detections.h"
 #include "acro/capture/video.h"
+#include "acro/fig/trampoline.h"
 #include "acro/pipeline/detect.h"
 #include "acro/pipeline/views_input.h"
 #include "acro/reconstruct/up_axis.h"
@@ -339,6 +340,46 @@ MonocularInput OpenMonocular(const MonocularRequest& request, const Progress& pr
   in.athlete = MakeAthlete(request.athlete);
   out.camera = camera;
   return out;
+}
+
+void UseOneCamera(const MonocularInput& mono,
+                  const MonocularRequest& request,
+                  analysis::TrialAnalysisOptions* options) {
+  options->reconstruction.views = mono.views;
+  if (!options->bed && !options->surface_height_m) options->surface_height_m = mono.bed_height_m;
+  // The flights as the picture's soles time them (the trial's clock is the video's).
+  options->given_flights_s.clear();
+  for (const vision::ImageFlight& f : mono.flights.flights)
+    options->given_flights_s.emplace_back(f.takeoff_s, f.landing_s);
+  options->reconstruction.ballistic_flights_s = options->given_flights_s;
+  options->given_flights_source = "picture's soles against the bed's line";
+  if (request.detect_bed && !options->bed) {
+    // The camera's world is the FIG bed's: centred, its long side along x, at rest at z 0.
+    analysis::BedGeometry bed;
+    bed.centre_W = Eigen::Vector3d::Zero();
+    bed.long_axis_W = Eigen::Vector3d::UnitX();
+    bed.length_m = fig::kBedLength_m;
+    bed.width_m = fig::kBedWidth_m;
+    bed.source =
+        request.bed_picture.empty()
+            ? "the FIG bed the camera was posed on (its first frame)"
+            : "the FIG bed the camera was posed on (in " + request.bed_picture.string() + ")";
+    options->bed = bed;
+  }
+}
+
+std::optional<VideoRequest> OneCameraVideo(const MonocularInput& mono,
+                                           const MonocularRequest& request) {
+  if (request.video.empty()) return std::nullopt;
+  VideoRequest video;
+  video.video = request.video;
+  video.calibration = request.calibration;
+  video.camera = mono.camera.name;
+  if (request.detect_bed) video.camera_given = mono.camera;
+  video.sync.kind = SyncRequest::Kind::kOffset;
+  video.sync.offset_s = 0;
+  video.sync.rate = 1.0;
+  return video;
 }
 
 }  // namespace acro::pipeline

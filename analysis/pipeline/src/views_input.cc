@@ -294,4 +294,37 @@ ViewsInput OpenViews(const ViewsRequest& request, const Progress& progress) {
   return out;
 }
 
+std::string UseViews(const ViewsInput& views, analysis::TrialAnalysisOptions* options) {
+  options->reconstruction.views = views.views;
+  if (!views.bed || options->bed) return "";
+  analysis::BedGeometry bed;
+  bed.centre_W = views.bed->centre_W;
+  bed.long_axis_W = views.bed->long_axis_W;
+  bed.length_m = views.bed->length_m;
+  bed.width_m = views.bed->width_m;
+  bed.source = fmt::format(
+      "the bed in {} videos' first frames ({:.2f} × {:.2f} m, centres within {:.1f} cm)",
+      views.bed->views,
+      bed.length_m,
+      bed.width_m,
+      100 * views.bed->spread_m);
+  options->bed = bed;
+  return fmt::format("bed: {} at ({:.3f}, {:.3f}, {:.3f}) m",
+                     bed.source,
+                     bed.centre_W.x(),
+                     bed.centre_W.y(),
+                     bed.centre_W.z());
+}
+
+VideoRequest FirstViewVideo(const ViewsInput& views, const std::filesystem::path& calibration) {
+  VideoRequest request;
+  request.video = views.input.path;
+  request.calibration = calibration;
+  request.camera = views.offsets.at(0).camera;
+  request.sync.kind = SyncRequest::Kind::kOffset;
+  request.sync.offset_s = views.first_frame.at(0) / views.rates_hz.at(0);
+  request.sync.rate = 1.0;
+  return request;
+}
+
 }  // namespace acro::pipeline

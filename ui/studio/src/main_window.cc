@@ -448,6 +448,8 @@ void MainWindow::closeEvent(QCloseEvent* event) {
 
 void MainWindow::AddVideoFromDialogs() {
   if (!session_) return ShowError("Open a trial first: the video is synced with it.");
+  if (OneVideoAlone(session_->files()))
+    return ShowError("This video is analysed alone: there is no trial to sync another video with.");
   if (session_->num_videos() >= kMaxVideos)
     return ShowError(fmt::format(
         "The session shows {} videos already: at most {}.", session_->num_videos(), kMaxVideos));
@@ -613,6 +615,27 @@ void MainWindow::BuildMenus() {
     SessionFiles files;
     files.trial = trial.toStdString();
     files.athlete = athlete.toStdString();
+    OpenFiles(files);
+  });
+  file->addAction("Analyse one &video…", this, [this] {
+    // One camera alone (docs/one-camera.md): the athlete detected, the camera from its
+    // calibration or, cancelled, from the bed in the first frame.
+    const QString video = QFileDialog::getOpenFileName(
+        this, "Analyse one video", {}, "Videos (*.mp4 *.mov *.mkv *.avi *.ts);;All files (*)");
+    if (video.isEmpty()) return;
+    const QString calib = QFileDialog::getOpenFileName(
+        this,
+        "Its camera's calibration (cancel: the camera from the bed in its first frame)",
+        {},
+        "Calibrations (*.toml *.yaml *.yml *.xml *.qca.txt);;All files (*)");
+    const QString athlete = QFileDialog::getOpenFileName(
+        this, "The athlete's profile (cancel: a default athlete)", {}, "Profiles (*.yaml *.yml)");
+    SessionFiles files;
+    files.athlete = athlete.toStdString();
+    VideoFiles v;
+    v.video = video.toStdString();
+    v.calibration = calib.toStdString();
+    files.videos.push_back(v);
     OpenFiles(files);
   });
   file->addAction("Open &athlete…", this, [this] {
@@ -795,7 +818,8 @@ void MainWindow::OpenFiles(const SessionFiles& files, const SessionView& view) {
 void MainWindow::OpenInBackground(const SessionFiles& files,
                                   std::function<void(std::shared_ptr<Session>)> done) {
   if (busy()) return ShowError("Still opening the previous files: wait or cancel.");
-  BeginWork("opening " + files.trial);
+  BeginWork("opening " +
+            (OneVideoAlone(files) ? files.videos[0].video + " (one video alone)" : files.trial));
   loader_ = std::thread([this, files, done] {
     const auto report = WorkerProgress();
     std::shared_ptr<Session> opened;
@@ -872,7 +896,10 @@ void MainWindow::Adopt(std::shared_ptr<Session> session, const SessionView& view
   FillVerdict();
   FillScoreSheet();
   FillPlots();
-  setWindowTitle(QString::fromStdString("Acrolab Studio — " + session_->files().trial));
+  setWindowTitle(QString::fromStdString(
+      "Acrolab Studio — " + (OneVideoAlone(session_->files())
+                                 ? session_->files().videos[0].video + " (one video alone)"
+                                 : session_->files().trial)));
   std::string note = fmt::format("{} samples at {:g} Hz, {} jumps",
                                  session_->num_samples(),
                                  session_->rate_hz(),

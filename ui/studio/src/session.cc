@@ -12,6 +12,7 @@
 #include "acro/base/file_io.h"
 #include "acro/base/input_error.h"
 #include "acro/base/progress.h"
+#include "acro/pipeline/monocular_input.h"
 #include "acro/pipeline/steps.h"
 
 namespace acro::studio {
@@ -21,54 +22,92 @@ namespace {
 using Json = nlohmann::json;
 namespace fs = std::filesystem;
 
-
 }  // namespace
+
+bool OneVideoAlone(const SessionFiles& files) {
+  return files.trial.empty() && files.videos.size() == 1;
+}
+
+pipeline::TrialInput Session::OpenTrialAndVideos(const acro::Progress& steps) {
+  steps.ReportOrThrow("reading " + files_.trial, 0, 1);
+  // The trial as every door opens it (the pipeline): read once, upright, its athlete or the one
+  // default body.
+  pipeline::TrialRequest request;
+  request.trial = files_.trial;
+  request.athlete.profile = files_.athlete;
+  pipeline::TrialInput input = pipeline::OpenTrial(request);
+  warnings_ = input.warnings;
+  if (!input.athlete.warning.empty()) warnings_.push_back(input.athlete.warning);
+  // The videos and their cameras before the work: a wrong calibration costs nothing.
+  for (const VideoFiles& v : files_.videos) {
+    pipeline::VideoRequest video;
+    video.video = v.video;
+    video.calibration = v.calibration;
+    video.camera = v.camera;
+    if (v.offset_s)
+      video.sync.offset_s = *v.offset_s;
+    else
+      video.sync.kind = pipeline::SyncRequest::Kind::kAuto;
+    Video opened;
+    opened.input = std::make_unique<pipeline::VideoInput>(video);
+    for (const std::string& w : opened.input->warnings()) warnings_.push_back(w);
+    videos_.push_back(std::move(opened));
+  }
+  return input;
+}
+
+pipeline::TrialInput Session::OpenOneVideo(const acro::Progress& steps,
+                                           analysis::TrialAnalysisOptions* options) {
+  // As `acrolab analyze --video V [--calib C | --detect-bed]` runs it (docs/one-camera.md): the
+  // athlete detected (the cache beside the video reused), the camera from its calibration or
+  // from the bed in the first frame, the depth from the flights' physics; the video then shown
+  // on its own time line.
+  const VideoFiles& v = files_.videos[0];
+  pipeline::MonocularRequest request;
+  request.video = v.video;
+  request.calibration = v.calibration;
+  request.camera = v.camera;
+  request.detect_bed = v.calibration.empty();
+  request.athlete.profile = files_.athlete;
+  pipeline::MonocularInput mono = pipeline::OpenMonocular(request, steps);
+  pipeline::UseOneCamera(mono, request, options);
+  warnings_ = mono.input.warnings;
+  if (!mono.input.athlete.warning.empty()) warnings_.push_back(mono.input.athlete.warning);
+  Video opened;
+  opened.input = std::make_unique<pipeline::VideoInput>(*pipeline::OneCameraVideo(mono, request));
+  for (const std::string& w : opened.input->warnings()) warnings_.push_back(w);
+  videos_.push_back(std::move(opened));
+  return std::move(mono.input);
+}
 
 std::unique_ptr<Session> Session::Open(const SessionFiles& files, const Progress& progress) {
   std::unique_ptr<Session> s(new Session());
   s->files_ = files;
-  if (files.trial.empty()) throw InputError("", "trial", "no trial to open");
+  const bool alone = OneVideoAlone(files);
+  if (files.trial.empty() && !alone)
+    throw InputError("", "trial", "no trial to open (or one video to analyse alone)");
   if (files.videos.size() > size_t(kMaxVideos))
     throw InputError(files.videos.back().video,
                      "video",
                      "at most " + std::to_string(kMaxVideos) + " videos in a session, got " +
                          std::to_string(files.videos.size()));
   for (const VideoFiles& v : files.videos)
-    if (v.video.empty() || v.calibration.empty())
+    if (v.video.empty() || (v.calibration.empty() && !alone))
       throw InputError(v.video.empty() ? v.calibration : v.video,
                        "video",
                        "a video and its camera calibration go together");
   acro::Progress steps;
   steps.report = progress;
-  steps.ReportOrThrow("reading " + files.trial, 0, 1);
-  // The trial as every door opens it (the pipeline): read once, upright, its athlete or the one
-  // default body.
-  pipeline::TrialRequest request;
-  request.trial = files.trial;
-  request.athlete.profile = files.athlete;
-  pipeline::TrialInput input = pipeline::OpenTrial(request);
-  s->warnings_ = input.warnings;
-  if (!input.athlete.warning.empty()) s->warnings_.push_back(input.athlete.warning);
-  // The videos and their cameras before the work: a wrong calibration costs nothing.
-  for (const VideoFiles& v : files.videos) {
-    pipeline::VideoRequest video;
-    video.video = v.video;
-    video.calibration = v.calibration;
-    video.camera = v.camera;
-    if (v.offset_s) video.sync.offset_s = *v.offset_s;
-    else video.sync.kind = pipeline::SyncRequest::Kind::kAuto;
-    Video opened;
-    opened.input = std::make_unique<pipeline::VideoInput>(video);
-    for (const std::string& w : opened.input->warnings()) s->warnings_.push_back(w);
-    s->videos_.push_back(std::move(opened));
-  }
-  steps.ReportOrThrow("analysing " + files.trial, 0, 1);
   analysis::TrialAnalysisOptions options;
+  pipeline::TrialInput input =
+      alone ? s->OpenOneVideo(steps, &options) : s->OpenTrialAndVideos(steps);
+  const std::string what = alone ? files.videos[0].video : files.trial;
+  steps.ReportOrThrow("analysing " + what, 0, 1);
   // The inverse kinematics' progress, frame by frame; Cancel stops it within ten frames.
   std::atomic<bool> stop{false};
   if (progress) {
     options.reconstruction.progress = [&](int done, int total) {
-      if (!progress("analysing " + files.trial + ": inverse kinematics", done, total)) stop = true;
+      if (!progress("analysing " + what + ": inverse kinematics", done, total)) stop = true;
     };
     options.cancelled = [&] { return stop.load(); };
   }
@@ -77,16 +116,23 @@ std::unique_ptr<Session> Session::Open(const SessionFiles& files, const Progress
   s->trial_ = std::make_unique<capture::Trial>(std::move(input.trial));
   s->body_ = input.athlete.body;
   s->scene_ = std::make_unique<analysis::TrialScene>(
-      *s->trial_, *s->analysis_, s->body_,
+      *s->trial_,
+      *s->analysis_,
+      s->body_,
       analysis::MakeEllipsoidBodyMesh(s->body_, analysis::OverlayBodyMeshOptions()));
   // Each video synced and its silhouettes checked as analyze does (the pipeline's AttachVideo);
   // the jumps' median IoU is the first video's.
   for (size_t k = 0; k < s->videos_.size(); ++k) {
     Video& video = s->videos_[k];
-    const std::string which = s->videos_.size() > 1 ? fmt::format(" (video {} of {})", k + 1, s->videos_.size()) : "";
+    const std::string which =
+        s->videos_.size() > 1 ? fmt::format(" (video {} of {})", k + 1, s->videos_.size()) : "";
     acro::Progress step;
-    if (progress) step.report = [&](const std::string& name, int done, int total) { return progress(name + which, done, total); };
-    const pipeline::VideoCheck check = pipeline::CheckVideo(*video.input, *s->trial_, s->body_, *s->analysis_, step);
+    if (progress)
+      step.report = [&](const std::string& name, int done, int total) {
+        return progress(name + which, done, total);
+      };
+    const pipeline::VideoCheck check =
+        pipeline::CheckVideo(*video.input, *s->trial_, s->body_, *s->analysis_, step);
     if (k == 0) analysis::AttachSilhouetteCheck(check.silhouettes, s->analysis_.get());
     video.sync = check.sync.sync;
     video.silhouettes = check.silhouettes;
@@ -112,8 +158,10 @@ int Session::VideoFrameOf(int sample, int k) const {
 int Session::SampleOf(int video_frame, int k) const {
   if (k < 0 || size_t(k) >= videos_.size()) return -1;
   const Video& video = videos_[size_t(k)];
-  if (video_frame < 0 || size_t(video_frame) >= video.input->reader().frame_times_s().size()) return -1;
-  return video.sync.NearestSample(*trial_, video.input->reader().frame_times_s()[size_t(video_frame)]);
+  if (video_frame < 0 || size_t(video_frame) >= video.input->reader().frame_times_s().size())
+    return -1;
+  return video.sync.NearestSample(*trial_,
+                                  video.input->reader().frame_times_s()[size_t(video_frame)]);
 }
 
 ShownParts ParseShownParts(const std::string& list) {
@@ -195,8 +243,8 @@ std::pair<SessionFiles, SessionView> ReadSessionFile(const fs::path& path) {
       if (!o["offset_s"].is_number()) throw InputError(file, prefix + "offset_s", "not a number");
       v.offset_s = o["offset_s"].get<double>();
     }
-    if (v.video.empty() != v.calibration.empty())
-      throw InputError(file, prefix + "video", "a video and its calibration go together");
+    if (v.video.empty() && !v.calibration.empty())
+      throw InputError(file, prefix + "video", "a calibration without its video");
     return v;
   };
   SessionFiles files;
@@ -218,6 +266,12 @@ std::pair<SessionFiles, SessionView> ReadSessionFile(const fs::path& path) {
       if (files.videos.back().video.empty()) throw InputError(file, prefix + "video", "missing");
     }
   }
+  for (size_t k = 0; k < files.videos.size(); ++k)
+    if (files.videos[k].calibration.empty() && !OneVideoAlone(files))
+      throw InputError(file,
+                       version == 1 ? "calibration" : fmt::format("videos[{}].calibration", k),
+                       "missing: a video of a trial goes with its calibration (a video without "
+                       "one is analysed alone: no trial, one video)");
   SessionView view;
   const auto number = [&](const char* key, double fallback) {
     if (!j.contains(key)) return fallback;
@@ -251,7 +305,8 @@ std::pair<SessionFiles, SessionView> ReadSessionFile(const fs::path& path) {
     throw InputError(file,
                      "orbit_distance_scale",
                      std::to_string(view.orbit_distance_scale) + " is not between 0.2 and 5");
-  if (files.trial.empty()) throw InputError(file, "trial", "missing");
+  if (files.trial.empty() && !OneVideoAlone(files))
+    throw InputError(file, "trial", "missing (and not one video analysed alone)");
   return {files, view};
 }
 

@@ -26,7 +26,7 @@ int RunStudio(int argc,
   window.show();
   if (!session_file.empty()) {
     window.OpenSessionFile(session_file);
-  } else if (!files.trial.empty()) {
+  } else if (!files.trial.empty() || OneVideoAlone(files)) {
     window.OpenFiles(files);
   } else if (!library.empty()) {
     window.OpenFromLibrary(library, false);

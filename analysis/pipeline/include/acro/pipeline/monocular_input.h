@@ -15,8 +15,10 @@
 #include <string>
 #include <vector>
 
+#include "acro/assess/trial_analysis.h"
 #include "acro/base/progress.h"
 #include "acro/pipeline/trial_input.h"
+#include "acro/pipeline/video_input.h"
 #include "acro/pose/pose_models.h"
 #include "acro/reconstruct/view_fit.h"
 #include "acro/vision/bed_detection.h"
@@ -93,5 +95,20 @@ struct MonocularInput {
 /// detections, no bed line or no rate given), no complete flight to weigh the depth with.
 /// `progress` as acro::Progress ("detect").
 MonocularInput OpenMonocular(const MonocularRequest& request, const Progress& progress = {});
+
+/// What an analysis of one camera takes from it, the same for every door (`analyze`, the studio):
+/// the views the model is fitted to, the bed's surface at rest (unless the options already hold a
+/// bed or a surface), the flights the picture's soles timed (given, and fitted as free flights),
+/// and — the camera posed on the bed (`request.detect_bed`) and no bed in the options — that FIG
+/// bed, centred at the origin along x.
+void UseOneCamera(const MonocularInput& mono,
+                  const MonocularRequest& request,
+                  analysis::TrialAnalysisOptions* options);
+
+/// The one camera's video as the analysis attaches it (silhouettes, overlay): on its own time line
+/// (the trial's clock is the video's), with the camera fitted to it. Empty for detections made
+/// elsewhere, which have no video.
+std::optional<VideoRequest> OneCameraVideo(const MonocularInput& mono,
+                                           const MonocularRequest& request);
 
 }  // namespace acro::pipeline

@@ -17,7 +17,8 @@ namespace acro::pipeline {
 
 /// Reconstructs and assesses the trial for its athlete (analysis::AnalyzeTrial, with the static
 /// trial when there is one).
-analysis::TrialAnalysis Analyze(const TrialInput& input, const analysis::TrialAnalysisOptions& options = {});
+analysis::TrialAnalysis Analyze(const TrialInput& input,
+                                const analysis::TrialAnalysisOptions& options = {});
 
 /// Throws acro::InputError naming the trial when the analysis found no flight (the markers never
 /// leave the floor, or the trial is too short to hold one), with what it holds: for the doors that
@@ -34,11 +35,16 @@ struct VideoCheck {
 /// The video against the analysis: the sync (as the video's request says; `auto` refined by the
 /// silhouettes), then the silhouettes of the athlete — the body's full mesh — over every flight
 /// frame.
-VideoCheck CheckVideo(VideoInput& video, const capture::Trial& trial, const analysis::AthleteBody& body,
-                      const analysis::TrialAnalysis& analysis, const Progress& progress = {});
+VideoCheck CheckVideo(VideoInput& video,
+                      const capture::Trial& trial,
+                      const analysis::AthleteBody& body,
+                      const analysis::TrialAnalysis& analysis,
+                      const Progress& progress = {});
 
 /// CheckVideo, its silhouettes recorded in `analysis` (each jump's median IoU).
-VideoCheck AttachVideo(VideoInput& video, const TrialInput& input, analysis::TrialAnalysis* analysis,
+VideoCheck AttachVideo(VideoInput& video,
+                       const TrialInput& input,
+                       analysis::TrialAnalysis* analysis,
                        const Progress& progress = {});
 
 /// analysis.json: the Acrolab version, the trial's absolute path and the SHA-256 of the bytes

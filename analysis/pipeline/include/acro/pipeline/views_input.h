@@ -15,8 +15,10 @@
 #include <string>
 #include <vector>
 
+#include "acro/assess/trial_analysis.h"
 #include "acro/base/progress.h"
 #include "acro/pipeline/trial_input.h"
+#include "acro/pipeline/video_input.h"
 #include "acro/pose/pose_models.h"
 #include "acro/reconstruct/triangulation.h"
 #include "acro/reconstruct/view_fit.h"
@@ -64,8 +66,8 @@ struct ViewsInput {
   /// calibration's and every detection file's bytes), upright, with the athlete.
   TrialInput input;
   analysis::Triangulation triangulation;
-  /// The cameras' keypoints, posed in the trial's (upright) world: what ReconstructionOptions::views
-  /// takes for the fit of the model to the views.
+  /// The cameras' keypoints, posed in the trial's (upright) world: what
+  /// ReconstructionOptions::views takes for the fit of the model to the views.
   std::shared_ptr<const analysis::ViewsToFit> views;
   std::vector<analysis::ViewOffset> offsets;  ///< per camera, as used (found or given)
   /// Per camera, where its offset comes from: "the time line" (the first camera), "found" (from
@@ -88,6 +90,14 @@ struct ViewsInput {
 /// other cameras', no rate; a camera that sees nobody is a warning and the others are used.
 /// `progress` as acro::Progress ("detect", "sync", "triangulate").
 ViewsInput OpenViews(const ViewsRequest& request, const Progress& progress = {});
+
+/// What an analysis of several cameras takes from them, the same for every door: the views the
+/// model is fitted to and, with no bed in the options, the bed found in their first frames.
+/// Returns the line saying where that bed is ("" when none was taken).
+std::string UseViews(const ViewsInput& views, analysis::TrialAnalysisOptions* options);
+
+/// The first camera's video as the analysis attaches it, on the time line the triangulation made.
+VideoRequest FirstViewVideo(const ViewsInput& views, const std::filesystem::path& calibration);
 
 /// A video as `analyze --video` takes it when several are given: "CAM=PATH", or a path whose file
 /// name's stem is a camera's name or starts with it and '_', '-' or '.' ("side_camera.mp4" for

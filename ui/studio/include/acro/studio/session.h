@@ -14,8 +14,10 @@
 
 #include "acro/assess/trial_analysis.h"
 #include "acro/athlete/athlete_body.h"
+#include "acro/base/progress.h"
 #include "acro/capture/trial.h"
 #include "acro/capture/video.h"
+#include "acro/pipeline/trial_input.h"
 #include "acro/pipeline/video_input.h"
 #include "acro/scene/silhouette_check.h"
 #include "acro/scene/trial_scene.h"
@@ -36,10 +38,12 @@ struct VideoFiles {
 constexpr int kMaxVideos = 4;
 
 /// The files a session opens. Paths as given (relative to the working directory, or to the
-/// session file when read from one).
+/// session file when read from one). No trial and one video: the video analysed alone (one
+/// camera, docs/one-camera.md), its camera from its calibration or, with none, from the bed.
 struct SessionFiles {
   std::string trial;
-  std::string athlete;  ///< empty: the default body of every door (pipeline::kDefaultHeightM…), with a warning
+  std::string athlete;  ///< empty: the default body of every door (pipeline::kDefaultHeightM…),
+                        ///< with a warning
   std::vector<VideoFiles> videos;  ///< none to kMaxVideos
 };
 
@@ -56,6 +60,9 @@ struct SessionView {
   double orbit_elevation_deg = 0.0;
   double orbit_distance_scale = 1.0;
 };
+
+/// No trial and one video: the video is analysed alone.
+bool OneVideoAlone(const SessionFiles& files);
 
 class Session {
  public:
@@ -99,11 +106,17 @@ class Session {
 
  private:
   struct Video {
-    std::unique_ptr<pipeline::VideoInput> input;  // the video opened once: reader, camera, background
+    std::unique_ptr<pipeline::VideoInput>
+        input;  // the video opened once: reader, camera, background
     vision::VideoSync sync;
     analysis::SilhouetteCheck silhouettes;
   };
   Session() = default;
+  // The inputs: the trial and its videos, or one video analysed alone (its keypoints the trial);
+  // the one camera's options into `options`.
+  pipeline::TrialInput OpenTrialAndVideos(const acro::Progress& steps);
+  pipeline::TrialInput OpenOneVideo(const acro::Progress& steps,
+                                    analysis::TrialAnalysisOptions* options);
   SessionFiles files_;
   std::unique_ptr<capture::Trial> trial_;
   analysis::AthleteBody body_;
