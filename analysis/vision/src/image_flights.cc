@@ -221,6 +221,278 @@ double ImageFlights::TotalTimeOfFlight() const {
   return sum;
 }
 
+namespace {
+
+// The keypoints the flights are found from, per frame of the most confident person: each foot
+// keypoint's position, the hips' mean height, the centre of mass's height and the head's top.
+struct Tracks {
+  Eigen::MatrixXd foot_x, foot_y;  // feet × frames
+  Eigen::VectorXd head_top;
+};
+
+Tracks ReadTracks(const capture::KeypointDetections& detections,
+                  const BodyParts& parts,
+                  double c_min,
+                  ImageFlights* out) {
+  const int F = detections.num_frames();
+  const MassModel mass_model = MakeMassModel(detections.names, parts.head);
+  const Eigen::Index num_feet = static_cast<Eigen::Index>(parts.feet.size());
+  Tracks t;
+  t.foot_x = Eigen::MatrixXd::Constant(num_feet, F, kNaN);
+  t.foot_y = Eigen::MatrixXd::Constant(num_feet, F, kNaN);
+  t.head_top = Eigen::VectorXd::Constant(F, kNaN);
+  for (int k = 0; k < F; ++k) {
+    const auto& people = detections.frames[size_t(k)];
+    if (people.empty()) continue;
+    const int best = MostConfidentPerson(people, c_min);
+    if (best < 0) continue;
+    const capture::DetectedPerson& person = people[size_t(best)];
+    auto seen = [&](int j) {
+      return j < person.cols() && person(2, j) >= c_min && std::isfinite(person(1, j));
+    };
+    for (size_t i = 0; i < parts.feet.size(); ++i)
+      if (seen(parts.feet[i])) {
+        t.foot_x(Eigen::Index(i), k) = person(0, parts.feet[i]);
+        t.foot_y(Eigen::Index(i), k) = person(1, parts.feet[i]);
+      }
+    double hip = 0;
+    int hips = 0;
+    for (int j : parts.hips)
+      if (seen(j)) {
+        hip += person(1, j);
+        ++hips;
+      }
+    if (hips > 0) out->hip_y_px[k] = hip / hips;
+    out->com_y_px[k] = CentreOfMassY(mass_model, person, c_min);
+    for (int j : parts.head)
+      if (seen(j))
+        t.head_top[k] =
+            std::min(std::isfinite(t.head_top[k]) ? t.head_top[k] : 1e300, person(1, j));
+  }
+  return t;
+}
+
+// The soles per frame: for each foot, the keypoint (heel, toe, ankle) lowest over the five frames
+// around it, at its own position in the frame — a choice by the mean, so that the noise does not
+// pick the lowest of several samples (which would put the soles ~σ low) — then the lower foot.
+// Returns the head-to-soles distances of the frames that saw both.
+std::vector<double> FindSoles(const BodyParts& parts, const Tracks& t, ImageFlights* out) {
+  const int F = static_cast<int>(t.head_top.size());
+  std::vector<double> heights;
+  for (int k = 0; k < F; ++k) {
+    double sole = -std::numeric_limits<double>::infinity(), x = kNaN;
+    for (const std::vector<int>& group : parts.foot_groups) {
+      int best = -1;
+      double best_mean = -std::numeric_limits<double>::infinity();
+      for (const int i : group) {
+        if (!std::isfinite(t.foot_y(i, k))) continue;
+        double sum = 0;
+        int n = 0;
+        for (int m = std::max(0, k - 2); m <= std::min(F - 1, k + 2); ++m)
+          if (std::isfinite(t.foot_y(i, m))) {
+            sum += t.foot_y(i, m);
+            ++n;
+          }
+        if (sum / n > best_mean) {
+          best_mean = sum / n;
+          best = i;
+        }
+      }
+      if (best >= 0 && t.foot_y(best, k) > sole) {
+        sole = t.foot_y(best, k);
+        x = t.foot_x(best, k);
+      }
+    }
+    if (!std::isfinite(sole)) continue;
+    out->sole_y_px[k] = sole;
+    out->sole_x_px[k] = x;
+    if (std::isfinite(t.head_top[k]) && sole > t.head_top[k])
+      heights.push_back(sole - t.head_top[k]);
+  }
+  return heights;
+}
+
+// One flight's measurements from the soles' heights above the rest line and the centre of mass's
+// arc in the picture.
+class FlightMeasure {
+ public:
+  FlightMeasure(const ImageFlights& out,
+                const Eigen::VectorXd& h,
+                const ImageFlightOptions& options)
+      : out_(out), h_(h), options_(options), dt_(1.0 / out.rate_hz), F_(int(h.size())) {}
+
+  // The flight whose airborne run is frames a..b.
+  ImageFlight Measure(int a, int b, std::vector<std::string>* warnings) {
+    ImageFlight f;
+    // The crossings: the last frame on the bed (h ≤ 0) before the run, the first after it.
+    for (int k = a - 1; k >= 0; --k)
+      if (std::isfinite(h_[k]) && h_[k] <= 0) {
+        f.last_contact_frame = k;
+        break;
+      }
+    for (int k = b + 1; k < F_; ++k)
+      if (std::isfinite(h_[k]) && h_[k] <= 0) {
+        f.first_contact_frame = k;
+        break;
+      }
+    // The airborne frames between them (h > 0), and the centre of mass's arc over them.
+    first_air_ = f.last_contact_frame >= 0 ? f.last_contact_frame + 1 : a;
+    last_air_ = f.first_contact_frame >= 0 ? f.first_contact_frame - 1 : b;
+    FitArc();
+    f.com_accel_px_s2 = 2 * coef_[2];
+    f.apex_s = std::isfinite(coef_[2]) ? t_mid_ - coef_[1] / (2 * coef_[2])
+                                       : 0.5 * (first_air_ + last_air_) * dt_;
+    // The airborne frame next to each crossing that saw the soles.
+    int takeoff_off = f.last_contact_frame + 1, landing_off = f.first_contact_frame - 1;
+    while (takeoff_off <= b && !std::isfinite(h_[takeoff_off])) ++takeoff_off;
+    while (landing_off >= a && !std::isfinite(h_[landing_off])) --landing_off;
+    f.takeoff_s = f.last_contact_frame >= 0
+                      ? Crossing(f.last_contact_frame, takeoff_off, &f.takeoff_method)
+                      : kNaN;
+    f.landing_s = f.first_contact_frame >= 0
+                      ? Crossing(f.first_contact_frame, landing_off, &f.landing_method)
+                      : kNaN;
+    WarnUnseen(warnings);
+    if (f.first_contact_frame >= 0)
+      f.landing_px = Eigen::Vector2d(out_.sole_x_px[f.first_contact_frame],
+                                     out_.sole_y_px[f.first_contact_frame]);
+    return f;
+  }
+
+ private:
+  // The centre of mass's arc: y = c0 + c1 τ + c2 τ², τ = t − t_mid, over the airborne frames
+  // (NaN when there are too few or it does not go up then down).
+  void FitArc() {
+    std::vector<int> arc;
+    for (int k = first_air_; k <= last_air_; ++k)
+      if (std::isfinite(out_.com_y_px[k]) && std::isfinite(h_[k]) && h_[k] > 0) arc.push_back(k);
+    t_mid_ = 0.5 * (first_air_ + last_air_) * dt_;
+    coef_ = Eigen::Vector3d::Constant(kNaN);
+    if (static_cast<int>(arc.size()) < options_.min_arc_frames) return;
+    Eigen::MatrixXd A(arc.size(), 3);
+    Eigen::VectorXd y(arc.size());
+    for (size_t i = 0; i < arc.size(); ++i) {
+      const double tau = arc[i] * dt_ - t_mid_;
+      A.row(Eigen::Index(i)) << 1, tau, tau * tau;
+      y[Eigen::Index(i)] = out_.com_y_px[arc[i]];
+    }
+    coef_ = A.colPivHouseholderQr().solve(y);
+    if (!(coef_[2] > 0)) coef_.setConstant(kNaN);  // not an arc going up then down
+  }
+
+  // The soles' crossing of the line between frame `on` (on the bed) and `off` (in the air), by
+  // their linear interpolation; at high frame rates a straight line through the soles' heights in
+  // every frame within 25 ms of that crossing (on either side of the line): the noise averaged
+  // rather than the crossing moved to wherever it made the last frame dip below the line.
+  double SolesCrossing(int on, int off) const {
+    const double t_on = on * dt_, t_off = off * dt_;
+    double soles = t_on + (t_off - t_on) * (-h_[on]) / (h_[off] - h_[on]);
+    double sw = 0, st = 0, sh = 0, stt = 0, sth = 0;
+    int n = 0;
+    const int reach = static_cast<int>(std::ceil(0.025 / dt_)) + 1;
+    for (int k = std::max(0, std::min(on, off) - reach);
+         k <= std::min(F_ - 1, std::max(on, off) + reach);
+         ++k) {
+      if (!std::isfinite(h_[k]) || std::abs(k * dt_ - soles) > 0.025) continue;
+      const double t = k * dt_ - soles;
+      sw += 1;
+      st += t;
+      sh += h_[k];
+      stt += t * t;
+      sth += t * h_[k];
+      ++n;
+    }
+    const double det = sw * stt - st * st;
+    if (n > 2 && det > 0) {
+      const double slope = (sw * sth - st * sh) / det, intercept = (sh - slope * st) / sw;
+      if (std::abs(slope) > 0) {
+        const double t = soles - intercept / slope;
+        if (std::abs(t - soles) <= dt_) soles = t;
+      }
+    }
+    return soles;
+  }
+
+  // One crossing: the soles', or, when the arc is there, the arc's with the soles' offset at `off`.
+  double Crossing(int on, int off, std::string* method) const {
+    const double soles = SolesCrossing(on, off);
+    *method = "soles";
+    if (!options_.time_from_arc || !std::isfinite(coef_[2])) return soles;
+    // The soles' offset from the arc: their mean over the airborne frames within 50 ms of the
+    // crossing (the legs still as they left the bed), `off` at least.
+    const int step = off > on ? 1 : -1;
+    double offset = 0;
+    int n = 0;
+    for (int k = off;
+         k >= first_air_ && k <= last_air_ && (n == 0 || std::abs(k - off) * dt_ <= 0.05);
+         k += step) {
+      if (!std::isfinite(out_.sole_y_px[k])) continue;
+      const double tau = k * dt_ - t_mid_;
+      offset += out_.sole_y_px[k] - (coef_[0] + coef_[1] * tau + coef_[2] * tau * tau);
+      ++n;
+    }
+    if (n == 0) return soles;
+    offset /= n;
+    const double rest = out_.bed.At(out_.sole_x_px[off]);
+    // The arc plus the offset reaches the rest line: c2 τ² + c1 τ + (c0 + offset − rest) = 0.
+    const double tau = RootNearest(coef_[2], coef_[1], coef_[0] + offset - rest, soles - t_mid_);
+    const double t = t_mid_ + tau;
+    // The arc's crossing is taken when it is within a frame of the soles' own, or within 20 ms
+    // at high frame rates, where the noise moves the soles' last frame on the bed by several.
+    if (!std::isfinite(t) || std::abs(t - soles) > std::max(dt_, 0.02)) return soles;
+    *method = "arc";
+    return t;
+  }
+
+  // The athlete not seen for a part of the flight (out of the picture, above it or beside it; or
+  // hidden): its arc and apex rest on the frames around, and the user hears which flight.
+  void WarnUnseen(std::vector<std::string>* warnings) const {
+    int unseen = 0;
+    for (int k = first_air_; k <= last_air_; ++k)
+      unseen += !std::isfinite(out_.sole_y_px[k]) && !std::isfinite(out_.hip_y_px[k]);
+    const int airborne = last_air_ - first_air_ + 1;
+    if (airborne > 0 && unseen > 0.2 * airborne)
+      warnings->push_back(fmt::format(
+          "flight {} ({:.2f}–{:.2f} s): the athlete is not seen in {} of its {} frames in the "
+          "air (out of the picture?): its height and shape rest on the frames around",
+          out_.flights.size() + 1,
+          first_air_ * dt_,
+          last_air_ * dt_,
+          unseen,
+          airborne));
+  }
+
+  const ImageFlights& out_;
+  const Eigen::VectorXd& h_;
+  const ImageFlightOptions& options_;
+  const double dt_;
+  const int F_;
+  int first_air_ = 0, last_air_ = 0;
+  double t_mid_ = 0;
+  Eigen::Vector3d coef_ = Eigen::Vector3d::Constant(kNaN);
+};
+
+// Per frame: 1 in the air (the soles above `clearance`), 0 on the bed (at or below the line), −1
+// unknown (before anything is seen); in between, the state before.
+std::vector<int> AirStates(const Eigen::VectorXd& h, double clearance) {
+  std::vector<int> air(size_t(h.size()), -1);
+  int state = -1;
+  for (Eigen::Index k = 0; k < h.size(); ++k) {
+    if (std::isfinite(h[k])) {
+      if (h[k] > clearance)
+        state = 1;
+      else if (h[k] <= 0)
+        state = 0;
+      else if (state < 0)
+        state = 0;
+    }
+    air[size_t(k)] = state;
+  }
+  return air;
+}
+
+}  // namespace
+
 ImageFlights FindFlightsInImage(const capture::KeypointDetections& detections,
                                 double rate_hz,
                                 const BedLine& bed,
@@ -242,76 +514,11 @@ ImageFlights FindFlightsInImage(const capture::KeypointDetections& detections,
   out.bed = bed;
   out.rate_hz = rate_hz;
   out.sole_y_px.setConstant(F, kNaN);
+  out.sole_x_px.setConstant(F, kNaN);
   out.hip_y_px.setConstant(F, kNaN);
   out.com_y_px.setConstant(F, kNaN);
-  const MassModel mass_model = MakeMassModel(detections.names, parts.head);
-  out.sole_x_px.setConstant(F, kNaN);
-  Eigen::VectorXd& sole_x = out.sole_x_px;
-  std::vector<double> heights;
-  const Eigen::Index num_feet = static_cast<Eigen::Index>(parts.feet.size());
-  Eigen::MatrixXd foot_x = Eigen::MatrixXd::Constant(num_feet, F, kNaN);
-  Eigen::MatrixXd foot_y = Eigen::MatrixXd::Constant(num_feet, F, kNaN);
-  Eigen::VectorXd head_top = Eigen::VectorXd::Constant(F, kNaN);
-  const double c_min = options.min_confidence;
-  for (int k = 0; k < F; ++k) {
-    const auto& people = detections.frames[size_t(k)];
-    if (people.empty()) continue;
-    const int best = MostConfidentPerson(people, c_min);
-    if (best < 0) continue;
-    const capture::DetectedPerson& person = people[size_t(best)];
-    auto seen = [&](int j) {
-      return j < person.cols() && person(2, j) >= c_min && std::isfinite(person(1, j));
-    };
-    for (size_t i = 0; i < parts.feet.size(); ++i)
-      if (seen(parts.feet[i])) {
-        foot_x(Eigen::Index(i), k) = person(0, parts.feet[i]);
-        foot_y(Eigen::Index(i), k) = person(1, parts.feet[i]);
-      }
-    double hip = 0;
-    int hips = 0;
-    for (int j : parts.hips)
-      if (seen(j)) {
-        hip += person(1, j);
-        ++hips;
-      }
-    if (hips > 0) out.hip_y_px[k] = hip / hips;
-    out.com_y_px[k] = CentreOfMassY(mass_model, person, c_min);
-    for (int j : parts.head)
-      if (seen(j))
-        head_top[k] = std::min(std::isfinite(head_top[k]) ? head_top[k] : 1e300, person(1, j));
-  }
-  // The soles per frame: for each foot, the keypoint (heel, toe, ankle) lowest over the five frames
-  // around it, at its own position in the frame — a choice by the mean, so that the noise does not
-  // pick the lowest of several samples (which would put the soles ~σ low) — then the lower foot.
-  for (int k = 0; k < F; ++k) {
-    double sole = -std::numeric_limits<double>::infinity(), x = kNaN;
-    for (const std::vector<int>& group : parts.foot_groups) {
-      int best = -1;
-      double best_mean = -std::numeric_limits<double>::infinity();
-      for (const int i : group) {
-        if (!std::isfinite(foot_y(i, k))) continue;
-        double sum = 0;
-        int n = 0;
-        for (int m = std::max(0, k - 2); m <= std::min(F - 1, k + 2); ++m)
-          if (std::isfinite(foot_y(i, m))) {
-            sum += foot_y(i, m);
-            ++n;
-          }
-        if (sum / n > best_mean) {
-          best_mean = sum / n;
-          best = i;
-        }
-      }
-      if (best >= 0 && foot_y(best, k) > sole) {
-        sole = foot_y(best, k);
-        x = foot_x(best, k);
-      }
-    }
-    if (!std::isfinite(sole)) continue;
-    out.sole_y_px[k] = sole;
-    sole_x[k] = x;
-    if (std::isfinite(head_top[k]) && sole > head_top[k]) heights.push_back(sole - head_top[k]);
-  }
+  const Tracks tracks = ReadTracks(detections, parts, options.min_confidence, &out);
+  const std::vector<double> heights = FindSoles(parts, tracks, &out);
   if (heights.size() < 5)
     throw InputError(
         detections.source,
@@ -327,23 +534,11 @@ ImageFlights FindFlightsInImage(const capture::KeypointDetections& detections,
   // Height of the soles above the rest line (px, up positive) and the air/contact state.
   Eigen::VectorXd h(F);
   for (int k = 0; k < F; ++k)
-    h[k] = std::isfinite(out.sole_y_px[k]) ? bed.At(sole_x[k]) - out.sole_y_px[k] : kNaN;
-  std::vector<int> air(size_t(F), -1);  // 1 air, 0 contact, −1 unknown (before anything is seen)
-  int state = -1;
-  for (int k = 0; k < F; ++k) {
-    if (std::isfinite(h[k])) {
-      if (h[k] > clearance)
-        state = 1;
-      else if (h[k] <= 0)
-        state = 0;
-      else if (state < 0)
-        state = 0;
-    }
-    air[size_t(k)] = state;
-  }
-  const double dt = 1.0 / rate_hz;
+    h[k] = std::isfinite(out.sole_y_px[k]) ? bed.At(out.sole_x_px[k]) - out.sole_y_px[k] : kNaN;
+  const std::vector<int> air = AirStates(h, clearance);
   const int min_frames = std::max(
       2, static_cast<int>(std::min(double(F) + 1, std::ceil(options.min_flight_s * rate_hz))));
+  FlightMeasure measure(out, h, options);
   for (int a = 0; a < F;) {
     if (air[size_t(a)] != 1) {
       ++a;
@@ -351,138 +546,13 @@ ImageFlights FindFlightsInImage(const capture::KeypointDetections& detections,
     }
     int b = a;
     while (b + 1 < F && air[size_t(b) + 1] == 1) ++b;
-    const int run = b - a + 1;
-    const int next = b + 1;
-    if (run < min_frames) {
-      a = next;
-      continue;
+    if (b - a + 1 >= min_frames) {
+      std::vector<std::string> warnings;
+      const ImageFlight f = measure.Measure(a, b, &warnings);
+      out.warnings.insert(out.warnings.end(), warnings.begin(), warnings.end());
+      out.flights.push_back(f);
     }
-    ImageFlight f;
-    // The crossings: the last frame on the bed (h ≤ 0) before the run, the first after it.
-    for (int k = a - 1; k >= 0; --k)
-      if (std::isfinite(h[k]) && h[k] <= 0) {
-        f.last_contact_frame = k;
-        break;
-      }
-    for (int k = b + 1; k < F; ++k)
-      if (std::isfinite(h[k]) && h[k] <= 0) {
-        f.first_contact_frame = k;
-        break;
-      }
-    // The airborne frames between them (h > 0), and the centre of mass's arc over them.
-    const int first_air = f.last_contact_frame >= 0 ? f.last_contact_frame + 1 : a;
-    const int last_air = f.first_contact_frame >= 0 ? f.first_contact_frame - 1 : b;
-    std::vector<int> arc;
-    for (int k = first_air; k <= last_air; ++k)
-      if (std::isfinite(out.com_y_px[k]) && std::isfinite(h[k]) && h[k] > 0) arc.push_back(k);
-    const double t_mid = 0.5 * (first_air + last_air) * dt;
-    Eigen::Vector3d coef = Eigen::Vector3d::Constant(kNaN);  // y = c0 + c1 τ + c2 τ², τ = t − t_mid
-    if (static_cast<int>(arc.size()) >= options.min_arc_frames) {
-      Eigen::MatrixXd A(arc.size(), 3);
-      Eigen::VectorXd y(arc.size());
-      for (size_t i = 0; i < arc.size(); ++i) {
-        const double tau = arc[i] * dt - t_mid;
-        A.row(Eigen::Index(i)) << 1, tau, tau * tau;
-        y[Eigen::Index(i)] = out.com_y_px[arc[i]];
-      }
-      coef = A.colPivHouseholderQr().solve(y);
-      if (!(coef[2] > 0)) coef.setConstant(kNaN);  // not an arc going up then down
-    }
-    f.com_accel_px_s2 = 2 * coef[2];
-    f.apex_s = std::isfinite(coef[2]) ? t_mid - coef[1] / (2 * coef[2])
-                                      : 0.5 * (first_air + last_air) * dt;
-    // One crossing: between frame `on` (on the bed) and `off` (in the air), by the soles' linear
-    // interpolation and, when the arc is there, by the arc with the soles' offset at `off`.
-    auto crossing = [&](int on, int off, std::string* method) {
-      const double t_on = on * dt, t_off = off * dt;
-      double soles = t_on + (t_off - t_on) * (-h[on]) / (h[off] - h[on]);
-      // At high frame rates, a straight line through the soles' heights in every frame within
-      // 25 ms of that crossing (on either side of the line): the noise averaged rather than the
-      // crossing moved to wherever it made the last frame dip below the line.
-      {
-        double sw = 0, st = 0, sh = 0, stt = 0, sth = 0;
-        int n = 0;
-        const int reach = static_cast<int>(std::ceil(0.025 / dt)) + 1;
-        for (int k = std::max(0, std::min(on, off) - reach);
-             k <= std::min(F - 1, std::max(on, off) + reach);
-             ++k) {
-          if (!std::isfinite(h[k]) || std::abs(k * dt - soles) > 0.025) continue;
-          const double t = k * dt - soles;
-          sw += 1;
-          st += t;
-          sh += h[k];
-          stt += t * t;
-          sth += t * h[k];
-          ++n;
-        }
-        const double det = sw * stt - st * st;
-        if (n > 2 && det > 0) {
-          const double slope = (sw * sth - st * sh) / det, intercept = (sh - slope * st) / sw;
-          if (std::abs(slope) > 0) {
-            const double t = soles - intercept / slope;
-            if (std::abs(t - soles) <= dt) soles = t;
-          }
-        }
-      }
-      *method = "soles";
-      if (!options.time_from_arc || !std::isfinite(coef[2])) return soles;
-      // The soles' offset from the arc: their mean over the airborne frames within 50 ms of the
-      // crossing (the legs still as they left the bed), `off` at least.
-      const int step = off > on ? 1 : -1;
-      double offset = 0;
-      int n = 0;
-      for (int k = off;
-           k >= first_air && k <= last_air && (n == 0 || std::abs(k - off) * dt <= 0.05);
-           k += step) {
-        if (!std::isfinite(out.sole_y_px[k])) continue;
-        const double tau = k * dt - t_mid;
-        offset += out.sole_y_px[k] - (coef[0] + coef[1] * tau + coef[2] * tau * tau);
-        ++n;
-      }
-      if (n == 0) return soles;
-      offset /= n;
-      const double rest = bed.At(sole_x[off]);
-      // The arc plus the offset reaches the rest line: c2 τ² + c1 τ + (c0 + offset − rest) = 0.
-      const double tau = RootNearest(coef[2], coef[1], coef[0] + offset - rest, soles - t_mid);
-      const double t = t_mid + tau;
-      // The arc's crossing is taken when it is within a frame of the soles' own, or within 20 ms
-      // at high frame rates, where the noise moves the soles' last frame on the bed by several.
-      if (!std::isfinite(t) || std::abs(t - soles) > std::max(dt, 0.02)) return soles;
-      *method = "arc";
-      return t;
-    };
-    // The airborne frame next to each crossing that saw the soles.
-    int takeoff_off = f.last_contact_frame + 1, landing_off = f.first_contact_frame - 1;
-    while (takeoff_off <= b && !std::isfinite(h[takeoff_off])) ++takeoff_off;
-    while (landing_off >= a && !std::isfinite(h[landing_off])) --landing_off;
-    f.takeoff_s = f.last_contact_frame >= 0
-                      ? crossing(f.last_contact_frame, takeoff_off, &f.takeoff_method)
-                      : kNaN;
-    f.landing_s = f.first_contact_frame >= 0
-                      ? crossing(f.first_contact_frame, landing_off, &f.landing_method)
-                      : kNaN;
-    // The athlete not seen for a part of the flight (out of the picture, above it or beside it; or
-    // hidden): its arc and apex rest on the frames around, and the user hears which flight.
-    {
-      int unseen = 0;
-      for (int k = first_air; k <= last_air; ++k)
-        unseen += !std::isfinite(out.sole_y_px[k]) && !std::isfinite(out.hip_y_px[k]);
-      const int airborne = last_air - first_air + 1;
-      if (airborne > 0 && unseen > 0.2 * airborne)
-        out.warnings.push_back(fmt::format(
-            "flight {} ({:.2f}–{:.2f} s): the athlete is not seen in {} of its {} frames in the "
-            "air (out of the picture?): its height and shape rest on the frames around",
-            out.flights.size() + 1,
-            first_air * dt,
-            last_air * dt,
-            unseen,
-            airborne));
-    }
-    if (f.first_contact_frame >= 0)
-      f.landing_px =
-          Eigen::Vector2d(sole_x[f.first_contact_frame], out.sole_y_px[f.first_contact_frame]);
-    out.flights.push_back(f);
-    a = next;
+    a = b + 1;
   }
   if (out.flights.empty())
     out.warnings.push_back(fmt::format(
