@@ -319,10 +319,10 @@ double PersonDistance(const vision::Camera& camera,
 
 }  // namespace
 
-Triangulation TriangulateKeypoints(const std::vector<CameraView>& views,
-                                   const TriangulationOptions& options,
-                                   const Progress& progress) {
-  DemandValidOptions(options, "triangulation");
+namespace {
+
+// The views' checks: at least two, each camera valid and named once, one keypoint set.
+void DemandTriangulableViews(const std::vector<CameraView>& views) {
   if (views.size() < 2)
     throw InputError("",
                      "detections",
@@ -346,53 +346,92 @@ Triangulation TriangulateKeypoints(const std::vector<CameraView>& views,
                                    views[0].camera.name,
                                    views[0].detections.names.size()));
   }
-  const int num_views = static_cast<int>(views.size());
-  const int num_points = static_cast<int>(views[0].detections.names.size());
-  int num_frames = 0;
-  for (const CameraView& v : views) num_frames = std::max(num_frames, v.detections.num_frames());
+}
 
-  Triangulation result;
-  result.names = views[0].detections.names;
-  result.num_frames = num_frames;
-  result.positions.setConstant(3, static_cast<Eigen::Index>(num_frames) * num_points, kNaN);
-  result.reprojection_px.setConstant(num_points, num_frames, kNaN);
-  result.views.setZero(num_points, num_frames);
-  result.uncertainty_m.setConstant(num_points, num_frames, kNaN);
-  result.cameras.resize(num_views);
-  result.observed.resize(num_views);
-  for (int v = 0; v < num_views; ++v) {
-    result.cameras[v].name = views[v].camera.name;
-    ViewKeypoints& seen_by = result.observed[v];
-    seen_by.camera = views[v].camera;
-    seen_by.xy.setConstant(2, static_cast<Eigen::Index>(num_frames) * num_points, kNaN);
-    seen_by.confidence.setZero(num_points, num_frames);
-    seen_by.agreed.setConstant(num_points, num_frames, false);
-    if (views[v].detections.num_frames() < num_frames)
-      result.warnings.push_back(fmt::format(
-          "camera {}: detections for {} frames, the longest view has {}: its last {} frame(s) "
-          "are triangulated from the other cameras",
-          views[v].camera.name,
-          views[v].detections.num_frames(),
-          num_frames,
-          num_frames - views[v].detections.num_frames()));
+// TriangulateKeypoints frame by frame: the athlete chosen in each camera, each keypoint's
+// consensus point, the left/right repairs, and what each camera contributed.
+class Triangulator {
+ public:
+  Triangulator(const std::vector<CameraView>& views, const TriangulationOptions& options)
+      : views_(views),
+        options_(options),
+        num_views_(static_cast<int>(views.size())),
+        num_points_(static_cast<int>(views[0].detections.names.size())) {
+    int num_frames = 0;
+    for (const CameraView& v : views) num_frames = std::max(num_frames, v.detections.num_frames());
+    result_.names = views[0].detections.names;
+    result_.num_frames = num_frames;
+    result_.positions.setConstant(3, static_cast<Eigen::Index>(num_frames) * num_points_, kNaN);
+    result_.reprojection_px.setConstant(num_points_, num_frames, kNaN);
+    result_.views.setZero(num_points_, num_frames);
+    result_.uncertainty_m.setConstant(num_points_, num_frames, kNaN);
+    result_.cameras.resize(num_views_);
+    result_.observed.resize(num_views_);
+    for (int v = 0; v < num_views_; ++v) {
+      result_.cameras[v].name = views[v].camera.name;
+      ViewKeypoints& seen_by = result_.observed[v];
+      seen_by.camera = views[v].camera;
+      seen_by.xy.setConstant(2, static_cast<Eigen::Index>(num_frames) * num_points_, kNaN);
+      seen_by.confidence.setZero(num_points_, num_frames);
+      seen_by.agreed.setConstant(num_points_, num_frames, false);
+      if (views[v].detections.num_frames() < num_frames)
+        result_.warnings.push_back(fmt::format(
+            "camera {}: detections for {} frames, the longest view has {}: its last {} frame(s) "
+            "are triangulated from the other cameras",
+            views[v].camera.name,
+            views[v].detections.num_frames(),
+            num_frames,
+            num_frames - views[v].detections.num_frames()));
+    }
+    for (const CameraView& v : views) geometry_.push_back(GeometryOf(v.camera));
+    pairs_ = LeftRightPairsOfNames(result_.names);
+    errors_.resize(num_views_);
+    previous_.assign(num_points_, Eigen::Vector3d::Constant(kNaN));
   }
 
-  std::vector<ViewGeometry> geometry;
-  for (const CameraView& v : views) geometry.push_back(GeometryOf(v.camera));
-  const std::vector<std::pair<int, int>> pairs = LeftRightPairsOfNames(result.names);
-  std::vector<std::vector<double>> errors(num_views);
+  int num_frames() const { return result_.num_frames; }
 
-  std::vector<Eigen::Vector3d> previous(num_points, Eigen::Vector3d::Constant(kNaN));
-  int previous_frame = -1000000;
-  for (int k = 0; k < num_frames; ++k) {
-    progress.ReportOrThrow("triangulate", k, num_frames);
-    // The athlete in each camera: the one nearest the last frame's points when a camera sees
-    // several, else the most confident.
-    const bool recent = k - previous_frame <= 10;
-    std::vector<int> chosen(num_views, -1);
-    std::vector<ViewFrame> frame(num_views);
-    for (int v = 0; v < num_views; ++v) {
-      const auto& people = views[v].detections;
+  void Frame(int k) {
+    const bool recent = k - previous_frame_ <= 10;
+    ChoosePeople(k, recent);
+    X_.assign(num_points_, Eigen::Vector3d::Constant(kNaN));
+    agreed_.assign(num_points_, {});
+    view_of_.assign(num_points_, {});
+    for (int j = 0; j < num_points_; ++j) Triangulate(j);
+    if (!recent) ChooseAgainByPoints(k);
+    if (options_.repair_left_right) RepairLeftRight();
+    if (Record(k)) {
+      previous_ = X_;
+      previous_frame_ = k;
+    }
+  }
+
+  Triangulation Finish() {
+    for (int v = 0; v < num_views_; ++v) {
+      CameraTriangulationStats& stats = result_.cameras[v];
+      stats.median_reprojection_px = Percentile(errors_[v], 0.5);
+      stats.p90_reprojection_px = Percentile(errors_[v], 0.9);
+      if (stats.frames_with_person == 0)
+        result_.warnings.push_back(fmt::format(
+            "camera {}: nobody detected in any frame; the other cameras were used", stats.name));
+      else if (stats.agreed == 0)
+        result_.warnings.push_back(
+            fmt::format("camera {}: none of its {} detections agrees with the other views (a wrong "
+                        "calibration or detections of another video?); the other cameras were used",
+                        stats.name,
+                        stats.detections));
+    }
+    return std::move(result_);
+  }
+
+ private:
+  // The athlete in each camera: the one nearest the last frame's points when a camera sees
+  // several, else the most confident.
+  void ChoosePeople(int k, bool recent) {
+    chosen_.assign(num_views_, -1);
+    frame_.assign(num_views_, ViewFrame{});
+    for (int v = 0; v < num_views_; ++v) {
+      const auto& people = views_[v].detections;
       if (k >= people.num_frames() || people.frames[k].empty()) continue;
       const auto& candidates = people.frames[k];
       int best = 0;
@@ -402,11 +441,11 @@ Triangulation TriangulateKeypoints(const std::vector<CameraView>& views,
           double score;
           if (recent) {
             score =
-                PersonDistance(views[v].camera, candidates[p], previous, options.min_confidence);
+                PersonDistance(views_[v].camera, candidates[p], previous_, options_.min_confidence);
           } else {
             score = 0;
             for (int j = 0; j < candidates[p].cols(); ++j)
-              if (candidates[p](2, j) >= options.min_confidence) score -= candidates[p](2, j);
+              if (candidates[p](2, j) >= options_.min_confidence) score -= candidates[p](2, j);
           }
           if (score < best_score) {
             best_score = score;
@@ -414,165 +453,179 @@ Triangulation TriangulateKeypoints(const std::vector<CameraView>& views,
           }
         }
       }
-      chosen[v] = best;
-      frame[v] = PrepareView(views[v].camera, candidates[best], options);
+      chosen_[v] = best;
+      frame_[v] = PrepareView(views_[v].camera, candidates[best], options_);
     }
+  }
 
-    std::vector<Eigen::Vector3d> X(num_points, Eigen::Vector3d::Constant(kNaN));
-    std::vector<std::vector<char>> agreed(num_points);
-    std::vector<std::vector<int>> view_of(num_points);
-    auto triangulate = [&](int j) {
-      std::vector<Observation> obs;
-      view_of[j].clear();
-      for (int v = 0; v < num_views; ++v) {
-        if (chosen[v] < 0 || j >= frame[v].confidence.size() || frame[v].confidence(j) <= 0)
-          continue;
-        obs.push_back({&geometry[v], frame[v].xy.col(j), frame[v].confidence(j)});
-        view_of[j].push_back(v);
+  // Keypoint j's consensus point over the views that hold it.
+  void Triangulate(int j) {
+    std::vector<Observation> obs;
+    view_of_[j].clear();
+    for (int v = 0; v < num_views_; ++v) {
+      if (chosen_[v] < 0 || j >= frame_[v].confidence.size() || frame_[v].confidence(j) <= 0)
+        continue;
+      obs.push_back({&geometry_[v], frame_[v].xy.col(j), frame_[v].confidence(j)});
+      view_of_[j].push_back(v);
+    }
+    // The consensus tries every subset of views: past kMaxConsensusViews, the most confident.
+    if (static_cast<int>(obs.size()) > kMaxConsensusViews) {
+      std::vector<int> order(obs.size());
+      for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+      std::stable_sort(
+          order.begin(), order.end(), [&](int a, int b) { return obs[a].weight > obs[b].weight; });
+      order.resize(kMaxConsensusViews);
+      std::sort(order.begin(), order.end());
+      std::vector<Observation> kept;
+      std::vector<int> kept_views;
+      for (int i : order) {
+        kept.push_back(obs[i]);
+        kept_views.push_back(view_of_[j][i]);
       }
-      // The consensus tries every subset of views: past kMaxConsensusViews, the most confident.
-      if (static_cast<int>(obs.size()) > kMaxConsensusViews) {
-        std::vector<int> order(obs.size());
-        for (size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
-        std::stable_sort(order.begin(), order.end(), [&](int a, int b) {
-          return obs[a].weight > obs[b].weight;
-        });
-        order.resize(kMaxConsensusViews);
-        std::sort(order.begin(), order.end());
-        std::vector<Observation> kept;
-        std::vector<int> kept_views;
-        for (int i : order) {
-          kept.push_back(obs[i]);
-          kept_views.push_back(view_of[j][i]);
-        }
-        obs = std::move(kept);
-        view_of[j] = std::move(kept_views);
-      }
-      X[j] = ConsensusPoint(obs, options, &agreed[j]);
-    };
-    for (int j = 0; j < num_points; ++j) triangulate(j);
+      obs = std::move(kept);
+      view_of_[j] = std::move(kept_views);
+    }
+    X_[j] = ConsensusPoint(obs, options_, &agreed_[j]);
+  }
 
-    // A camera that saw several people and had no earlier frame to go by: choose again by the
-    // points the views agree on.
-    if (!recent) {
-      for (int v = 0; v < num_views; ++v) {
-        const auto& people = views[v].detections;
-        if (chosen[v] < 0 || people.frames[k].size() < 2) continue;
-        int best = chosen[v];
-        double best_score = std::numeric_limits<double>::infinity();
-        for (int p = 0; p < static_cast<int>(people.frames[k].size()); ++p) {
-          const double s =
-              PersonDistance(views[v].camera, people.frames[k][p], X, options.min_confidence);
-          if (s < best_score) {
-            best_score = s;
-            best = p;
-          }
+  // A camera that saw several people and had no earlier frame to go by: choose again by the
+  // points the views agree on.
+  void ChooseAgainByPoints(int k) {
+    for (int v = 0; v < num_views_; ++v) {
+      const auto& people = views_[v].detections;
+      if (chosen_[v] < 0 || people.frames[k].size() < 2) continue;
+      int best = chosen_[v];
+      double best_score = std::numeric_limits<double>::infinity();
+      for (int p = 0; p < static_cast<int>(people.frames[k].size()); ++p) {
+        const double s =
+            PersonDistance(views_[v].camera, people.frames[k][p], X_, options_.min_confidence);
+        if (s < best_score) {
+          best_score = s;
+          best = p;
         }
-        if (best != chosen[v]) {
-          chosen[v] = best;
-          frame[v] = PrepareView(views[v].camera, people.frames[k][best], options);
-          for (int j = 0; j < num_points; ++j) triangulate(j);
-        }
+      }
+      if (best != chosen_[v]) {
+        chosen_[v] = best;
+        frame_[v] = PrepareView(views_[v].camera, people.frames[k][best], options_);
+        for (int j = 0; j < num_points_; ++j) Triangulate(j);
       }
     }
+  }
 
-    // Left and right exchanged in one camera against what the others agree on.
-    if (options.repair_left_right) {
-      for (int v = 0; v < num_views; ++v) {
-        if (chosen[v] < 0) continue;
-        bool changed = false;
-        for (const auto& [a, b] : pairs) {
-          if (frame[v].confidence(a) <= 0 || frame[v].confidence(b) <= 0) continue;
-          if (!X[a].allFinite() || !X[b].allFinite()) continue;
-          const Observation oa{&geometry[v], frame[v].xy.col(a), 1.0};
-          const Observation ob{&geometry[v], frame[v].xy.col(b), 1.0};
-          const double same_a = ErrorPx(oa, X[a]), same_b = ErrorPx(ob, X[b]);
-          const double swap_a = ErrorPx(oa, X[b]), swap_b = ErrorPx(ob, X[a]);
-          const double threshold = options.max_reprojection_px;
-          if (std::max(same_a, same_b) > threshold && std::max(swap_a, swap_b) <= threshold &&
-              swap_a + swap_b < 0.5 * (same_a + same_b)) {
-            for (Eigen::Index r = 0; r < 2; ++r) {
-              std::swap(frame[v].xy(r, a), frame[v].xy(r, b));
-              std::swap(frame[v].pixels(r, a), frame[v].pixels(r, b));
-            }
-            std::swap(frame[v].confidence(a), frame[v].confidence(b));
-            ++result.cameras[v].left_right_repairs;
-            changed = true;
+  // Left and right exchanged in one camera against what the others agree on.
+  void RepairLeftRight() {
+    for (int v = 0; v < num_views_; ++v) {
+      if (chosen_[v] < 0) continue;
+      bool changed = false;
+      for (const auto& [a, b] : pairs_) {
+        if (frame_[v].confidence(a) <= 0 || frame_[v].confidence(b) <= 0) continue;
+        if (!X_[a].allFinite() || !X_[b].allFinite()) continue;
+        const Observation oa{&geometry_[v], frame_[v].xy.col(a), 1.0};
+        const Observation ob{&geometry_[v], frame_[v].xy.col(b), 1.0};
+        const double same_a = ErrorPx(oa, X_[a]), same_b = ErrorPx(ob, X_[b]);
+        const double swap_a = ErrorPx(oa, X_[b]), swap_b = ErrorPx(ob, X_[a]);
+        const double threshold = options_.max_reprojection_px;
+        if (std::max(same_a, same_b) > threshold && std::max(swap_a, swap_b) <= threshold &&
+            swap_a + swap_b < 0.5 * (same_a + same_b)) {
+          for (Eigen::Index r = 0; r < 2; ++r) {
+            std::swap(frame_[v].xy(r, a), frame_[v].xy(r, b));
+            std::swap(frame_[v].pixels(r, a), frame_[v].pixels(r, b));
           }
+          std::swap(frame_[v].confidence(a), frame_[v].confidence(b));
+          ++result_.cameras[v].left_right_repairs;
+          changed = true;
         }
-        if (changed)
-          for (const auto& [a, b] : pairs) {
-            triangulate(a);
-            triangulate(b);
-          }
       }
+      if (changed)
+        for (const auto& [a, b] : pairs_) {
+          Triangulate(a);
+          Triangulate(b);
+        }
     }
+  }
 
+  // The frame's points, what each view saw and whether it agreed, the reprojection errors and
+  // uncertainties; whether any point was triangulated.
+  bool Record(int k) {
     bool any = false;
-    for (int j = 0; j < num_points; ++j) {
-      const int n_obs = static_cast<int>(view_of[j].size());
+    for (int j = 0; j < num_points_; ++j) {
+      const int n_obs = static_cast<int>(view_of_[j].size());
       int n_agreed = 0;
       double weighted = 0, weights = 0;
       std::vector<Observation> used;
       for (int i = 0; i < n_obs; ++i) {
-        const int v = view_of[j][i];
-        CameraTriangulationStats& stats = result.cameras[v];
+        const int v = view_of_[j][i];
+        CameraTriangulationStats& stats = result_.cameras[v];
         ++stats.detections;
-        ViewKeypoints& seen_by = result.observed[v];
-        seen_by.xy.col(static_cast<Eigen::Index>(k) * num_points + j) = frame[v].xy.col(j);
-        seen_by.confidence(j, k) = frame[v].confidence(j);
-        if (!X[j].allFinite() || !agreed[j][i]) {
-          if (X[j].allFinite()) ++stats.rejected;
+        ViewKeypoints& seen_by = result_.observed[v];
+        seen_by.xy.col(static_cast<Eigen::Index>(k) * num_points_ + j) = frame_[v].xy.col(j);
+        seen_by.confidence(j, k) = frame_[v].confidence(j);
+        if (!X_[j].allFinite() || !agreed_[j][i]) {
+          if (X_[j].allFinite()) ++stats.rejected;
           continue;
         }
         ++stats.agreed;
         ++n_agreed;
         seen_by.agreed(j, k) = true;
-        used.push_back({&geometry[v], frame[v].xy.col(j), frame[v].confidence(j)});
-        const auto uv = views[v].camera.Project(X[j]);
+        used.push_back({&geometry_[v], frame_[v].xy.col(j), frame_[v].confidence(j)});
+        const auto uv = views_[v].camera.Project(X_[j]);
         if (!uv) continue;
-        const double e = (*uv - frame[v].pixels.col(j)).norm();
-        errors[v].push_back(e);
-        weighted += frame[v].confidence(j) * e * e;
-        weights += frame[v].confidence(j);
+        const double e = (*uv - frame_[v].pixels.col(j)).norm();
+        errors_[v].push_back(e);
+        weighted += frame_[v].confidence(j) * e * e;
+        weights += frame_[v].confidence(j);
       }
-      if (!X[j].allFinite()) continue;
+      if (!X_[j].allFinite()) continue;
       any = true;
-      result.positions.col(static_cast<Eigen::Index>(k) * num_points + j) = X[j];
-      result.views(j, k) = n_agreed;
-      result.reprojection_px(j, k) = weights > 0 ? std::sqrt(weighted / weights) : kNaN;
+      result_.positions.col(static_cast<Eigen::Index>(k) * num_points_ + j) = X_[j];
+      result_.views(j, k) = n_agreed;
+      result_.reprojection_px(j, k) = weights > 0 ? std::sqrt(weighted / weights) : kNaN;
       std::vector<const Observation*> pointers;
       for (const Observation& o : used) pointers.push_back(&o);
-      result.uncertainty_m(j, k) = Uncertainty(pointers, X[j]);
+      result_.uncertainty_m(j, k) = Uncertainty(pointers, X_[j]);
     }
-    for (int v = 0; v < num_views; ++v)
-      if (chosen[v] >= 0) {
-        ++result.cameras[v].frames_with_person;
-        if (views[v].detections.frames[k].size() > 1)
-          ++result.cameras[v].frames_chosen_among_several;
+    for (int v = 0; v < num_views_; ++v)
+      if (chosen_[v] >= 0) {
+        ++result_.cameras[v].frames_with_person;
+        if (views_[v].detections.frames[k].size() > 1)
+          ++result_.cameras[v].frames_chosen_among_several;
       }
-    if (any) {
-      previous = X;
-      previous_frame = k;
-    }
+    return any;
+  }
+
+  const std::vector<CameraView>& views_;
+  const TriangulationOptions& options_;
+  const int num_views_;
+  const int num_points_;
+  Triangulation result_;
+  std::vector<ViewGeometry> geometry_;
+  std::vector<std::pair<int, int>> pairs_;
+  std::vector<std::vector<double>> errors_;  // per camera, the agreeing detections' errors (px)
+  std::vector<Eigen::Vector3d> previous_;    // the last frame's points with any
+  int previous_frame_ = -1000000;
+  // The frame's: the person chosen per camera, their detections, the points, who agreed.
+  std::vector<int> chosen_;
+  std::vector<ViewFrame> frame_;
+  std::vector<Eigen::Vector3d> X_;
+  std::vector<std::vector<char>> agreed_;
+  std::vector<std::vector<int>> view_of_;
+};
+
+}  // namespace
+
+Triangulation TriangulateKeypoints(const std::vector<CameraView>& views,
+                                   const TriangulationOptions& options,
+                                   const Progress& progress) {
+  DemandValidOptions(options, "triangulation");
+  DemandTriangulableViews(views);
+  Triangulator triangulator(views, options);
+  const int num_frames = triangulator.num_frames();
+  for (int k = 0; k < num_frames; ++k) {
+    progress.ReportOrThrow("triangulate", k, num_frames);
+    triangulator.Frame(k);
   }
   progress.ReportOrThrow("triangulate", num_frames, num_frames);
-
-  for (int v = 0; v < num_views; ++v) {
-    CameraTriangulationStats& stats = result.cameras[v];
-    stats.median_reprojection_px = Percentile(errors[v], 0.5);
-    stats.p90_reprojection_px = Percentile(errors[v], 0.9);
-    if (stats.frames_with_person == 0)
-      result.warnings.push_back(fmt::format(
-          "camera {}: nobody detected in any frame; the other cameras were used", stats.name));
-    else if (stats.agreed == 0)
-      result.warnings.push_back(fmt::format(
-          "camera {}: none of its {} detections agrees with the other views (a wrong calibration "
-          "or detections of another video?); the other cameras were used",
-          stats.name,
-          stats.detections));
-  }
-  return result;
+  return triangulator.Finish();
 }
 
 double Triangulation::NoiseRmsM() const {
