@@ -593,6 +593,241 @@ std::string FlightPhysicsSummary::Report() const {
   return s;
 }
 
+namespace {
+
+// What every flight's fit reads.
+struct FlightInputs {
+  const ViewsToFit& views;
+  const std::vector<int>& marker_of_point;
+  const dynamics::Model<double>& model;
+  const std::vector<ModelMarker>& markers;
+  const std::vector<JointLimit>& limits;
+  const InverseKinematicsOptions& ik_options;
+  const FlightPhysicsOptions& options;
+  const Motion& motion;
+  int P = 0;  // keypoints
+  int V = 0;  // cameras
+  int F = 0;  // frames fitted
+};
+
+// One flight's outcome: fitted (its configurations and ray errors) or skipped (why).
+struct FlightOutcome {
+  std::optional<FlightPhysicsFit> fit;
+  Eigen::MatrixXd Q;
+  std::vector<std::vector<std::pair<int, double>>> ray_errors;  // per frame: (marker, m)
+  std::string skipped;
+};
+
+// The detections of frames first..last within the gate of the frame-by-frame fit.
+std::vector<Detection> GatedDetections(const FlightInputs& in, int first, int last) {
+  InverseKinematics ik(in.model, in.markers, in.limits, in.ik_options);
+  std::vector<Detection> detections;
+  Eigen::Matrix3Xd p_WM;
+  for (int k = first; k <= last; ++k) {
+    if (!in.motion.fit[size_t(k)].valid) continue;
+    ik.CalcMarkerPositions(in.motion.q.col(k), p_WM);
+    for (int j = 0; j < in.P; ++j) {
+      const int m = in.marker_of_point[size_t(j)];
+      if (m < 0) continue;
+      for (int v = 0; v < in.V; ++v) {
+        const ViewKeypoints& view = in.views.views[size_t(v)];
+        const double conf = view.confidence(j, k);
+        const Eigen::Vector2d xy = view.xy.col(Eigen::Index(k) * in.P + j);
+        if (!(conf > 0) || !xy.allFinite()) continue;
+        const Eigen::Vector3d p = view.camera.R_KW * p_WM.col(m) + view.camera.t_KW;
+        if (!(p.z() > 1e-3) ||
+            !(FocalPx(view.camera) * (p.head<2>() / p.z() - xy).norm() <= in.options.gate_px))
+          continue;
+        detections.push_back({k - first, v, m, xy, std::sqrt(conf) * in.markers[size_t(m)].weight});
+      }
+    }
+  }
+  return detections;
+}
+
+// The flight solved from each start (the frame-by-frame fit's, and with one camera its mirror
+// image through the depth), its joints refitted between rounds; the better kept, and with two
+// starts how much better and how differently the other turns (`fit`'s mirror fields).
+Solved SolveFromStarts(const FlightInputs& in,
+                       Flight& flight,
+                       const Eigen::MatrixXd& Q0,
+                       FlightPhysicsFit* fit) {
+  const FlightPhysicsOptions& options = in.options;
+  const FlightState start = flight.Initial(Q0);
+  std::vector<FlightState> starts = {start};
+  if (in.V == 1) {
+    const Eigen::Vector3d centre = in.views.views[0].camera.CentreInWorld();
+    starts.push_back(Mirror(start, (start.c0_W - centre).normalized()));
+  }
+  const RootPrior prior{options.root_prior, options.root_prior_m_per_rad};
+  std::vector<Solved> results;
+  std::vector<Eigen::MatrixXd> joints;
+  for (const FlightState& from : starts) {
+    flight.SetJoints(Q0.bottomRows(Q0.rows() - dynamics::kRootNq));
+    Solved solved = Solve(flight, from, options.max_iterations);
+    for (int round = 0; round < options.rounds; ++round) {
+      const Eigen::MatrixXd Q = flight.RefitJoints(flight.Configurations(solved.state), prior);
+      flight.SetJoints(Q.bottomRows(Q.rows() - dynamics::kRootNq));
+      solved = Solve(flight, solved.state, options.max_iterations);
+    }
+    results.push_back(solved);
+    joints.push_back(flight.Joints());
+  }
+  size_t chosen = 0;
+  if (results.size() == 2) {
+    chosen = results[1].cost < results[0].cost ? 1 : 0;
+    fit->mirror_chosen = chosen == 1;
+    fit->mirror_cost_ratio = results[1 - chosen].cost / std::max(results[chosen].cost, 1e-12);
+    // Ambiguous: two flights that turn differently (apart by more than options.distinct_deg
+    // somewhere) fit alike. A flight without twist is its own mirror image: nothing to tell.
+    flight.SetJoints(joints[0]);
+    const std::vector<Eigen::Quaterniond> a = flight.Turns(results[0].state);
+    flight.SetJoints(joints[1]);
+    const std::vector<Eigen::Quaterniond> b = flight.Turns(results[1].state);
+    for (size_t i = 0; i < a.size(); ++i)
+      fit->mirror_apart_deg =
+          std::max(fit->mirror_apart_deg,
+                   Eigen::AngleAxisd(a[i].conjugate() * b[i]).angle() * 180 / std::numbers::pi);
+    fit->ambiguous = fit->mirror_cost_ratio < options.ambiguous_ratio &&
+                     fit->mirror_apart_deg > options.distinct_deg;
+  }
+  flight.SetJoints(joints[chosen]);
+  return results[chosen];
+}
+
+// Frames first..last fitted as one free flight, or skipped with the reason.
+FlightOutcome FitOneFlight(const FlightInputs& in, int first, int last) {
+  const FlightPhysicsOptions& options = in.options;
+  FlightOutcome out;
+  if (first < 0 || last >= in.F) {
+    out.skipped =
+        fmt::format("frames {}–{}: outside the fitted frames (0–{}): left as fitted frame by frame",
+                    first,
+                    last,
+                    in.F - 1);
+    return out;
+  }
+  if (last - first + 1 < options.min_frames) {
+    out.skipped =
+        fmt::format("frames {}–{}: too short to fit as a free flight (fewer than {} frames)",
+                    first,
+                    last,
+                    options.min_frames);
+    return out;
+  }
+  const std::vector<Detection> detections = GatedDetections(in, first, last);
+  if (int(detections.size()) < 6 * (last - first + 1) / 2) {
+    out.skipped = fmt::format("frames {}–{}: {} detections, too few to fit as a free flight",
+                              first,
+                              last,
+                              detections.size());
+    return out;
+  }
+  const Motion& motion = in.motion;
+  Flight flight(in.views,
+                in.model,
+                in.markers,
+                in.limits,
+                in.ik_options,
+                motion,
+                first,
+                last,
+                detections,
+                options.robust_px,
+                std::max(1, int(std::lround((last - first) / motion.rate_hz / options.segment_s))),
+                options.continuity_px_per_rad);
+  const Eigen::MatrixXd Q0 = motion.q.middleCols(first, last - first + 1);
+  FlightPhysicsFit fit;
+  fit.first_frame = first;
+  fit.last_frame = last;
+  fit.detections = static_cast<int>(detections.size());
+  fit.mirror_cost_ratio = kNaN;
+  const Solved best = SolveFromStarts(in, flight, Q0, &fit);
+  const Eigen::MatrixXd Q = flight.Configurations(best.state);
+  fit.median_before_px = Median(flight.Errors(Q0));
+  fit.median_after_px = Median(flight.Errors(Q));
+  // A free flight that explains the picture worse than the frame-by-frame fit by more than the
+  // options allow is not kept: the joints it was given cannot fly that way.
+  fit.kept = fit.median_after_px <= options.worse_factor * fit.median_before_px + options.worse_px;
+  fit.H_Scm_W = best.state.H_W;
+  fit.c0_W = best.state.c0_W;
+  fit.v0_W = best.state.v0_W;
+  fit.converged = best.converged;
+  out.fit = fit;
+  out.Q = Q;
+  out.ray_errors = flight.RayErrors(Q);
+  return out;
+}
+
+// The flight's roots into the motion (frames first..), the change blended out over a few frames
+// of each contact on either side, within before_limit..after_limit (never into another flight).
+void BlendIntoMotion(const Eigen::MatrixXd& Q,
+                     int first,
+                     int before_limit,
+                     int after_limit,
+                     int blend_frames,
+                     Motion* motion) {
+  const int last = first + int(Q.cols()) - 1;
+  auto change_at = [&](int k, const Eigen::VectorXd& q_new) {
+    const Eigen::VectorXd q_old = motion->q.col(k);
+    Eigen::Matrix<double, 6, 1> d;
+    d.head<3>() = q_new.head<3>() - q_old.head<3>();
+    const Eigen::AngleAxisd turn(dynamics::GetRootQuaternion(q_old).normalized().conjugate() *
+                                 dynamics::GetRootQuaternion(q_new).normalized());
+    d.tail<3>() = turn.angle() * turn.axis();
+    return d;
+  };
+  const Eigen::Matrix<double, 6, 1> d_first = change_at(first, Q.col(0));
+  const Eigen::Matrix<double, 6, 1> d_last = change_at(last, Q.col(Q.cols() - 1));
+  auto apply = [&](int k, const Eigen::Matrix<double, 6, 1>& d, double w) {
+    Eigen::VectorXd q = motion->q.col(k);
+    q.head<3>() += w * d.head<3>();
+    dynamics::SetRootQuaternion<double>(
+        dynamics::GetRootQuaternion(q).normalized() *
+            dynamics::QuaternionExp<double>(Eigen::Vector3d(w * d.tail<3>())),
+        q);
+    motion->q.col(k) = q;
+  };
+  const int gap_before = (first - before_limit) / 2, gap_after = (after_limit - last) / 2;
+  for (int j = 1; j <= std::min(blend_frames, gap_before); ++j)
+    apply(first - j, d_first, 1.0 - double(j) / (blend_frames + 1));
+  for (int j = 1; j <= std::min(blend_frames, gap_after); ++j)
+    apply(last + j, d_last, 1.0 - double(j) / (blend_frames + 1));
+  motion->q.middleCols(first, Q.cols()) = Q;
+}
+
+// The frames' fit quality as the fit to the views reports it: per marker the RMS distance from
+// its detections' rays.
+void RecordRayErrors(const std::vector<std::vector<std::pair<int, double>>>& ray_errors,
+                     int first,
+                     Motion* motion) {
+  for (size_t i = 0; i < ray_errors.size(); ++i) {
+    const int k = first + int(i);
+    Eigen::VectorXd sum = Eigen::VectorXd::Zero(motion->marker_error_m.rows());
+    Eigen::VectorXi count = Eigen::VectorXi::Zero(sum.size());
+    for (const auto& [m, d] : ray_errors[i]) {
+      if (m >= sum.size()) continue;
+      sum[m] += d * d;
+      ++count[m];
+    }
+    if (count.sum() == 0) continue;
+    FrameFit& frame_fit = motion->fit[size_t(k)];
+    double total = 0;
+    int seen = 0;
+    frame_fit.max_m = 0;
+    for (Eigen::Index m = 0; m < sum.size(); ++m) {
+      motion->marker_error_m(m, k) = count[m] > 0 ? std::sqrt(sum[m] / count[m]) : kNaN;
+      if (count[m] == 0) continue;
+      total += sum[m] / count[m];
+      ++seen;
+      frame_fit.max_m = std::max(frame_fit.max_m, motion->marker_error_m(m, k));
+    }
+    frame_fit.rms_m = std::sqrt(total / seen);
+  }
+}
+
+}  // namespace
+
 FlightPhysicsSummary FitFlightsToPhysics(const ViewsToFit& views,
                                          const std::vector<int>& marker_of_point,
                                          const dynamics::Model<double>& model,
@@ -607,243 +842,67 @@ FlightPhysicsSummary FitFlightsToPhysics(const ViewsToFit& views,
   // In time order, so that each flight's neighbours bound the blends into its contacts.
   std::vector<std::pair<int, int>> flights = given;
   std::sort(flights.begin(), flights.end());
-  const int P = static_cast<int>(views.names.size());
-  const int V = static_cast<int>(views.views.size());
-  const int F = std::min(motion->num_frames(), views.num_frames);
-  ACRO_DEMAND(static_cast<int>(marker_of_point.size()) == P);
-  FlightPhysicsSummary summary;
-  std::vector<std::optional<FlightPhysicsFit>> fits(flights.size());
-  std::vector<Eigen::MatrixXd> refitted(flights.size());
-  std::vector<std::string> skipped(flights.size());
-  // Per flight and frame in it: each marker's distance from the rays of its detections (m).
-  std::vector<std::vector<std::vector<std::pair<int, double>>>> ray_errors(flights.size());
+  const FlightInputs in{views,
+                        marker_of_point,
+                        model,
+                        markers,
+                        limits,
+                        ik_options,
+                        options,
+                        *motion,
+                        static_cast<int>(views.names.size()),
+                        static_cast<int>(views.views.size()),
+                        std::min(motion->num_frames(), views.num_frames)};
+  ACRO_DEMAND(static_cast<int>(marker_of_point.size()) == in.P);
+  std::vector<FlightOutcome> outcomes(flights.size());
   int done = 0;
   std::atomic<bool> stop{false};
   std::mutex mutex;
-  // One more flight done (fitted or left), told in order under the lock.
-  auto count_done = [&] {
-    std::lock_guard<std::mutex> lock(mutex);
-    if (!progress.Report("flight physics", ++done, static_cast<int>(flights.size()))) stop = true;
-  };
   ParallelFor(
       static_cast<int>(flights.size()),
       options.num_threads,
       [&](int f) {
-        const auto [first, last] = flights[size_t(f)];
-        if (first < 0 || last >= F) {
-          skipped[size_t(f)] = fmt::format(
-              "frames {}–{}: outside the fitted frames (0–{}): left as fitted frame by frame",
-              first,
-              last,
-              F - 1);
-          count_done();
-          return;
-        }
-        if (last - first + 1 < options.min_frames) {
-          skipped[size_t(f)] =
-              fmt::format("frames {}–{}: too short to fit as a free flight (fewer than {} frames)",
-                          first,
-                          last,
-                          options.min_frames);
-          count_done();
-          return;
-        }
-        // The detections within the gate of the frame-by-frame fit.
-        InverseKinematics ik(model, markers, limits, ik_options);
-        std::vector<Detection> detections;
-        Eigen::Matrix3Xd p_WM;
-        for (int k = first; k <= last; ++k) {
-          if (!motion->fit[size_t(k)].valid) continue;
-          ik.CalcMarkerPositions(motion->q.col(k), p_WM);
-          for (int j = 0; j < P; ++j) {
-            const int m = marker_of_point[size_t(j)];
-            if (m < 0) continue;
-            for (int v = 0; v < V; ++v) {
-              const ViewKeypoints& view = views.views[size_t(v)];
-              const double conf = view.confidence(j, k);
-              const Eigen::Vector2d xy = view.xy.col(Eigen::Index(k) * P + j);
-              if (!(conf > 0) || !xy.allFinite()) continue;
-              const Eigen::Vector3d p = view.camera.R_KW * p_WM.col(m) + view.camera.t_KW;
-              if (!(p.z() > 1e-3) ||
-                  !(FocalPx(view.camera) * (p.head<2>() / p.z() - xy).norm() <= options.gate_px))
-                continue;
-              detections.push_back(
-                  {k - first, v, m, xy, std::sqrt(conf) * markers[size_t(m)].weight});
-            }
-          }
-        }
-        if (int(detections.size()) < 6 * (last - first + 1) / 2) {
-          skipped[size_t(f)] =
-              fmt::format("frames {}–{}: {} detections, too few to fit as a free flight",
-                          first,
-                          last,
-                          detections.size());
-          count_done();
-          return;
-        }
-        Flight flight(
-            views,
-            model,
-            markers,
-            limits,
-            ik_options,
-            *motion,
-            first,
-            last,
-            detections,
-            options.robust_px,
-            std::max(1, int(std::lround((last - first) / motion->rate_hz / options.segment_s))),
-            options.continuity_px_per_rad);
-        const Eigen::MatrixXd Q0 = motion->q.middleCols(first, last - first + 1);
-        const FlightState start = flight.Initial(Q0);
-        FlightPhysicsFit fit;
-        fit.first_frame = first;
-        fit.last_frame = last;
-        fit.detections = static_cast<int>(detections.size());
-        fit.mirror_cost_ratio = kNaN;
-        // The starts: the frame-by-frame fit's, and with one camera its mirror image.
-        std::vector<FlightState> starts = {start};
-        if (V == 1) {
-          const Eigen::Vector3d centre = views.views[0].camera.CentreInWorld();
-          starts.push_back(Mirror(start, (start.c0_W - centre).normalized()));
-        }
-        const RootPrior prior{options.root_prior, options.root_prior_m_per_rad};
-        std::vector<Solved> results;
-        std::vector<Eigen::MatrixXd> joints;
-        for (const FlightState& from : starts) {
-          flight.SetJoints(Q0.bottomRows(Q0.rows() - dynamics::kRootNq));
-          Solved solved = Solve(flight, from, options.max_iterations);
-          for (int round = 0; round < options.rounds; ++round) {
-            const Eigen::MatrixXd Q =
-                flight.RefitJoints(flight.Configurations(solved.state), prior);
-            flight.SetJoints(Q.bottomRows(Q.rows() - dynamics::kRootNq));
-            solved = Solve(flight, solved.state, options.max_iterations);
-          }
-          results.push_back(solved);
-          joints.push_back(flight.Joints());
-        }
-        size_t chosen = 0;
-        if (results.size() == 2) {
-          chosen = results[1].cost < results[0].cost ? 1 : 0;
-          fit.mirror_chosen = chosen == 1;
-          fit.mirror_cost_ratio = results[1 - chosen].cost / std::max(results[chosen].cost, 1e-12);
-          // Ambiguous: two flights that turn differently (apart by more than
-          // options.distinct_deg somewhere) fit alike. A flight without twist is its own mirror
-          // image: nothing to tell.
-          flight.SetJoints(joints[0]);
-          const std::vector<Eigen::Quaterniond> a = flight.Turns(results[0].state);
-          flight.SetJoints(joints[1]);
-          const std::vector<Eigen::Quaterniond> b = flight.Turns(results[1].state);
-          for (size_t i = 0; i < a.size(); ++i)
-            fit.mirror_apart_deg = std::max(
-                fit.mirror_apart_deg,
-                Eigen::AngleAxisd(a[i].conjugate() * b[i]).angle() * 180 / std::numbers::pi);
-          fit.ambiguous = fit.mirror_cost_ratio < options.ambiguous_ratio &&
-                          fit.mirror_apart_deg > options.distinct_deg;
-        }
-        const Solved& best = results[chosen];
-        flight.SetJoints(joints[chosen]);
-        const Eigen::MatrixXd Q = flight.Configurations(best.state);
-        fit.median_before_px = Median(flight.Errors(Q0));
-        fit.median_after_px = Median(flight.Errors(Q));
-        // A free flight that explains the picture worse than the frame-by-frame fit by more than
-        // the options allow is not kept: the joints it was given cannot fly that way.
-        fit.kept =
-            fit.median_after_px <= options.worse_factor * fit.median_before_px + options.worse_px;
-        fit.H_Scm_W = best.state.H_W;
-        fit.c0_W = best.state.c0_W;
-        fit.v0_W = best.state.v0_W;
-        fit.converged = best.converged;
-        fits[size_t(f)] = fit;
-        refitted[size_t(f)] = Q;
-        ray_errors[size_t(f)] = flight.RayErrors(Q);
-        count_done();
+        outcomes[size_t(f)] = FitOneFlight(in, flights[size_t(f)].first, flights[size_t(f)].second);
+        // One more flight done (fitted or left), told in order under the lock.
+        std::lock_guard<std::mutex> lock(mutex);
+        if (!progress.Report("flight physics", ++done, static_cast<int>(flights.size())))
+          stop = true;
       },
       [&] { return !stop; });
   if (stop) throw Cancelled("flight physics: cancelled");
 
-  // The flights' roots into the motion, the change blended out over a few frames of each
-  // contact on either side (never into another flight).
+  FlightPhysicsSummary summary;
   for (size_t f = 0; f < flights.size(); ++f) {
-    if (!fits[f]) {
-      summary.warnings.push_back(skipped[f]);
+    const FlightOutcome& o = outcomes[f];
+    if (!o.fit) {
+      summary.warnings.push_back(o.skipped);
       continue;
     }
     const auto [first, last] = flights[f];
-    summary.flights.push_back(*fits[f]);
-    if (!fits[f]->kept) {
+    summary.flights.push_back(*o.fit);
+    if (!o.fit->kept) {
       summary.warnings.push_back(fmt::format(
           "frames {}–{}: the free flight fits the picture worse ({:.1f} px against {:.1f} px frame "
           "by frame, median): kept as fitted frame by frame",
           first,
           last,
-          fits[f]->median_after_px,
-          fits[f]->median_before_px));
+          o.fit->median_after_px,
+          o.fit->median_before_px));
       continue;
     }
-    const Eigen::MatrixXd& Q = refitted[f];
-    auto change_at = [&](int k, const Eigen::VectorXd& q_new) {
-      const Eigen::VectorXd q_old = motion->q.col(k);
-      Eigen::Matrix<double, 6, 1> d;
-      d.head<3>() = q_new.head<3>() - q_old.head<3>();
-      const Eigen::AngleAxisd turn(dynamics::GetRootQuaternion(q_old).normalized().conjugate() *
-                                   dynamics::GetRootQuaternion(q_new).normalized());
-      d.tail<3>() = turn.angle() * turn.axis();
-      return d;
-    };
-    const Eigen::Matrix<double, 6, 1> d_first = change_at(first, Q.col(0));
-    const Eigen::Matrix<double, 6, 1> d_last = change_at(last, Q.col(Q.cols() - 1));
     const int before_limit = f > 0 ? flights[f - 1].second + 1 : 0;
-    const int after_limit = f + 1 < flights.size() ? flights[f + 1].first - 1 : F - 1;
-    auto apply = [&](int k, const Eigen::Matrix<double, 6, 1>& d, double w) {
-      Eigen::VectorXd q = motion->q.col(k);
-      q.head<3>() += w * d.head<3>();
-      dynamics::SetRootQuaternion<double>(
-          dynamics::GetRootQuaternion(q).normalized() *
-              dynamics::QuaternionExp<double>(Eigen::Vector3d(w * d.tail<3>())),
-          q);
-      motion->q.col(k) = q;
-    };
-    const int gap_before = (first - before_limit) / 2, gap_after = (after_limit - last) / 2;
-    for (int j = 1; j <= std::min(options.blend_frames, gap_before); ++j)
-      apply(first - j, d_first, 1.0 - double(j) / (options.blend_frames + 1));
-    for (int j = 1; j <= std::min(options.blend_frames, gap_after); ++j)
-      apply(last + j, d_last, 1.0 - double(j) / (options.blend_frames + 1));
-    motion->q.middleCols(first, Q.cols()) = Q;
-    // The frames' fit quality as the fit to the views reports it: per marker the RMS distance from
-    // its detections' rays.
-    for (int i = 0; i < Q.cols(); ++i) {
-      const int k = first + i;
-      Eigen::VectorXd sum = Eigen::VectorXd::Zero(motion->marker_error_m.rows());
-      Eigen::VectorXi count = Eigen::VectorXi::Zero(sum.size());
-      for (const auto& [m, d] : ray_errors[f][size_t(i)]) {
-        if (m >= sum.size()) continue;
-        sum[m] += d * d;
-        ++count[m];
-      }
-      if (count.sum() == 0) continue;
-      FrameFit& frame_fit = motion->fit[size_t(k)];
-      double total = 0;
-      int seen = 0;
-      frame_fit.max_m = 0;
-      for (Eigen::Index m = 0; m < sum.size(); ++m) {
-        motion->marker_error_m(m, k) = count[m] > 0 ? std::sqrt(sum[m] / count[m]) : kNaN;
-        if (count[m] == 0) continue;
-        total += sum[m] / count[m];
-        ++seen;
-        frame_fit.max_m = std::max(frame_fit.max_m, motion->marker_error_m(m, k));
-      }
-      frame_fit.rms_m = std::sqrt(total / seen);
-    }
-    if (fits[f]->ambiguous)
+    const int after_limit = f + 1 < flights.size() ? flights[f + 1].first - 1 : in.F - 1;
+    BlendIntoMotion(o.Q, first, before_limit, after_limit, options.blend_frames, motion);
+    RecordRayErrors(o.ray_errors, first, motion);
+    if (o.fit->ambiguous)
       summary.warnings.push_back(fmt::format(
           "frames {}–{}: the picture does not tell which way the body twists (its mirror image "
           "through the depth, turning up to {:.0f}° apart, fits within {:.0f} %): the twist's "
           "direction is a guess",
           first,
           last,
-          fits[f]->mirror_apart_deg,
-          100 * (fits[f]->mirror_cost_ratio - 1)));
+          o.fit->mirror_apart_deg,
+          100 * (o.fit->mirror_cost_ratio - 1)));
   }
   return summary;
 }
