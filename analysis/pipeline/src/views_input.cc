@@ -119,7 +119,10 @@ CameraSource ParseCameraSource(const std::string& text) {
   return s;
 }
 
-ViewsInput OpenViews(const ViewsRequest& request, const Progress& progress) {
+namespace {
+
+// At least two cameras, and a rate for detections that carry no time.
+void DemandViewsRequest(const ViewsRequest& request) {
   if (request.cameras.size() < 2)
     throw InputError(
         "",
@@ -136,30 +139,39 @@ ViewsInput OpenViews(const ViewsRequest& request, const Progress& progress) {
             fmt::format("the detections' frame rate is needed (their files carry no time), "
                         "got {:g}: give the videos' rate in Hz",
                         request.rate_hz));
-  const std::vector<vision::Camera> calibrated = vision::ReadCameras(request.calibration);
-  ViewsInput out;
-  std::vector<std::string>& warnings = out.input.warnings;
-  std::set<std::string> seen;
-  std::vector<analysis::CameraView> views;
-  std::vector<double> rates;
-  std::string provenance = Sha256OfFile(request.calibration) + "\n";
-  out.input.inputs.push_back(
-      {"calibration", request.calibration, provenance.substr(0, provenance.size() - 1)});
-  // The cameras given by their videos: detected first, side by side (cached beside each video).
+}
+
+// The cameras given by their videos, detected side by side (cached beside each video); each
+// camera and its size checked first, so that a mistyped one costs no detection.
+std::vector<pose::VideoPoses> DetectVideos(const ViewsRequest& request,
+                                           const std::vector<vision::Camera>& calibrated,
+                                           const Progress& progress) {
   std::vector<std::filesystem::path> videos;
   for (const CameraSource& s : request.cameras)
     if (!s.video.empty()) videos.push_back(s.video);
-  std::vector<pose::VideoPoses> poses;
-  if (!videos.empty()) {
-    for (const CameraSource& s : request.cameras)  // a mistyped camera or size costs no detection
-      if (!s.video.empty()) {
-        const vision::Camera& c =
-            vision::FindCamera(calibrated, s.camera, request.calibration.string());
-        const capture::VideoInfo info = capture::VideoReader(s.video).info();
-        vision::FitCameraToVideo(c, info.width, info.height, s.video.string(), nullptr);
-      }
-    poses = DetectPosesInCache(videos, request.model, progress);
-  }
+  if (videos.empty()) return {};
+  for (const CameraSource& s : request.cameras)
+    if (!s.video.empty()) {
+      const vision::Camera& c =
+          vision::FindCamera(calibrated, s.camera, request.calibration.string());
+      const capture::VideoInfo info = capture::VideoReader(s.video).info();
+      vision::FitCameraToVideo(c, info.width, info.height, s.video.string(), nullptr);
+    }
+  return DetectPosesInCache(videos, request.model, progress);
+}
+
+// Each camera's view (its calibration fitted to its video, its detections in the first camera's
+// keypoint order) and frame rate; each input hashed into `provenance` and `out`'s inputs.
+void ReadViews(const ViewsRequest& request,
+               const std::vector<vision::Camera>& calibrated,
+               const Progress& progress,
+               ViewsInput* out,
+               std::vector<analysis::CameraView>* views,
+               std::vector<double>* rates,
+               std::string* provenance) {
+  std::vector<std::string>& warnings = out->input.warnings;
+  const std::vector<pose::VideoPoses> poses = DetectVideos(request, calibrated, progress);
+  std::set<std::string> seen;
   size_t next_video = 0;
   for (const CameraSource& s : request.cameras) {
     if (!seen.insert(s.camera).second)
@@ -178,31 +190,42 @@ ViewsInput OpenViews(const ViewsRequest& request, const Progress& progress) {
         warnings.push_back(
             fmt::format("camera {}: the detector found nobody in {}", s.camera, s.video.string()));
       const std::string hash = Sha256OfFile(s.video);
-      provenance += s.camera + " " + hash + "\n";
-      out.input.inputs.push_back({"video " + s.camera, s.video, hash});
+      *provenance += s.camera + " " + hash + "\n";
+      out->input.inputs.push_back({"video " + s.camera, s.video, hash});
     } else {
       view.detections = capture::ReadDetections(s.detections, request.keypoint_set);
       const std::string hash = HashOfSource(s.detections);
-      provenance += s.camera + " " + hash + "\n";
-      out.input.inputs.push_back({"detections " + s.camera, s.detections, hash});
+      *provenance += s.camera + " " + hash + "\n";
+      out->input.inputs.push_back({"detections " + s.camera, s.detections, hash});
     }
     for (const std::string& w : view.detections.warnings) warnings.push_back(s.camera + ": " + w);
-    if (!views.empty())
-      view.detections = AlignedTo(view.detections, views[0].detections.names, &warnings, s.camera);
-    rates.push_back(rate);
-    if (!(rates.back() > 0 && rates.back() <= 10000))
+    if (!views->empty())
+      view.detections =
+          AlignedTo(view.detections, (*views)[0].detections.names, &warnings, s.camera);
+    rates->push_back(rate);
+    if (!(rates->back() > 0 && rates->back() <= 10000))
       throw InputError(
           s.detections.string(),
           "rate",
           fmt::format(
-              "camera {}: frame rate {:g} Hz is outside (0, 10000]", s.camera, rates.back()));
-    views.push_back(std::move(view));
+              "camera {}: frame rate {:g} Hz is outside (0, 10000]", s.camera, rates->back()));
+    views->push_back(std::move(view));
   }
+}
 
-  // One time line: offsets given, found, or 0.
-  out.offsets.resize(views.size());
-  out.offset_origin.assign(views.size(), "assumed");
-  out.offset_origin[0] = "the time line";
+// One time line: each camera's offset given, found from the detections, or 0 (said); then every
+// view's detections resampled onto the first camera's frames, from the earliest camera's start to
+// the last one's end.
+void PutOnOneTimeLine(const ViewsRequest& request,
+                      const std::vector<double>& rates,
+                      const Progress& progress,
+                      std::vector<analysis::CameraView>* views_io,
+                      ViewsInput* out) {
+  std::vector<analysis::CameraView>& views = *views_io;
+  std::vector<std::string>& warnings = out->input.warnings;
+  out->offsets.resize(views.size());
+  out->offset_origin.assign(views.size(), "assumed");
+  out->offset_origin[0] = "the time line";
   bool any_unknown = false;
   for (size_t v = 1; v < views.size(); ++v)
     any_unknown |= std::isnan(request.cameras[v].offset_frames);
@@ -210,16 +233,16 @@ ViewsInput OpenViews(const ViewsRequest& request, const Progress& progress) {
   if (any_unknown && request.sync)
     found = analysis::SyncViews(views, rates, request.sync_options, progress);
   for (size_t v = 0; v < views.size(); ++v) {
-    out.offsets[v].camera = views[v].camera.name;
+    out->offsets[v].camera = views[v].camera.name;
     const double given = request.cameras[v].offset_frames;
     if (v == 0) {
-      out.offsets[v].offset_frames = 0;
+      out->offsets[v].offset_frames = 0;
     } else if (!std::isnan(given)) {
-      out.offsets[v].offset_frames = given;
-      out.offset_origin[v] = "given";
+      out->offsets[v].offset_frames = given;
+      out->offset_origin[v] = "given";
     } else if (!found.empty() && found[v].distinct) {
-      out.offsets[v] = found[v];
-      out.offset_origin[v] = "found";
+      out->offsets[v] = found[v];
+      out->offset_origin[v] = "found";
     } else if (!found.empty()) {
       warnings.push_back(fmt::format(
           "camera {}: its detections do not tell its offset (epipolar distance {:.1f} px at "
@@ -233,20 +256,65 @@ ViewsInput OpenViews(const ViewsRequest& request, const Progress& progress) {
           views[v].camera.name));
     }
   }
-  // The time line starts with the earliest camera and ends with the last.
   double start = 0, end = 0;
   for (size_t v = 0; v < views.size(); ++v) {
-    const double o = out.offsets[v].offset_frames;
+    const double o = out->offsets[v].offset_frames;
     start = std::min(start, o);
     end = std::max(end, o + views[v].detections.num_frames() * rates[0] / rates[v]);
   }
   const int num_frames = static_cast<int>(std::ceil(end - start - 1e-9));
-  out.rates_hz = rates;
+  out->rates_hz = rates;
   for (size_t v = 0; v < views.size(); ++v)
-    out.first_frame.push_back((start - out.offsets[v].offset_frames) * rates[v] / rates[0]);
+    out->first_frame.push_back((start - out->offsets[v].offset_frames) * rates[v] / rates[0]);
   for (size_t v = 0; v < views.size(); ++v)
     views[v].detections = analysis::ResampleDetections(
-        views[v].detections, rates[v], rates[0], out.offsets[v].offset_frames - start, num_frames);
+        views[v].detections, rates[v], rates[0], out->offsets[v].offset_frames - start, num_frames);
+}
+
+// The bed, from the videos' first frames (two at least, in a Z-up world).
+void LocateBed(const ViewsRequest& request,
+               const std::vector<analysis::CameraView>& views,
+               ViewsInput* out) {
+  std::vector<std::string>& warnings = out->input.warnings;
+  std::vector<vision::Camera> bed_cameras;
+  std::vector<vision::BedDetection> beds;
+  for (size_t v = 0; v < views.size(); ++v) {
+    if (request.cameras[v].video.empty()) continue;
+    try {
+      beds.push_back(vision::DetectBed(request.cameras[v].video, 0));
+      bed_cameras.push_back(views[v].camera);
+    } catch (const InputError& e) {
+      warnings.push_back(fmt::format(
+          "camera {}: no bed found in its first frame ({})", views[v].camera.name, e.what()));
+    }
+  }
+  if (beds.size() < 2) return;
+  const bool upright = out->input.up.axis == 2 && out->input.up.sign > 0;
+  try {
+    const vision::BedFromViews bed = vision::LocateBedFromViews(bed_cameras, beds);
+    if (upright)
+      out->bed = bed;
+    else
+      warnings.push_back("the bed seen in the videos is not used: the cameras' world is not Z up");
+  } catch (const InputError& e) {
+    warnings.push_back(std::string("the bed is not located from the videos: ") + e.what());
+  }
+}
+
+}  // namespace
+
+ViewsInput OpenViews(const ViewsRequest& request, const Progress& progress) {
+  DemandViewsRequest(request);
+  const std::vector<vision::Camera> calibrated = vision::ReadCameras(request.calibration);
+  ViewsInput out;
+  std::vector<std::string>& warnings = out.input.warnings;
+  std::vector<analysis::CameraView> views;
+  std::vector<double> rates;
+  std::string provenance = Sha256OfFile(request.calibration) + "\n";
+  out.input.inputs.push_back(
+      {"calibration", request.calibration, provenance.substr(0, provenance.size() - 1)});
+  ReadViews(request, calibrated, progress, &out, &views, &rates, &provenance);
+  PutOnOneTimeLine(request, rates, progress, &views, &out);
 
   out.triangulation = analysis::TriangulateKeypoints(views, request.triangulation, progress);
   for (const std::string& w : out.triangulation.warnings) warnings.push_back(w);
@@ -264,32 +332,7 @@ ViewsInput OpenViews(const ViewsRequest& request, const Progress& progress) {
       turned.empty() ? Eigen::Matrix3d::Identity() : analysis::RotationToZUp(in.up);
   out.views = std::make_shared<const analysis::ViewsToFit>(
       analysis::MakeViewsToFit(out.triangulation, R_trial_world));
-  // The bed, from the videos' first frames.
-  std::vector<vision::Camera> bed_cameras;
-  std::vector<vision::BedDetection> beds;
-  for (size_t v = 0; v < views.size(); ++v) {
-    if (request.cameras[v].video.empty()) continue;
-    try {
-      beds.push_back(vision::DetectBed(request.cameras[v].video, 0));
-      bed_cameras.push_back(views[v].camera);
-    } catch (const InputError& e) {
-      warnings.push_back(fmt::format(
-          "camera {}: no bed found in its first frame ({})", views[v].camera.name, e.what()));
-    }
-  }
-  if (beds.size() >= 2) {
-    const bool upright = in.up.axis == 2 && in.up.sign > 0;
-    try {
-      const vision::BedFromViews bed = vision::LocateBedFromViews(bed_cameras, beds);
-      if (upright)
-        out.bed = bed;
-      else
-        warnings.push_back(
-            "the bed seen in the videos is not used: the cameras' world is not Z up");
-    } catch (const InputError& e) {
-      warnings.push_back(std::string("the bed is not located from the videos: ") + e.what());
-    }
-  }
+  LocateBed(request, views, &out);
   in.athlete = MakeAthlete(request.athlete);
   return out;
 }
