@@ -39,147 +39,162 @@ std::string Title(const library::Progress& p) {
 
 }  // namespace
 
-std::vector<ProgressFigure> MakeProgressFigures(const library::Progress& p) {
-  std::vector<ProgressFigure> figures;
-  const std::string x_label = "days since " + p.first_date;
-  {
-    Chart c;
-    c.title = fmt::format("{}: {} over the season", Title(p), p.metric_name);
-    c.x_label = x_label;
-    c.y_label = fmt::format("{} ({})", p.metric_name, p.unit);
-    const bool per_routine = p.metric == library::ProgressMetric::kRoutineTime ||
-                             p.metric == library::ProgressMetric::kRoutineDisplacement;
-    const bool per_element = p.metric == library::ProgressMetric::kFaults;
-    LineSeries jumps;
-    jumps.name = per_routine ? "each routine" : per_element ? "each element" : "each jump";
-    jumps.line = false;
-    jumps.markers = true;
-    jumps.color = {0.55, 0.65, 0.8};
-    for (const library::ProgressPoint& q : p.points) {
-      jumps.x.push_back(q.day);
-      jumps.y.push_back(q.value);
-    }
-    LineSeries medians;
-    medians.name =
-        p.metric == library::ProgressMetric::kVerdict ? "session pass fraction" : "session median";
-    medians.markers = true;
-    medians.color = {0.12, 0.35, 0.7};
+namespace {
+
+// The metric over the season: each jump (routine, element), each session's median, the trend.
+ProgressFigure MetricFigure(const library::Progress& p, const std::string& x_label) {
+  Chart c;
+  c.title = fmt::format("{}: {} over the season", Title(p), p.metric_name);
+  c.x_label = x_label;
+  c.y_label = fmt::format("{} ({})", p.metric_name, p.unit);
+  const bool per_routine = p.metric == library::ProgressMetric::kRoutineTime ||
+                           p.metric == library::ProgressMetric::kRoutineDisplacement;
+  const bool per_element = p.metric == library::ProgressMetric::kFaults;
+  LineSeries jumps;
+  jumps.name = per_routine ? "each routine" : per_element ? "each element" : "each jump";
+  jumps.line = false;
+  jumps.markers = true;
+  jumps.color = {0.55, 0.65, 0.8};
+  for (const library::ProgressPoint& q : p.points) {
+    jumps.x.push_back(q.day);
+    jumps.y.push_back(q.value);
+  }
+  LineSeries medians;
+  medians.name =
+      p.metric == library::ProgressMetric::kVerdict ? "session pass fraction" : "session median";
+  medians.markers = true;
+  medians.color = {0.12, 0.35, 0.7};
+  for (const library::SessionProgress& s : p.sessions) {
+    medians.x.push_back(s.day);
+    medians.y.push_back(s.median);
+  }
+  LineSeries trend;
+  trend.name = fmt::format(
+      "trend {:+.3g} {} per 30 days (R² {:.2f})", 30 * p.trend_slope_per_day, p.unit, p.trend_r2);
+  trend.dashed = true;
+  trend.color = {0.85, 0.33, 0.1};
+  const double last = p.sessions.back().day;
+  trend.x = {0.0, last};
+  trend.y = {p.trend_intercept, p.trend_intercept + p.trend_slope_per_day * last};
+  c.series = {jumps, medians, trend};
+  if (last <= 0) c.x_range = ValueRange{-1.0, 1.0};
+  return {"progress_metric.png",
+          p.metric == library::ProgressMetric::kVerdict
+              ? fmt::format("Each jump's physical check, 1 passed and 0 failed, the "
+                            "share of each session's jumps that passed, and the trend "
+                            "line through the jumps ({} jumps in {} sessions).",
+                            p.points.size(),
+                            p.sessions.size())
+              : fmt::format("Each {0}'s {1}, the median of each session and the "
+                            "trend line through the {0}s ({2} {0}s in {3} sessions).",
+                            per_routine   ? "routine"
+                            : per_element ? "element"
+                                          : "jump",
+                            p.metric_name,
+                            p.points.size(),
+                            p.sessions.size()),
+          c};
+}
+
+// The season's most frequent execution faults, per session: how many of its elements had each.
+ProgressFigure FaultsFigure(const library::Progress& p, const std::string& x_label) {
+  Chart c;
+  c.title = Title(p) + ": the most frequent execution faults";
+  c.x_label = x_label;
+  c.y_label = "share of the session's elements";
+  const std::array<std::array<double, 3>, 3> colors = {
+      {{0.8, 0.15, 0.1}, {0.95, 0.55, 0.1}, {0.45, 0.3, 0.7}}};
+  for (size_t k = 0; k < std::min<size_t>(3, p.fault_counts.size()); ++k) {
+    LineSeries f;
+    f.name =
+        fmt::format("{} ({} in the season)", p.fault_counts[k].first, p.fault_counts[k].second);
+    f.markers = true;
+    f.color = {colors[k][0], colors[k][1], colors[k][2]};
     for (const library::SessionProgress& s : p.sessions) {
-      medians.x.push_back(s.day);
-      medians.y.push_back(s.median);
+      if (s.elements == 0) continue;
+      const auto it = s.fault_counts.find(p.fault_counts[k].first);
+      f.x.push_back(s.day);
+      f.y.push_back(double(it == s.fault_counts.end() ? 0 : it->second) / double(s.elements));
     }
-    LineSeries trend;
-    trend.name = fmt::format(
-        "trend {:+.3g} {} per 30 days (R² {:.2f})", 30 * p.trend_slope_per_day, p.unit, p.trend_r2);
-    trend.dashed = true;
-    trend.color = {0.85, 0.33, 0.1};
-    const double last = p.sessions.back().day;
-    trend.x = {0.0, last};
-    trend.y = {p.trend_intercept, p.trend_intercept + p.trend_slope_per_day * last};
-    c.series = {jumps, medians, trend};
-    if (last <= 0) c.x_range = ValueRange{-1.0, 1.0};
-    figures.push_back({"progress_metric.png",
-                       p.metric == library::ProgressMetric::kVerdict
-                           ? fmt::format("Each jump's physical check, 1 passed and 0 failed, the "
-                                         "share of each session's jumps that passed, and the trend "
-                                         "line through the jumps ({} jumps in {} sessions).",
-                                         p.points.size(),
-                                         p.sessions.size())
-                           : fmt::format("Each {0}'s {1}, the median of each session and the "
-                                         "trend line through the {0}s ({2} {0}s in {3} sessions).",
-                                         per_routine   ? "routine"
-                                         : per_element ? "element"
-                                                       : "jump",
-                                         p.metric_name,
-                                         p.points.size(),
-                                         p.sessions.size()),
-                       c});
+    c.series.push_back(f);
   }
-  // The season's most frequent execution faults, per session: how many of its elements had each.
-  if (!p.fault_counts.empty()) {
-    Chart c;
-    c.title = Title(p) + ": the most frequent execution faults";
-    c.x_label = x_label;
-    c.y_label = "share of the session's elements";
-    const std::array<std::array<double, 3>, 3> colors = {
-        {{0.8, 0.15, 0.1}, {0.95, 0.55, 0.1}, {0.45, 0.3, 0.7}}};
-    for (size_t k = 0; k < std::min<size_t>(3, p.fault_counts.size()); ++k) {
-      LineSeries f;
-      f.name =
-          fmt::format("{} ({} in the season)", p.fault_counts[k].first, p.fault_counts[k].second);
-      f.markers = true;
-      f.color = {colors[k][0], colors[k][1], colors[k][2]};
-      for (const library::SessionProgress& s : p.sessions) {
-        if (s.elements == 0) continue;
-        const auto it = s.fault_counts.find(p.fault_counts[k].first);
-        f.x.push_back(s.day);
-        f.y.push_back(double(it == s.fault_counts.end() ? 0 : it->second) / double(s.elements));
-      }
-      c.series.push_back(f);
+  if (p.sessions.back().day <= 0) c.x_range = ValueRange{-1.0, 1.0};
+  c.y_range = ValueRange{0.0, 1.05};
+  return {"progress_faults.png",
+          fmt::format("The season's most frequent execution faults (reported beyond the "
+                      "measurement's uncertainty, docs/scoring.md): the share of each "
+                      "session's elements that had each ({} elements in all).",
+                      p.elements),
+          c};
+}
+
+// Landings: the season in three parts, so that a drift shows as a colour.
+ProgressFigure LandingsFigure(const library::Progress& p) {
+  Chart c;
+  c.title = Title(p) + ": landings on the bed";
+  c.x_label = "along the bed (m)";
+  c.y_label = "across the bed (m)";
+  c.width_px = 900;
+  c.height_px = 520;
+  c.x_range = ValueRange{-kBedHalfLength, kBedHalfLength};
+  c.y_range = ValueRange{-kBedHalfWidth - 0.3, kBedHalfWidth + 0.3};
+  c.series.push_back(Rectangle("bed", kBedHalfLength, kBedHalfWidth, {0.3, 0.3, 0.3}, false));
+  c.series.push_back(Rectangle("zone A", kZoneHalfLength, kZoneHalfWidth, {0.1, 0.6, 0.2}, true));
+  const Rgb colours[3] = {{0.65, 0.75, 0.9}, {0.2, 0.45, 0.8}, {0.75, 0.1, 0.15}};
+  const size_t n = p.sessions.size();
+  const size_t parts = std::min<size_t>(3, n);
+  for (size_t part = 0; part < parts; ++part) {
+    const size_t first = part * n / parts, last = (part + 1) * n / parts;  // [first, last)
+    LineSeries s;
+    s.line = false;
+    s.markers = true;
+    s.color = colours[parts == 1 ? 2 : part * 2 / (parts - 1)];
+    for (size_t k = first; k < last; ++k) {
+      s.x.insert(s.x.end(), p.sessions[k].landing_x_m.begin(), p.sessions[k].landing_x_m.end());
+      s.y.insert(s.y.end(), p.sessions[k].landing_y_m.begin(), p.sessions[k].landing_y_m.end());
     }
-    if (p.sessions.back().day <= 0) c.x_range = ValueRange{-1.0, 1.0};
-    c.y_range = ValueRange{0.0, 1.05};
-    figures.push_back(
-        {"progress_faults.png",
-         fmt::format("The season's most frequent execution faults (reported beyond the "
-                     "measurement's uncertainty, docs/scoring.md): the share of each "
-                     "session's elements that had each ({} elements in all).",
-                     p.elements),
-         c});
+    s.name = first + 1 == last
+                 ? p.sessions[first].date
+                 : fmt::format("{} – {}", p.sessions[first].date, p.sessions[last - 1].date);
+    if (!s.x.empty()) c.series.push_back(s);
   }
-  // Landings: the season in three parts, so that a drift shows as a colour.
+  return {"progress_landings.png",
+          "Landing points in the bed's frame (x along its length), by part of the "
+          "season; the dashed rectangle is the FIG zone A (2.15 m × 1.08 m).",
+          c};
+}
+
+// The share of each session's landings inside zone A.
+ProgressFigure ZoneAFigure(const library::Progress& p, const std::string& x_label) {
+  Chart z;
+  z.title = Title(p) + ": landings in zone A";
+  z.x_label = x_label;
+  z.y_label = "landings in zone A (fraction)";
+  z.y_range = ValueRange{0.0, 1.05};
+  LineSeries share;
+  share.name = "per session";
+  share.markers = true;
+  for (const library::SessionProgress& s : p.sessions) {
+    if (s.landing_x_m.empty()) continue;
+    share.x.push_back(s.day);
+    share.y.push_back(double(s.landings_in_zone_a) / double(s.landing_x_m.size()));
+  }
+  z.series = {share};
+  if (p.sessions.back().day <= 0) z.x_range = ValueRange{-1.0, 1.0};
+  return {"progress_zone_a.png", "The share of each session's landings inside zone A.", z};
+}
+
+}  // namespace
+
+std::vector<ProgressFigure> MakeProgressFigures(const library::Progress& p) {
+  const std::string x_label = "days since " + p.first_date;
+  std::vector<ProgressFigure> figures = {MetricFigure(p, x_label)};
+  if (!p.fault_counts.empty()) figures.push_back(FaultsFigure(p, x_label));
   size_t landings = 0;
   for (const library::SessionProgress& s : p.sessions) landings += s.landing_x_m.size();
   if (landings > 0) {
-    Chart c;
-    c.title = Title(p) + ": landings on the bed";
-    c.x_label = "along the bed (m)";
-    c.y_label = "across the bed (m)";
-    c.width_px = 900;
-    c.height_px = 520;
-    c.x_range = ValueRange{-kBedHalfLength, kBedHalfLength};
-    c.y_range = ValueRange{-kBedHalfWidth - 0.3, kBedHalfWidth + 0.3};
-    c.series.push_back(Rectangle("bed", kBedHalfLength, kBedHalfWidth, {0.3, 0.3, 0.3}, false));
-    c.series.push_back(Rectangle("zone A", kZoneHalfLength, kZoneHalfWidth, {0.1, 0.6, 0.2}, true));
-    const Rgb colours[3] = {{0.65, 0.75, 0.9}, {0.2, 0.45, 0.8}, {0.75, 0.1, 0.15}};
-    const size_t n = p.sessions.size();
-    const size_t parts = std::min<size_t>(3, n);
-    for (size_t part = 0; part < parts; ++part) {
-      const size_t first = part * n / parts, last = (part + 1) * n / parts;  // [first, last)
-      LineSeries s;
-      s.line = false;
-      s.markers = true;
-      s.color = colours[parts == 1 ? 2 : part * 2 / (parts - 1)];
-      for (size_t k = first; k < last; ++k) {
-        s.x.insert(s.x.end(), p.sessions[k].landing_x_m.begin(), p.sessions[k].landing_x_m.end());
-        s.y.insert(s.y.end(), p.sessions[k].landing_y_m.begin(), p.sessions[k].landing_y_m.end());
-      }
-      s.name = first + 1 == last
-                   ? p.sessions[first].date
-                   : fmt::format("{} – {}", p.sessions[first].date, p.sessions[last - 1].date);
-      if (!s.x.empty()) c.series.push_back(s);
-    }
-    figures.push_back({"progress_landings.png",
-                       "Landing points in the bed's frame (x along its length), by part of the "
-                       "season; the dashed rectangle is the FIG zone A (2.15 m × 1.08 m).",
-                       c});
-    Chart z;
-    z.title = Title(p) + ": landings in zone A";
-    z.x_label = x_label;
-    z.y_label = "landings in zone A (fraction)";
-    z.y_range = ValueRange{0.0, 1.05};
-    LineSeries share;
-    share.name = "per session";
-    share.markers = true;
-    for (const library::SessionProgress& s : p.sessions) {
-      if (s.landing_x_m.empty()) continue;
-      share.x.push_back(s.day);
-      share.y.push_back(double(s.landings_in_zone_a) / double(s.landing_x_m.size()));
-    }
-    z.series = {share};
-    if (p.sessions.back().day <= 0) z.x_range = ValueRange{-1.0, 1.0};
-    figures.push_back(
-        {"progress_zone_a.png", "The share of each session's landings inside zone A.", z});
+    figures.push_back(LandingsFigure(p));
+    figures.push_back(ZoneAFigure(p, x_label));
   }
   return figures;
 }
