@@ -311,6 +311,101 @@ struct Library::Impl {
     return s.Step() ? int(s.Int(0)) : 0;
   }
 
+  // What an existing file is, before anything is written to it: a file that is not an SQLite
+  // database, a damaged one, or another program's database is refused (and left as it is); a
+  // schema newer than this Acrolab's too. Sets found_version.
+  void CheckExisting() {
+    const std::string file = File();
+    // (reading the catalogue is the first read: a file that is not a database fails here)
+    char* error = nullptr;
+    struct Found {
+      int tables = 0;
+      bool ours = false;
+    } found;
+    const int rc = sqlite3_exec(
+        db,
+        "SELECT name FROM sqlite_master WHERE type = 'table'",
+        [](void* out, int, char** values, char**) {
+          auto* f = static_cast<Found*>(out);
+          ++f->tables;
+          if (values[0] && std::string(values[0]) == "acrolab_library") f->ours = true;
+          return 0;
+        },
+        &found,
+        &error);
+    if (rc != SQLITE_OK) {
+      const bool locked = (sqlite3_extended_errcode(db) & 0xff) == SQLITE_BUSY;
+      const std::string message = SqliteMessage(db, error, wait.timeout_ms);
+      sqlite3_free(error);
+      if (locked) throw InputError(file, "", message);
+      throw InputError(file, "", "not an Acrolab library: " + message + "; left as it is");
+    }
+    const int tables = found.tables;
+    bool ours = found.ours;
+    QuickCheck();
+    // A database with nothing in it is what opening a new file makes: another process creating
+    // the library, or one that stopped before its first step; made here (when writing).
+    if (tables == 0 && mode == Mode::kReadWrite) {
+      ours = true;
+    } else if (!ours) {
+      throw InputError(file,
+                       "",
+                       tables == 0 ? "an empty SQLite database, not an Acrolab library"
+                                   : "an SQLite database but not an Acrolab library (no table "
+                                     "acrolab_library)");
+    }
+    found_version = UserVersion();
+    if (found_version > kSchemaVersion)
+      throw InputError(file,
+                       "schema",
+                       fmt::format("version {} is newer than this Acrolab's {} (Acrolab {} or "
+                                   "later wrote it)",
+                                   found_version,
+                                   kSchemaVersion,
+                                   "a newer"));
+    if (found_version < 1 && tables > 0)
+      throw InputError(file, "schema", fmt::format("version {} is not valid", found_version));
+  }
+
+  // SQLite's own check of the file: a damaged library is refused, with its first problem.
+  void QuickCheck() {
+    Statement check(db, "PRAGMA quick_check", File());
+    std::string problems;
+    int count = 0;
+    while (check.Step()) {
+      const std::string line = check.Text(0);
+      if (line == "ok") continue;
+      if (count++ < 1) problems = line;
+    }
+    if (count > 0)
+      throw InputError(File(),
+                       "",
+                       fmt::format("damaged library ({} problem{}, first: {}); left as it is",
+                                   count,
+                                   count > 1 ? "s" : "",
+                                   problems));
+  }
+
+  // Writing: a new file or an older schema brought to this Acrolab's (WAL first: it persists in
+  // the file, then each step). Reading: an older schema is refused.
+  void Migrate() {
+    if (mode == Mode::kReadWrite) {
+      if (version < kSchemaVersion) {
+        Exec("PRAGMA journal_mode = WAL", "WAL mode");
+        for (int v = version + 1; v <= kSchemaVersion; ++v) ApplyStep(v);
+        version = kSchemaVersion;
+      }
+      Exec("PRAGMA synchronous = NORMAL", "synchronous");
+    } else if (version < kSchemaVersion) {
+      throw InputError(File(),
+                       "schema",
+                       fmt::format("version {} is older than this Acrolab's {}: open it for "
+                                   "writing once (acrolab library add or migrate) to migrate it",
+                                   version,
+                                   kSchemaVersion));
+    }
+  }
+
   // Runs `work` in one write transaction (BEGIN IMMEDIATE: the write lock is taken first, so two
   // writers take turns instead of failing on upgrade), rolled back when it throws.
   void Write(const std::function<void()>& work) {
@@ -441,77 +536,7 @@ Library::Library(const std::filesystem::path& path, Mode mode, int busy_timeout_
   const std::filesystem::path wal = file + "-wal", shm = file + "-shm";
   const bool had_wal = std::filesystem::exists(wal, ec), had_shm = std::filesystem::exists(shm, ec);
   try {
-    // What the file is, before anything is written to it: a file that is not an SQLite database, a
-    // damaged one, or another program's database is refused and left as it is.
-    if (exists && !empty) {
-      int tables = 0;
-      bool ours = false;
-      // (reading the catalogue is the first read: a file that is not a database fails here)
-      char* error = nullptr;
-      struct Found {
-        int tables = 0;
-        bool ours = false;
-      } found;
-      const int rc = sqlite3_exec(
-          m.db,
-          "SELECT name FROM sqlite_master WHERE type = 'table'",
-          [](void* out, int, char** values, char**) {
-            auto* f = static_cast<Found*>(out);
-            ++f->tables;
-            if (values[0] && std::string(values[0]) == "acrolab_library") f->ours = true;
-            return 0;
-          },
-          &found,
-          &error);
-      if (rc != SQLITE_OK) {
-        const bool locked = (sqlite3_extended_errcode(m.db) & 0xff) == SQLITE_BUSY;
-        const std::string message = SqliteMessage(m.db, error, m.wait.timeout_ms);
-        sqlite3_free(error);
-        if (locked) throw InputError(file, "", message);
-        throw InputError(file, "", "not an Acrolab library: " + message + "; left as it is");
-      }
-      tables = found.tables;
-      ours = found.ours;
-      {
-        Statement check(m.db, "PRAGMA quick_check", file);
-        std::string problems;
-        int count = 0;
-        while (check.Step()) {
-          const std::string line = check.Text(0);
-          if (line == "ok") continue;
-          if (count++ < 1) problems = line;
-        }
-        if (count > 0)
-          throw InputError(file,
-                           "",
-                           fmt::format("damaged library ({} problem{}, first: {}); left as it is",
-                                       count,
-                                       count > 1 ? "s" : "",
-                                       problems));
-      }
-      // A database with nothing in it is what opening a new file makes: another process creating
-      // the library, or one that stopped before its first step; made here (when writing).
-      if (tables == 0 && mode == Mode::kReadWrite) {
-        ours = true;
-      } else if (!ours) {
-        throw InputError(file,
-                         "",
-                         tables == 0 ? "an empty SQLite database, not an Acrolab library"
-                                     : "an SQLite database but not an Acrolab library (no table "
-                                       "acrolab_library)");
-      }
-      m.found_version = m.UserVersion();
-      if (m.found_version > kSchemaVersion)
-        throw InputError(file,
-                         "schema",
-                         fmt::format("version {} is newer than this Acrolab's {} (Acrolab {} or "
-                                     "later wrote it)",
-                                     m.found_version,
-                                     kSchemaVersion,
-                                     "a newer"));
-      if (m.found_version < 1 && tables > 0)
-        throw InputError(file, "schema", fmt::format("version {} is not valid", m.found_version));
-    }
+    if (exists && !empty) m.CheckExisting();
   } catch (const InputError&) {
     sqlite3_close_v2(m.db);
     m.db = nullptr;
@@ -522,22 +547,7 @@ Library::Library(const std::filesystem::path& path, Mode mode, int busy_timeout_
   }
   m.Exec("PRAGMA foreign_keys = ON", "foreign keys");
   m.version = m.found_version;
-  if (mode == Mode::kReadWrite) {
-    if (m.version < kSchemaVersion) {
-      // A new file, or an older schema: WAL first (it persists in the file), then each step.
-      m.Exec("PRAGMA journal_mode = WAL", "WAL mode");
-      for (int v = m.version + 1; v <= kSchemaVersion; ++v) m.ApplyStep(v);
-      m.version = kSchemaVersion;
-    }
-    m.Exec("PRAGMA synchronous = NORMAL", "synchronous");
-  } else if (m.version < kSchemaVersion) {
-    throw InputError(file,
-                     "schema",
-                     fmt::format("version {} is older than this Acrolab's {}: open it for writing "
-                                 "once (acrolab library add or migrate) to migrate it",
-                                 m.version,
-                                 kSchemaVersion));
-  }
+  m.Migrate();
 }
 
 Library::~Library() = default;
