@@ -131,6 +131,96 @@ ProgressMetric ParseProgressMetric(const std::string& word) {
       "", "--metric", "'" + word + "' is not tof, hd, dd, apex, verdict, T, H or faults");
 }
 
+namespace {
+
+// The values a metric counts: every jump's, the score sheet's elements' (faults), or one per
+// routine (T, H).
+std::vector<std::pair<const JumpRow*, double>> MetricValues(const std::vector<const JumpRow*>& all,
+                                                            ProgressMetric metric,
+                                                            const std::string& athlete) {
+  std::vector<std::pair<const JumpRow*, double>> values;
+  if (PerRoutine(metric)) {
+    for (const RoutineValue& v : RoutineValues(all, metric)) values.emplace_back(v.first, v.value);
+    if (values.empty())
+      throw InputError(
+          "",
+          "--metric",
+          fmt::format(
+              "no trial of athlete '{}' has a scored routine{} (analysed by Acrolab 0.3 or later)",
+              athlete,
+              metric == ProgressMetric::kRoutineDisplacement ? " with every landing's zone" : ""));
+  } else {
+    for (const JumpRow* r : all)
+      if (metric != ProgressMetric::kFaults || r->jump.element > 0)
+        values.emplace_back(r, MetricOf(r->jump, metric));
+    if (values.empty())
+      throw InputError(
+          "", "--metric", fmt::format("no element of a scored routine for athlete '{}'", athlete));
+  }
+  return values;
+}
+
+// One session: its jumps' landings and faults, and its values' median (the verdict's pass
+// fraction: a median of 0s and 1s says less), least and most.
+SessionProgress SummarizeSession(const std::string& date,
+                                 const std::vector<const JumpRow*>& jumps,
+                                 const std::vector<double>& v,
+                                 const std::string& first_date,
+                                 ProgressMetric metric) {
+  SessionProgress s;
+  s.date = date;
+  s.day = DaysBetween(first_date, date);
+  s.num_jumps = static_cast<int>(jumps.size());
+  for (const JumpRow* r : jumps) {
+    if (r->jump.landing_x_m && r->jump.landing_y_m) {
+      s.landing_x_m.push_back(*r->jump.landing_x_m);
+      s.landing_y_m.push_back(*r->jump.landing_y_m);
+      s.landings_in_zone_a += r->jump.landing_in_zone_a.value_or(false) ? 1 : 0;
+    }
+  }
+  const std::vector<std::pair<std::string, int>> faults = CountFaults(jumps, &s.elements);
+  for (const auto& f : faults) {
+    s.faults_reported += f.second;
+    s.fault_counts[f.first] = f.second;
+  }
+  if (!faults.empty()) {
+    s.most_frequent_fault = faults.front().first;
+    s.most_frequent_count = faults.front().second;
+  }
+  if (metric == ProgressMetric::kVerdict) {
+    double sum = 0;
+    for (double x : v) sum += x;
+    s.median = sum / double(v.size());
+  } else {
+    s.median = Median(v);
+  }
+  s.min = *std::min_element(v.begin(), v.end());
+  s.max = *std::max_element(v.begin(), v.end());
+  return s;
+}
+
+// Least squares through the jumps: slope per day, intercept, R².
+void FitTrend(Progress* p) {
+  const double n = double(p->points.size());
+  double sx = 0, sy = 0;
+  for (const ProgressPoint& q : p->points) {
+    sx += q.day;
+    sy += q.value;
+  }
+  const double mx = sx / n, my = sy / n;
+  double sxx = 0, sxy = 0, syy = 0;
+  for (const ProgressPoint& q : p->points) {
+    sxx += (q.day - mx) * (q.day - mx);
+    sxy += (q.day - mx) * (q.value - my);
+    syy += (q.value - my) * (q.value - my);
+  }
+  p->trend_slope_per_day = sxx > 0 ? sxy / sxx : 0.0;
+  p->trend_intercept = my - p->trend_slope_per_day * mx;
+  p->trend_r2 = sxx > 0 && syy > 0 ? sxy * sxy / (sxx * syy) : 0.0;
+}
+
+}  // namespace
+
 Progress CalcProgress(const std::vector<JumpRow>& rows,
                       ProgressMetric metric,
                       const std::string& athlete,
@@ -162,29 +252,9 @@ Progress CalcProgress(const std::vector<JumpRow>& rows,
   p.first_date = rows.front().session_date;
   for (const JumpRow& r : rows) p.first_date = std::min(p.first_date, r.session_date);
 
-  // The rows each metric counts: every jump, the score sheet's elements (faults), or one per
-  // routine (T, H).
   std::vector<const JumpRow*> all;
   for (const JumpRow& r : rows) all.push_back(&r);
-  std::vector<std::pair<const JumpRow*, double>> values;
-  if (PerRoutine(metric)) {
-    for (const RoutineValue& v : RoutineValues(all, metric)) values.emplace_back(v.first, v.value);
-    if (values.empty())
-      throw InputError(
-          "",
-          "--metric",
-          fmt::format(
-              "no trial of athlete '{}' has a scored routine{} (analysed by Acrolab 0.3 or later)",
-              athlete,
-              metric == ProgressMetric::kRoutineDisplacement ? " with every landing's zone" : ""));
-  } else {
-    for (const JumpRow* r : all)
-      if (metric != ProgressMetric::kFaults || r->jump.element > 0)
-        values.emplace_back(r, MetricOf(r->jump, metric));
-    if (values.empty())
-      throw InputError(
-          "", "--metric", fmt::format("no element of a scored routine for athlete '{}'", athlete));
-  }
+  const std::vector<std::pair<const JumpRow*, double>> values = MetricValues(all, metric, athlete);
   p.fault_counts = CountFaults(all, &p.elements);
   std::map<std::string, std::vector<double>> session_values;
   std::map<std::string, std::vector<const JumpRow*>> session_rows;
@@ -200,59 +270,10 @@ Progress CalcProgress(const std::vector<JumpRow>& rows,
     session_values[r->session_date].push_back(value);
   }
   for (const JumpRow* r : all) session_rows[r->session_date].push_back(r);
-  for (const auto& [date, jumps] : session_rows) {
-    if (session_values.find(date) == session_values.end()) continue;
-    const std::vector<double>& v = session_values[date];
-    SessionProgress s;
-    s.date = date;
-    s.day = DaysBetween(p.first_date, date);
-    s.num_jumps = static_cast<int>(jumps.size());
-    for (const JumpRow* r : jumps) {
-      if (r->jump.landing_x_m && r->jump.landing_y_m) {
-        s.landing_x_m.push_back(*r->jump.landing_x_m);
-        s.landing_y_m.push_back(*r->jump.landing_y_m);
-        s.landings_in_zone_a += r->jump.landing_in_zone_a.value_or(false) ? 1 : 0;
-      }
-    }
-    const std::vector<std::pair<std::string, int>> faults = CountFaults(jumps, &s.elements);
-    for (const auto& f : faults) {
-      s.faults_reported += f.second;
-      s.fault_counts[f.first] = f.second;
-    }
-    if (!faults.empty()) {
-      s.most_frequent_fault = faults.front().first;
-      s.most_frequent_count = faults.front().second;
-    }
-    // The verdict's "median" is the pass fraction: a median of 0s and 1s says less.
-    if (metric == ProgressMetric::kVerdict) {
-      double sum = 0;
-      for (double x : v) sum += x;
-      s.median = sum / double(v.size());
-    } else {
-      s.median = Median(v);
-    }
-    s.min = *std::min_element(v.begin(), v.end());
-    s.max = *std::max_element(v.begin(), v.end());
-    p.sessions.push_back(std::move(s));
-  }
-
-  // Trend: least squares through the jumps.
-  const double n = double(p.points.size());
-  double sx = 0, sy = 0;
-  for (const ProgressPoint& q : p.points) {
-    sx += q.day;
-    sy += q.value;
-  }
-  const double mx = sx / n, my = sy / n;
-  double sxx = 0, sxy = 0, syy = 0;
-  for (const ProgressPoint& q : p.points) {
-    sxx += (q.day - mx) * (q.day - mx);
-    sxy += (q.day - mx) * (q.value - my);
-    syy += (q.value - my) * (q.value - my);
-  }
-  p.trend_slope_per_day = sxx > 0 ? sxy / sxx : 0.0;
-  p.trend_intercept = my - p.trend_slope_per_day * mx;
-  p.trend_r2 = sxx > 0 && syy > 0 ? sxy * sxy / (sxx * syy) : 0.0;
+  for (const auto& [date, jumps] : session_rows)
+    if (const auto v = session_values.find(date); v != session_values.end())
+      p.sessions.push_back(SummarizeSession(date, jumps, v->second, p.first_date, metric));
+  FitTrend(&p);
   return p;
 }
 
