@@ -370,6 +370,33 @@ class SampleCost : public ceres::CostFunction {
       a[3 + k] = orient[7 + k].a;
     }
     double joint_dh[3][kNdof];
+    JointState(ka, kb, h, q, v, a, joint_dh);
+
+    double n[3];
+    if (jacobians == nullptr) {
+      SampleResidual(d, q, v, a, n, nullptr);
+      for (int c = 0; c < 3; ++c) residuals[c] = sW * n[c];
+      return true;
+    }
+    double dn_dstate[3][kStateDim];
+    SampleResidual(d, q, v, a, n, dn_dstate);
+    for (int c = 0; c < 3; ++c) {
+      residuals[c] = sW * n[c];
+      ChainRule(geo, g, i, h, sW, n[c], dn_dstate[c], orient, joint_dh, c, jacobians);
+    }
+    return true;
+  }
+
+ private:
+  // The joints' value, rate and acceleration at the sample (the knot's own at an end sample, the
+  // quintic Hermite between two knots inside), into q, v, a; their derivatives over h.
+  void JointState(const KnotValues& ka,
+                  const KnotValues& kb,
+                  double h,
+                  Eigen::VectorXd& q,
+                  Eigen::VectorXd& v,
+                  Eigen::VectorXd& a,
+                  double joint_dh[3][kNdof]) const {
     for (int j = 0; j < kNdof; ++j) {
       double value[3];
       if (interior_) {
@@ -394,68 +421,66 @@ class SampleCost : public ceres::CostFunction {
       v[6 + j] = value[1];
       a[6 + j] = value[2];
     }
-
-    double n[3];
-    if (jacobians == nullptr) {
-      SampleResidual(d, q, v, a, n, nullptr);
-      for (int c = 0; c < 3; ++c) residuals[c] = sW * n[c];
-      return true;
-    }
-    double dn_dstate[3][kStateDim];
-    SampleResidual(d, q, v, a, n, dn_dstate);
-
-    // Chain rule: ∂n/∂(local inputs) from ∂n/∂state.
-    for (int c = 0; c < 3; ++c) {
-      const double* dn = dn_dstate[c];
-      residuals[c] = sW * n[c];
-      // Through the orientation: ∂n/∂z_o = Σ_s ∂n/∂state_s ∂state_s/∂z_o.
-      double dn_dz[kOrientationInputs] = {};
-      for (int s = 0; s < 10; ++s)
-        for (int o = 0; o < kOrientationInputs; ++o) dn_dz[o] += dn[s] * orient[s].v[o];
-      // ∂n/∂h: the orientation's h slot plus the joints'.
-      double dn_dh = dn_dz[0];
-      for (int o = 0; o < 3; ++o)
-        for (int j = 0; j < kNdof; ++j) dn_dh += dn[10 + o * kNdof + j] * joint_dh[o][j];
-      // Gaps: r = √W n(h), ∂r/∂g_l = n ∂√W/∂g_l + √W ∂n/∂h ∂h/∂g_l.
-      if (jacobians[0] != nullptr) {
-        for (int l = 0; l + 1 < d.n; ++l) {
-          double dW = 0.0;
-          for (const auto& [wi, cw] : weights_) dW += cw * geo.dh(d, g, wi, l) / d.T;
-          jacobians[0][c * (d.n - 1) + l] =
-              n[c] * dW / (2.0 * sW) + (interior_ ? sW * dn_dh * geo.dh(d, g, i, l) : 0.0);
-        }
-      }
-      // Knot blocks.
-      for (int knot_count = 0; knot_count < (interior_ ? 2 : 1); ++knot_count) {
-        double** J = jacobians + 1 + kNumKnotBlocks * knot_count;
-        const int zo = 1 + 9 * knot_count;  // δ, w, ẇ slots of this knot
-        // Joint data k of this knot: H index 3·knot_count + p (p = 0 value, 1 rate, 2 acc).
-        auto joint_coefficient = [&](int o, int p_kind) {
-          if (!interior_) return o == p_kind ? 1.0 : 0.0;
-          const int k = 3 * knot_count + p_kind;
-          return basis_.H[o][k] * std::pow(h, p_kind - o);
-        };
-        for (int p_kind = 0; p_kind < 3; ++p_kind) {
-          double coeff[3];
-          for (int o = 0; o < 3; ++o) coeff[o] = joint_coefficient(o, p_kind);
-          double* Jb = J[p_kind == 0 ? 0 : p_kind + 1];
-          if (Jb == nullptr) continue;
-          for (int j = 0; j < kNdof; ++j) {
-            double sum = 0.0;
-            for (int o = 0; o < 3; ++o) sum += dn[10 + o * kNdof + j] * coeff[o];
-            Jb[c * kNdof + j] = sW * sum;
-          }
-        }
-        if (J[1] != nullptr)
-          for (int s = 0; s < 3; ++s) J[1][c * 3 + s] = sW * dn_dz[zo + s];
-        if (J[4] != nullptr)
-          for (int s = 0; s < 6; ++s) J[4][c * 6 + s] = sW * dn_dz[zo + 3 + s];
-      }
-    }
-    return true;
   }
 
- private:
+  // Residual c's row of every Jacobian asked for: ∂n/∂(local inputs) from ∂n/∂state (`dn`).
+  void ChainRule(const GapGeometry& geo,
+                 const double* g,
+                 int i,
+                 double h,
+                 double sW,
+                 double n,
+                 const double* dn,
+                 const OrientationJet (&orient)[10],
+                 const double (&joint_dh)[3][kNdof],
+                 int c,
+                 double** jacobians) const {
+    const Model1Data& d = *d_;
+    // Through the orientation: ∂n/∂z_o = Σ_s ∂n/∂state_s ∂state_s/∂z_o.
+    double dn_dz[kOrientationInputs] = {};
+    for (int s = 0; s < 10; ++s)
+      for (int o = 0; o < kOrientationInputs; ++o) dn_dz[o] += dn[s] * orient[s].v[o];
+    // ∂n/∂h: the orientation's h slot plus the joints'.
+    double dn_dh = dn_dz[0];
+    for (int o = 0; o < 3; ++o)
+      for (int j = 0; j < kNdof; ++j) dn_dh += dn[10 + o * kNdof + j] * joint_dh[o][j];
+    // Gaps: r = √W n(h), ∂r/∂g_l = n ∂√W/∂g_l + √W ∂n/∂h ∂h/∂g_l.
+    if (jacobians[0] != nullptr) {
+      for (int l = 0; l + 1 < d.n; ++l) {
+        double dW = 0.0;
+        for (const auto& [wi, cw] : weights_) dW += cw * geo.dh(d, g, wi, l) / d.T;
+        jacobians[0][c * (d.n - 1) + l] =
+            n * dW / (2.0 * sW) + (interior_ ? sW * dn_dh * geo.dh(d, g, i, l) : 0.0);
+      }
+    }
+    // Knot blocks.
+    for (int knot_count = 0; knot_count < (interior_ ? 2 : 1); ++knot_count) {
+      double** J = jacobians + 1 + kNumKnotBlocks * knot_count;
+      const int zo = 1 + 9 * knot_count;  // δ, w, ẇ slots of this knot
+      // Joint data k of this knot: H index 3·knot_count + p (p = 0 value, 1 rate, 2 acc).
+      auto joint_coefficient = [&](int o, int p_kind) {
+        if (!interior_) return o == p_kind ? 1.0 : 0.0;
+        const int k = 3 * knot_count + p_kind;
+        return basis_.H[o][k] * std::pow(h, p_kind - o);
+      };
+      for (int p_kind = 0; p_kind < 3; ++p_kind) {
+        double coeff[3];
+        for (int o = 0; o < 3; ++o) coeff[o] = joint_coefficient(o, p_kind);
+        double* Jb = J[p_kind == 0 ? 0 : p_kind + 1];
+        if (Jb == nullptr) continue;
+        for (int j = 0; j < kNdof; ++j) {
+          double sum = 0.0;
+          for (int o = 0; o < 3; ++o) sum += dn[10 + o * kNdof + j] * coeff[o];
+          Jb[c * kNdof + j] = sW * sum;
+        }
+      }
+      if (J[1] != nullptr)
+        for (int s = 0; s < 3; ++s) J[1][c * 3 + s] = sW * dn_dz[zo + s];
+      if (J[4] != nullptr)
+        for (int s = 0; s < 6; ++s) J[4][c * 6 + s] = sW * dn_dz[zo + 3 + s];
+    }
+  }
+
   const Model1Data* d_;
   int knot_;
   bool interior_;
