@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <numbers>
 
 #include <ceres/ceres.h>
@@ -16,6 +17,83 @@
 #include "skill_motion.h"
 
 namespace acro::analysis {
+
+namespace {
+
+// Per output sample: the rotation vector from the designed orientation to the simulated one.
+void OrientationMisfit(const std::vector<Eigen::Quaterniond>& designed,
+                       const dynamics::FlightSimulationResult<double>& f,
+                       double* r) {
+  for (size_t k = 0; k < designed.size(); ++k) {
+    const Eigen::VectorXd& q = f.q[std::min(k, f.q.size() - 1)];
+    const Eigen::Quaterniond sim = dynamics::GetRootQuaternion(q);
+    const Eigen::AngleAxisd e(designed[k].conjugate() * sim.normalized());
+    const Eigen::Vector3d v = e.axis() * e.angle();
+    for (int c = 0; c < 3; ++c) r[3 * k + c] = v[c];
+  }
+}
+
+// The take-off momentum that the design needs: the H that makes the simulated orientation follow
+// the designed one best over the whole flight (least squares over the output samples; Ceres with
+// central differences, each evaluation one flight simulation), from `H0`.
+Eigen::Vector3d FitTakeoffMomentum(
+    const Eigen::Vector3d& H0,
+    const std::vector<Eigen::Quaterniond>& designed,
+    const std::function<dynamics::FlightSimulationResult<double>(const Eigen::Vector3d&)>&
+        simulate) {
+  struct Misfit {
+    std::function<void(const double*, double*)> eval;
+    bool operator()(const double* H, double* r) const {
+      eval(H, r);
+      return true;
+    }
+  };
+  const int residuals = 3 * static_cast<int>(designed.size());
+  auto* cost = new ceres::NumericDiffCostFunction<Misfit, ceres::CENTRAL, ceres::DYNAMIC, 3>(
+      new Misfit{[&](const double* H, double* r) {
+        OrientationMisfit(designed, simulate(Eigen::Vector3d(H[0], H[1], H[2])), r);
+      }},
+      ceres::TAKE_OWNERSHIP,
+      residuals);
+  double H[3] = {H0[0], H0[1], H0[2]};
+  ceres::Problem problem;
+  problem.AddResidualBlock(cost, nullptr, H);
+  ceres::Solver::Options so;
+  so.linear_solver_type = ceres::DENSE_QR;
+  so.max_num_iterations = 20;
+  so.function_tolerance = 1e-8;
+  so.logging_type = ceres::SILENT;
+  ceres::Solver::Summary summary;
+  ceres::Solve(so, &problem, &summary);
+  return Eigen::Vector3d(H[0], H[1], H[2]);
+}
+
+// Somersault angle of the root's long axis z_B in W's x–z plane, unwrapped (turns).
+double SomersaultTurns(const std::vector<Eigen::Quaterniond>& qs) {
+  double total = 0.0, prev = 0.0;
+  for (size_t i = 0; i < qs.size(); ++i) {
+    const Eigen::Vector3d z = qs[i] * Eigen::Vector3d::UnitZ();
+    const double a = std::atan2(z.x(), z.z());
+    if (i > 0) total += std::remainder(a - prev, 2.0 * std::numbers::pi);
+    prev = a;
+  }
+  return total / (2.0 * std::numbers::pi);
+}
+
+// Twist: the angle about the pelvis' long axis in R_y(somersault) R_x(tilt) R_z(twist), from row
+// y of R = (cos t sin w, cos t cos w, −sin t), unwrapped (turns).
+double TwistTurns(const std::vector<Eigen::Quaterniond>& qs) {
+  double total = 0.0, prev = 0.0;
+  for (size_t i = 0; i < qs.size(); ++i) {
+    const Eigen::Matrix3d R = qs[i].normalized().toRotationMatrix();
+    const double w = std::atan2(R(1, 0), R(1, 1));
+    if (i > 0) total += std::remainder(w - prev, 2.0 * std::numbers::pi);
+    prev = w;
+  }
+  return total / (2.0 * std::numbers::pi);
+}
+
+}  // namespace
 
 SkillSimulationResult SimulateSkill(const SkillDesign& design,
                                     const SkillTrajectory& trajectory,
@@ -58,48 +136,12 @@ SkillSimulationResult SimulateSkill(const SkillDesign& design,
     const SkillMotionState s = motion.Eval(t);
     designed.emplace_back(s.q[3], s.q[4], s.q[5], s.q[6]);
   }
-  auto misfit = [&](const dynamics::FlightSimulationResult<double>& f, double* r) {
-    for (size_t k = 0; k < designed.size(); ++k) {
-      const Eigen::VectorXd& q = f.q[std::min(k, f.q.size() - 1)];
-      const Eigen::Quaterniond sim = dynamics::GetRootQuaternion(q);
-      const Eigen::AngleAxisd e(designed[k].conjugate() * sim.normalized());
-      const Eigen::Vector3d v = e.axis() * e.angle();
-      for (int c = 0; c < 3; ++c) r[3 * k + c] = v[c];
-    }
-  };
-  // The take-off momentum that the design needs: the H that makes the simulated orientation follow
-  // the designed one best over the whole flight (least squares over the 10 ms samples; Ceres with
-  // central differences, each evaluation one flight simulation), from the mean.
   if (fit_momentum) {
-    struct Misfit {
-      std::function<void(const double*, double*)> eval;
-      bool operator()(const double* H, double* r) const {
-        eval(H, r);
-        return true;
-      }
-    };
-    const int residuals = 3 * static_cast<int>(designed.size());
-    auto* cost = new ceres::NumericDiffCostFunction<Misfit, ceres::CENTRAL, ceres::DYNAMIC, 3>(
-        new Misfit{[&](const double* H, double* r) {
-          misfit(simulate(Eigen::Vector3d(H[0], H[1], H[2])), r);
-        }},
-        ceres::TAKE_OWNERSHIP,
-        residuals);
-    double H[3] = {out.H_mean_W[0], out.H_mean_W[1], out.H_mean_W[2]};
-    ceres::Problem problem;
-    problem.AddResidualBlock(cost, nullptr, H);
-    ceres::Solver::Options so;
-    so.linear_solver_type = ceres::DENSE_QR;
-    so.max_num_iterations = 20;
-    so.function_tolerance = 1e-8;
-    so.logging_type = ceres::SILENT;
-    ceres::Solver::Summary summary;
-    ceres::Solve(so, &problem, &summary);
-    out.H_Scm_W = Eigen::Vector3d(H[0], H[1], H[2]);
+    out.H_Scm_W = FitTakeoffMomentum(out.H_mean_W, designed, simulate);
     out.flight = simulate(out.H_Scm_W);
   }
   std::vector<double> r(3 * designed.size());
-  misfit(out.flight, r.data());
+  OrientationMisfit(designed, out.flight, r.data());
   double sum = 0;
   for (size_t k = 0; k < designed.size(); ++k)
     sum += r[3 * k] * r[3 * k] + r[3 * k + 1] * r[3 * k + 1] + r[3 * k + 2] * r[3 * k + 2];
@@ -109,35 +151,12 @@ SkillSimulationResult SimulateSkill(const SkillDesign& design,
   out.intended_final_orientation = design.keyframe_orientations().back();
   out.final_orientation_error_rad =
       out.final_orientation.angularDistance(out.intended_final_orientation);
-  // Somersault angle of the root's long axis z_B in W's x–z plane, unwrapped.
-  auto turns = [](const std::vector<Eigen::Quaterniond>& qs) {
-    double total = 0.0, prev = 0.0;
-    for (size_t i = 0; i < qs.size(); ++i) {
-      const Eigen::Vector3d z = qs[i] * Eigen::Vector3d::UnitZ();
-      const double a = std::atan2(z.x(), z.z());
-      if (i > 0) total += std::remainder(a - prev, 2.0 * std::numbers::pi);
-      prev = a;
-    }
-    return total / (2.0 * std::numbers::pi);
-  };
-  // Twist: the angle about the pelvis' long axis in R_y(somersault) R_x(tilt) R_z(twist), from row
-  // y of R = (cos t sin w, cos t cos w, −sin t), unwrapped.
-  auto twist_turns = [](const std::vector<Eigen::Quaterniond>& qs) {
-    double total = 0.0, prev = 0.0;
-    for (size_t i = 0; i < qs.size(); ++i) {
-      const Eigen::Matrix3d R = qs[i].normalized().toRotationMatrix();
-      const double w = std::atan2(R(1, 0), R(1, 1));
-      if (i > 0) total += std::remainder(w - prev, 2.0 * std::numbers::pi);
-      prev = w;
-    }
-    return total / (2.0 * std::numbers::pi);
-  };
   std::vector<Eigen::Quaterniond> sim;
   for (const Eigen::VectorXd& q : out.flight.q) sim.push_back(dynamics::GetRootQuaternion(q));
-  out.somersault_turns = turns(sim);
-  out.intended_somersault_turns = turns(designed);
-  out.twist_turns = twist_turns(sim);
-  out.intended_twist_turns = twist_turns(designed);
+  out.somersault_turns = SomersaultTurns(sim);
+  out.intended_somersault_turns = SomersaultTurns(designed);
+  out.twist_turns = TwistTurns(sim);
+  out.intended_twist_turns = TwistTurns(designed);
   out.warnings = SkillSimulationWarnings(out);
   return out;
 }
