@@ -60,55 +60,30 @@ const std::vector<Marker>& Markers() {
 
 }  // namespace
 
-int main(int argc, char** argv) {
-  if (argc != 2) {
-    std::fprintf(stderr, "usage: make_sample_trial OUT.c3d\n");
-    return 2;
-  }
-  // Athlete, bed and jump.
-  const double mass_kg = 65.0;
-  const double bed_stiffness_N_per_m = 5000.0;  // effective vertical stiffness of a competition bed
-  const double v0_m_per_s = 7.0;     // take-off vertical velocity: flight 2 v0 / g ≈ 1.43 s
-  const double z_com_rest_m = 0.97;  // COM height standing on the unloaded bed (bed at z = 0)
-  // In contact z(t) = z_eq + B cos θ, θ = θ0 + ω t, about the static equilibrium z_eq = z_rest − m
-  // g / k. Touch-down (z = z_rest, ż = −v0) is at θ0 = atan2(v0 / ω, m g / k); take-off (ż = +v0)
-  // at 2π − θ0.
-  const double omega = std::sqrt(bed_stiffness_N_per_m / mass_kg);
-  const double sag_m = mass_kg * kG / bed_stiffness_N_per_m;
-  const double amplitude_m = std::hypot(sag_m, v0_m_per_s / omega);
-  const double theta0 = std::atan2(v0_m_per_s / omega, sag_m);
-  const double contact_s = (2 * kPi - 2 * theta0) / omega;
-  const double flight_s = 2 * v0_m_per_s / kG;
-  const double horizontal_m_per_s = 0.15;  // drift towards +x
-  // A back somersault (negative rotation about +y): 0.92 of a turn in the air, the rest happens on
-  // the bed.
-  const double somersault_rad_per_s = -2 * kPi * 0.92 / flight_s;
+namespace {
 
-  // Time line: contact, flight, contact (landing), at 200 Hz.
-  const double rate_hz = 200.0;
-  const double total_s = contact_s + flight_s + contact_s;
-  const int frames = static_cast<int>(std::floor(total_s * rate_hz)) + 1;
-  const int analog_per_frame = 10;  // 2 kHz load cell
+// The athlete's bounce: on the bed a spring (z(t) = z_eq + B cos θ, θ = θ0 + ω t, about the static
+// equilibrium z_eq = z_rest − m g / k; touch-down at z = z_rest, ż = −v0, at θ0 = atan2(v0 / ω,
+// m g / k), take-off at 2π − θ0), in the air a parabola, turning a back somersault.
+struct Bounce {
+  double mass_kg = 65.0;
+  double bed_stiffness_N_per_m = 5000.0;  // effective vertical stiffness of a competition bed
+  double v0_m_per_s = 7.0;                // take-off vertical velocity: flight 2 v0 / g ≈ 1.43 s
+  double z_com_rest_m = 0.97;             // COM height standing on the unloaded bed (bed at z = 0)
+  double horizontal_m_per_s = 0.15;       // drift towards +x
+  double omega = std::sqrt(bed_stiffness_N_per_m / mass_kg);
+  double sag_m = mass_kg * kG / bed_stiffness_N_per_m;
+  double amplitude_m = std::hypot(sag_m, v0_m_per_s / omega);
+  double theta0 = std::atan2(v0_m_per_s / omega, sag_m);
+  double contact_s = (2 * kPi - 2 * theta0) / omega;
+  double flight_s = 2 * v0_m_per_s / kG;
+  // A back somersault (negative rotation about +y): 0.92 of a turn in the air, the rest happens
+  // on the bed.
+  double somersault_rad_per_s = -2 * kPi * 0.92 / flight_s;
 
-  acro::capture::Trial trial;
-  trial.source.point_units = "mm";
-  trial.point_rate_hz = rate_hz;
-  trial.first_frame = 1;
-  trial.num_frames = frames;
-  trial.subject_name = "Sample Athlete";
-  for (const Marker& m : Markers()) {
-    trial.points.push_back({m.label, m.description, acro::capture::PointType::kMarker, "m"});
-  }
-  const int num_markers = trial.num_points();
-  trial.positions.resize(3, std::int64_t(frames) * num_markers);
-  trial.residuals.setConstant(num_markers, frames, 0.5f);
-  trial.camera_masks.setConstant(num_markers, frames, 0x0F);
-  trial.analog_rate_hz = rate_hz * analog_per_frame;
-  trial.analog_channels.push_back({"BedFz", "trampoline bed vertical load", "N", 1.0, 0.0, 0.0});
-  trial.analog.resize(1, std::int64_t(frames) * analog_per_frame);
-
-  // COM height, vertical acceleration, horizontal position and somersault angle at time t.
-  auto state = [&](double t, double* z, double* zdd, double* x, double* angle) {
+  // COM height, vertical acceleration, horizontal position and somersault angle at time t: contact,
+  // flight, contact (landing).
+  void State(double t, double* z, double* zdd, double* x, double* angle) const {
     const double z_eq = z_com_rest_m - sag_m;
     const double t_landing = contact_s + flight_s;
     if (t < contact_s || t >= t_landing) {  // on the bed: push-off, then the landing
@@ -125,45 +100,87 @@ int main(int argc, char** argv) {
       *x = horizontal_m_per_s * tau;
       *angle = somersault_rad_per_s * tau;
     }
-  };
+  }
+};
 
+// The trial's header: the markers, a 2 kHz bed load cell, `frames` frames at `rate_hz`.
+acro::capture::Trial EmptyTrial(int frames, double rate_hz, int analog_per_frame) {
+  acro::capture::Trial trial;
+  trial.source.point_units = "mm";
+  trial.point_rate_hz = rate_hz;
+  trial.first_frame = 1;
+  trial.num_frames = frames;
+  trial.subject_name = "Sample Athlete";
+  for (const Marker& m : Markers()) {
+    trial.points.push_back({m.label, m.description, acro::capture::PointType::kMarker, "m"});
+  }
+  const int num_markers = trial.num_points();
+  trial.positions.resize(3, std::int64_t(frames) * num_markers);
+  trial.residuals.setConstant(num_markers, frames, 0.5f);
+  trial.camera_masks.setConstant(num_markers, frames, 0x0F);
+  trial.analog_rate_hz = rate_hz * analog_per_frame;
+  trial.analog_channels.push_back({"BedFz", "trampoline bed vertical load", "N", 1.0, 0.0, 0.0});
+  trial.analog.resize(1, std::int64_t(frames) * analog_per_frame);
+  return trial;
+}
+
+// Every frame's markers (the rigid body at the COM, turned by the somersault, 0.5 mm of noise)
+// and the bed's load (m (g + z̈) while compressed, zero in flight).
+void FillFrames(const Bounce& b, int analog_per_frame, acro::capture::Trial* trial) {
   std::mt19937 rng(20261122);
   std::normal_distribution<double> noise(0.0, 0.0005);
-  for (int f = 0; f < frames; ++f) {
-    const double t = f / rate_hz;
+  const int num_markers = trial->num_points();
+  for (int f = 0; f < trial->num_frames; ++f) {
+    const double t = f / trial->point_rate_hz;
     double z, zdd, x, angle;
-    state(t, &z, &zdd, &x, &angle);
+    b.State(t, &z, &zdd, &x, &angle);
     const Eigen::Matrix3d R_WB =
         Eigen::AngleAxisd(angle, Eigen::Vector3d::UnitY()).toRotationMatrix();
     const Eigen::Vector3d p_WoBcm_W(x, 0.0, z);
     for (int m = 0; m < num_markers; ++m) {
       Eigen::Vector3d p = p_WoBcm_W + R_WB * Markers()[m].p_BcmM_B;
       p += Eigen::Vector3d(noise(rng), noise(rng), noise(rng));
-      trial.position(f, m) = p;
+      trial->position(f, m) = p;
     }
     for (int s = 0; s < analog_per_frame; ++s) {
       double zs, zdds, xs, as;
-      state(t + s / trial.analog_rate_hz, &zs, &zdds, &xs, &as);
-      // The bed pushes only while compressed: m (g + z̈), zero in flight.
-      trial.analog(0, std::int64_t(f) * analog_per_frame + s) =
-          std::max(0.0, mass_kg * (kG + zdds));
+      b.State(t + s / trial->analog_rate_hz, &zs, &zdds, &xs, &as);
+      trial->analog(0, std::int64_t(f) * analog_per_frame + s) =
+          std::max(0.0, b.mass_kg * (kG + zdds));
     }
   }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc != 2) {
+    std::fprintf(stderr, "usage: make_sample_trial OUT.c3d\n");
+    return 2;
+  }
+  const Bounce b;
+  // Time line: contact, flight, contact (landing), at 200 Hz.
+  const double rate_hz = 200.0;
+  const double total_s = b.contact_s + b.flight_s + b.contact_s;
+  const int frames = static_cast<int>(std::floor(total_s * rate_hz)) + 1;
+  const int analog_per_frame = 10;  // 2 kHz load cell
+  acro::capture::Trial trial = EmptyTrial(frames, rate_hz, analog_per_frame);
+  FillFrames(b, analog_per_frame, &trial);
   // One occlusion: the right wrist is hidden for 12 frames at the top of the flight.
   const int right_wrist = 6;
-  const int apex = static_cast<int>((contact_s + flight_s / 2) * rate_hz);
+  const int apex = static_cast<int>((b.contact_s + b.flight_s / 2) * rate_hz);
   for (int f = apex; f < apex + 12; ++f) {
     trial.position(f, right_wrist).setConstant(std::nan(""));
     trial.residuals(right_wrist, f) = -1.0f;
   }
   // Events where the athlete leaves and touches the bed.
   trial.events.push_back(
-      {"Take-off", "General", "athlete leaves the bed", "Sample Athlete", contact_s, true, 0, 0});
+      {"Take-off", "General", "athlete leaves the bed", "Sample Athlete", b.contact_s, true, 0, 0});
   trial.events.push_back({"Landing",
                           "General",
                           "athlete touches the bed",
                           "Sample Athlete",
-                          contact_s + flight_s,
+                          b.contact_s + b.flight_s,
                           true,
                           0,
                           0});
@@ -178,8 +195,8 @@ int main(int argc, char** argv) {
               argv[1],
               frames,
               rate_hz,
-              num_markers,
-              flight_s,
-              contact_s);
+              trial.num_points(),
+              b.flight_s,
+              b.contact_s);
   return 0;
 }
