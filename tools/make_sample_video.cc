@@ -326,6 +326,151 @@ std::vector<acro::samples::SampleFault> LargeFaults(const std::filesystem::path&
           fault(5, Kind::kTuckAngle, 110)};
 }
 
+namespace {
+
+// What every camera renders: the routine, its athlete and the side camera's timing.
+struct Render {
+  const acro::samples::SampleRoutine& routine;
+  acro::analysis::AthleteScene& scene;
+  const acro::analysis::BodyMesh& mesh;
+  int first_sample = 0;  // the side camera's
+  int step = 1;          // trial samples per video frame
+};
+
+void WriteFaultsJson(const std::filesystem::path& dir, double abduction_deg) {
+  std::filesystem::create_directories(dir);
+  acro::WriteFileAtomically(
+      dir / "faults.json",
+      fmt::format("{{\n  \"note\": \"the large faults put into the sample routine (skills "
+                  "0-based: 0 the straight jump, the video's partial first flight)\",\n"
+                  "  \"faults\": [\n"
+                  "    {{\"skill\": 2, \"fault\": \"knees_bent\", \"value\": 45, "
+                  "\"unit\": \"deg\"}},\n"
+                  "    {{\"skill\": 3, \"fault\": \"legs_apart\", \"value\": 0.40, "
+                  "\"unit\": \"m\", \"abduction_deg\": {:.3f}}},\n"
+                  "    {{\"skill\": 5, \"fault\": \"tuck_open\", \"value\": 110, "
+                  "\"unit\": \"deg\"}}\n  ]\n}}\n",
+                  abduction_deg));
+}
+
+// Three phones around the bed as a hall would place them, each started by hand at its own moment
+// (a fraction of a frame apart too) and before the first jump's take-off (sample 22), which the
+// side camera misses: at the bed's end, at a corner, high on the far side. With the side camera,
+// the multi-camera sample (docs/markerless.md). `preview`: {CAMERA, K, OUT.png} or empty.
+int RenderPhones(const Render& r,
+                 const acro::vision::Camera& side,
+                 const std::filesystem::path& dir,
+                 const std::vector<std::string>& preview) {
+  const Eigen::Vector3d bed = r.routine.options.bed_centre_m;
+  const Eigen::Vector3d look = bed + Eigen::Vector3d(0, 0, 2.6);
+  struct View {
+    acro::vision::Camera camera;
+    int first_sample;
+  };
+  const std::vector<View> phones = {
+      {Phone("end", bed + Eigen::Vector3d(-8.6, -1.2, 0.4), look, 1250.0, -0.05),
+       r.first_sample - 54},
+      {Phone("corner", bed + Eigen::Vector3d(6.4, -6.2, 0.2), look, 1230.0, -0.07),
+       r.first_sample - 68},
+      {Phone("far", bed + Eigen::Vector3d(-2.5, 6.9, 2.9), look, 1270.0, -0.04),
+       r.first_sample - 63}};
+  if (!preview.empty()) {
+    for (const View& v : phones)
+      if (v.camera.name == preview[0])
+        return RenderCamera(r.routine,
+                            r.scene,
+                            r.mesh,
+                            v.camera,
+                            v.first_sample,
+                            {},
+                            std::stoi(preview[1]),
+                            preview[2]) >= 0
+                   ? 0
+                   : 2;
+    std::fprintf(
+        stderr, "make_sample_video: no phone named %s (end, corner, far)\n", preview[0].c_str());
+    return 2;
+  }
+  std::vector<acro::vision::Camera> all = {side};
+  std::string truth =
+      "{\n  \"note\": \"frame k of each video shows the trial's sample first_sample + step k "
+      "(the true motion, "
+      "noise-free); offset_frames: where each video's frame 0 falls in the side video's "
+      "frames\",\n  \"fps\": " +
+      fmt::format("{}", kFps) + ",\n  \"step\": " + std::to_string(r.step) + ",\n  \"videos\": [\n";
+  truth += fmt::format(
+      "    {{\"camera\": \"side\", \"video\": \"side_camera.mp4\", \"first_sample\": {}, "
+      "\"offset_frames\": 0}}",
+      r.first_sample);
+  for (const View& v : phones) {
+    const std::string name = v.camera.name + "_camera.mp4";
+    const int frames =
+        RenderCamera(r.routine, r.scene, r.mesh, v.camera, v.first_sample, dir / name, -1, "");
+    std::printf("wrote %s: %d frames from sample %d\n",
+                (dir / name).string().c_str(),
+                frames,
+                v.first_sample);
+    all.push_back(v.camera);
+    truth += fmt::format(
+        ",\n    {{\"camera\": \"{}\", \"video\": \"{}\", \"first_sample\": {}, "
+        "\"offset_frames\": {}}}",
+        v.camera.name,
+        name,
+        v.first_sample,
+        double(v.first_sample - r.first_sample) / r.step);
+  }
+  truth += "\n  ]\n}\n";
+  acro::vision::WritePose2SimToml(all, dir / "views.toml");
+  acro::WriteFileAtomically(dir / "views_truth.json", truth);
+  std::printf("wrote %s and %s\n",
+              (dir / "views.toml").string().c_str(),
+              (dir / "views_truth.json").string().c_str());
+  return 0;
+}
+
+// The side camera's video, its calibration and its truth (or one frame of it: `preview` {K,
+// OUT.png}).
+int RenderSide(const Render& r,
+               const acro::vision::Camera& camera,
+               const std::filesystem::path& dir,
+               const std::vector<std::string>& preview) {
+  const bool one_frame = !preview.empty();
+  if (!one_frame) acro::vision::WritePose2SimToml({camera}, dir / "side_camera.toml");
+  const int frames = RenderCamera(r.routine,
+                                  r.scene,
+                                  r.mesh,
+                                  camera,
+                                  r.first_sample,
+                                  dir / "side_camera.mp4",
+                                  one_frame ? std::stoi(preview[0]) : -1,
+                                  one_frame ? preview[1] : "");
+  if (one_frame) {
+    if (frames >= 0) return 0;
+    std::fprintf(stderr, "make_sample_video: frame %s is not in the video\n", preview[0].c_str());
+    return 2;
+  }
+  acro::WriteFileAtomically(
+      dir / "video_truth.json",
+      fmt::format(
+          "{{\n  \"video\": \"side_camera.mp4\",\n  \"calibration\": \"side_camera.toml\",\n"
+          "  \"camera\": \"side\",\n  \"fps\": {},\n  \"offset_s\": {},\n"
+          "  \"note\": \"video time = offset_s + trial time: frame k shows the trial's "
+          "sample {} + {}k (the true motion, noise-free)\"\n}}\n",
+          kFps,
+          kOffsetS,
+          r.first_sample,
+          r.step));
+  std::printf("wrote %s: %d frames at %g fps, offset %g s; %s\n",
+              (dir / "side_camera.mp4").string().c_str(),
+              frames,
+              kFps,
+              kOffsetS,
+              (dir / "side_camera.toml").string().c_str());
+  return 0;
+}
+
+}  // namespace
+
 int main(int argc, char** argv) {
   const bool preview = argc == 6 && std::string(argv[3]) == "--frame";
   const bool faults = (argc == 5 || (argc == 6 && std::string(argv[5]) == "--views")) &&
@@ -347,21 +492,7 @@ int main(int argc, char** argv) {
     if (faults) routine_options.faults = LargeFaults(athlete, label, 0.40, &abduction_deg);
     const acro::samples::SampleRoutine routine =
         acro::samples::MakeSampleRoutine(athlete, label, routine_options);
-    if (faults) {
-      std::filesystem::create_directories(dir);
-      acro::WriteFileAtomically(
-          dir / "faults.json",
-          fmt::format("{{\n  \"note\": \"the large faults put into the sample routine (skills "
-                      "0-based: 0 the straight jump, the video's partial first flight)\",\n"
-                      "  \"faults\": [\n"
-                      "    {{\"skill\": 2, \"fault\": \"knees_bent\", \"value\": 45, "
-                      "\"unit\": \"deg\"}},\n"
-                      "    {{\"skill\": 3, \"fault\": \"legs_apart\", \"value\": 0.40, "
-                      "\"unit\": \"m\", \"abduction_deg\": {:.3f}}},\n"
-                      "    {{\"skill\": 5, \"fault\": \"tuck_open\", \"value\": 110, "
-                      "\"unit\": \"deg\"}}\n  ]\n}}\n",
-                      abduction_deg));
-    }
+    if (faults) WriteFaultsJson(dir, abduction_deg);
     const acro::analysis::AthleteBody body =
         acro::analysis::MakeAthleteBody(acro::analysis::ReadAthleteProfile(athlete));
     acro::analysis::Motion motion;
@@ -369,117 +500,26 @@ int main(int argc, char** argv) {
     const acro::analysis::BodyMesh body_mesh_H = acro::analysis::MakeEllipsoidBodyMesh(body);
     acro::analysis::AthleteScene athlete_scene(body, body_mesh_H, motion, routine.model);
 
-    const Eigen::Vector3d bed = routine.options.bed_centre_m;
-    const acro::vision::Camera camera = SideCamera(bed);
+    const acro::vision::Camera camera = SideCamera(routine.options.bed_centre_m);
     const double rate = routine.trial.point_rate_hz;
-    const int first_sample = static_cast<int>(std::lround(-kOffsetS * rate));
-    const int step = static_cast<int>(std::lround(rate / kFps));
+    const Render render{routine,
+                        athlete_scene,
+                        body_mesh_H,
+                        static_cast<int>(std::lround(-kOffsetS * rate)),
+                        static_cast<int>(std::lround(rate / kFps))};
     std::filesystem::create_directories(dir);
     const acro::ui::XDisplay display;
-
-    if (views) {
-      // Three phones around the bed as a hall would place them, each started by hand at its own
-      // moment (a fraction of a frame apart too) and before the first jump's take-off (sample 22),
-      // which the side camera misses: at the bed's end, at a corner, high on the far side. With
-      // the side camera, the multi-camera sample (docs/markerless.md).
-      const Eigen::Vector3d look = bed + Eigen::Vector3d(0, 0, 2.6);
-      struct View {
-        acro::vision::Camera camera;
-        int first_sample;
-      };
-      const std::vector<View> phones = {
-          {Phone("end", bed + Eigen::Vector3d(-8.6, -1.2, 0.4), look, 1250.0, -0.05),
-           first_sample - 54},
-          {Phone("corner", bed + Eigen::Vector3d(6.4, -6.2, 0.2), look, 1230.0, -0.07),
-           first_sample - 68},
-          {Phone("far", bed + Eigen::Vector3d(-2.5, 6.9, 2.9), look, 1270.0, -0.04),
-           first_sample - 63}};
-      if (argc == 7) {
-        for (const View& v : phones)
-          if (v.camera.name == argv[4])
-            return RenderCamera(routine,
-                                athlete_scene,
-                                body_mesh_H,
-                                v.camera,
-                                v.first_sample,
-                                {},
-                                std::stoi(argv[5]),
-                                argv[6]) >= 0
-                       ? 0
-                       : 2;
-        std::fprintf(stderr, "make_sample_video: no phone named %s (end, corner, far)\n", argv[4]);
-        return 2;
-      }
-      std::vector<acro::vision::Camera> all = {camera};
-      std::string truth =
-          "{\n  \"note\": \"frame k of each video shows the trial's sample first_sample + step k "
-          "(the true motion, "
-          "noise-free); offset_frames: where each video's frame 0 falls in the side video's "
-          "frames\",\n  \"fps\": " +
-          fmt::format("{}", kFps) + ",\n  \"step\": " + std::to_string(step) +
-          ",\n  \"videos\": [\n";
-      truth += fmt::format(
-          "    {{\"camera\": \"side\", \"video\": \"side_camera.mp4\", \"first_sample\": {}, "
-          "\"offset_frames\": 0}}",
-          first_sample);
-      for (const View& v : phones) {
-        const std::string name = v.camera.name + "_camera.mp4";
-        const int frames = RenderCamera(
-            routine, athlete_scene, body_mesh_H, v.camera, v.first_sample, dir / name, -1, "");
-        std::printf("wrote %s: %d frames from sample %d\n",
-                    (dir / name).string().c_str(),
-                    frames,
-                    v.first_sample);
-        all.push_back(v.camera);
-        truth += fmt::format(
-            ",\n    {{\"camera\": \"{}\", \"video\": \"{}\", \"first_sample\": {}, "
-            "\"offset_frames\": {}}}",
-            v.camera.name,
-            name,
-            v.first_sample,
-            double(v.first_sample - first_sample) / step);
-      }
-      truth += "\n  ]\n}\n";
-      acro::vision::WritePose2SimToml(all, dir / "views.toml");
-      acro::WriteFileAtomically(dir / "views_truth.json", truth);
-      std::printf("wrote %s and %s\n",
-                  (dir / "views.toml").string().c_str(),
-                  (dir / "views_truth.json").string().c_str());
-      return 0;
-    }
-
-    if (!preview) acro::vision::WritePose2SimToml({camera}, dir / "side_camera.toml");
-    const int frames = RenderCamera(routine,
-                                    athlete_scene,
-                                    body_mesh_H,
-                                    camera,
-                                    first_sample,
-                                    dir / "side_camera.mp4",
-                                    preview ? std::stoi(argv[4]) : -1,
-                                    preview ? argv[5] : "");
-    if (preview) {
-      if (frames >= 0) return 0;
-      std::fprintf(stderr, "make_sample_video: frame %s is not in the video\n", argv[4]);
-      return 2;
-    }
-    acro::WriteFileAtomically(
-        dir / "video_truth.json",
-        fmt::format(
-            "{{\n  \"video\": \"side_camera.mp4\",\n  \"calibration\": \"side_camera.toml\",\n"
-            "  \"camera\": \"side\",\n  \"fps\": {},\n  \"offset_s\": {},\n"
-            "  \"note\": \"video time = offset_s + trial time: frame k shows the trial's "
-            "sample {} + {}k (the true motion, noise-free)\"\n}}\n",
-            kFps,
-            kOffsetS,
-            first_sample,
-            step));
-    std::printf("wrote %s: %d frames at %g fps, offset %g s; %s\n",
-                (dir / "side_camera.mp4").string().c_str(),
-                frames,
-                kFps,
-                kOffsetS,
-                (dir / "side_camera.toml").string().c_str());
-    return 0;
+    if (views)
+      return RenderPhones(render,
+                          camera,
+                          dir,
+                          argc == 7 ? std::vector<std::string>{argv[4], argv[5], argv[6]}
+                                    : std::vector<std::string>{});
+    return RenderSide(
+        render,
+        camera,
+        dir,
+        preview ? std::vector<std::string>{argv[4], argv[5]} : std::vector<std::string>{});
   } catch (const std::exception& e) {
     std::fprintf(stderr, "make_sample_video: %s\n", e.what());
     return 1;
