@@ -208,141 +208,147 @@ TEST(ExecutionFaults, LandingOutsideZoneA) {
 // guessed — its markers filled in (a keypoint no two cameras agreed on), or the fit far from them
 // (a view gated out) — is not measured, and says so; one camera measures the legs' spread across
 // its view only, and not where the spread lies along its axis. Where the markers show the spread,
-// it is measured (above) — the rule drops the fit's guesses, not the athlete's faults.
-TEST(ExecutionFaults, OnlyWhatWasSeenIsMeasured) {
-  const std::vector<Expected> expected = {
-      {Fault(0, Kind::kLegsApart, AbductionForSpread(0.40)), "legs_apart", 0.40, 0.03}};
-  const Analysed a = Analyse(expected);
-  const fig::ExecutionRules rules = fig::RoutineRules::FigSenior().execution;
-  auto legs = [&](const TrialAnalysis& t, size_t jump, const ExecutionOptions& o) {
-    for (const fig::MeasuredFault& f : MeasureExecution(t, jump, rules, o))
-      if (f.fault == "legs_apart") return f;
-    ADD_FAILURE() << "no legs_apart measure on flight " << jump + 1;
-    return fig::MeasuredFault{};
-  };
+// it is measured (above) — the rule drops the fit's guesses, not the athlete's faults. The
+// routine: the straight jump with its legs 40 cm apart.
+const Analysed& LegsApartRoutine() {
+  static const Analysed a =
+      Analyse({{Fault(0, Kind::kLegsApart, AbductionForSpread(0.40)), "legs_apart", 0.40, 0.03}});
+  return a;
+}
+
+fig::MeasuredFault LegsApart(const TrialAnalysis& t, size_t jump, const ExecutionOptions& o) {
+  for (const fig::MeasuredFault& f :
+       MeasureExecution(t, jump, fig::RoutineRules::FigSenior().execution, o))
+    if (f.fault == "legs_apart") return f;
+  ADD_FAILURE() << "no legs_apart measure on flight " << jump + 1;
+  return fig::MeasuredFault{};
+}
+
+std::vector<int> FramesOf(const TrialAnalysis& a, size_t jump) {
+  std::vector<int> out;
+  const Flight& f = a.jumps[jump].flight;
+  for (int k = std::max(0, f.takeoff_frame); k <= f.landing_frame; ++k) out.push_back(k);
+  return out;
+}
+
+Eigen::Vector3d PointAt(const dynamics::Model<double>& model,
+                        dynamics::Workspace<double>& ws,
+                        const Eigen::VectorXd& q,
+                        const char* name) {
+  dynamics::CalcForwardKinematics(model, ws, q);
+  const auto& p = model.point(model.FindPoint(name));
+  const auto& X = ws.X_WB[size_t(p.segment)];
+  return Eigen::Vector3d(X.rotation() * p.p_BoP_B + X.translation());
+}
+
+TEST(ExecutionFaults, TheFeetsMarkersFilledInAreNotMeasured) {
+  const Analysed& a = LegsApartRoutine();
   const ExecutionOptions& options = a.analysis.execution_options;
   ASSERT_FALSE(options.single_camera_centre_W.has_value());  // markers
-  const fig::MeasuredFault seen = legs(a.analysis, 0, options);
+  const fig::MeasuredFault seen = LegsApart(a.analysis, 0, options);
   EXPECT_NEAR(seen.value, 0.40, 0.03);
   EXPECT_TRUE(seen.reported);
   EXPECT_GT(seen.frames, 10);
   EXPECT_EQ(seen.frames_seen, seen.frames);
-
+  // The feet's and shanks' markers filled in over the straight jump.
+  TrialAnalysis lost = a.analysis;
   const ReconstructionResult& rec = a.analysis.reconstruction;
-  const dynamics::Model<double>& model = rec.model;
-  const Motion& motion = rec.motion;
   const int num_markers = static_cast<int>(rec.markers.size());
-  auto frames_of = [&](size_t jump) {
-    std::vector<int> out;
-    const Flight& f = a.analysis.jumps[jump].flight;
-    for (int k = std::max(0, f.takeoff_frame); k <= f.landing_frame; ++k) out.push_back(k);
-    return out;
+  for (int m = 0; m < num_markers; ++m) {
+    const std::string& segment = rec.model.segment(rec.markers[size_t(m)].segment).name;
+    if (segment.find("foot") == std::string::npos && segment.find("shank") == std::string::npos)
+      continue;
+    for (int k : FramesOf(a.analysis, 0))
+      lost.reconstruction.recorded[Eigen::Index(k) * num_markers + m] = false;
+  }
+  const fig::MeasuredFault f = LegsApart(lost, 0, options);
+  EXPECT_FALSE(f.Measured()) << f.value;
+  EXPECT_FALSE(f.reported);
+  EXPECT_EQ(f.frames, seen.frames);
+  EXPECT_EQ(f.frames_seen, 0);
+  fig::ScoredElement e;
+  e.faults = {f};
+  EXPECT_NE(fig::DescribeUnmeasured(e).find("legs_apart (seen in 0 of"), std::string::npos)
+      << fig::DescribeUnmeasured(e);
+}
+
+TEST(ExecutionFaults, TheFitsGuessIsNotMeasured) {
+  // The barani's legs spread 40 cm in the motion while its markers keep them together.
+  const Analysed& a = LegsApartRoutine();
+  const ExecutionOptions& options = a.analysis.execution_options;
+  const dynamics::Model<double>& model = a.analysis.reconstruction.model;
+  TrialAnalysis guessed = a.analysis;
+  Motion& m = guessed.reconstruction.motion;
+  int column[2] = {-1, -1};
+  for (int c = 0; c < int(m.coordinate_names.size()); ++c) {
+    if (m.coordinate_names[size_t(c)] == "r_hip_abduction") column[0] = c;
+    if (m.coordinate_names[size_t(c)] == "l_hip_abduction") column[1] = c;
+  }
+  ASSERT_GE(column[0], 0);
+  ASSERT_GE(column[1], 0);
+  const std::vector<int> frames = FramesOf(a.analysis, 3);
+  const int middle = frames[frames.size() / 2];
+  dynamics::Workspace<double> ws(model);
+  auto ankles_apart = [&](const Eigen::VectorXd& q) {
+    return (PointAt(model, ws, q, "r_ankle_jc") - PointAt(model, ws, q, "l_ankle_jc")).norm();
   };
-
-  {  // 1. The feet's and shanks' markers filled in over the straight jump.
-    TrialAnalysis lost = a.analysis;
-    for (int m = 0; m < num_markers; ++m) {
-      const std::string& segment = model.segment(rec.markers[size_t(m)].segment).name;
-      if (segment.find("foot") == std::string::npos && segment.find("shank") == std::string::npos)
-        continue;
-      for (int k : frames_of(0))
-        lost.reconstruction.recorded[Eigen::Index(k) * num_markers + m] = false;
-    }
-    const fig::MeasuredFault f = legs(lost, 0, options);
-    EXPECT_FALSE(f.Measured()) << f.value;
-    EXPECT_FALSE(f.reported);
-    EXPECT_EQ(f.frames, seen.frames);
-    EXPECT_EQ(f.frames_seen, 0);
-    fig::ScoredElement e;
-    e.faults = {f};
-    EXPECT_NE(fig::DescribeUnmeasured(e).find("legs_apart (seen in 0 of"), std::string::npos)
-        << fig::DescribeUnmeasured(e);
-  }
-
-  {  // 2. The fit's guess: the barani's legs spread 40 cm in the motion, its markers together.
-    TrialAnalysis guessed = a.analysis;
-    Motion& m = guessed.reconstruction.motion;
-    int column[2] = {-1, -1};
-    for (int c = 0; c < int(m.coordinate_names.size()); ++c) {
-      if (m.coordinate_names[size_t(c)] == "r_hip_abduction") column[0] = c;
-      if (m.coordinate_names[size_t(c)] == "l_hip_abduction") column[1] = c;
-    }
-    ASSERT_GE(column[0], 0);
-    ASSERT_GE(column[1], 0);
-    const std::vector<int> frames = frames_of(3);
-    const int middle = frames[frames.size() / 2];
-    dynamics::Workspace<double> ws(model);
-    auto ankles_apart = [&](const Eigen::VectorXd& q) {
-      dynamics::CalcForwardKinematics(model, ws, q);
-      auto at = [&](const char* name) {
-        const auto& p = model.point(model.FindPoint(name));
-        const auto& X = ws.X_WB[size_t(p.segment)];
-        return Eigen::Vector3d(X.rotation() * p.p_BoP_B + X.translation());
-      };
-      return (at("r_ankle_jc") - at("l_ankle_jc")).norm();
-    };
-    // The signs that part the legs (each side's abduction convention).
-    const double abduction = AbductionForSpread(0.40) * kDeg;
-    double best = -1, sign[2] = {1, 1};
-    for (double r : {-1.0, 1.0})
-      for (double l : {-1.0, 1.0}) {
-        Eigen::VectorXd q = m.q.col(middle);
-        q[column[0]] += r * abduction;
-        q[column[1]] += l * abduction;
-        if (const double d = ankles_apart(q); d > best) {
-          best = d;
-          sign[0] = r;
-          sign[1] = l;
-        }
+  // The signs that part the legs (each side's abduction convention).
+  const double abduction = AbductionForSpread(0.40) * kDeg;
+  double best = -1, sign[2] = {1, 1};
+  for (double r : {-1.0, 1.0})
+    for (double l : {-1.0, 1.0}) {
+      Eigen::VectorXd q = m.q.col(middle);
+      q[column[0]] += r * abduction;
+      q[column[1]] += l * abduction;
+      if (const double d = ankles_apart(q); d > best) {
+        best = d;
+        sign[0] = r;
+        sign[1] = l;
       }
-    ASSERT_GT(best - ankles_apart(m.q.col(middle)), 0.3);
-    for (int k : frames)
-      for (int s = 0; s < 2; ++s) m.q(column[s], k) += sign[s] * abduction;
-    const fig::MeasuredFault f = legs(guessed, 3, options);
-    EXPECT_FALSE(f.Measured()) << f.value << " over " << f.frames_seen << " of " << f.frames;
-    EXPECT_FALSE(f.reported);
-    // Untouched, the barani's legs are seen together.
-    const fig::MeasuredFault clean = legs(a.analysis, 3, options);
-    EXPECT_TRUE(clean.Measured());
-    EXPECT_FALSE(clean.reported) << clean.value;
-  }
+    }
+  ASSERT_GT(best - ankles_apart(m.q.col(middle)), 0.3);
+  for (int k : frames)
+    for (int s = 0; s < 2; ++s) m.q(column[s], k) += sign[s] * abduction;
+  const fig::MeasuredFault f = LegsApart(guessed, 3, options);
+  EXPECT_FALSE(f.Measured()) << f.value << " over " << f.frames_seen << " of " << f.frames;
+  EXPECT_FALSE(f.reported);
+  // Untouched, the barani's legs are seen together.
+  const fig::MeasuredFault clean = LegsApart(a.analysis, 3, options);
+  EXPECT_TRUE(clean.Measured());
+  EXPECT_FALSE(clean.reported) << clean.value;
+}
 
-  {  // 3. One camera 10 m away: along the hips' axis (the spread edge-on), and in front.
-    const std::vector<int> frames = frames_of(0);
-    dynamics::Workspace<double> ws(model);
-    dynamics::CalcForwardKinematics(
-        model, ws, Eigen::VectorXd(motion.q.col(frames[frames.size() / 2])));
-    auto at = [&](const char* name) {
-      const auto& p = model.point(model.FindPoint(name));
-      const auto& X = ws.X_WB[size_t(p.segment)];
-      return Eigen::Vector3d(X.rotation() * p.p_BoP_B + X.translation());
-    };
-    const Eigen::Vector3d hips = at("r_hip_jc") - at("l_hip_jc");
-    const Eigen::Vector3d middle = 0.5 * (at("r_hip_jc") + at("l_hip_jc"));
-    const Eigen::Vector3d axis = Eigen::Vector3d(hips.x(), hips.y(), 0).normalized();
-    const Eigen::Vector3d front = Eigen::Vector3d::UnitZ().cross(axis);
-    ExecutionOptions side = options, ahead = options;
-    side.single_camera_centre_W = middle + 10.0 * axis;
-    ahead.single_camera_centre_W = middle + 10.0 * front;
-    const fig::MeasuredFault edge_on = legs(a.analysis, 0, side);
-    EXPECT_FALSE(edge_on.Measured()) << edge_on.value << " over " << edge_on.frames_seen;
-    EXPECT_FALSE(edge_on.reported);
-    const fig::MeasuredFault facing = legs(a.analysis, 0, ahead);
-    EXPECT_NEAR(facing.value, 0.40, 0.04);
-    EXPECT_TRUE(facing.reported);
-    EXPECT_NE(facing.quantity.find("across the camera's view"), std::string::npos);
-    std::printf(
-        "legs apart 0.40 m: markers %.3f m (%d/%d frames); one camera in front %.3f m "
-        "(%d/%d), along the hips' axis not measured (%d/%d)\n",
-        seen.value,
-        seen.frames_seen,
-        seen.frames,
-        facing.value,
-        facing.frames_seen,
-        facing.frames,
-        edge_on.frames_seen,
-        edge_on.frames);
-  }
+TEST(ExecutionFaults, OneCameraMeasuresTheSpreadAcrossItsView) {
+  // One camera 10 m away: along the hips' axis (the spread edge-on), and in front.
+  const Analysed& a = LegsApartRoutine();
+  const ExecutionOptions& options = a.analysis.execution_options;
+  const dynamics::Model<double>& model = a.analysis.reconstruction.model;
+  const std::vector<int> frames = FramesOf(a.analysis, 0);
+  const Eigen::VectorXd q = a.analysis.reconstruction.motion.q.col(frames[frames.size() / 2]);
+  dynamics::Workspace<double> ws(model);
+  const Eigen::Vector3d r_hip = PointAt(model, ws, q, "r_hip_jc");
+  const Eigen::Vector3d l_hip = PointAt(model, ws, q, "l_hip_jc");
+  const Eigen::Vector3d hips = r_hip - l_hip, middle = 0.5 * (r_hip + l_hip);
+  const Eigen::Vector3d axis = Eigen::Vector3d(hips.x(), hips.y(), 0).normalized();
+  const Eigen::Vector3d front = Eigen::Vector3d::UnitZ().cross(axis);
+  ExecutionOptions side = options, ahead = options;
+  side.single_camera_centre_W = middle + 10.0 * axis;
+  ahead.single_camera_centre_W = middle + 10.0 * front;
+  const fig::MeasuredFault edge_on = LegsApart(a.analysis, 0, side);
+  EXPECT_FALSE(edge_on.Measured()) << edge_on.value << " over " << edge_on.frames_seen;
+  EXPECT_FALSE(edge_on.reported);
+  const fig::MeasuredFault facing = LegsApart(a.analysis, 0, ahead);
+  EXPECT_NEAR(facing.value, 0.40, 0.04);
+  EXPECT_TRUE(facing.reported);
+  EXPECT_NE(facing.quantity.find("across the camera's view"), std::string::npos);
+  std::printf(
+      "legs apart 0.40 m: one camera in front %.3f m (%d/%d frames), along the hips' "
+      "axis not measured (%d/%d)\n",
+      facing.value,
+      facing.frames_seen,
+      facing.frames,
+      edge_on.frames_seen,
+      edge_on.frames);
 }
 
 }  // namespace

@@ -300,7 +300,7 @@ TEST(TrialAnalysis, InjectedExecutionFaultsAreFoundWhereTheyAre) {
     const Flight& f = a.jumps[target].flight;
     // The markers moved with the body, as a faulty athlete's would be recorded: a fault the
     // motion holds and its markers do not is the fit's guess, not measured (execution_faults_test,
-    // OnlyWhatWasSeenIsMeasured).
+    // TheFitsGuessIsNotMeasured).
     ReconstructionResult& r = a.reconstruction;
     const int num_markers = static_cast<int>(r.markers.size());
     for (int k = f.takeoff_frame; k <= f.landing_frame; ++k) {
