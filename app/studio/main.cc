@@ -89,6 +89,8 @@ int main(int argc, char** argv) {
   // No trial and one video: the video analysed alone, its camera from --calib or from the bed.
   const bool alone = files.trial.empty() && session.empty() && videos.size() == 1;
   if (alone && !offsets.empty()) return fail("--offset-s is for a trial's video");
+  if (alone && calibrations.empty() && !cameras.empty())
+    return fail("--camera names a camera of --calib (without it the camera comes from the bed)");
   if (videos.size() != calibrations.size() && !(alone && calibrations.empty()))
     return fail("--video and --calib go together: " + std::to_string(videos.size()) + " videos, " +
                 std::to_string(calibrations.size()) + " calibrations");

@@ -335,7 +335,7 @@ class ElementMeasures {
         "arms_out",
         "arms away from the sides or overhead (middle half)",
         middle,
-        {"r_shoulder_jc", "r_elbow_jc", "l_shoulder_jc", "l_elbow_jc", "neck_jc"},
+        {"r_shoulder_jc", "r_elbow_jc", "l_shoulder_jc", "l_elbow_jc", "neck_jc", "lumbar_jc"},
         options_.angle_uncertainty_deg,
         [&](int k) {
           Pose(k);
@@ -379,7 +379,7 @@ class ElementMeasures {
           }
           return ankles.norm() - hips.norm();
         },
-        [&] {  // the hips' axis, along which legs part, within 60° of the picture
+        [&] {  // the hips' axis, along which legs part, within 30° of the picture
           const Eigen::Vector3d hips = (At(rh) - At(lh)).normalized();
           return std::abs(hips.dot(Ray(0.5 * (At(rh) + At(lh))))) <= 0.5;
         });

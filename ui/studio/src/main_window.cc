@@ -463,23 +463,29 @@ void MainWindow::AddVideoFromDialogs() {
   VideoFiles added;
   added.video = video.toStdString();
   added.calibration = calib.toStdString();
+  if (!ChooseCamera(&added)) return;
+  files.videos.push_back(added);
+  OpenFiles(files, view());
+}
+
+bool MainWindow::ChooseCamera(VideoFiles* video) {
   // A calibration of several cameras: which one filmed it.
   try {
-    const std::vector<vision::Camera> cameras = vision::ReadCameras(added.calibration);
+    const std::vector<vision::Camera> cameras = vision::ReadCameras(video->calibration);
     if (cameras.size() > 1) {
       QStringList names;
       for (const vision::Camera& c : cameras) names << QString::fromStdString(c.name);
       bool ok = false;
       const QString name = QInputDialog::getItem(
           this, "Which camera", "The camera that filmed it", names, 0, false, &ok);
-      if (!ok) return;
-      added.camera = name.toStdString();
+      if (!ok) return false;
+      video->camera = name.toStdString();
     }
   } catch (const std::exception& e) {
-    return ShowError(e.what());
+    ShowError(e.what());
+    return false;
   }
-  files.videos.push_back(added);
-  OpenFiles(files, view());
+  return true;
 }
 
 void MainWindow::BeginWork(const std::string& line) {
@@ -635,6 +641,7 @@ void MainWindow::BuildMenus() {
     VideoFiles v;
     v.video = video.toStdString();
     v.calibration = calib.toStdString();
+    if (!v.calibration.empty() && !ChooseCamera(&v)) return;
     files.videos.push_back(v);
     OpenFiles(files);
   });

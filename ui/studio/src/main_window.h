@@ -171,6 +171,9 @@ class MainWindow : public QMainWindow {
   void BuildTransport();
   // File → Add a video: the video, its calibration, the camera when it holds several.
   void AddVideoFromDialogs();
+  // A calibration of several cameras: asks which one filmed the video (false: cancelled, or the
+  // calibration cannot be read, said in a dialog).
+  bool ChooseCamera(VideoFiles* video);
   // Video → Detect the athlete: which video (when several) and which model, then DetectPoses.
   void AskDetectPoses();
   // The worker's start on the window's thread: the status bar's progress and Cancel shown, `line`

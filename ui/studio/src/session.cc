@@ -73,6 +73,12 @@ pipeline::TrialInput Session::OpenOneVideo(const acro::Progress& steps,
   pipeline::UseOneCamera(mono, request, options);
   warnings_ = mono.input.warnings;
   if (!mono.input.athlete.warning.empty()) warnings_.push_back(mono.input.athlete.warning);
+  if (v.offset_s && *v.offset_s != 0)
+    warnings_.push_back(
+        fmt::format("{}: offset_s {:g} s not used: a video analysed alone is its "
+                    "own time line",
+                    v.video,
+                    *v.offset_s));
   Video opened;
   opened.input = std::make_unique<pipeline::VideoInput>(*pipeline::OneCameraVideo(mono, request));
   for (const std::string& w : opened.input->warnings()) warnings_.push_back(w);

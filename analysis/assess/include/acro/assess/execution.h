@@ -40,7 +40,7 @@ struct ExecutionOptions {
   /// The camera's centre (the trial's world) when one camera alone saw the motion: along its rays
   /// the fitted body is the fit's guess, not a measurement. A joint angle is then measured only
   /// where its limb's plane faces the camera (within 60° of the picture's plane), the legs' spread
-  /// across the view only (where the hips' axis is within 60° of the picture's plane), and a
+  /// across the view only (where the hips' axis is within 30° of the picture's plane), and a
   /// keypoint agrees with the fit by its distance across the ray. Empty: several cameras, markers.
   std::optional<Eigen::Vector3d> single_camera_centre_W;
   bool IsValid(std::string* why) const;
